@@ -1,0 +1,193 @@
+# vdbgi: bake light-probe global illumination into OpenVDB grids and GPU bricks.
+# `make list` shows the targets. config=release|debug|asan|ubsan|tsan, V=1 shows
+# commands, WERROR=1 turns warnings into errors.
+
+config ?= release
+ifeq ($(SANITIZE),1)
+config := asan
+endif
+BUILD := build/$(config)
+PREFIX ?= /usr/local
+DESTDIR ?=
+
+PKG_CONFIG ?= pkg-config
+
+ifeq ($(V),1)
+Q :=
+else
+Q := @
+endif
+
+# ---- flags ------------------------------------------------------------------
+
+WARN_C := -Wall -Wextra -Wshadow -Wstrict-prototypes -Wmissing-prototypes -Wundef \
+          -Wpointer-arith -Wcast-qual -Wwrite-strings -Wvla -Wformat=2
+WARN_CXX := -Wall -Wextra -Wshadow
+ifeq ($(WERROR),1)
+WARN_C += -Werror
+WARN_CXX += -Werror
+endif
+
+OPT_release := -O2 -g
+OPT_debug := -O0 -g
+OPT_asan := -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all
+OPT_ubsan := -O1 -g -fno-omit-frame-pointer -fsanitize=undefined -fno-sanitize-recover=all
+OPT_tsan := -O1 -g -fsanitize=thread
+OPT := $(OPT_$(config))
+ifeq ($(OPT),)
+$(error unknown config '$(config)': use release, debug, asan, ubsan or tsan)
+endif
+
+# Dependencies. Evaluated lazily (=) so that `make deps` can install them first.
+# Their -I become -isystem so our warnings do not fire inside their headers.
+pkg_cflags = $(patsubst -I%,-isystem %,$(shell $(PKG_CONFIG) --cflags $(1) 2>/dev/null))
+pkg_libs = $(shell $(PKG_CONFIG) --libs $(1) 2>/dev/null)
+VDB_CFLAGS ?=
+VDB_LIBS ?= -lopenvdb $(call pkg_libs,Imath tbb)
+EMBREE_LIBS ?= -lembree3
+OIIO_CFLAGS = $(call pkg_cflags,OpenImageIO)
+OIIO_LIBS = $(call pkg_libs,OpenImageIO)
+ASSIMP_CFLAGS = $(call pkg_cflags,assimp)
+ASSIMP_LIBS = $(call pkg_libs,assimp)
+DEP_LIBS = $(VDB_LIBS) $(EMBREE_LIBS) $(OIIO_LIBS) $(ASSIMP_LIBS) -lz -lpthread -lm
+
+ALL_CFLAGS = -std=c11 $(WARN_C) $(OPT) -MMD -MP -fvisibility=hidden -DVDBGI_BUILDING \
+             $(ASSIMP_CFLAGS) $(CFLAGS)
+# No -fvisibility=hidden for the C++ shims: OpenVDB's registries rely on its template
+# statics being shared with libopenvdb.so, and initialize() crashes when they are hidden.
+ALL_CXXFLAGS = -std=c++17 $(WARN_CXX) $(OPT) -MMD -MP -DVDBGI_BUILDING \
+               $(VDB_CFLAGS) $(call pkg_cflags,Imath tbb) $(OIIO_CFLAGS) $(CXXFLAGS)
+ALL_LDFLAGS = $(OPT) $(LDFLAGS)
+
+# ---- sources ----------------------------------------------------------------
+
+LIB_C := $(wildcard lib/*.c)
+LIB_CXX := $(wildcard lib/*.cpp)
+LIB_OBJ := $(LIB_C:%.c=$(BUILD)/%.o) $(LIB_CXX:%.cpp=$(BUILD)/%.o)
+LIB_A := $(BUILD)/libvdbgi.a
+
+APP_NAMES := gi-bake gi-bench
+APPS := $(APP_NAMES:%=$(BUILD)/bin/%)
+CLI_OBJ := $(BUILD)/apps/cli.o
+
+TEST_SRC := $(wildcard tests/test_*.c)
+TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
+
+DEB_PACKAGES := gcc g++ make pkg-config libopenvdb-dev libboost-dev libimath-dev libtbb-dev \
+                libembree-dev libopenimageio-dev libassimp-dev zlib1g-dev libopenvdb-tools \
+                python3 python3-openvdb openimageio-tools
+
+# Keep object files of apps and tests (make would delete them as intermediates).
+.SECONDARY:
+
+.PHONY: all lib apps tests check demo bench deps asan install uninstall clean format list
+
+## all: build the library and the apps (default)
+all: lib apps
+
+lib: $(LIB_A)
+apps: $(APPS)
+tests: $(TESTS)
+
+$(BUILD)/lib/%.o: lib/%.c Makefile
+	@mkdir -p $(@D)
+	@$(if $(Q),echo "  CC      $<")
+	$(Q)$(CC) $(ALL_CFLAGS) -c $< -o $@
+
+$(BUILD)/lib/%.o: lib/%.cpp Makefile
+	@mkdir -p $(@D)
+	@$(if $(Q),echo "  CXX     $<")
+	$(Q)$(CXX) $(ALL_CXXFLAGS) -c $< -o $@
+
+$(LIB_A): $(LIB_OBJ)
+	@$(if $(Q),echo "  AR      $@")
+	$(Q)rm -f $@ && ar rcs $@ $^
+
+$(BUILD)/apps/%.o: apps/%.c
+	@mkdir -p $(@D)
+	@$(if $(Q),echo "  CC      $<")
+	$(Q)$(CC) $(ALL_CFLAGS) -Ilib -c $< -o $@
+
+$(BUILD)/bin/%: $(BUILD)/apps/%.o $(CLI_OBJ) $(LIB_A)
+	@mkdir -p $(@D)
+	@$(if $(Q),echo "  LINK    $@")
+	$(Q)$(CXX) $(ALL_LDFLAGS) $^ $(DEP_LIBS) -o $@
+
+$(BUILD)/tests/%.o: tests/%.c
+	@mkdir -p $(@D)
+	@$(if $(Q),echo "  CC      $<")
+	$(Q)$(CC) $(ALL_CFLAGS) -Ilib -Itests -c $< -o $@
+
+$(BUILD)/tests/%: $(BUILD)/tests/%.o $(LIB_A)
+	@$(if $(Q),echo "  LINK    $@")
+	$(Q)$(CXX) $(ALL_LDFLAGS) $^ $(DEP_LIBS) -o $@
+
+-include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(APP_NAMES:%=$(BUILD)/apps/%.d) \
+         $(TEST_SRC:tests/%.c=$(BUILD)/tests/%.d)
+
+## deps: install the Debian packages vdbgi needs (only those missing)
+deps:
+	@if ! command -v dpkg-query >/dev/null 2>&1; then \
+	    echo "deps: not a Debian system; install OpenVDB, Embree 3, OpenImageIO, assimp, TBB, zlib yourself"; \
+	    exit 0; \
+	fi; \
+	missing=""; \
+	for p in $(DEB_PACKAGES); do \
+	    dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'ok installed' || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	    sudo=""; [ "$$(id -u)" = 0 ] || sudo=sudo; \
+	    echo "deps: installing$$missing"; \
+	    $$sudo apt-get update -qq && \
+	    DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq --no-install-recommends $$missing; \
+	fi
+
+## check: install what is missing, build, run every test; ends with "N passed, N failed"
+check:
+	$(Q)$(MAKE) --no-print-directory deps
+	$(Q)$(MAKE) --no-print-directory all tests
+	$(Q)BUILD=$(BUILD) sh tests/run.sh
+
+## asan: the test suite under AddressSanitizer and UBSan (same as SANITIZE=1 make check)
+asan:
+	$(Q)$(MAKE) --no-print-directory config=asan check
+
+## demo: install what is missing, build, bake the bundled world
+demo:
+	$(Q)$(MAKE) --no-print-directory deps
+	$(Q)$(MAKE) --no-print-directory all
+	@mkdir -p out
+	$(BUILD)/bin/gi-bake data/world.glb -o out/world.vdb
+	@echo "demo: baked probes are in out/world.vdb (try: vdb_print -l out/world.vdb)"
+
+## bench: measure bake throughput against a bare Embree loop (writes build/bench/)
+bench:
+	$(Q)$(MAKE) --no-print-directory deps
+	$(Q)$(MAKE) --no-print-directory all
+	$(Q)BUILD=$(BUILD) sh tests/bench.sh
+
+## install: vdbgi.h, libvdbgi.a, vdbgi.pc and the apps under $(DESTDIR)$(PREFIX)
+install: all
+	install -d $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/bin
+	install -m 644 lib/vdbgi.h $(DESTDIR)$(PREFIX)/include/
+	install -m 644 $(LIB_A) $(DESTDIR)$(PREFIX)/lib/
+	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@VERSION@|$(shell sed -n 's/^#define VDBGI_VERSION_\(MAJOR\|MINOR\|PATCH\) //p' lib/vdbgi.h | paste -sd.)|' \
+	    lib/vdbgi.pc.in > $(DESTDIR)$(PREFIX)/lib/pkgconfig/vdbgi.pc
+	install -m 755 $(APPS) $(DESTDIR)$(PREFIX)/bin/
+
+## uninstall: remove what install put there
+uninstall:
+	rm -f $(DESTDIR)$(PREFIX)/include/vdbgi.h $(DESTDIR)$(PREFIX)/lib/libvdbgi.a \
+	      $(DESTDIR)$(PREFIX)/lib/pkgconfig/vdbgi.pc $(APP_NAMES:%=$(DESTDIR)$(PREFIX)/bin/%)
+
+## clean: remove build outputs
+clean:
+	rm -rf build out
+
+## format: apply .clang-format to every C and C++ source
+format:
+	clang-format -i lib/*.c lib/*.h lib/*.cpp apps/*.c apps/*.h tests/*.c tests/*.h
+
+## list: show these targets
+list:
+	@sed -n 's/^## //p' $(MAKEFILE_LIST)

@@ -1,0 +1,166 @@
+/* cli.c: messages, parsing and progress shared by the vdbgi programs. */
+#define _POSIX_C_SOURCE 200809L
+#include "cli.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <time.h>
+#include <unistd.h>
+
+int cli_verbosity = 2;
+const char *cli_prog = "vdbgi";
+
+void cli_init(const char *prog)
+{
+    cli_prog = prog;
+}
+
+static void vmessage(const char *fmt, va_list ap)
+{
+    fprintf(stderr, "%s: ", cli_prog);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+}
+
+void cli_error(const char *fmt, ...)
+{
+    if (cli_verbosity < 1)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    vmessage(fmt, ap);
+    va_end(ap);
+}
+
+int cli_usage_error(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vmessage(fmt, ap);
+    va_end(ap);
+    fprintf(stderr, "try '%s --help'\n", cli_prog);
+    return CLI_USAGE;
+}
+
+int cli_fail(const vdbgi_context *ctx, vdbgi_result r)
+{
+    const char *const msg = vdbgi_context_error(ctx);
+    cli_error("%s", msg && *msg ? msg : vdbgi_result_string(r));
+    return CLI_FAILED;
+}
+
+void cli_log(void *user, vdbgi_log_level level, const char *message)
+{
+    (void)user;
+    if ((int)level > cli_verbosity)
+        return;
+    fprintf(stderr, "%s: %s%s\n", cli_prog, level == VDBGI_LOG_WARNING ? "warning: " : "",
+            message);
+}
+
+bool cli_parse_int(const char *s, long long *out)
+{
+    if (!s || !*s)
+        return false;
+    char *end = NULL;
+    errno = 0;
+    const long long v = strtoll(s, &end, 10);
+    if (errno || *end)
+        return false;
+    *out = v;
+    return true;
+}
+
+bool cli_parse_double(const char *s, double *out)
+{
+    if (!s || !*s)
+        return false;
+    char *end = NULL;
+    errno = 0;
+    const double v = strtod(s, &end);
+    if (errno == ERANGE || *end || isnan(v))
+        return false;
+    *out = v;
+    return true;
+}
+
+bool cli_parse_vec3(const char *s, float out[3])
+{
+    if (!s)
+        return false;
+    const char *p = s;
+    for (int k = 0; k < 3; k++) {
+        char *end = NULL;
+        errno = 0;
+        const double v = strtod(p, &end);
+        if (end == p || errno == ERANGE || !isfinite(v))
+            return false;
+        out[k] = (float)v;
+        if (k < 2) {
+            if (*end != ',')
+                return false;
+            p = end + 1;
+        } else if (*end) {
+            return false;
+        }
+    }
+    return true;
+}
+
+double cli_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void cli_progress_begin(cli_progress *p, const char *what, const char *unit, double total)
+{
+    p->what = what;
+    p->unit = unit;
+    p->total = total;
+    p->start = cli_now();
+    p->shown = false;
+}
+
+int cli_progress_update(void *user, float done)
+{
+    cli_progress *const p = user;
+    const double elapsed = cli_now() - p->start;
+    if (cli_verbosity < 2 || elapsed < 1.0 || !isatty(STDERR_FILENO))
+        return 0;
+    const double units = done * p->total;
+    const double rate = units / elapsed;
+    const double left = rate > 0.0 ? (p->total - units) / rate : 0.0;
+    fprintf(stderr, "\r%s: %s %3.0f%%  %.0f/%.0f %s  %.1fk %s/s  %.0f s left   ", cli_prog,
+            p->what, 100.0 * done, units, p->total, p->unit, rate / 1000.0, p->unit, left);
+    fflush(stderr);
+    p->shown = true;
+    return 0;
+}
+
+void cli_progress_end(cli_progress *p)
+{
+    if (p->shown) {
+        fprintf(stderr, "\r%*s\r", 79, "");
+        fflush(stderr);
+    }
+    p->shown = false;
+}
+
+const char *cli_bytes(double bytes, char *buf, size_t cap)
+{
+    static const char *const units[] = {"B", "kB", "MB", "GB", "TB"};
+    int u = 0;
+    while (bytes >= 1000.0 && u < 4) {
+        bytes /= 1000.0;
+        u++;
+    }
+    snprintf(buf, cap, u ? "%.1f %s" : "%.0f %s", bytes, units[u]);
+    return buf;
+}

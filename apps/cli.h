@@ -1,0 +1,59 @@
+/* cli.h: what every vdbgi program shares: messages, number parsing, progress. */
+#ifndef VDBGI_CLI_H
+#define VDBGI_CLI_H
+
+#include "vdbgi.h"
+
+#include <stdbool.h>
+
+#if defined(__GNUC__)
+#define CLI_PRINTF(f, a) __attribute__((format(printf, f, a)))
+#else
+#define CLI_PRINTF(f, a)
+#endif
+
+/* Exit codes of every app. */
+enum { CLI_OK = 0, CLI_FAILED = 1, CLI_USAGE = 2 };
+
+/* zstd's levels: 0 quiet, 1 errors, 2 warnings (default), 3 info, 4 debug. */
+extern int cli_verbosity;
+extern const char *cli_prog;
+
+void cli_init(const char *prog);
+
+/* "prog: message" on stderr (level >= 1). */
+void cli_error(const char *fmt, ...) CLI_PRINTF(1, 2);
+/* "prog: message" and "try 'prog --help'" on stderr; returns CLI_USAGE. */
+int cli_usage_error(const char *fmt, ...) CLI_PRINTF(1, 2);
+/* Report a failed library call: "prog: <context error>"; returns CLI_FAILED. */
+int cli_fail(const vdbgi_context *ctx, vdbgi_result r);
+
+/* Log callback for vdbgi_context_desc: prints by cli_verbosity. */
+void cli_log(void *user, vdbgi_log_level level, const char *message);
+
+/* Whole-string parses; false on junk, overflow or an empty string. */
+bool cli_parse_int(const char *s, long long *out);
+bool cli_parse_double(const char *s, double *out); /* accepts "inf" */
+bool cli_parse_vec3(const char *s, float out[3]);  /* "x,y,z" */
+
+/*
+ * A one-line "\r" progress meter on stderr, shown only when stderr is a
+ * terminal, verbosity >= 2, and the work has run for more than a second.
+ */
+typedef struct cli_progress {
+    const char *what;   /* "baking" */
+    const char *unit;   /* "probes" */
+    double total;       /* units in the whole job */
+    double start;       /* cli_now() when the job began */
+    bool shown;
+} cli_progress;
+
+double cli_now(void);
+void cli_progress_begin(cli_progress *p, const char *what, const char *unit, double total);
+int cli_progress_update(void *user, float done); /* fits vdbgi's progress callback */
+void cli_progress_end(cli_progress *p);
+
+/* Human sizes: "12.3 MB". Returns buf. */
+const char *cli_bytes(double bytes, char *buf, size_t cap);
+
+#endif /* VDBGI_CLI_H */

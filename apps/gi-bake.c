@@ -1,0 +1,303 @@
+/* gi-bake: bake one-bounce irradiance into light probes near a scene's surfaces, as .vdb. */
+#define _POSIX_C_SOURCE 200809L
+#include "cli.h"
+#include "vdbgi.h"
+
+#include <getopt.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+static void usage(void)
+{
+    printf("Usage: gi-bake SCENE -o OUT.vdb [options]\n"
+           "\n"
+           "Bake the one-bounce irradiance of SCENE (any format assimp reads: .glb,\n"
+           ".gltf, .obj, .fbx, ...) into light probes on a regular lattice, keeping only\n"
+           "probes near surfaces, and write them to an OpenVDB file: a Vec3s grid\n"
+           "\"irradiance\" (linear RGB) and a float grid \"validity\" (back-face fraction).\n"
+           "\n"
+           "Options:\n"
+           "  -o, --output FILE        the .vdb to write (required; replaced only on success)\n"
+           "      --spacing M          probe spacing in metres (0.5)\n"
+           "      --margin M           keep probes within M metres of a surface (4 x spacing)\n"
+           "      --max-probes N       refuse lattices of more than N probes (50000000)\n"
+           "      --rays N             rays per probe (128)\n"
+           "      --ray-dist M         longest ray in metres (40)\n"
+           "      --ambient A          ambient fill received at every hit (0.15)\n"
+           "      --sun X,Y,Z          direction towards the sun (0.4,0.8,0.3)\n"
+           "      --sun-color R,G,B    sun colour, linear; 0,0,0 turns the sun off (1,1,1)\n"
+           "      --falloff M          distance falloff 1/(1+(d/M)^2) in metres, or inf (4)\n"
+           "      --sky R,G,B          what a ray that hits nothing adds, linear (0,0,0)\n"
+           "      --sampling S         fibonacci (one set, as seed 000) or random (a random\n"
+           "                           rotation of that set per probe) (fibonacci)\n"
+           "      --seed N             seed of random sampling (0)\n"
+           "      --threads N          worker threads; results do not depend on it (all cores)\n"
+           "      --invalid-threshold F  back-face fraction above which a probe is invalid "
+           "(0.25)\n"
+           "      --trace METHOD       auto, single, packet8, packet16 or stream (auto)\n"
+           "  -q, --quiet              errors only, no progress\n"
+           "  -v, --verbose            more detail on stderr\n"
+           "  -h, --help               print this help and exit\n"
+           "      --version            print the version and exit\n"
+           "\n"
+           "Examples:\n"
+           "  gi-bake data/world.glb -o world.vdb\n"
+           "  gi-bake data/room.obj -o room.vdb --spacing 0.25 --sun-color 0,0,0\n"
+           "  gi-bake data/world.glb -o world.vdb --sampling random --rays 256 --falloff inf\n");
+}
+
+enum {
+    OPT_SPACING = 256,
+    OPT_MARGIN,
+    OPT_MAX_PROBES,
+    OPT_RAYS,
+    OPT_RAY_DIST,
+    OPT_AMBIENT,
+    OPT_SUN,
+    OPT_SUN_COLOR,
+    OPT_FALLOFF,
+    OPT_SKY,
+    OPT_SAMPLING,
+    OPT_SEED,
+    OPT_THREADS,
+    OPT_INVALID,
+    OPT_TRACE,
+    OPT_VERSION
+};
+
+typedef struct options {
+    const char *scene;
+    const char *output;
+    vdbgi_place_desc place;
+    vdbgi_bake_desc bake;
+} options;
+
+static const char *trace_names[] = {"auto", "single", "packet8", "packet16", "stream"};
+
+/* Parse argv into o; returns -1 to go on, else the exit code. */
+static int parse_args(int argc, char **argv, options *o)
+{
+    static const struct option longs[] = {
+        {"output", required_argument, NULL, 'o'},
+        {"spacing", required_argument, NULL, OPT_SPACING},
+        {"margin", required_argument, NULL, OPT_MARGIN},
+        {"max-probes", required_argument, NULL, OPT_MAX_PROBES},
+        {"rays", required_argument, NULL, OPT_RAYS},
+        {"ray-dist", required_argument, NULL, OPT_RAY_DIST},
+        {"ambient", required_argument, NULL, OPT_AMBIENT},
+        {"sun", required_argument, NULL, OPT_SUN},
+        {"sun-color", required_argument, NULL, OPT_SUN_COLOR},
+        {"falloff", required_argument, NULL, OPT_FALLOFF},
+        {"sky", required_argument, NULL, OPT_SKY},
+        {"sampling", required_argument, NULL, OPT_SAMPLING},
+        {"seed", required_argument, NULL, OPT_SEED},
+        {"threads", required_argument, NULL, OPT_THREADS},
+        {"invalid-threshold", required_argument, NULL, OPT_INVALID},
+        {"trace", required_argument, NULL, OPT_TRACE},
+        {"quiet", no_argument, NULL, 'q'},
+        {"verbose", no_argument, NULL, 'v'},
+        {"help", no_argument, NULL, 'h'},
+        {"version", no_argument, NULL, OPT_VERSION},
+        {NULL, 0, NULL, 0}};
+    opterr = 0;
+    int c;
+    while ((c = getopt_long(argc, argv, ":o:qvh", longs, NULL)) != -1) {
+        double d = 0.0;
+        long long i = 0;
+        float v[3];
+        switch (c) {
+        case 'o': o->output = optarg; break;
+        case OPT_SPACING:
+            if (!cli_parse_double(optarg, &d) || !(d > 0.0) || !isfinite(d))
+                return cli_usage_error("--spacing must be a number > 0 (got '%s')", optarg);
+            o->place.spacing = d;
+            break;
+        case OPT_MARGIN:
+            if (!cli_parse_double(optarg, &d) || !(d >= 0.0) || !isfinite(d))
+                return cli_usage_error("--margin must be a number >= 0 (got '%s')", optarg);
+            o->place.margin = d == 0.0 ? VDBGI_MARGIN_ZERO : d;
+            break;
+        case OPT_MAX_PROBES:
+            if (!cli_parse_int(optarg, &i) || i < 1)
+                return cli_usage_error("--max-probes must be an integer >= 1 (got '%s')", optarg);
+            o->place.max_probes = (uint64_t)i;
+            break;
+        case OPT_RAYS:
+            if (!cli_parse_int(optarg, &i) || i < 1 || i > 1000000)
+                return cli_usage_error("--rays must be an integer in 1..1000000 (got '%s')",
+                                       optarg);
+            o->bake.rays = (int)i;
+            break;
+        case OPT_RAY_DIST:
+            if (!cli_parse_double(optarg, &d) || !(d > 0.0) || !isfinite(d))
+                return cli_usage_error("--ray-dist must be a number > 0 (got '%s')", optarg);
+            o->bake.ray_dist = (float)d;
+            break;
+        case OPT_AMBIENT:
+            if (!cli_parse_double(optarg, &d) || !(d >= 0.0) || !isfinite(d))
+                return cli_usage_error("--ambient must be a number >= 0 (got '%s')", optarg);
+            o->bake.ambient = d == 0.0 ? VDBGI_NONE : (float)d;
+            break;
+        case OPT_SUN:
+            if (!cli_parse_vec3(optarg, v) || (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f))
+                return cli_usage_error("--sun must be a non-zero direction x,y,z (got '%s')",
+                                       optarg);
+            memcpy(o->bake.sun_dir, v, sizeof(v));
+            break;
+        case OPT_SUN_COLOR:
+            if (!cli_parse_vec3(optarg, v) || v[0] < 0.0f || v[1] < 0.0f || v[2] < 0.0f)
+                return cli_usage_error("--sun-color must be r,g,b >= 0 (got '%s')", optarg);
+            memcpy(o->bake.sun_color, v, sizeof(v));
+            if (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f)
+                o->bake.sun_color[0] = VDBGI_NONE;
+            break;
+        case OPT_FALLOFF:
+            if (!cli_parse_double(optarg, &d) || !(d > 0.0))
+                return cli_usage_error("--falloff must be a number > 0 or inf (got '%s')",
+                                       optarg);
+            o->bake.falloff = (float)d;
+            break;
+        case OPT_SKY:
+            if (!cli_parse_vec3(optarg, v) || v[0] < 0.0f || v[1] < 0.0f || v[2] < 0.0f)
+                return cli_usage_error("--sky must be r,g,b >= 0 (got '%s')", optarg);
+            memcpy(o->bake.sky, v, sizeof(v));
+            break;
+        case OPT_SAMPLING:
+            if (strcmp(optarg, "fibonacci") == 0)
+                o->bake.sampling = VDBGI_SAMPLING_FIBONACCI;
+            else if (strcmp(optarg, "random") == 0)
+                o->bake.sampling = VDBGI_SAMPLING_RANDOM;
+            else
+                return cli_usage_error("--sampling must be fibonacci or random (got '%s')",
+                                       optarg);
+            break;
+        case OPT_SEED:
+            if (!cli_parse_int(optarg, &i) || i < 0)
+                return cli_usage_error("--seed must be an integer >= 0 (got '%s')", optarg);
+            o->bake.seed = (uint64_t)i;
+            break;
+        case OPT_THREADS:
+            if (!cli_parse_int(optarg, &i) || i < 1 || i > 1024)
+                return cli_usage_error("--threads must be an integer in 1..1024 (got '%s')",
+                                       optarg);
+            o->bake.threads = (int)i;
+            break;
+        case OPT_INVALID:
+            if (!cli_parse_double(optarg, &d) || !(d > 0.0 && d <= 1.0))
+                return cli_usage_error("--invalid-threshold must be in (0, 1] (got '%s')",
+                                       optarg);
+            o->bake.invalid_threshold = (float)d;
+            break;
+        case OPT_TRACE: {
+            int m = -1;
+            for (int k = 0; k < 5; k++)
+                if (strcmp(optarg, trace_names[k]) == 0)
+                    m = k;
+            if (m < 0)
+                return cli_usage_error(
+                    "--trace must be auto, single, packet8, packet16 or stream (got '%s')", optarg);
+            o->bake.trace_method = (vdbgi_trace_method)m;
+            break;
+        }
+        case 'q': cli_verbosity = 1; break;
+        case 'v': cli_verbosity++; break;
+        case 'h': usage(); return CLI_OK;
+        case OPT_VERSION: printf("gi-bake %s\n", vdbgi_version_string()); return CLI_OK;
+        case ':': return cli_usage_error("option '%s' needs a value", argv[optind - 1]);
+        default: return cli_usage_error("unknown option '%s'", argv[optind - 1]);
+        }
+    }
+    if (optind == argc)
+        return cli_usage_error("no scene given");
+    if (argc - optind > 1)
+        return cli_usage_error("one scene at a time (got '%s' and '%s')", argv[optind],
+                               argv[optind + 1]);
+    o->scene = argv[optind];
+    if (!o->output)
+        return cli_usage_error("no output given: use -o OUT.vdb");
+    return -1;
+}
+
+/* True if a and b name the same existing file: baking must never overwrite its scene. */
+static bool same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
+           sa.st_ino == sb.st_ino;
+}
+
+int main(int argc, char **argv)
+{
+    cli_init("gi-bake");
+    options o = {0};
+    const int parsed = parse_args(argc, argv, &o);
+    if (parsed >= 0)
+        return parsed;
+    if (same_file(o.scene, o.output))
+        return cli_usage_error("output '%s' is the scene itself", o.output);
+
+    const vdbgi_context_desc cd = {.log = cli_log};
+    vdbgi_context *ctx = NULL;
+    if (vdbgi_context_create(&cd, &ctx) != VDBGI_OK) {
+        cli_error("cannot create a context: out of memory");
+        return CLI_FAILED;
+    }
+    vdbgi_scene *scene = NULL;
+    vdbgi_probes *probes = NULL;
+    int code = CLI_FAILED;
+    vdbgi_result r = vdbgi_output_check(ctx, o.output);
+    const double t0 = cli_now();
+    if (r == VDBGI_OK)
+        r = vdbgi_scene_load(ctx, o.scene, &scene);
+    const double t1 = cli_now();
+    if (r == VDBGI_OK)
+        r = vdbgi_probes_place(ctx, scene, &o.place, &probes);
+    const double t2 = cli_now();
+    vdbgi_bake_stats st = {0};
+    if (r == VDBGI_OK) {
+        vdbgi_probes_info pi;
+        vdbgi_probes_get_info(probes, &pi);
+        cli_progress prog;
+        cli_progress_begin(&prog, "baking", "probes", (double)pi.probe_count);
+        o.bake.progress = cli_progress_update;
+        o.bake.progress_user = &prog;
+        r = vdbgi_probes_bake(probes, scene, &o.bake, &st);
+        cli_progress_end(&prog);
+    }
+    const double t3 = cli_now();
+    if (r == VDBGI_OK)
+        r = vdbgi_probes_write(probes, o.output);
+    const double t4 = cli_now();
+    if (r != VDBGI_OK) {
+        code = cli_fail(ctx, r);
+    } else {
+        vdbgi_scene_info si;
+        vdbgi_probes_info pi;
+        vdbgi_scene_get_info(scene, &si);
+        vdbgi_probes_get_info(probes, &pi);
+        struct stat fs;
+        char size[32];
+        const double rays = (double)(st.primary_ray_count + st.shadow_ray_count);
+        printf("scene    %s: %zu triangles (%zu skipped), %zu textures\n", si.name,
+               si.triangle_count, si.skipped_triangle_count, si.texture_count);
+        printf("probes   %zu (%zu invalid) at %g m spacing, %g m margin\n", pi.probe_count,
+               pi.invalid_count, pi.spacing, pi.margin);
+        printf("rays     %llu primary + %llu shadow, %.1f Mrays/s on %d threads\n",
+               (unsigned long long)st.primary_ray_count, (unsigned long long)st.shadow_ray_count,
+               st.seconds > 0.0 ? rays / st.seconds * 1e-6 : 0.0, st.threads);
+        printf("time     %.2f s: load %.2f, place %.2f, bake %.2f, write %.2f\n", t4 - t0,
+               t1 - t0, t2 - t1, t3 - t2, t4 - t3);
+        printf("output   %s (%s)\n", o.output,
+               stat(o.output, &fs) == 0 ? cli_bytes((double)fs.st_size, size, sizeof(size))
+                                        : "?");
+        code = CLI_OK;
+    }
+    vdbgi_probes_destroy(probes);
+    vdbgi_scene_destroy(scene);
+    vdbgi_context_destroy(ctx);
+    return code;
+}

@@ -1,0 +1,353 @@
+#!/usr/bin/env python3
+"""Generate vdbgi's bundled test scenes (standard library only, deterministic).
+
+  make_scenes.py                      writes world.glb, room.obj/.mtl, floor.png here
+  make_scenes.py --world SIZE OUT.glb writes a generated world SIZE x SIZE metres
+
+The outdoor world follows seed 000: orange canyon walls meeting green grass (a
+sharp colour seam), a few buildings with an embedded brick texture, trees
+instanced by node transforms with vertex-coloured canopies, and a thin
+double-sided wall. The room is a closed box with inward faces, red and green
+side walls and an externally textured floor.
+"""
+import json
+import math
+import os
+import random
+import struct
+import sys
+import zlib
+
+# ---- tiny PNG writer -------------------------------------------------------
+
+
+def png_bytes(width, height, pixel):
+    """RGB8 PNG; pixel(x, y) -> (r, g, b) in 0..255, row 0 at the top."""
+    raw = bytearray()
+    for y in range(height):
+        raw.append(0)
+        for x in range(width):
+            raw.extend(pixel(x, y))
+
+    def chunk(tag, data):
+        c = struct.pack(">I", len(data)) + tag + data
+        return c + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF)
+
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(bytes(raw), 9)) + chunk(b"IEND", b""))
+
+
+def brick_pixel(x, y):
+    row = y // 8
+    mortar = (y % 8 == 7) or ((x + (4 if row % 2 else 0)) % 16 == 15)
+    return (200, 195, 185) if mortar else (170, 70, 50)
+
+
+def checker_pixel(x, y):
+    return (230, 225, 210) if ((x // 8) + (y // 8)) % 2 == 0 else (60, 60, 70)
+
+
+# ---- mesh building ----------------------------------------------------------
+
+
+class Mesh:
+    def __init__(self):
+        self.pos, self.uv, self.col, self.idx = [], [], [], []
+
+    def vert(self, p, uv=(0.0, 0.0), col=(1.0, 1.0, 1.0)):
+        self.pos.append(tuple(float(c) for c in p))
+        self.uv.append(uv)
+        self.col.append(col)
+        return len(self.pos) - 1
+
+    def quad(self, a, b, c, d, uvs=None, col=(1.0, 1.0, 1.0)):
+        """Counter-clockwise a b c d seen from the front."""
+        uvs = uvs or [(0, 0), (1, 0), (1, 1), (0, 1)]
+        i = [self.vert(p, uv, col) for p, uv in zip((a, b, c, d), uvs)]
+        self.idx += [i[0], i[1], i[2], i[0], i[2], i[3]]
+
+    def tri(self, a, b, c, col=(1.0, 1.0, 1.0)):
+        self.idx += [self.vert(a, col=col), self.vert(b, col=col), self.vert(c, col=col)]
+
+    def box(self, lo, hi, inward=False, uv_scale=None):
+        x0, y0, z0 = lo
+        x1, y1, z1 = hi
+        faces = [
+            ((x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)),  # +z
+            ((x1, y0, z0), (x0, y0, z0), (x0, y1, z0), (x1, y1, z0)),  # -z
+            ((x1, y0, z1), (x1, y0, z0), (x1, y1, z0), (x1, y1, z1)),  # +x
+            ((x0, y0, z0), (x0, y0, z1), (x0, y1, z1), (x0, y1, z0)),  # -x
+            ((x0, y1, z1), (x1, y1, z1), (x1, y1, z0), (x0, y1, z0)),  # +y
+            ((x0, y0, z0), (x1, y0, z0), (x1, y0, z1), (x0, y0, z1)),  # -y
+        ]
+        for f in faces:
+            if inward:
+                f = f[::-1]
+            uvs = None
+            if uv_scale:
+                w = math.dist(f[0], f[1]) / uv_scale
+                h = math.dist(f[1], f[2]) / uv_scale
+                uvs = [(0, 0), (w, 0), (w, h), (0, h)]
+            self.quad(*f, uvs=uvs)
+
+
+def terrain_height(x, z, size):
+    return 0.35 * math.sin(0.21 * x) * math.cos(0.17 * z) + 0.2 * math.sin(0.05 * (x + 2 * z))
+
+
+def build_world(size, seed):
+    rnd = random.Random(seed)
+    half = size / 2.0
+    meshes = {}  # name -> (Mesh, material)
+
+    # Ground: a low-poly heightfield in 2 m cells, green grass.
+    ground = Mesh()
+    cells = int(size // 2)
+    step = size / cells
+    for i in range(cells):
+        for j in range(cells):
+            x0, z0 = -half + i * step, -half + j * step
+            x1, z1 = x0 + step, z0 + step
+            p = [(x, terrain_height(x, z, size), z) for x, z in ((x0, z1), (x1, z1), (x1, z0), (x0, z0))]
+            ground.quad(*p)
+    meshes["ground"] = (ground, "grass")
+
+    # Canyon walls: closed orange prisms with jagged tops, along both x edges.
+    rock = Mesh()
+    for side in (-1, 1):
+        inner = side * (half - 10.0)
+        outer = side * (half - 2.0)
+        zs = [-half + 4.0 + k * 4.0 for k in range(int((size - 8.0) // 4.0) + 1)]
+        for z0, z1 in zip(zs, zs[1:]):
+            h0 = 9.0 + 4.0 * rnd.random()
+            lo = (min(inner, outer), -0.5, z0)
+            hi = (max(inner, outer), h0, z1)
+            rock.box(lo, hi)
+    meshes["rock"] = (rock, "rock")
+
+    # Buildings: brick-textured boxes with flat red roofs.
+    walls, roofs = Mesh(), Mesh()
+    n_buildings = max(3, int(size * size / 1200))
+    placed = []
+    for _ in range(n_buildings * 20):
+        if len(placed) == n_buildings:
+            break
+        w, d, h = rnd.uniform(4, 8), rnd.uniform(4, 8), rnd.uniform(3, 7)
+        x = rnd.uniform(-half + 14, half - 14 - w)
+        z = rnd.uniform(-half + 6, half - 6 - d)
+        if any(abs(x - px) < 10 and abs(z - pz) < 10 for px, pz in placed):
+            continue
+        placed.append((x, z))
+        walls.box((x, -0.5, z), (x + w, h, z + d), uv_scale=2.0)
+        roofs.box((x - 0.3, h, z - 0.3), (x + w + 0.3, h + 0.3, z + d + 0.3))
+    meshes["walls"] = (walls, "brick")
+    meshes["roofs"] = (roofs, "roof")
+
+    # A thin wall: one double-sided quad, thinner than any probe spacing.
+    thin = Mesh()
+    tx = 0.0 if size < 100 else half * 0.3
+    thin.quad((tx - 4.0, -0.2, 3.0), (tx + 4.0, -0.2, 3.0), (tx + 4.0, 3.0, 3.0), (tx - 4.0, 3.0, 3.0))
+    meshes["thin_wall"] = (thin, "thin")
+
+    # Tree: trunk + canopy; canopy vertex colours vary so COLOR_0 matters.
+    tree = Mesh()
+    tree.box((-0.25, -0.3, -0.25), (0.25, 2.2, 0.25))
+    trunk_tris = len(tree.idx) // 3
+    top, r = 5.5, 1.8
+    ring = [(r * math.cos(a), 2.6, r * math.sin(a)) for a in [k * 2 * math.pi / 7 for k in range(7)]]
+    for k in range(7):
+        a, b = ring[k], ring[(k + 1) % 7]
+        shade = 0.55 + 0.45 * (k / 6.0)
+        tree.tri(a, (0.0, top, 0.0), b, col=(0.2 * shade, 0.6 * shade, 0.15 * shade))
+        tree.tri(b, (0.0, 1.9, 0.0), a, col=(0.1, 0.35, 0.08))
+    trees = []
+    n_trees = max(4, int(size * size / 500))
+    for _ in range(n_trees):
+        x = rnd.uniform(-half + 12, half - 12)
+        z = rnd.uniform(-half + 4, half - 4)
+        if any(x > px - 1 and x < px + 9 and z > pz - 1 and z < pz + 9 for px, pz in placed):
+            continue
+        trees.append((x, terrain_height(x, z, size), z, rnd.uniform(0.8, 1.3)))
+    return meshes, tree, trunk_tris, trees
+
+
+# ---- glTF 2.0 binary writer ---------------------------------------------------
+
+
+class GlbWriter:
+    def __init__(self):
+        self.bin = bytearray()
+        self.g = {"asset": {"version": "2.0", "generator": "vdbgi make_scenes.py"},
+                  "buffers": [], "bufferViews": [], "accessors": [], "meshes": [],
+                  "materials": [], "nodes": [], "scenes": [{"nodes": []}], "scene": 0}
+
+    def view(self, data, target=None):
+        while len(self.bin) % 4:
+            self.bin.append(0)
+        v = {"buffer": 0, "byteOffset": len(self.bin), "byteLength": len(data)}
+        if target:
+            v["target"] = target
+        self.bin.extend(data)
+        self.g["bufferViews"].append(v)
+        return len(self.g["bufferViews"]) - 1
+
+    def accessor(self, values, kind, comp=5126):
+        n = {"VEC2": 2, "VEC3": 3, "SCALAR": 1}[kind]
+        flat = [c for v in values for c in (v if n > 1 else (v,))]
+        fmt = "<%d%s" % (len(flat), "f" if comp == 5126 else "I")
+        target = 34963 if comp == 5125 else 34962
+        a = {"bufferView": self.view(struct.pack(fmt, *flat), target), "componentType": comp,
+             "count": len(values), "type": kind}
+        if kind == "VEC3" and comp == 5126:
+            a["min"] = [min(v[k] for v in values) for k in range(3)]
+            a["max"] = [max(v[k] for v in values) for k in range(3)]
+        self.g["accessors"].append(a)
+        return len(self.g["accessors"]) - 1
+
+    def material(self, name, color, texture=None, double_sided=False):
+        m = {"name": name, "pbrMetallicRoughness": {"baseColorFactor": list(color) + [1.0],
+                                                   "metallicFactor": 0.0, "roughnessFactor": 1.0}}
+        if texture is not None:
+            m["pbrMetallicRoughness"]["baseColorTexture"] = {"index": texture}
+        if double_sided:
+            m["doubleSided"] = True
+        self.g["materials"].append(m)
+        return len(self.g["materials"]) - 1
+
+    def texture(self, png):
+        g = self.g
+        g.setdefault("images", []).append({"bufferView": self.view(png), "mimeType": "image/png"})
+        g.setdefault("samplers", []).append({"magFilter": 9729, "minFilter": 9729})
+        g.setdefault("textures", []).append({"source": len(g["images"]) - 1, "sampler": len(g["samplers"]) - 1})
+        return len(g["textures"]) - 1
+
+    def mesh(self, name, m, material, uv=False, colors=False):
+        attrs = {"POSITION": self.accessor(m.pos, "VEC3")}
+        if uv:
+            attrs["TEXCOORD_0"] = self.accessor([(u, 1.0 - v) for u, v in m.uv], "VEC2")
+        if colors:
+            attrs["COLOR_0"] = self.accessor(m.col, "VEC3")
+        prim = {"attributes": attrs, "indices": self.accessor(m.idx, "SCALAR", 5125), "material": material}
+        self.g["meshes"].append({"name": name, "primitives": [prim]})
+        return len(self.g["meshes"]) - 1
+
+    def node(self, name, mesh, translation=None, scale=None, children=None, root=True):
+        n = {"name": name}
+        if mesh is not None:
+            n["mesh"] = mesh
+        if translation:
+            n["translation"] = list(translation)
+        if scale:
+            n["scale"] = [scale] * 3
+        if children:
+            n["children"] = children
+        self.g["nodes"].append(n)
+        idx = len(self.g["nodes"]) - 1
+        if root:
+            self.g["scenes"][0]["nodes"].append(idx)
+        return idx
+
+    def write(self, path):
+        while len(self.bin) % 4:
+            self.bin.append(0)
+        self.g["buffers"] = [{"byteLength": len(self.bin)}]
+        js = json.dumps(self.g, separators=(",", ":")).encode()
+        js += b" " * ((4 - len(js) % 4) % 4)
+        body = struct.pack("<II", len(js), 0x4E4F534A) + js + struct.pack("<II", len(self.bin), 0x004E4942) + bytes(self.bin)
+        with open(path + ".tmp", "wb") as f:
+            f.write(struct.pack("<III", 0x46546C67, 2, 12 + len(body)) + body)
+        os.replace(path + ".tmp", path)
+
+
+def write_world(path, size, seed=7):
+    meshes, tree, trunk_tris, trees = build_world(size, seed)
+    w = GlbWriter()
+    brick = w.texture(png_bytes(32, 32, brick_pixel))
+    mats = {"grass": w.material("grass", (0.22, 0.50, 0.16)),
+            "rock": w.material("orange rock", (0.80, 0.38, 0.12)),
+            "brick": w.material("brick", (1.0, 1.0, 1.0), texture=brick),
+            "roof": w.material("roof", (0.55, 0.12, 0.10)),
+            "thin": w.material("thin wall", (0.20, 0.30, 0.75), double_sided=True),
+            "tree": w.material("tree", (0.45, 0.30, 0.18))}
+    for name, (m, mat) in meshes.items():
+        if m.idx:
+            w.node(name, w.mesh(name, m, mats[mat], uv=(mat == "brick")))
+    tree_mesh = w.mesh("tree", tree, mats["tree"], colors=True)
+    kids = [w.node("tree%d" % i, tree_mesh, translation=(x, y, z), scale=s, root=False)
+            for i, (x, y, z, s) in enumerate(trees)]
+    # Trees hang under a parent with its own offset: transforms must compose.
+    w.node("forest", None, translation=(0.0, 0.0, 0.0), children=kids)
+    w.write(path)
+
+
+def write_room(directory):
+    """Closed room 6 x 3 x 5 m (inward faces), a table, textured floor (external file)."""
+    parts = []  # (material, Mesh)
+    x0, x1, y0, y1, z0, z1 = -3.0, 3.0, 0.0, 3.0, -2.5, 2.5
+    def face(mat, quad, inward, uv=False):
+        """Add quad facing along inward (flipped if its winding points the other way)."""
+        a, b, c = quad[0], quad[1], quad[2]
+        e1 = [b[k] - a[k] for k in range(3)]
+        e2 = [c[k] - a[k] for k in range(3)]
+        n = (e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0])
+        if sum(n[k] * inward[k] for k in range(3)) < 0:
+            quad = quad[::-1]
+        m = Mesh()
+        uvs = [(p[0] / 2.0, p[2] / 2.0) for p in quad] if uv else None
+        m.quad(*quad, uvs=uvs)
+        parts.append((mat, m, uv))
+    face("floor", ((x0, y0, z1), (x1, y0, z1), (x1, y0, z0), (x0, y0, z0)), (0, 1, 0), uv=True)
+    face("white", ((x0, y1, z1), (x1, y1, z1), (x1, y1, z0), (x0, y1, z0)), (0, -1, 0))
+    face("red", ((x0, y0, z0), (x0, y0, z1), (x0, y1, z1), (x0, y1, z0)), (1, 0, 0))
+    face("green", ((x1, y0, z1), (x1, y0, z0), (x1, y1, z0), (x1, y1, z1)), (-1, 0, 0))
+    face("white", ((x1, y0, z0), (x0, y0, z0), (x0, y1, z0), (x1, y1, z0)), (0, 0, 1))
+    face("white", ((x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)), (0, 0, -1))
+    table = Mesh()
+    table.box((-0.8, 0.0, -0.5), (0.8, 0.8, 0.5))
+    parts.append(("wood", table, False))
+    lines = ["# vdbgi test room: closed, faces point inwards; generated by make_scenes.py",
+             "mtllib room.mtl"]
+    base = 1
+    for k, (mat, m, uv) in enumerate(parts):
+        lines.append("o part%d" % k)
+        for p in m.pos:
+            lines.append("v %.4f %.4f %.4f" % p)
+        if uv:
+            for t in m.uv:
+                lines.append("vt %.4f %.4f" % t)
+        lines.append("usemtl %s" % mat)
+        for t in range(0, len(m.idx), 3):
+            a, b, c = (m.idx[t + i] + base for i in range(3))
+            if uv:
+                lines.append("f %d/%d %d/%d %d/%d" % (a, a, b, b, c, c))
+            else:
+                lines.append("f %d %d %d" % (a, b, c))
+        base += len(m.pos)
+    # vt indices share numbering with v only because every textured part comes first.
+    assert parts[0][2] and not any(p[2] for p in parts[1:])
+    with open(os.path.join(directory, "room.obj"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    mtl = ["# materials of room.obj", "newmtl floor", "Kd 1.0 1.0 1.0", "map_Kd floor.png",
+           "newmtl white", "Kd 0.75 0.75 0.75", "newmtl red", "Kd 0.70 0.10 0.08",
+           "newmtl green", "Kd 0.12 0.60 0.10", "newmtl wood", "Kd 0.50 0.33 0.18"]
+    with open(os.path.join(directory, "room.mtl"), "w") as f:
+        f.write("\n".join(mtl) + "\n")
+    with open(os.path.join(directory, "floor.png"), "wb") as f:
+        f.write(png_bytes(32, 32, checker_pixel))
+
+
+def main(argv):
+    if len(argv) == 3 and argv[0] == "--world":
+        write_world(argv[2], float(argv[1]), seed=int(float(argv[1])))
+        return 0
+    if argv:
+        sys.stderr.write(__doc__)
+        return 2
+    here = os.path.dirname(os.path.abspath(__file__))
+    write_world(os.path.join(here, "world.glb"), 48.0)
+    write_room(here)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

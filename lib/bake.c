@@ -1,0 +1,486 @@
+/* bake.c: seed 000's irradiance estimator per probe, validity, threads, progress. */
+#include "internal.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <string.h>
+
+#define PI_F 3.14159265358979f
+
+/* The query shape VDBGI_TRACE_AUTO picks: the fastest in docs/performance.md. */
+#define VDBGI_TRACE_BEST VDBGI_TRACE_PACKET16
+
+/* Probes handed to a thread at a time: small enough to balance, big enough to amortise. */
+#define CHUNK 32
+
+static bool is_zero3(const float v[3])
+{
+    return v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f;
+}
+
+static bool nonneg_finite3(const float v[3])
+{
+    for (int k = 0; k < 3; k++)
+        if (!(v[k] >= 0.0f) || !isfinite(v[k]))
+            return false;
+    return true;
+}
+
+vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc *desc,
+                                       vdbgi_bake_params *bp)
+{
+    const vdbgi_bake_desc none = {0};
+    if (!desc)
+        desc = &none;
+    memset(bp, 0, sizeof(*bp));
+    bp->rays = desc->rays ? desc->rays : 128;
+    VDBGI_FAIL_IF(ctx, bp->rays < 1 || bp->rays > 1000000, VDBGI_ERR_INVALID_ARG,
+                  "rays per probe must be in 1..1000000 (got %d)", desc->rays);
+    bp->ray_dist = desc->ray_dist != 0.0f ? desc->ray_dist : 40.0f;
+    VDBGI_FAIL_IF(ctx, !(bp->ray_dist > 0.0f) || !isfinite(bp->ray_dist), VDBGI_ERR_INVALID_ARG,
+                  "ray distance must be > 0 and finite (got %g)", (double)desc->ray_dist);
+    bp->ambient = desc->ambient == 0.0f          ? 0.15f
+                  : desc->ambient == VDBGI_NONE ? 0.0f
+                                                : desc->ambient;
+    VDBGI_FAIL_IF(ctx, !(bp->ambient >= 0.0f) || !isfinite(bp->ambient), VDBGI_ERR_INVALID_ARG,
+                  "ambient must be >= 0 and finite (got %g)", (double)desc->ambient);
+
+    static const float default_sun[3] = {0.4f, 0.8f, 0.3f};
+    const float *const sd = is_zero3(desc->sun_dir) ? default_sun : desc->sun_dir;
+    const float len = sqrtf(sd[0] * sd[0] + sd[1] * sd[1] + sd[2] * sd[2]);
+    VDBGI_FAIL_IF(ctx, !(len > 0.0f) || !isfinite(len), VDBGI_ERR_INVALID_ARG,
+                  "sun direction must be finite and non-zero (got %g,%g,%g)", (double)sd[0],
+                  (double)sd[1], (double)sd[2]);
+    for (int k = 0; k < 3; k++)
+        bp->sun_dir[k] = sd[k] / len;
+
+    bp->sun_on = desc->sun_color[0] != VDBGI_NONE;
+    for (int k = 0; k < 3; k++)
+        bp->sun_color[k] = !bp->sun_on ? 0.0f : is_zero3(desc->sun_color) ? 1.0f : desc->sun_color[k];
+    VDBGI_FAIL_IF(ctx, !nonneg_finite3(bp->sun_color), VDBGI_ERR_INVALID_ARG,
+                  "sun colour must be >= 0 and finite (got %g,%g,%g)", (double)desc->sun_color[0],
+                  (double)desc->sun_color[1], (double)desc->sun_color[2]);
+    bp->sun_on = bp->sun_on && !is_zero3(bp->sun_color);
+
+    bp->falloff = desc->falloff != 0.0f ? desc->falloff : 4.0f;
+    VDBGI_FAIL_IF(ctx, !(bp->falloff > 0.0f), VDBGI_ERR_INVALID_ARG,
+                  "falloff must be > 0 or inf (got %g)", (double)desc->falloff);
+    memcpy(bp->sky, desc->sky, sizeof(bp->sky));
+    VDBGI_FAIL_IF(ctx, !nonneg_finite3(bp->sky), VDBGI_ERR_INVALID_ARG,
+                  "sky colour must be >= 0 and finite (got %g,%g,%g)", (double)desc->sky[0],
+                  (double)desc->sky[1], (double)desc->sky[2]);
+    VDBGI_FAIL_IF(ctx,
+                  desc->sampling != VDBGI_SAMPLING_FIBONACCI &&
+                      desc->sampling != VDBGI_SAMPLING_RANDOM,
+                  VDBGI_ERR_INVALID_ARG, "unknown sampling method %d", (int)desc->sampling);
+    bp->sampling = desc->sampling;
+    bp->seed = desc->seed;
+    VDBGI_FAIL_IF(ctx, desc->threads < 0 || desc->threads > 1024, VDBGI_ERR_INVALID_ARG,
+                  "threads must be in 0..1024 (got %d)", desc->threads);
+    bp->threads = desc->threads ? desc->threads : vdbgi_core_count();
+    bp->invalid_threshold = desc->invalid_threshold != 0.0f ? desc->invalid_threshold : 0.25f;
+    VDBGI_FAIL_IF(ctx, !(bp->invalid_threshold > 0.0f && bp->invalid_threshold <= 1.0f),
+                  VDBGI_ERR_INVALID_ARG, "invalid threshold must be in (0, 1] (got %g)",
+                  (double)desc->invalid_threshold);
+    VDBGI_FAIL_IF(ctx, desc->trace_method < VDBGI_TRACE_AUTO || desc->trace_method > VDBGI_TRACE_STREAM,
+                  VDBGI_ERR_INVALID_ARG, "unknown trace method %d", (int)desc->trace_method);
+    bp->method = desc->trace_method == VDBGI_TRACE_AUTO ? VDBGI_TRACE_BEST : desc->trace_method;
+    return VDBGI_OK;
+}
+
+/* ---- directions ------------------------------------------------------------ */
+
+/*
+ * Spherical Fibonacci set: z evenly spaced in (-1, 1), azimuth advancing by
+ * the golden angle, so every direction stands for the same solid angle.
+ */
+static void fibonacci_directions(int n, float *dirs)
+{
+    const double golden = PI_F * (3.0 - sqrt(5.0));
+    for (int i = 0; i < n; i++) {
+        const double z = 1.0 - (2.0 * i + 1.0) / n;
+        const double r = sqrt(1.0 - z * z);
+        const double phi = golden * i;
+        dirs[3 * i + 0] = (float)(r * cos(phi));
+        dirs[3 * i + 1] = (float)z;
+        dirs[3 * i + 2] = (float)(r * sin(phi));
+    }
+}
+
+static uint64_t splitmix64(uint64_t *state)
+{
+    uint64_t z = (*state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+/* A probe's random stream depends on its lattice point and the seed only. */
+static uint64_t probe_stream(int32_t i, int32_t j, int32_t k, uint64_t seed)
+{
+    uint64_t s = seed ^ ((uint64_t)(uint32_t)i * 0x8CB92BA72F3D8DD7ull) ^
+                 ((uint64_t)(uint32_t)j * 0xAB8F3B2A1F7C5D93ull) ^
+                 ((uint64_t)(uint32_t)k * 0xD1B54A32D192ED03ull);
+    return splitmix64(&s);
+}
+
+static double uniform01(uint64_t *state)
+{
+    return (double)(splitmix64(state) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* Uniformly random rotation (Shoemake's quaternion from three uniforms). */
+static void random_rotation(uint64_t stream, float m[9])
+{
+    const double u1 = uniform01(&stream), u2 = uniform01(&stream), u3 = uniform01(&stream);
+    const double a = sqrt(1.0 - u1), b = sqrt(u1);
+    const double x = a * sin(2.0 * PI_F * u2), y = a * cos(2.0 * PI_F * u2);
+    const double z = b * sin(2.0 * PI_F * u3), w = b * cos(2.0 * PI_F * u3);
+    m[0] = (float)(1 - 2 * (y * y + z * z)), m[1] = (float)(2 * (x * y - z * w));
+    m[2] = (float)(2 * (x * z + y * w)), m[3] = (float)(2 * (x * y + z * w));
+    m[4] = (float)(1 - 2 * (x * x + z * z)), m[5] = (float)(2 * (y * z - x * w));
+    m[6] = (float)(2 * (x * z - y * w)), m[7] = (float)(2 * (y * z + x * w));
+    m[8] = (float)(1 - 2 * (x * x + y * y));
+}
+
+/* ---- one probe ------------------------------------------------------------- */
+
+typedef struct bake_shared {
+    const vdbgi_scene *scene;
+    const vdbgi_bake_params *bp;
+    const float *base_dirs; /* rays * 3 */
+    bool shade;             /* false: the bare benchmark loop */
+    /* Either a lattice (ijk + origin + spacing) or explicit points. */
+    const int32_t *ijk;
+    const float *points;
+    double origin[3], spacing;
+    size_t count;
+    float *rgb, *backface;
+    /* Work distribution. */
+    atomic_size_t next;
+    atomic_size_t done;
+    atomic_int cancel;
+} bake_shared;
+
+typedef struct bake_thread {
+    bake_shared *sh;
+    float *dir, *sorg;
+    float *sun_weight; /* per shadow ray: albedo x falloff x n.sun, RGB */
+    vdbgi_hit *hits;
+    unsigned char *occluded;
+    void *scratch;
+    uint64_t primary, shadow, hits_count, invalid;
+    pthread_t thread;
+    bool started;
+} bake_thread;
+
+static void bake_probe(bake_thread *th, size_t index)
+{
+    const bake_shared *const sh = th->sh;
+    const vdbgi_bake_params *const bp = sh->bp;
+    const vdbgi_scene *const scene = sh->scene;
+    const int n = bp->rays;
+    float pos[3];
+    uint64_t stream;
+    if (sh->ijk) {
+        const int32_t *const c = &sh->ijk[3 * index];
+        for (int k = 0; k < 3; k++)
+            pos[k] = (float)(sh->origin[k] + sh->spacing * c[k]);
+        stream = probe_stream(c[0], c[1], c[2], bp->seed);
+    } else {
+        memcpy(pos, &sh->points[3 * index], sizeof(pos));
+        stream = probe_stream((int32_t)index, 0, 0, bp->seed);
+    }
+    const float *dirs = sh->base_dirs;
+    if (bp->sampling == VDBGI_SAMPLING_RANDOM) {
+        float m[9];
+        random_rotation(stream, m);
+        for (int i = 0; i < n; i++) {
+            const float *const d = &sh->base_dirs[3 * i];
+            for (int r = 0; r < 3; r++)
+                th->dir[3 * i + r] = m[3 * r] * d[0] + m[3 * r + 1] * d[1] + m[3 * r + 2] * d[2];
+        }
+        dirs = th->dir;
+    }
+    const vdbgi_ray_batch primary = {pos, dirs, 0, 3, 0.0f, bp->ray_dist, (size_t)n};
+    vdbgi_tracer_intersect(scene->tracer, bp->method, &primary, th->hits, th->scratch);
+
+    double acc[3] = {0.0, 0.0, 0.0};
+    size_t shadow_count = 0, hit_count = 0, back_count = 0, miss_count = 0;
+    const float off = scene->ray_offset;
+    for (int i = 0; i < n; i++) {
+        const vdbgi_hit *const h = &th->hits[i];
+        if (!(h->t < INFINITY)) {
+            miss_count++;
+            continue;
+        }
+        hit_count++;
+        const float *const d = &dirs[3 * i];
+        const vdbgi_tri *const tri = &scene->tris[h->prim];
+        const float *const tn = tri->normal;
+        const float facing = tn[0] * d[0] + tn[1] * d[1] + tn[2] * d[2];
+        /* The ray arrives from the side the normal points away from: a back face. */
+        const float flip = facing > 0.0f ? -1.0f : 1.0f;
+        if (facing > 0.0f && !(tri->flags & VDBGI_TRI_DOUBLE_SIDED))
+            back_count++;
+        const float nf[3] = {tn[0] * flip, tn[1] * flip, tn[2] * flip};
+        const float ndotl = nf[0] * bp->sun_dir[0] + nf[1] * bp->sun_dir[1] + nf[2] * bp->sun_dir[2];
+        const bool wants_sun = bp->sun_on && ndotl > 0.0f;
+        float albedo_w[3] = {0.0f, 0.0f, 0.0f};
+        if (sh->shade) {
+            float albedo[3];
+            vdbgi_scene_albedo(scene, h->prim, h->u, h->v, albedo);
+            const float q = h->t / bp->falloff;
+            const float w = 1.0f / (1.0f + q * q); /* q = 0 when falloff is infinite */
+            for (int k = 0; k < 3; k++) {
+                albedo_w[k] = albedo[k] * w;
+                acc[k] += (double)(albedo_w[k] * bp->ambient);
+            }
+        }
+        if (wants_sun) {
+            float *const so = &th->sorg[3 * shadow_count];
+            for (int k = 0; k < 3; k++) {
+                so[k] = pos[k] + h->t * d[k] + off * nf[k];
+                th->sun_weight[3 * shadow_count + k] = albedo_w[k] * ndotl * bp->sun_color[k];
+            }
+            shadow_count++;
+        }
+    }
+    if (shadow_count) {
+        const vdbgi_ray_batch shadow = {th->sorg, bp->sun_dir, 3, 0, 0.0f, INFINITY, shadow_count};
+        vdbgi_tracer_occluded(scene->tracer, bp->method, &shadow, th->occluded, th->scratch);
+        if (sh->shade)
+            for (size_t s = 0; s < shadow_count; s++)
+                if (!th->occluded[s])
+                    for (int k = 0; k < 3; k++)
+                        acc[k] += (double)th->sun_weight[3 * s + k];
+    }
+    th->primary += (uint64_t)n;
+    th->shadow += shadow_count;
+    th->hits_count += hit_count;
+    const float bf = hit_count ? (float)back_count / (float)hit_count : 0.0f;
+    th->invalid += bf > bp->invalid_threshold;
+    if (sh->shade) {
+        for (int k = 0; k < 3; k++)
+            sh->rgb[3 * index + k] = (float)((acc[k] + (double)miss_count * bp->sky[k]) / n);
+        sh->backface[index] = bf;
+    }
+}
+
+/* Take chunks until none are left; returns after the last one or on cancel. */
+static void run_chunks(bake_thread *th, bool is_caller,
+                       int (*progress)(void *, float), void *progress_user)
+{
+    bake_shared *const sh = th->sh;
+    size_t reported = 0; /* percent */
+    for (;;) {
+        if (atomic_load(&sh->cancel))
+            return;
+        const size_t begin = atomic_fetch_add(&sh->next, CHUNK);
+        if (begin >= sh->count)
+            return;
+        const size_t end = begin + CHUNK < sh->count ? begin + CHUNK : sh->count;
+        for (size_t i = begin; i < end; i++)
+            bake_probe(th, i);
+        const size_t done = atomic_fetch_add(&sh->done, end - begin) + (end - begin);
+        if (is_caller && progress) {
+            const size_t percent = done * 100 / sh->count;
+            if (percent > reported) {
+                reported = percent;
+                if (progress(progress_user, (float)done / (float)sh->count))
+                    atomic_store(&sh->cancel, 1);
+            }
+        }
+    }
+}
+
+static void *worker_main(void *arg)
+{
+    run_chunks(arg, false, NULL, NULL);
+    return NULL;
+}
+
+static void threads_free(vdbgi_context *ctx, bake_thread *ths, int n)
+{
+    for (int t = 0; ths && t < n; t++) {
+        vdbgi_free(ctx, ths[t].dir);
+        vdbgi_free(ctx, ths[t].sorg);
+        vdbgi_free(ctx, ths[t].sun_weight);
+        vdbgi_free(ctx, ths[t].hits);
+        vdbgi_free(ctx, ths[t].occluded);
+        vdbgi_free(ctx, ths[t].scratch);
+    }
+    vdbgi_free(ctx, ths);
+}
+
+/* Run sh over bp->threads threads (the caller's included) and sum the counters. */
+static vdbgi_result bake_run(vdbgi_context *ctx, bake_shared *sh, const vdbgi_bake_desc *desc,
+                             vdbgi_bake_stats *stats)
+{
+    const vdbgi_bake_params *const bp = sh->bp;
+    const double t0 = vdbgi_now();
+    float *const base_dirs = vdbgi_calloc(ctx, (size_t)bp->rays, 3 * sizeof(float));
+    if (!base_dirs)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    fibonacci_directions(bp->rays, base_dirs);
+    sh->base_dirs = base_dirs;
+    atomic_init(&sh->next, 0);
+    atomic_init(&sh->done, 0);
+    atomic_init(&sh->cancel, 0);
+
+    /* No more threads than chunks: idle threads would only cost their scratch. */
+    const size_t chunks = (sh->count + CHUNK - 1) / CHUNK;
+    const int nth = (size_t)bp->threads < chunks ? bp->threads : (chunks ? (int)chunks : 1);
+    bake_thread *const ths = vdbgi_calloc(ctx, (size_t)nth, sizeof(*ths));
+    vdbgi_result r = ths ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
+    const size_t n = (size_t)bp->rays;
+    for (int t = 0; r == VDBGI_OK && t < nth; t++) {
+        bake_thread *const th = &ths[t];
+        th->sh = sh;
+        th->dir = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+        th->sorg = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+        th->sun_weight = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+        th->hits = vdbgi_calloc(ctx, n, sizeof(vdbgi_hit));
+        th->occluded = vdbgi_calloc(ctx, n, 1);
+        th->scratch = vdbgi_alloc(ctx, vdbgi_tracer_scratch_size(n));
+        if (!th->dir || !th->sorg || !th->sun_weight || !th->hits ||
+            !th->occluded || !th->scratch)
+            r = VDBGI_ERR_OUT_OF_MEMORY;
+    }
+    if (r == VDBGI_OK) {
+        for (int t = 1; t < nth; t++)
+            ths[t].started = pthread_create(&ths[t].thread, NULL, worker_main, &ths[t]) == 0;
+        run_chunks(&ths[0], true, desc ? desc->progress : NULL, desc ? desc->progress_user : NULL);
+        for (int t = 1; t < nth; t++)
+            if (ths[t].started)
+                pthread_join(ths[t].thread, NULL);
+        if (atomic_load(&sh->cancel))
+            r = vdbgi_fail(ctx, VDBGI_ERR_CANCELLED, "bake cancelled after %zu of %zu probes",
+                           (size_t)atomic_load(&sh->done), sh->count);
+        else
+            r = vdbgi_tracer_check(sh->scene->tracer);
+    }
+    if (r == VDBGI_OK && stats) {
+        memset(stats, 0, sizeof(*stats));
+        stats->probe_count = sh->count;
+        for (int t = 0; t < nth; t++) {
+            stats->primary_ray_count += ths[t].primary;
+            stats->shadow_ray_count += ths[t].shadow;
+            stats->hit_count += ths[t].hits_count;
+            stats->invalid_probe_count += ths[t].invalid;
+            stats->threads += t == 0 || ths[t].started;
+        }
+        stats->seconds = vdbgi_now() - t0;
+    }
+    threads_free(ctx, ths, nth);
+    vdbgi_free(ctx, base_dirs);
+    return r;
+}
+
+static const char *sampling_name(vdbgi_sampling s)
+{
+    return s == VDBGI_SAMPLING_RANDOM ? "random" : "fibonacci";
+}
+
+/* Every setting that shaped the values, so a .vdb says how it was made. */
+static void record_settings(vdbgi_probes *p, const vdbgi_scene *scene,
+                            const vdbgi_bake_params *bp, const vdbgi_bake_stats *st)
+{
+    const float origin[3] = {(float)p->origin[0], (float)p->origin[1], (float)p->origin[2]};
+    vdbgi_meta_set_string(p, "vdbgi_version", vdbgi_version_string());
+    vdbgi_meta_set_string(p, "scene", scene->name);
+    vdbgi_meta_set_int(p, "triangles", (int64_t)scene->triangle_count);
+    vdbgi_meta_set_int(p, "probes", (int64_t)p->count);
+    vdbgi_meta_set_int(p, "invalid_probes", (int64_t)p->invalid_count);
+    vdbgi_meta_set_double(p, "bake_seconds", st->seconds);
+    vdbgi_meta_set_double(p, "spacing", p->spacing);
+    vdbgi_meta_set_double(p, "margin", p->margin);
+    vdbgi_meta_set_vec3(p, "origin", origin);
+    vdbgi_meta_set_int(p, "rays", bp->rays);
+    vdbgi_meta_set_double(p, "ray_dist", bp->ray_dist);
+    vdbgi_meta_set_double(p, "ambient", bp->ambient);
+    vdbgi_meta_set_vec3(p, "sun_dir", bp->sun_dir);
+    vdbgi_meta_set_vec3(p, "sun_color", bp->sun_color);
+    vdbgi_meta_set_double(p, "falloff", bp->falloff);
+    vdbgi_meta_set_vec3(p, "sky", bp->sky);
+    vdbgi_meta_set_string(p, "sampling", sampling_name(bp->sampling));
+    vdbgi_meta_set_int(p, "seed", (int64_t)bp->seed);
+    vdbgi_meta_set_double(p, "invalid_threshold", bp->invalid_threshold);
+    vdbgi_meta_set_double(p, "ray_offset", scene->ray_offset);
+}
+
+vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
+                               const vdbgi_bake_desc *desc, vdbgi_bake_stats *stats)
+{
+    vdbgi_context *const ctx = p->ctx;
+    VDBGI_FAIL_IF(ctx, !scene, VDBGI_ERR_INVALID_ARG, "no scene given");
+    vdbgi_bake_params bp;
+    VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, &bp));
+    const size_t n = p->count ? p->count : 1;
+    float *const rgb = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+    float *const backface = vdbgi_calloc(ctx, n, sizeof(float));
+    if (!rgb || !backface) {
+        vdbgi_free(ctx, rgb);
+        vdbgi_free(ctx, backface);
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    }
+    bake_shared sh = {.scene = scene, .bp = &bp, .shade = true, .ijk = p->ijk,
+                      .spacing = p->spacing, .count = p->count, .rgb = rgb,
+                      .backface = backface};
+    memcpy(sh.origin, p->origin, sizeof(sh.origin));
+    vdbgi_bake_stats st;
+    const vdbgi_result r = bake_run(ctx, &sh, desc, &st);
+    if (r != VDBGI_OK) {
+        vdbgi_free(ctx, rgb);
+        vdbgi_free(ctx, backface);
+        return r;
+    }
+    /* Replace old values only once the new ones are complete. */
+    vdbgi_free(ctx, p->rgb);
+    vdbgi_free(ctx, p->backface);
+    p->rgb = rgb;
+    p->backface = backface;
+    p->invalid_threshold = bp.invalid_threshold;
+    p->invalid_count = (size_t)st.invalid_probe_count;
+    record_settings(p, scene, &bp, &st);
+    if (stats)
+        *stats = st;
+    return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_probes_trace_bare(const vdbgi_probes *p, const vdbgi_scene *scene,
+                                     const vdbgi_bake_desc *desc, vdbgi_bake_stats *stats)
+{
+    vdbgi_context *const ctx = p->ctx;
+    VDBGI_FAIL_IF(ctx, !scene || !stats, VDBGI_ERR_INVALID_ARG, "no scene or stats given");
+    vdbgi_bake_params bp;
+    VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, &bp));
+    bake_shared sh = {.scene = scene, .bp = &bp, .shade = false, .ijk = p->ijk,
+                      .spacing = p->spacing, .count = p->count};
+    memcpy(sh.origin, p->origin, sizeof(sh.origin));
+    return bake_run(ctx, &sh, desc, stats);
+}
+
+vdbgi_result vdbgi_bake_points(vdbgi_context *ctx, const vdbgi_scene *scene,
+                               const vdbgi_bake_desc *desc, const float *points,
+                               size_t point_count, float *rgb, float *backface)
+{
+    VDBGI_FAIL_IF(ctx, !scene || (point_count && (!points || !rgb)), VDBGI_ERR_INVALID_ARG,
+                  "no scene, points or output given");
+    for (size_t i = 0; i < point_count * 3; i++)
+        VDBGI_FAIL_IF(ctx, !isfinite(points[i]), VDBGI_ERR_INVALID_ARG,
+                      "point %zu is not finite", i / 3);
+    vdbgi_bake_params bp;
+    VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, &bp));
+    float *bf = backface;
+    if (!bf && !(bf = vdbgi_calloc(ctx, point_count ? point_count : 1, sizeof(float))))
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    bake_shared sh = {.scene = scene, .bp = &bp, .shade = true, .points = points,
+                      .count = point_count, .rgb = rgb, .backface = bf};
+    const vdbgi_result r = bake_run(ctx, &sh, desc, NULL);
+    if (bf != backface)
+        vdbgi_free(ctx, bf);
+    return r;
+}

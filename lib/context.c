@@ -1,0 +1,204 @@
+/* context.c: the context (allocator, log, last error) and small shared helpers. */
+#define _POSIX_C_SOURCE 200809L
+#include "internal.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#define VDBGI_STR2(x) #x
+#define VDBGI_STR(x) VDBGI_STR2(x)
+
+const char *vdbgi_version_string(void)
+{
+    return VDBGI_STR(VDBGI_VERSION_MAJOR) "." VDBGI_STR(VDBGI_VERSION_MINOR) "." VDBGI_STR(
+        VDBGI_VERSION_PATCH);
+}
+
+const char *vdbgi_result_string(vdbgi_result result)
+{
+    switch (result) {
+    case VDBGI_OK: return "ok";
+    case VDBGI_ERR_INVALID_ARG: return "invalid argument";
+    case VDBGI_ERR_OUT_OF_MEMORY: return "out of memory";
+    case VDBGI_ERR_IO: return "input/output error";
+    case VDBGI_ERR_FORMAT: return "unusable file contents";
+    case VDBGI_ERR_BACKEND: return "library backend error";
+    case VDBGI_ERR_CANCELLED: return "cancelled";
+    }
+    return "unknown result";
+}
+
+static void *default_alloc(void *user, size_t size)
+{
+    (void)user;
+    return malloc(size);
+}
+
+static void default_free(void *user, void *ptr)
+{
+    (void)user;
+    free(ptr);
+}
+
+vdbgi_result vdbgi_context_create(const vdbgi_context_desc *desc, vdbgi_context **out)
+{
+    if (!out)
+        return VDBGI_ERR_INVALID_ARG;
+    *out = NULL;
+    const vdbgi_context_desc none = {0};
+    if (!desc)
+        desc = &none;
+    if ((desc->alloc == NULL) != (desc->free == NULL))
+        return VDBGI_ERR_INVALID_ARG;
+    void *(*const alloc)(void *, size_t) = desc->alloc ? desc->alloc : default_alloc;
+    vdbgi_context *const ctx = alloc(desc->user, sizeof(*ctx));
+    if (!ctx)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    memset(ctx, 0, sizeof(*ctx));
+    ctx->alloc = alloc;
+    ctx->free = desc->free ? desc->free : default_free;
+    ctx->log = desc->log;
+    ctx->user = desc->user;
+    *out = ctx;
+    return VDBGI_OK;
+}
+
+void vdbgi_context_destroy(vdbgi_context *ctx)
+{
+    if (ctx)
+        ctx->free(ctx->user, ctx);
+}
+
+const char *vdbgi_context_error(const vdbgi_context *ctx)
+{
+    return ctx ? ctx->error : "no context";
+}
+
+vdbgi_result vdbgi_fail(vdbgi_context *ctx, vdbgi_result code, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(ctx->error, sizeof(ctx->error), fmt, ap);
+    va_end(ap);
+    return code;
+}
+
+void vdbgi_log(vdbgi_context *ctx, vdbgi_log_level level, const char *fmt, ...)
+{
+    if (!ctx->log)
+        return;
+    char line[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(line, sizeof(line), fmt, ap);
+    va_end(ap);
+    ctx->log(ctx->user, level, line);
+}
+
+void *vdbgi_alloc(vdbgi_context *ctx, size_t size)
+{
+    void *const p = ctx->alloc(ctx->user, size ? size : 1);
+    if (!p)
+        vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY, "out of memory allocating %zu bytes", size);
+    return p;
+}
+
+void *vdbgi_calloc(vdbgi_context *ctx, size_t count, size_t size)
+{
+    if (size && count > SIZE_MAX / size) {
+        vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY, "allocation of %zu x %zu bytes overflows", count,
+                   size);
+        return NULL;
+    }
+    void *const p = vdbgi_alloc(ctx, count * size);
+    if (p)
+        memset(p, 0, count * size);
+    return p;
+}
+
+void vdbgi_free(vdbgi_context *ctx, void *ptr)
+{
+    if (ptr)
+        ctx->free(ctx->user, ptr);
+}
+
+char *vdbgi_strdup(vdbgi_context *ctx, const char *s)
+{
+    const size_t n = strlen(s) + 1;
+    char *const p = vdbgi_alloc(ctx, n);
+    if (p)
+        memcpy(p, s, n);
+    return p;
+}
+
+double vdbgi_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+int vdbgi_core_count(void)
+{
+    const long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n > 0 ? (int)n : 1;
+}
+
+vdbgi_result vdbgi_temp_create(vdbgi_context *ctx, const char *path, char **tmp_out)
+{
+    *tmp_out = NULL;
+    VDBGI_FAIL_IF(ctx, !path || !*path, VDBGI_ERR_INVALID_ARG, "no output path given");
+    static const char suffix[] = ".tmp-XXXXXX";
+    const size_t n = strlen(path);
+    char *const tmp = vdbgi_alloc(ctx, n + sizeof(suffix));
+    if (!tmp)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    memcpy(tmp, path, n);
+    memcpy(tmp + n, suffix, sizeof(suffix));
+    const int fd = mkstemp(tmp);
+    if (fd < 0) {
+        const int err = errno;
+        vdbgi_free(ctx, tmp);
+        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write: %s", path, strerror(err));
+    }
+    /* mkstemp makes 0600; the finished file should get the usual umask mode. */
+    const mode_t mask = umask(0);
+    umask(mask);
+    fchmod(fd, 0666 & ~mask);
+    close(fd);
+    *tmp_out = tmp;
+    return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_output_check(vdbgi_context *ctx, const char *path)
+{
+    char *tmp = NULL;
+    VDBGI_TRY(vdbgi_temp_create(ctx, path, &tmp));
+    vdbgi_temp_discard(ctx, tmp);
+    return VDBGI_OK;
+}
+
+void vdbgi_temp_discard(vdbgi_context *ctx, char *tmp)
+{
+    if (tmp) {
+        unlink(tmp);
+        vdbgi_free(ctx, tmp);
+    }
+}
+
+vdbgi_result vdbgi_temp_commit(vdbgi_context *ctx, char *tmp, const char *path)
+{
+    if (rename(tmp, path) != 0) {
+        const int err = errno;
+        vdbgi_temp_discard(ctx, tmp);
+        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot rename into place: %s", path,
+                          strerror(err));
+    }
+    vdbgi_free(ctx, tmp);
+    return VDBGI_OK;
+}

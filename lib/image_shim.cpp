@@ -1,0 +1,69 @@
+/* image_shim.cpp: OpenImageIO behind a C interface; translates, decides nothing. */
+#include "image_shim.h"
+#include "shim.h"
+
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+using namespace OIIO;
+
+extern "C" vdbgi_result vdbgi_image_decode(vdbgi_context *ctx, const char *path, const void *data,
+                                           size_t data_size, const char *format_hint,
+                                           vdbgi_texture *out)
+{
+    VDBGI_SHIM_BEGIN
+    out->width = out->height = 0;
+    out->rgba = nullptr;
+    std::unique_ptr<Filesystem::IOMemReader> mem;
+    std::string name;
+    if (data) {
+        // The plugin is chosen by extension, so give the memory a fake name.
+        name = std::string("embedded.") + (format_hint && *format_hint ? format_hint : "png");
+        mem.reset(new Filesystem::IOMemReader(const_cast<void *>(data), data_size));
+    } else {
+        name = path;
+    }
+    auto in = ImageInput::open(name, nullptr, mem.get());
+    if (!in) {
+        const std::string err = OIIO::geterror();
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: cannot read image: %s",
+                          data ? "embedded texture" : path, err.c_str());
+    }
+    const ImageSpec &spec = in->spec();
+    const int w = spec.width, h = spec.height, nc = spec.nchannels;
+    if (w <= 0 || h <= 0 || nc <= 0 || w > 65536 || h > 65536) {
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: unusable image size %dx%dx%d",
+                          data ? "embedded texture" : path, w, h, nc);
+    }
+    std::vector<float> pixels((size_t)w * h * nc);
+    if (!in->read_image(0, 0, 0, nc, TypeDesc::FLOAT, pixels.data())) {
+        const std::string err = in->geterror();
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: cannot decode image: %s",
+                          data ? "embedded texture" : path, err.c_str());
+    }
+    in->close();
+    float *const rgba = (float *)vdbgi_calloc(ctx, (size_t)w * h, 4 * sizeof(float));
+    if (!rgba)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    for (size_t i = 0; i < (size_t)w * h; i++) {
+        const float *const s = &pixels[i * nc];
+        float *const d = &rgba[i * 4];
+        if (nc >= 3) {
+            d[0] = s[0], d[1] = s[1], d[2] = s[2];
+            d[3] = nc >= 4 ? s[3] : 1.0f;
+        } else {
+            d[0] = d[1] = d[2] = s[0];
+            d[3] = nc == 2 ? s[1] : 1.0f;
+        }
+    }
+    out->width = w;
+    out->height = h;
+    out->rgba = rgba;
+    return VDBGI_OK;
+    VDBGI_SHIM_END(ctx, "openimageio")
+}

@@ -1,0 +1,25 @@
+/* image_shim.h: C interface to the only code that includes OpenImageIO. */
+#ifndef VDBGI_IMAGE_SHIM_H
+#define VDBGI_IMAGE_SHIM_H
+
+#include "internal.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/*
+ * Decode an image into out->rgba (4 floats per pixel, values as stored,
+ * no colour conversion, row 0 at the top), allocated through ctx. Either
+ * path names a file, or data/data_size hold an encoded file in memory whose
+ * format is named by format_hint ("png", "jpg", ...). Grey images are
+ * replicated to RGB; missing alpha is 1.
+ */
+vdbgi_result vdbgi_image_decode(vdbgi_context *ctx, const char *path, const void *data,
+                                size_t data_size, const char *format_hint, vdbgi_texture *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* VDBGI_IMAGE_SHIM_H */

@@ -1,0 +1,217 @@
+/* internal.h: declarations shared inside lib/ (never installed). */
+#ifndef VDBGI_INTERNAL_H
+#define VDBGI_INTERNAL_H
+
+#include "vdbgi.h"
+
+#include <stdarg.h>
+#include <stdbool.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(__GNUC__)
+#define VDBGI_PRINTF(f, a) __attribute__((format(printf, f, a)))
+#else
+#define VDBGI_PRINTF(f, a)
+#endif
+
+struct vdbgi_context {
+    void *(*alloc)(void *user, size_t size);
+    void (*free)(void *user, void *ptr);
+    void (*log)(void *user, vdbgi_log_level level, const char *message);
+    void *user;
+    char error[512];
+};
+
+/* Record a failure message on ctx and return code (for one-line returns). */
+vdbgi_result vdbgi_fail(vdbgi_context *ctx, vdbgi_result code, const char *fmt, ...)
+    VDBGI_PRINTF(3, 4);
+void vdbgi_log(vdbgi_context *ctx, vdbgi_log_level level, const char *fmt, ...)
+    VDBGI_PRINTF(3, 4);
+
+/* Return error code with a message if cond holds (zstd's RETURN_ERROR_IF). */
+#define VDBGI_FAIL_IF(ctx, cond, code, ...)                                                        \
+    do {                                                                                           \
+        if (cond)                                                                                  \
+            return vdbgi_fail((ctx), (code), __VA_ARGS__);                                         \
+    } while (0)
+
+/* Forward a failure of call; the message is already on the context. */
+#define VDBGI_TRY(call)                                                                            \
+    do {                                                                                           \
+        const vdbgi_result vdbgi_try_r_ = (call);                                                  \
+        if (vdbgi_try_r_ != VDBGI_OK)                                                              \
+            return vdbgi_try_r_;                                                                   \
+    } while (0)
+
+/* Allocation through the context's hooks. NULL on failure, message recorded. */
+void *vdbgi_alloc(vdbgi_context *ctx, size_t size);
+/* count * size bytes, zeroed; refuses (NULL) when the product would wrap. */
+void *vdbgi_calloc(vdbgi_context *ctx, size_t count, size_t size);
+void vdbgi_free(vdbgi_context *ctx, void *ptr);
+char *vdbgi_strdup(vdbgi_context *ctx, const char *s);
+
+/* Wall clock, seconds, monotonic. */
+double vdbgi_now(void);
+/* Online cores, at least 1. */
+int vdbgi_core_count(void);
+
+/*
+ * Outputs are written to a temporary file beside the target and renamed when
+ * complete. temp_create makes "path.tmp-XXXXXX" (failing with VDBGI_ERR_IO if
+ * the directory cannot be written); temp_commit renames it over path and
+ * frees the name; temp_discard removes it and frees the name (NULL is a no-op).
+ */
+vdbgi_result vdbgi_temp_create(vdbgi_context *ctx, const char *path, char **tmp_out);
+vdbgi_result vdbgi_temp_commit(vdbgi_context *ctx, char *tmp, const char *path);
+void vdbgi_temp_discard(vdbgi_context *ctx, char *tmp);
+
+/* ---- scene.c ----------------------------------------------------------- */
+
+typedef struct vdbgi_texture {
+    int width, height;
+    float *rgba; /* linear, row 0 at the top (v = 1) */
+} vdbgi_texture;
+
+typedef struct vdbgi_material {
+    float base[3];  /* linear */
+    int texture;    /* index into textures, -1 for none */
+    bool double_sided;
+} vdbgi_material;
+
+/* What a hit needs of its triangle, in one 32-byte record. */
+typedef struct vdbgi_tri {
+    float normal[3]; /* unit, counter-clockwise front */
+    float albedo[3]; /* the albedo everywhere on it, unless VDBGI_TRI_VARIES */
+    uint32_t material;
+    uint32_t flags;
+} vdbgi_tri;
+
+#define VDBGI_TRI_DOUBLE_SIDED 1u
+#define VDBGI_TRI_VARIES 2u /* textured, or vertex colours differ: interpolate per hit */
+
+struct vdbgi_tracer;
+
+struct vdbgi_scene {
+    vdbgi_context *ctx;
+    size_t vertex_count, triangle_count, skipped_count;
+    float *positions;   /* 3 per vertex */
+    float *uvs;         /* 2 per vertex (0 where the mesh has none) */
+    float *colors;      /* 3 per vertex (1 where the mesh has none) */
+    uint32_t *indices;  /* 3 per triangle */
+    vdbgi_tri *tris;
+    vdbgi_material *materials;
+    size_t material_count;
+    vdbgi_texture *textures;
+    size_t texture_count;
+    float bounds_min[3], bounds_max[3];
+    float ray_offset;
+    char *name;
+    struct vdbgi_tracer *tracer;
+};
+
+/* Albedo of triangle prim at barycentrics (u, v) (Embree's: p = (1-u-v) v0 + u v1 + v v2). */
+void vdbgi_scene_albedo(const vdbgi_scene *scene, uint32_t prim, float u, float v, float rgb[3]);
+
+/* ---- tracer.c: the only file that includes Embree ---------------------- */
+
+typedef struct vdbgi_tracer vdbgi_tracer;
+
+vdbgi_result vdbgi_tracer_create(vdbgi_context *ctx, const float *positions, size_t vertex_count,
+                                 const uint32_t *indices, size_t triangle_count,
+                                 vdbgi_tracer **out);
+void vdbgi_tracer_destroy(vdbgi_tracer *tracer);
+
+/*
+ * A batch of rays sharing their extent. org and dir hold 3 floats per ray,
+ * or one xyz for every ray when their stride is 0 (a probe's rays share an
+ * origin; its shadow rays share the sun's direction).
+ */
+typedef struct vdbgi_ray_batch {
+    const float *org;
+    const float *dir;
+    size_t org_stride, dir_stride; /* floats between rays: 3, or 0 for shared */
+    float tnear, tfar;
+    size_t count;
+} vdbgi_ray_batch;
+
+/* First hits: t (INFINITY for a miss), primitive and barycentrics. */
+typedef struct vdbgi_hit {
+    float t, u, v;
+    uint32_t prim;
+} vdbgi_hit;
+
+/* Thread-safe after creation. scratch must hold vdbgi_tracer_scratch_size(count) bytes. */
+size_t vdbgi_tracer_scratch_size(size_t count);
+void vdbgi_tracer_intersect(const vdbgi_tracer *tracer, vdbgi_trace_method method,
+                            const vdbgi_ray_batch *rays, vdbgi_hit *hits, void *scratch);
+/* occluded[i] = 1 if ray i hits anything in (tnear, tfar). */
+void vdbgi_tracer_occluded(const vdbgi_tracer *tracer, vdbgi_trace_method method,
+                           const vdbgi_ray_batch *rays, unsigned char *occluded, void *scratch);
+/* The first Embree error since creation, or VDBGI_OK (message recorded on ctx). */
+vdbgi_result vdbgi_tracer_check(vdbgi_tracer *tracer);
+
+/* ---- probes (placement.c, bake.c, vdb_shim.cpp) ------------------------ */
+
+typedef enum vdbgi_meta_type {
+    VDBGI_META_STRING,
+    VDBGI_META_INT,    /* int64 */
+    VDBGI_META_DOUBLE, /* double, may be inf */
+    VDBGI_META_VEC3    /* 3 floats */
+} vdbgi_meta_type;
+
+typedef struct vdbgi_meta {
+    char name[48];
+    vdbgi_meta_type type;
+    char text[208]; /* VDBGI_META_STRING */
+    int64_t i;
+    double d;
+    float v[3];
+    char line[256]; /* "name=value", kept current by the setters */
+} vdbgi_meta;
+
+#define VDBGI_META_CAPACITY 40
+
+struct vdbgi_probes {
+    vdbgi_context *ctx;
+    double spacing, margin, origin[3];
+    size_t count;
+    int32_t *ijk;     /* 3 per probe */
+    float *rgb;       /* 3 per probe, NULL until baked or read */
+    float *backface;  /* per probe */
+    float invalid_threshold;
+    size_t invalid_count;
+    vdbgi_meta meta[VDBGI_META_CAPACITY];
+    size_t meta_count;
+};
+
+vdbgi_result vdbgi_probes_alloc(vdbgi_context *ctx, size_t count, bool with_values,
+                                vdbgi_probes **out);
+void vdbgi_meta_set_string(vdbgi_probes *probes, const char *name, const char *value);
+void vdbgi_meta_set_int(vdbgi_probes *probes, const char *name, int64_t value);
+void vdbgi_meta_set_double(vdbgi_probes *probes, const char *name, double value);
+void vdbgi_meta_set_vec3(vdbgi_probes *probes, const char *name, const float value[3]);
+const vdbgi_meta *vdbgi_meta_find(const vdbgi_probes *probes, const char *name);
+
+/* Resolved estimator settings (defaults applied, sun normalised). */
+typedef struct vdbgi_bake_params {
+    int rays;
+    float ray_dist, ambient, falloff, invalid_threshold;
+    float sun_dir[3], sun_color[3], sky[3];
+    bool sun_on;
+    vdbgi_sampling sampling;
+    uint64_t seed;
+    int threads;
+    vdbgi_trace_method method;
+} vdbgi_bake_params;
+
+vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc *desc,
+                                       vdbgi_bake_params *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* VDBGI_INTERNAL_H */

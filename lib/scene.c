@@ -1,0 +1,520 @@
+/* scene.c: any assimp format into one triangle soup, and albedo at a hit. */
+#define _POSIX_C_SOURCE 200809L
+#include "image_shim.h"
+#include "internal.h"
+
+#include <assimp/cimport.h>
+#include <assimp/material.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void scene_free_arrays(vdbgi_scene *s)
+{
+    vdbgi_context *const ctx = s->ctx;
+    vdbgi_free(ctx, s->positions);
+    vdbgi_free(ctx, s->uvs);
+    vdbgi_free(ctx, s->colors);
+    vdbgi_free(ctx, s->indices);
+    vdbgi_free(ctx, s->tris);
+    vdbgi_free(ctx, s->materials);
+    for (size_t i = 0; s->textures && i < s->texture_count; i++)
+        vdbgi_free(ctx, s->textures[i].rgba);
+    vdbgi_free(ctx, s->textures);
+    vdbgi_free(ctx, s->name);
+}
+
+void vdbgi_scene_destroy(vdbgi_scene *scene)
+{
+    if (!scene)
+        return;
+    vdbgi_tracer_destroy(scene->tracer);
+    scene_free_arrays(scene);
+    vdbgi_free(scene->ctx, scene);
+}
+
+/* Allocate a scene with room for the given counts; triangle_count starts at 0. */
+static vdbgi_result scene_alloc(vdbgi_context *ctx, const char *name, size_t vertex_count,
+                                size_t triangle_capacity, size_t material_count,
+                                size_t texture_count, vdbgi_scene **out)
+{
+    *out = NULL;
+    vdbgi_scene *const s = vdbgi_calloc(ctx, 1, sizeof(*s));
+    if (!s)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    s->ctx = ctx;
+    s->vertex_count = vertex_count;
+    s->material_count = material_count;
+    s->texture_count = texture_count;
+    /* Embree reads vertices with 16-byte loads: one spare vertex keeps the last in bounds. */
+    s->positions = vdbgi_calloc(ctx, vertex_count + 1, 3 * sizeof(float));
+    s->uvs = vdbgi_calloc(ctx, vertex_count, 2 * sizeof(float));
+    s->colors = vdbgi_calloc(ctx, vertex_count, 3 * sizeof(float));
+    s->indices = vdbgi_calloc(ctx, triangle_capacity, 3 * sizeof(uint32_t));
+    s->tris = vdbgi_calloc(ctx, triangle_capacity, sizeof(vdbgi_tri));
+    s->materials = vdbgi_calloc(ctx, material_count, sizeof(vdbgi_material));
+    s->textures = vdbgi_calloc(ctx, texture_count, sizeof(vdbgi_texture));
+    s->name = vdbgi_strdup(ctx, name);
+    if (!s->positions || !s->uvs || !s->colors || !s->indices || !s->tris ||
+        !s->materials || !s->textures || !s->name) {
+        vdbgi_scene_destroy(s);
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    }
+    for (size_t i = 0; i < vertex_count * 3; i++)
+        s->colors[i] = 1.0f;
+    *out = s;
+    return VDBGI_OK;
+}
+
+typedef enum { TRI_KEPT, TRI_NONFINITE, TRI_DEGENERATE } tri_status;
+
+/* Append triangle (a, b, c) if it is finite and has area; returns what happened. */
+static tri_status scene_add_triangle(vdbgi_scene *s, uint32_t a, uint32_t b, uint32_t c,
+                                     uint32_t material)
+{
+    const float *const p0 = &s->positions[3 * a];
+    const float *const p1 = &s->positions[3 * b];
+    const float *const p2 = &s->positions[3 * c];
+    for (int k = 0; k < 3; k++) {
+        if (!isfinite(p0[k]) || !isfinite(p1[k]) || !isfinite(p2[k]))
+            return TRI_NONFINITE;
+    }
+    const float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+    const float e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+    const float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                        e1[0] * e2[1] - e1[1] * e2[0]};
+    const float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(len > 0.0f) || !isfinite(len))
+        return TRI_DEGENERATE;
+    const size_t t = s->triangle_count++;
+    s->indices[3 * t + 0] = a;
+    s->indices[3 * t + 1] = b;
+    s->indices[3 * t + 2] = c;
+    for (int k = 0; k < 3; k++)
+        s->tris[t].normal[k] = n[k] / len;
+    s->tris[t].material = material;
+    return TRI_KEPT;
+}
+
+/*
+ * Most triangles have one albedo everywhere (no texture, equal vertex
+ * colours): work it out once, so a hit on them costs one record read.
+ */
+static void classify_triangles(vdbgi_scene *s)
+{
+    for (size_t t = 0; t < s->triangle_count; t++) {
+        vdbgi_tri *const tri = &s->tris[t];
+        const vdbgi_material *const mat = &s->materials[tri->material];
+        const float *const c0 = &s->colors[3 * s->indices[3 * t]];
+        const float *const c1 = &s->colors[3 * s->indices[3 * t + 1]];
+        const float *const c2 = &s->colors[3 * s->indices[3 * t + 2]];
+        const bool varies = mat->texture >= 0 || memcmp(c0, c1, 3 * sizeof(float)) != 0 ||
+                            memcmp(c0, c2, 3 * sizeof(float)) != 0;
+        tri->flags = (mat->double_sided ? VDBGI_TRI_DOUBLE_SIDED : 0u) |
+                     (varies ? VDBGI_TRI_VARIES : 0u);
+        for (int k = 0; k < 3; k++)
+            tri->albedo[k] = mat->base[k] * c0[k];
+    }
+}
+
+/* Bounds, ray offset, BVH: what every scene needs once its triangles are in. */
+static vdbgi_result scene_finish(vdbgi_scene *s, size_t nonfinite_count)
+{
+    vdbgi_context *const ctx = s->ctx;
+    if (nonfinite_count)
+        vdbgi_log(ctx, VDBGI_LOG_WARNING, "%s: skipped %zu triangles with non-finite vertices",
+                  s->name, nonfinite_count);
+    VDBGI_FAIL_IF(ctx, s->triangle_count == 0, VDBGI_ERR_FORMAT,
+                  "%s: no triangles to trace (%zu skipped as non-finite or zero-area)", s->name,
+                  s->skipped_count);
+    VDBGI_FAIL_IF(ctx, s->triangle_count > UINT32_MAX / 3, VDBGI_ERR_FORMAT,
+                  "%s: %zu triangles is more than one scene can hold", s->name,
+                  s->triangle_count);
+    float max_abs = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        s->bounds_min[k] = INFINITY;
+        s->bounds_max[k] = -INFINITY;
+    }
+    for (size_t t = 0; t < s->triangle_count * 3; t++) {
+        const float *const p = &s->positions[3 * s->indices[t]];
+        for (int k = 0; k < 3; k++) {
+            s->bounds_min[k] = fminf(s->bounds_min[k], p[k]);
+            s->bounds_max[k] = fmaxf(s->bounds_max[k], p[k]);
+            max_abs = fmaxf(max_abs, fabsf(p[k]));
+        }
+    }
+    float diag2 = 0.0f;
+    for (int k = 0; k < 3; k++)
+        diag2 += (s->bounds_max[k] - s->bounds_min[k]) * (s->bounds_max[k] - s->bounds_min[k]);
+    /*
+     * A hit point carries a rounding error of a few ulps of its coordinates;
+     * 1e-5 of the larger of the coordinate magnitude and the scene size is
+     * ~80 ulps there, yet only 2 cm in a 2 km world and 10 um in a 1 m room.
+     */
+    s->ray_offset = 1e-5f * fmaxf(max_abs, sqrtf(diag2));
+    classify_triangles(s);
+    return vdbgi_tracer_create(ctx, s->positions, s->vertex_count, s->indices, s->triangle_count,
+                               &s->tracer);
+}
+
+vdbgi_result vdbgi_scene_create(vdbgi_context *ctx, const vdbgi_mesh_desc *meshes,
+                                size_t mesh_count, vdbgi_scene **out)
+{
+    VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
+    *out = NULL;
+    VDBGI_FAIL_IF(ctx, !meshes && mesh_count, VDBGI_ERR_INVALID_ARG, "no meshes given");
+    size_t vertex_count = 0, triangle_count = 0;
+    for (size_t m = 0; m < mesh_count; m++) {
+        const vdbgi_mesh_desc *const d = &meshes[m];
+        VDBGI_FAIL_IF(ctx, (d->vertex_count && !d->positions) || (d->triangle_count && !d->indices),
+                      VDBGI_ERR_INVALID_ARG, "mesh %zu: missing positions or indices", m);
+        for (size_t i = 0; i < d->triangle_count * 3; i++)
+            VDBGI_FAIL_IF(ctx, d->indices[i] >= d->vertex_count, VDBGI_ERR_INVALID_ARG,
+                          "mesh %zu: index %u out of range (%zu vertices)", m, d->indices[i],
+                          d->vertex_count);
+        for (int k = 0; k < 3; k++)
+            VDBGI_FAIL_IF(ctx, !(d->albedo[k] >= 0.0f && d->albedo[k] <= 1.0f),
+                          VDBGI_ERR_INVALID_ARG, "mesh %zu: albedo must be in [0, 1] (got %g)", m,
+                          (double)d->albedo[k]);
+        vertex_count += d->vertex_count;
+        triangle_count += d->triangle_count;
+    }
+    VDBGI_FAIL_IF(ctx, vertex_count > UINT32_MAX, VDBGI_ERR_INVALID_ARG,
+                  "%zu vertices is more than one scene can hold", vertex_count);
+    vdbgi_scene *s = NULL;
+    VDBGI_TRY(scene_alloc(ctx, "memory", vertex_count, triangle_count, mesh_count, 0, &s));
+    size_t base = 0, nonfinite = 0;
+    for (size_t m = 0; m < mesh_count; m++) {
+        const vdbgi_mesh_desc *const d = &meshes[m];
+        memcpy(&s->positions[3 * base], d->positions, d->vertex_count * 3 * sizeof(float));
+        vdbgi_material *const mat = &s->materials[m];
+        memcpy(mat->base, d->albedo, sizeof(mat->base));
+        mat->texture = -1;
+        mat->double_sided = d->double_sided != 0;
+        for (size_t t = 0; t < d->triangle_count; t++) {
+            const uint32_t *const i = &d->indices[3 * t];
+            const tri_status st = scene_add_triangle(s, (uint32_t)base + i[0],
+                                                     (uint32_t)base + i[1], (uint32_t)base + i[2],
+                                                     (uint32_t)m);
+            nonfinite += st == TRI_NONFINITE;
+            s->skipped_count += st != TRI_KEPT;
+        }
+        base += d->vertex_count;
+    }
+    const vdbgi_result r = scene_finish(s, nonfinite);
+    if (r != VDBGI_OK) {
+        vdbgi_scene_destroy(s);
+        return r;
+    }
+    *out = s;
+    return VDBGI_OK;
+}
+
+/* ---- assimp ------------------------------------------------------------- */
+
+static float srgb_to_linear(float c)
+{
+    return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
+}
+
+/*
+ * Base-colour textures are sRGB (glTF 2.0 spec 3.9.2); alpha stays linear.
+ * Values are clamped to [0, 1] first: float images can hold anything.
+ */
+static void texture_to_linear(vdbgi_texture *t)
+{
+    for (size_t i = 0; i < (size_t)t->width * (size_t)t->height; i++)
+        for (int k = 0; k < 3; k++) {
+            const float c = t->rgba[4 * i + k];
+            t->rgba[4 * i + k] = srgb_to_linear(c >= 0.0f ? fminf(c, 1.0f) : 0.0f);
+        }
+}
+
+/* Decode an embedded assimp texture: compressed bytes, or raw BGRA8 texels. */
+static vdbgi_result load_embedded(vdbgi_context *ctx, const struct aiTexture *at,
+                                  vdbgi_texture *out)
+{
+    if (at->mHeight == 0)
+        return vdbgi_image_decode(ctx, NULL, at->pcData, at->mWidth, at->achFormatHint, out);
+    const size_t n = (size_t)at->mWidth * at->mHeight;
+    out->rgba = vdbgi_calloc(ctx, n, 4 * sizeof(float));
+    if (!out->rgba)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    out->width = (int)at->mWidth;
+    out->height = (int)at->mHeight;
+    for (size_t i = 0; i < n; i++) {
+        const struct aiTexel *const px = &at->pcData[i];
+        out->rgba[4 * i + 0] = px->r / 255.0f;
+        out->rgba[4 * i + 1] = px->g / 255.0f;
+        out->rgba[4 * i + 2] = px->b / 255.0f;
+        out->rgba[4 * i + 3] = px->a / 255.0f;
+    }
+    return VDBGI_OK;
+}
+
+/* Find the base-colour texture of a material and decode it into slot t. */
+static void load_material_texture(vdbgi_scene *s, const struct aiScene *as,
+                                  const struct aiMaterial *am, const char *dir, size_t m)
+{
+    vdbgi_context *const ctx = s->ctx;
+    struct aiString tex_path;
+    if (aiGetMaterialTexture(am, aiTextureType_BASE_COLOR, 0, &tex_path, NULL, NULL, NULL, NULL,
+                             NULL, NULL) != aiReturn_SUCCESS &&
+        aiGetMaterialTexture(am, aiTextureType_DIFFUSE, 0, &tex_path, NULL, NULL, NULL, NULL, NULL,
+                             NULL) != aiReturn_SUCCESS)
+        return;
+    const char *const p = tex_path.data;
+    const struct aiTexture *embedded = NULL;
+    if (p[0] == '*') {
+        const long i = strtol(p + 1, NULL, 10);
+        if (i >= 0 && (unsigned long)i < as->mNumTextures)
+            embedded = as->mTextures[i];
+    } else {
+        for (unsigned i = 0; i < as->mNumTextures; i++)
+            if (strcmp(as->mTextures[i]->mFilename.data, p) == 0)
+                embedded = as->mTextures[i];
+    }
+    vdbgi_texture *const tex = &s->textures[m];
+    char error_copy[sizeof(ctx->error)];
+    memcpy(error_copy, ctx->error, sizeof(error_copy));
+    vdbgi_result r;
+    if (embedded) {
+        r = load_embedded(ctx, embedded, tex);
+    } else {
+        /* Relative texture paths are relative to the scene file. */
+        const size_t dir_len = p[0] == '/' ? 0 : strlen(dir);
+        char *const full = vdbgi_alloc(ctx, dir_len + strlen(p) + 1);
+        if (!full)
+            return; /* the scene allocation that follows will fail the same way */
+        memcpy(full, dir, dir_len);
+        strcpy(full + dir_len, p);
+        r = vdbgi_image_decode(ctx, full, NULL, 0, NULL, tex);
+        vdbgi_free(ctx, full);
+    }
+    if (r != VDBGI_OK) {
+        /* A missing texture should not sink a bake: warn, keep the base colour. */
+        vdbgi_log(ctx, VDBGI_LOG_WARNING, "%s: texture '%s' ignored: %s", s->name, p, ctx->error);
+        memcpy(ctx->error, error_copy, sizeof(error_copy));
+        return;
+    }
+    texture_to_linear(tex);
+    s->materials[m].texture = (int)m;
+}
+
+static void load_materials(vdbgi_scene *s, const struct aiScene *as, const char *dir)
+{
+    for (size_t m = 0; m < as->mNumMaterials; m++) {
+        const struct aiMaterial *const am = as->mMaterials[m];
+        vdbgi_material *const mat = &s->materials[m];
+        struct aiColor4D c;
+        if (aiGetMaterialColor(am, AI_MATKEY_BASE_COLOR, &c) != aiReturn_SUCCESS &&
+            aiGetMaterialColor(am, AI_MATKEY_COLOR_DIFFUSE, &c) != aiReturn_SUCCESS)
+            c.r = c.g = c.b = 1.0f; /* glTF's default base colour */
+        const float rgb[3] = {c.r, c.g, c.b};
+        for (int k = 0; k < 3; k++)
+            mat->base[k] = isfinite(rgb[k]) ? fminf(fmaxf(rgb[k], 0.0f), 1.0f) : 0.0f;
+        int two_sided = 0;
+        unsigned int max = 1;
+        if (aiGetMaterialIntegerArray(am, AI_MATKEY_TWOSIDED, &two_sided, &max) ==
+            aiReturn_SUCCESS)
+            mat->double_sided = two_sided != 0;
+        mat->texture = -1;
+        load_material_texture(s, as, am, dir, m);
+    }
+}
+
+typedef struct walk_state {
+    vdbgi_scene *s;
+    const struct aiScene *as;
+    size_t vertex_count, triangle_count, nonfinite;
+    bool fill;
+} walk_state;
+
+/* Visit every mesh instance with its world transform; count, or fill when w->fill. */
+static void walk_nodes(walk_state *w, const struct aiNode *node, const struct aiMatrix4x4 *parent)
+{
+    struct aiMatrix4x4 xf = *parent;
+    aiMultiplyMatrix4(&xf, &node->mTransformation);
+    for (unsigned n = 0; n < node->mNumMeshes; n++) {
+        const struct aiMesh *const mesh = w->as->mMeshes[node->mMeshes[n]];
+        if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE))
+            continue;
+        const size_t base = w->vertex_count;
+        w->vertex_count += mesh->mNumVertices;
+        if (!w->fill) {
+            w->triangle_count += mesh->mNumFaces;
+            continue;
+        }
+        vdbgi_scene *const s = w->s;
+        for (unsigned v = 0; v < mesh->mNumVertices; v++) {
+            struct aiVector3D p = mesh->mVertices[v];
+            aiTransformVecByMatrix4(&p, &xf);
+            float *const dst = &s->positions[3 * (base + v)];
+            dst[0] = p.x, dst[1] = p.y, dst[2] = p.z;
+            if (mesh->mTextureCoords[0]) {
+                s->uvs[2 * (base + v) + 0] = mesh->mTextureCoords[0][v].x;
+                s->uvs[2 * (base + v) + 1] = mesh->mTextureCoords[0][v].y;
+            }
+            if (mesh->mColors[0]) {
+                const struct aiColor4D c = mesh->mColors[0][v];
+                const float rgb[3] = {c.r, c.g, c.b};
+                for (int k = 0; k < 3; k++)
+                    s->colors[3 * (base + v) + k] =
+                        isfinite(rgb[k]) ? fminf(fmaxf(rgb[k], 0.0f), 1.0f) : 0.0f;
+            }
+        }
+        for (unsigned f = 0; f < mesh->mNumFaces; f++) {
+            const struct aiFace *const face = &mesh->mFaces[f];
+            if (face->mNumIndices != 3)
+                continue; /* points and lines share meshes with triangles in some files */
+            const tri_status st = scene_add_triangle(s, (uint32_t)base + face->mIndices[0],
+                                                     (uint32_t)base + face->mIndices[1],
+                                                     (uint32_t)base + face->mIndices[2],
+                                                     mesh->mMaterialIndex);
+            w->nonfinite += st == TRI_NONFINITE;
+            s->skipped_count += st != TRI_KEPT;
+        }
+    }
+    for (unsigned c = 0; c < node->mNumChildren; c++)
+        walk_nodes(w, node->mChildren[c], &xf);
+}
+
+static const char *base_name(const char *path)
+{
+    const char *const slash = strrchr(path, '/');
+    return slash ? slash + 1 : path;
+}
+
+vdbgi_result vdbgi_scene_load(vdbgi_context *ctx, const char *path, vdbgi_scene **out)
+{
+    VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
+    *out = NULL;
+    VDBGI_FAIL_IF(ctx, !path || !*path, VDBGI_ERR_INVALID_ARG, "no scene path given");
+    FILE *const probe = fopen(path, "rb");
+    VDBGI_FAIL_IF(ctx, !probe, VDBGI_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    fclose(probe);
+
+    const struct aiScene *const as =
+        aiImportFile(path, aiProcess_Triangulate | aiProcess_SortByPType |
+                               aiProcess_ValidateDataStructure);
+    if (!as || !as->mRootNode) {
+        const char *const why = aiGetErrorString();
+        vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: cannot import scene: %s", path,
+                   why && *why ? why : "unknown format");
+        aiReleaseImport(as);
+        return VDBGI_ERR_FORMAT;
+    }
+    struct aiMatrix4x4 identity;
+    aiIdentityMatrix4(&identity);
+    walk_state w = {.as = as};
+    walk_nodes(&w, as->mRootNode, &identity);
+    if (w.triangle_count == 0 || w.vertex_count > UINT32_MAX) {
+        vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %s", path,
+                   w.triangle_count ? "too many vertices" : "no triangles to trace");
+        aiReleaseImport(as);
+        return VDBGI_ERR_FORMAT;
+    }
+    vdbgi_scene *s = NULL;
+    vdbgi_result r = scene_alloc(ctx, base_name(path), w.vertex_count, w.triangle_count,
+                                 as->mNumMaterials ? as->mNumMaterials : 1,
+                                 as->mNumMaterials ? as->mNumMaterials : 1, &s);
+    if (r != VDBGI_OK) {
+        aiReleaseImport(as);
+        return r;
+    }
+    const size_t dir_len = (size_t)(base_name(path) - path);
+    char *const dir = vdbgi_alloc(ctx, dir_len + 1);
+    if (!dir) {
+        vdbgi_scene_destroy(s);
+        aiReleaseImport(as);
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    }
+    memcpy(dir, path, dir_len);
+    dir[dir_len] = '\0';
+    for (size_t m = 0; m < s->material_count; m++) {
+        s->materials[m].base[0] = s->materials[m].base[1] = s->materials[m].base[2] = 1.0f;
+        s->materials[m].texture = -1;
+    }
+    load_materials(s, as, dir);
+    vdbgi_free(ctx, dir);
+    w = (walk_state){.s = s, .as = as, .fill = true};
+    walk_nodes(&w, as->mRootNode, &identity);
+    aiReleaseImport(as);
+    r = scene_finish(s, w.nonfinite);
+    if (r != VDBGI_OK) {
+        vdbgi_scene_destroy(s);
+        return r;
+    }
+    *out = s;
+    return VDBGI_OK;
+}
+
+void vdbgi_scene_get_info(const vdbgi_scene *scene, vdbgi_scene_info *info)
+{
+    memset(info, 0, sizeof(*info));
+    info->triangle_count = scene->triangle_count;
+    info->skipped_triangle_count = scene->skipped_count;
+    info->material_count = scene->material_count;
+    for (size_t i = 0; i < scene->texture_count; i++)
+        info->texture_count += scene->textures[i].rgba != NULL;
+    memcpy(info->bounds_min, scene->bounds_min, sizeof(info->bounds_min));
+    memcpy(info->bounds_max, scene->bounds_max, sizeof(info->bounds_max));
+    info->ray_offset = scene->ray_offset;
+    info->name = scene->name;
+}
+
+/* ---- albedo at a hit ----------------------------------------------------- */
+
+/* Bilinear, repeat-wrapped, texel centres at half-integers; v = 1 is row 0. */
+static void texture_sample(const vdbgi_texture *t, float u, float v, float rgb[3])
+{
+    const float x = u * (float)t->width - 0.5f;
+    const float y = (1.0f - v) * (float)t->height - 0.5f;
+    const float fx0 = floorf(x), fy0 = floorf(y);
+    const float fx = x - fx0, fy = y - fy0;
+    long x0 = (long)fx0 % t->width, y0 = (long)fy0 % t->height;
+    x0 += x0 < 0 ? t->width : 0;
+    y0 += y0 < 0 ? t->height : 0;
+    const long x1 = (x0 + 1) % t->width, y1 = (y0 + 1) % t->height;
+    const float *const a = &t->rgba[4 * ((size_t)y0 * t->width + x0)];
+    const float *const b = &t->rgba[4 * ((size_t)y0 * t->width + x1)];
+    const float *const c = &t->rgba[4 * ((size_t)y1 * t->width + x0)];
+    const float *const d = &t->rgba[4 * ((size_t)y1 * t->width + x1)];
+    for (int k = 0; k < 3; k++) {
+        const float top = a[k] + (b[k] - a[k]) * fx;
+        const float bottom = c[k] + (d[k] - c[k]) * fx;
+        rgb[k] = top + (bottom - top) * fy;
+    }
+}
+
+void vdbgi_scene_albedo(const vdbgi_scene *scene, uint32_t prim, float u, float v, float rgb[3])
+{
+    const vdbgi_tri *const tri = &scene->tris[prim];
+    if (!(tri->flags & VDBGI_TRI_VARIES)) {
+        memcpy(rgb, tri->albedo, 3 * sizeof(float));
+        return;
+    }
+    const vdbgi_material *const mat = &scene->materials[tri->material];
+    const uint32_t *const idx = &scene->indices[3 * prim];
+    const float w = 1.0f - u - v;
+    const float *const c0 = &scene->colors[3 * idx[0]];
+    const float *const c1 = &scene->colors[3 * idx[1]];
+    const float *const c2 = &scene->colors[3 * idx[2]];
+    for (int k = 0; k < 3; k++)
+        rgb[k] = mat->base[k] * (w * c0[k] + u * c1[k] + v * c2[k]);
+    if (mat->texture >= 0) {
+        const float *const t0 = &scene->uvs[2 * idx[0]];
+        const float *const t1 = &scene->uvs[2 * idx[1]];
+        const float *const t2 = &scene->uvs[2 * idx[2]];
+        float tex[3];
+        texture_sample(&scene->textures[mat->texture], w * t0[0] + u * t1[0] + v * t2[0],
+                       w * t0[1] + u * t1[1] + v * t2[1], tex);
+        for (int k = 0; k < 3; k++)
+            rgb[k] *= tex[k];
+    }
+}

@@ -1,0 +1,211 @@
+/* vdb_shim.cpp: OpenVDB behind a C interface: topology, grid files, metadata. */
+#include "vdb_shim.h"
+#include "shim.h"
+
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/MeshToVolume.h>
+
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <vector>
+
+namespace {
+
+openvdb::math::Transform::Ptr lattice_transform(const double origin[3], double spacing)
+{
+    auto xf = openvdb::math::Transform::createLinearTransform(spacing);
+    xf->postTranslate(openvdb::Vec3d(origin[0], origin[1], origin[2]));
+    return xf;
+}
+
+void add_meta(openvdb::GridBase &grid, const vdbgi_meta &m)
+{
+    switch (m.type) {
+    case VDBGI_META_STRING: grid.insertMeta(m.name, openvdb::StringMetadata(m.text)); break;
+    case VDBGI_META_INT: grid.insertMeta(m.name, openvdb::Int64Metadata(m.i)); break;
+    case VDBGI_META_DOUBLE: grid.insertMeta(m.name, openvdb::DoubleMetadata(m.d)); break;
+    case VDBGI_META_VEC3:
+        grid.insertMeta(m.name, openvdb::Vec3SMetadata(openvdb::Vec3s(m.v[0], m.v[1], m.v[2])));
+        break;
+    }
+}
+
+/* Copy the grid's metadata we can represent into probes (other types are skipped). */
+void read_meta(const openvdb::GridBase &grid, vdbgi_probes *p)
+{
+    for (auto it = grid.beginMeta(); it != grid.endMeta(); ++it) {
+        const std::string &name = it->first;
+        const openvdb::Metadata &md = *it->second;
+        if (name.size() >= sizeof(p->meta[0].name))
+            continue;
+        if (const auto *s = dynamic_cast<const openvdb::StringMetadata *>(&md)) {
+            vdbgi_meta_set_string(p, name.c_str(), s->value().c_str());
+        } else if (const auto *i64 = dynamic_cast<const openvdb::Int64Metadata *>(&md)) {
+            vdbgi_meta_set_int(p, name.c_str(), i64->value());
+        } else if (const auto *i32 = dynamic_cast<const openvdb::Int32Metadata *>(&md)) {
+            vdbgi_meta_set_int(p, name.c_str(), i32->value());
+        } else if (const auto *d = dynamic_cast<const openvdb::DoubleMetadata *>(&md)) {
+            vdbgi_meta_set_double(p, name.c_str(), d->value());
+        } else if (const auto *f = dynamic_cast<const openvdb::FloatMetadata *>(&md)) {
+            vdbgi_meta_set_double(p, name.c_str(), f->value());
+        } else if (const auto *v = dynamic_cast<const openvdb::Vec3SMetadata *>(&md)) {
+            const float xyz[3] = {v->value().x(), v->value().y(), v->value().z()};
+            vdbgi_meta_set_vec3(p, name.c_str(), xyz);
+        }
+    }
+}
+
+} // namespace
+
+extern "C" vdbgi_result vdbgi_vdb_topology(vdbgi_context *ctx, const float *positions,
+                                           size_t vertex_count, const uint32_t *indices,
+                                           size_t triangle_count, const double origin[3],
+                                           double spacing, double margin, uint64_t max_count,
+                                           int32_t **ijk_out, size_t *count_out)
+{
+    VDBGI_SHIM_BEGIN
+    *ijk_out = nullptr;
+    *count_out = 0;
+    openvdb::initialize();
+    std::vector<openvdb::Vec3s> points(vertex_count);
+    for (size_t i = 0; i < vertex_count; i++)
+        points[i] = openvdb::Vec3s(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]);
+    std::vector<openvdb::Vec3I> tris(triangle_count);
+    for (size_t t = 0; t < triangle_count; t++)
+        tris[t] = openvdb::Vec3I(indices[3 * t], indices[3 * t + 1], indices[3 * t + 2]);
+    const std::vector<openvdb::Vec4I> quads;
+    // The band is in voxels; it reaches half a voxel past the margin so that probes at exactly
+    // the margin (common where geometry lines up with the lattice) survive float rounding.
+    const float band = float(margin / spacing) + 0.5f;
+    const auto dist = openvdb::tools::meshToUnsignedDistanceField<openvdb::FloatGrid>(
+        *lattice_transform(origin, spacing), points, tris, quads, band);
+    const float limit = float(margin);
+    uint64_t count = 0;
+    for (auto it = dist->tree().cbeginValueOn(); it; ++it)
+        count += *it <= limit;
+    if (count > max_count) {
+        return vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY,
+                          "lattice would hold %llu probes (%.1f GiB), above the limit of %llu",
+                          (unsigned long long)count,
+                          double(count) * VDBGI_BYTES_PER_PROBE / (1 << 30),
+                          (unsigned long long)max_count);
+    }
+    int32_t *const ijk = (int32_t *)vdbgi_calloc(ctx, count ? count : 1, 3 * sizeof(int32_t));
+    if (!ijk)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    size_t n = 0;
+    for (auto it = dist->tree().cbeginValueOn(); it; ++it) {
+        if (*it > limit)
+            continue;
+        const openvdb::Coord c = it.getCoord();
+        ijk[3 * n + 0] = c.x();
+        ijk[3 * n + 1] = c.y();
+        ijk[3 * n + 2] = c.z();
+        n++;
+    }
+    *ijk_out = ijk;
+    *count_out = n;
+    return VDBGI_OK;
+    VDBGI_SHIM_END(ctx, "openvdb")
+}
+
+extern "C" vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path,
+                                        const vdbgi_probes *p)
+{
+    VDBGI_SHIM_BEGIN
+    openvdb::initialize();
+    const auto xf = lattice_transform(p->origin, p->spacing);
+    auto irr = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+    auto val = openvdb::FloatGrid::create(0.0f);
+    irr->setName("irradiance");
+    val->setName("validity");
+    irr->setTransform(xf);
+    val->setTransform(xf->copy());
+    irr->setGridClass(openvdb::GRID_UNKNOWN);
+    val->setGridClass(openvdb::GRID_UNKNOWN);
+    // A colour is not a direction: it must not turn with the transform.
+    irr->setVectorType(openvdb::VEC_INVARIANT);
+    {
+        auto ia = irr->getAccessor();
+        auto va = val->getAccessor();
+        for (size_t n = 0; n < p->count; n++) {
+            const openvdb::Coord c(p->ijk[3 * n], p->ijk[3 * n + 1], p->ijk[3 * n + 2]);
+            ia.setValue(c, openvdb::Vec3s(p->rgb[3 * n], p->rgb[3 * n + 1], p->rgb[3 * n + 2]));
+            va.setValue(c, p->backface[n]);
+        }
+    }
+    for (size_t m = 0; m < p->meta_count; m++) {
+        add_meta(*irr, p->meta[m]);
+        add_meta(*val, p->meta[m]);
+    }
+    openvdb::GridPtrVec grids{irr, val};
+    openvdb::io::File file(path);
+    file.write(grids);
+    file.close();
+    return VDBGI_OK;
+    VDBGI_SHIM_END(ctx, "openvdb")
+}
+
+extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_probes **out)
+{
+    VDBGI_SHIM_BEGIN
+    *out = nullptr;
+    openvdb::initialize();
+    openvdb::io::File file(path);
+    try {
+        file.open();
+    } catch (const openvdb::Exception &e) {
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: not a readable VDB file (%s)", path,
+                          e.what());
+    }
+    if (!file.hasGrid("irradiance"))
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: no grid named 'irradiance'", path);
+    openvdb::GridBase::Ptr base;
+    openvdb::GridBase::Ptr vbase;
+    try {
+        base = file.readGrid("irradiance");
+        if (file.hasGrid("validity"))
+            vbase = file.readGrid("validity");
+    } catch (const openvdb::Exception &e) {
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: damaged grid data (%s)", path, e.what());
+    }
+    file.close();
+    const auto irr = openvdb::gridPtrCast<openvdb::Vec3SGrid>(base);
+    if (!irr)
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid 'irradiance' is %s, not vec3s", path,
+                          base->valueType().c_str());
+    const auto val = openvdb::gridPtrCast<openvdb::FloatGrid>(vbase);
+    if (vbase && !val)
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid 'validity' is %s, not float", path,
+                          vbase->valueType().c_str());
+    const openvdb::math::Transform &xf = irr->transform();
+    const openvdb::Vec3d vs = xf.voxelSize();
+    if (!xf.isLinear() || std::fabs(vs.x() - vs.y()) > 1e-9 * vs.x() ||
+        std::fabs(vs.x() - vs.z()) > 1e-9 * vs.x() || !(vs.x() > 0.0))
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                          "%s: grid 'irradiance' needs a uniform linear transform", path);
+    const openvdb::Vec3d o = xf.indexToWorld(openvdb::Vec3d(0.0));
+    const size_t count = size_t(irr->activeVoxelCount());
+    vdbgi_probes *p = nullptr;
+    VDBGI_TRY(vdbgi_probes_alloc(ctx, count, true, &p));
+    // Destroys p if anything below throws; released on success.
+    std::unique_ptr<vdbgi_probes, void (*)(vdbgi_probes *)> guard(p, vdbgi_probes_destroy);
+    p->spacing = vs.x();
+    p->origin[0] = o.x(), p->origin[1] = o.y(), p->origin[2] = o.z();
+    read_meta(*irr, p);
+    auto va = val ? std::make_unique<openvdb::FloatGrid::ConstAccessor>(val->getConstAccessor())
+                  : nullptr;
+    size_t n = 0;
+    for (auto it = irr->tree().cbeginValueOn(); it && n < count; ++it, ++n) {
+        const openvdb::Coord c = it.getCoord();
+        const openvdb::Vec3s v = *it;
+        p->ijk[3 * n] = c.x(), p->ijk[3 * n + 1] = c.y(), p->ijk[3 * n + 2] = c.z();
+        p->rgb[3 * n] = v.x(), p->rgb[3 * n + 1] = v.y(), p->rgb[3 * n + 2] = v.z();
+        p->backface[n] = va ? va->getValue(c) : 0.0f;
+    }
+    p->count = n;
+    *out = guard.release();
+    return VDBGI_OK;
+    VDBGI_SHIM_END(ctx, "openvdb")
+}

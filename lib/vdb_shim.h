@@ -1,0 +1,32 @@
+/* vdb_shim.h: C interface to the only code that includes OpenVDB. */
+#ifndef VDBGI_VDB_SHIM_H
+#define VDBGI_VDB_SHIM_H
+
+#include "internal.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/*
+ * Active lattice points of an unsigned distance field of the triangles:
+ * every ijk with distance(origin + spacing * ijk, mesh) <= margin, in VDB
+ * tree order. *ijk_out (3 int32 per point) is allocated through ctx. Fails
+ * with VDBGI_ERR_OUT_OF_MEMORY, stating count and memory, past max_count.
+ */
+vdbgi_result vdbgi_vdb_topology(vdbgi_context *ctx, const float *positions, size_t vertex_count,
+                                const uint32_t *indices, size_t triangle_count,
+                                const double origin[3], double spacing, double margin,
+                                uint64_t max_count, int32_t **ijk_out, size_t *count_out);
+
+/* Write probes (baked) as the "irradiance" and "validity" grids at path (no temp dance). */
+vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, const vdbgi_probes *probes);
+
+/* Read "irradiance" (and "validity" if present) from path into new probes. */
+vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_probes **out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* VDBGI_VDB_SHIM_H */

@@ -1,0 +1,364 @@
+/*
+ * vdbgi.h: the public C API of vdbgi, a baker of light-probe global illumination.
+ *
+ * Call order
+ * ----------
+ *   vdbgi_context *ctx;  vdbgi_context_create(NULL, &ctx);     allocator, log
+ *   vdbgi_scene *scene;  vdbgi_scene_load(ctx, "world.glb", &scene);
+ *   vdbgi_probes *pr;    vdbgi_probes_place(ctx, scene, &place_desc, &pr);
+ *                        vdbgi_probes_bake(pr, scene, &bake_desc, &stats);
+ *                        vdbgi_probes_write(pr, "world.vdb");
+ *   vdbgi_probes_destroy(pr); vdbgi_scene_destroy(scene); vdbgi_context_destroy(ctx);
+ *
+ * Every fallible call returns a vdbgi_result; on failure vdbgi_context_error()
+ * holds a one-line message naming the value or file at fault. The library
+ * never exits, aborts or prints: text reaches the user only through the log
+ * callback given to the context.
+ *
+ * Threads: one thread at a time per context and per object made from it.
+ * Distinct contexts are independent. The bake spreads its own work over
+ * threads internally and calls the progress callback on the caller's thread.
+ *
+ * Units: world lengths are metres; colours are linear RGB; directions need
+ * not be normalised unless stated. Names say units: _count is elements,
+ * _size is bytes.
+ */
+#ifndef VDBGI_H
+#define VDBGI_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(VDBGI_BUILDING) && defined(__GNUC__)
+#define VDBGI_API __attribute__((visibility("default")))
+#else
+#define VDBGI_API
+#endif
+
+#define VDBGI_VERSION_MAJOR 0
+#define VDBGI_VERSION_MINOR 1
+#define VDBGI_VERSION_PATCH 0
+
+/* Results. Numbered by hand; a value is never reused or renumbered. */
+typedef enum vdbgi_result {
+    VDBGI_OK = 0,
+    VDBGI_ERR_INVALID_ARG = 1,   /* a parameter is out of range: fix the call */
+    VDBGI_ERR_OUT_OF_MEMORY = 2, /* an allocation failed, or the job would need too much */
+    VDBGI_ERR_IO = 3,            /* a file could not be opened, read, written or renamed */
+    VDBGI_ERR_FORMAT = 4,        /* a file was read but its contents are not usable */
+    VDBGI_ERR_BACKEND = 5,       /* Embree, OpenVDB, OpenImageIO or assimp failed */
+    VDBGI_ERR_CANCELLED = 6      /* the progress callback asked to stop */
+} vdbgi_result;
+
+typedef enum vdbgi_log_level {
+    VDBGI_LOG_ERROR = 1,
+    VDBGI_LOG_WARNING = 2,
+    VDBGI_LOG_INFO = 3,
+    VDBGI_LOG_DEBUG = 4
+} vdbgi_log_level;
+
+/* Fixed text for a result code, e.g. "invalid argument". Never NULL. */
+VDBGI_API const char *vdbgi_result_string(vdbgi_result result);
+
+/* The library version as "MAJOR.MINOR.PATCH". */
+VDBGI_API const char *vdbgi_version_string(void);
+
+/* ------------------------------------------------------------------------ */
+/* Context: allocator, log, last error.                                      */
+
+typedef struct vdbgi_context vdbgi_context;
+
+/*
+ * How a context allocates and reports. A NULL desc, or NULL fields, mean
+ * malloc/free and no log.
+ *   alloc, free: both or neither. alloc returns memory aligned for any type
+ *                (like malloc) or NULL; free accepts NULL. Used for every
+ *                allocation vdbgi itself makes; the libraries it calls
+ *                allocate on their own.
+ *   log:         receives warnings and information, one line per call,
+ *                no trailing newline. May be called from the caller's thread
+ *                only. Errors are not logged: they are returned.
+ *   user:        passed back to the three callbacks.
+ */
+typedef struct vdbgi_context_desc {
+    void *(*alloc)(void *user, size_t size);
+    void (*free)(void *user, void *ptr);
+    void (*log)(void *user, vdbgi_log_level level, const char *message);
+    void *user;
+} vdbgi_context_desc;
+
+/*
+ * Create a context. desc may be NULL. On failure *out is NULL and the result
+ * says why (there is no context to hold a message).
+ */
+VDBGI_API vdbgi_result vdbgi_context_create(const vdbgi_context_desc *desc, vdbgi_context **out);
+
+/* Destroy a context; NULL is a no-op. Every object made from it must be gone. */
+VDBGI_API void vdbgi_context_destroy(vdbgi_context *ctx);
+
+/*
+ * The message of the last failure on this context: lower case, one line, no
+ * trailing period, e.g. "probe spacing must be > 0 (got -1)". Empty when
+ * nothing has failed. Owned by the context; valid until its next call.
+ */
+VDBGI_API const char *vdbgi_context_error(const vdbgi_context *ctx);
+
+/*
+ * Check that path could be written as an output (its directory exists and
+ * accepts a new file) without touching path itself: lets an app fail before
+ * a long bake rather than after it. VDBGI_ERR_IO names the reason.
+ */
+VDBGI_API vdbgi_result vdbgi_output_check(vdbgi_context *ctx, const char *path);
+
+/* ------------------------------------------------------------------------ */
+/* Scene: a triangle soup with a material per triangle, and its ray tracer.  */
+
+typedef struct vdbgi_scene vdbgi_scene;
+
+/*
+ * Load any format assimp reads (.glb, .gltf, .obj + .mtl, .fbx, ...). Node
+ * transforms are applied and polygons triangulated. Albedo at a point is the
+ * material's base colour (glTF baseColorFactor, OBJ Kd, both taken as linear)
+ * times its base-colour texture at the point's UV (sRGB-decoded; files beside
+ * the scene or embedded in .glb) times the vertex colour where present.
+ * Triangles with a non-finite vertex are skipped with a warning; degenerate
+ * (zero-area) ones are skipped silently. Fails with VDBGI_ERR_IO for a missing
+ * or unreadable file, VDBGI_ERR_FORMAT for a file assimp rejects or one with no
+ * usable triangle. Builds the Embree BVH before returning.
+ */
+VDBGI_API vdbgi_result vdbgi_scene_load(vdbgi_context *ctx, const char *path, vdbgi_scene **out);
+
+/*
+ * One mesh of a scene built from memory (tests, generated worlds).
+ *   positions:      xyz per vertex, vertex_count * 3 floats, world space.
+ *   indices:        three per triangle, each < vertex_count.
+ *   albedo:         linear RGB of the whole mesh, each in [0, 1].
+ *   double_sided:   non-zero if both faces are front faces; otherwise the
+ *                   front is the counter-clockwise side (right-handed normal
+ *                   (v1 - v0) x (v2 - v0)), as in glTF.
+ * Inputs are copied; they need only live for the call.
+ */
+typedef struct vdbgi_mesh_desc {
+    const float *positions;
+    size_t vertex_count;
+    const uint32_t *indices;
+    size_t triangle_count;
+    float albedo[3];
+    int double_sided;
+} vdbgi_mesh_desc;
+
+/* Build a scene from meshes in memory; same checks and result codes as load. */
+VDBGI_API vdbgi_result vdbgi_scene_create(vdbgi_context *ctx, const vdbgi_mesh_desc *meshes,
+                                          size_t mesh_count, vdbgi_scene **out);
+
+/* Destroy a scene; NULL is a no-op. */
+VDBGI_API void vdbgi_scene_destroy(vdbgi_scene *scene);
+
+typedef struct vdbgi_scene_info {
+    size_t triangle_count;         /* triangles kept and traced */
+    size_t skipped_triangle_count; /* dropped: non-finite or zero-area */
+    size_t material_count;
+    size_t texture_count;
+    float bounds_min[3], bounds_max[3]; /* of the kept triangles, metres */
+    float ray_offset;                   /* self-intersection offset, metres */
+    const char *name;                   /* file name without directories */
+} vdbgi_scene_info;
+
+/* Describe a scene. Strings belong to the scene. */
+VDBGI_API void vdbgi_scene_get_info(const vdbgi_scene *scene, vdbgi_scene_info *info);
+
+/* ------------------------------------------------------------------------ */
+/* Probes: the lattice near surfaces, its irradiance and validity.           */
+
+typedef struct vdbgi_probes vdbgi_probes;
+
+/*
+ * Which probes exist. Probe ijk stands at origin + spacing * ijk. All-zero
+ * means the defaults.
+ *   spacing:     lattice step, metres, > 0. 0 == 0.5.
+ *   margin:      a probe exists if its true distance to the nearest triangle
+ *                is at most this, metres, >= 0. 0 == 4 * spacing (one
+ *                level-0 brick). Use VDBGI_MARGIN_ZERO for no margin.
+ *   origin:      world position of probe (0,0,0). Ignored unless
+ *                origin_is_set; the default is half a spacing on every axis,
+ *                so floors at whole multiples of the spacing fall between
+ *                probes rather than on them.
+ *   max_probes:  refuse larger lattices. 0 == 50 000 000.
+ */
+typedef struct vdbgi_place_desc {
+    double spacing;
+    double margin;
+    double origin[3];
+    int origin_is_set;
+    uint64_t max_probes;
+} vdbgi_place_desc;
+
+#define VDBGI_MARGIN_ZERO (-1.0)
+
+/* Bytes the library holds per probe while baking, for memory estimates. */
+#define VDBGI_BYTES_PER_PROBE 64
+
+/*
+ * Find the probes within the margin of the scene's triangles, using
+ * OpenVDB's mesh-to-volume unsigned distance. The probe order is the VDB
+ * tree order (leaf by leaf), fixed for a given scene and desc. Fails with
+ * VDBGI_ERR_INVALID_ARG for a non-positive or non-finite spacing or margin,
+ * and with VDBGI_ERR_OUT_OF_MEMORY, stating the count and memory, when the
+ * lattice would hold more than max_probes probes.
+ */
+VDBGI_API vdbgi_result vdbgi_probes_place(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                          const vdbgi_place_desc *desc, vdbgi_probes **out);
+
+typedef enum vdbgi_sampling {
+    VDBGI_SAMPLING_FIBONACCI = 0, /* one spherical Fibonacci set for every probe (seed 000) */
+    VDBGI_SAMPLING_RANDOM = 1     /* that set under a random rotation per probe */
+} vdbgi_sampling;
+
+typedef enum vdbgi_trace_method {
+    VDBGI_TRACE_AUTO = 0,   /* the fastest measured on this build (see docs/performance.md) */
+    VDBGI_TRACE_SINGLE = 1, /* rtcIntersect1 / rtcOccluded1, one ray at a time */
+    VDBGI_TRACE_PACKET8 = 2, /* rtcIntersect8 / rtcOccluded8 */
+    VDBGI_TRACE_PACKET16 = 3, /* rtcIntersect16 / rtcOccluded16 */
+    VDBGI_TRACE_STREAM = 4  /* rtcIntersect1M / rtcOccluded1M over a probe's rays */
+} vdbgi_trace_method;
+
+/* Sentinel for fields where zero is meaningful but also means "default". */
+#define VDBGI_NONE (-1.0f)
+
+/*
+ * The irradiance estimator of seed 000. All-zero means the defaults:
+ *   rays:        directions per probe, 1..1 000 000. 0 == 128.
+ *   ray_dist:    longest ray, metres, > 0. 0 == 40.
+ *   ambient:     fill light added at every hit, >= 0. 0 == 0.15;
+ *                VDBGI_NONE for no fill.
+ *   sun_dir:     direction towards the sun. (0,0,0) == (0.4, 0.8, 0.3).
+ *                Normalised by the bake.
+ *   sun_color:   sun radiance, linear RGB >= 0. (0,0,0) == (1,1,1);
+ *                VDBGI_NONE in sun_color[0] turns the sun off.
+ *   falloff:     distance weight 1 / (1 + (d/falloff)^2), metres, > 0.
+ *                0 == 4; INFINITY turns the falloff off.
+ *   sky:         what a miss contributes, linear RGB >= 0. (0,0,0) == black.
+ *   sampling:    direction set, see vdbgi_sampling.
+ *   seed:        random seed of VDBGI_SAMPLING_RANDOM; every probe's stream
+ *                is derived from its ijk and this seed.
+ *   threads:     worker threads, 0 == every online core. Results do not
+ *                depend on it.
+ *   invalid_threshold: a probe whose back-face fraction (back-face hits over
+ *                all hits) exceeds this is invalid. 0 == 0.25.
+ *   trace_method: Embree query shape, see vdbgi_trace_method.
+ *   progress:    called on the caller's thread with the fraction done, at
+ *                most about 100 times; a non-zero return stops the bake with
+ *                VDBGI_ERR_CANCELLED. May be NULL.
+ */
+typedef struct vdbgi_bake_desc {
+    int rays;
+    float ray_dist;
+    float ambient;
+    float sun_dir[3];
+    float sun_color[3];
+    float falloff;
+    float sky[3];
+    vdbgi_sampling sampling;
+    uint64_t seed;
+    int threads;
+    float invalid_threshold;
+    vdbgi_trace_method trace_method;
+    int (*progress)(void *user, float done);
+    void *progress_user;
+} vdbgi_bake_desc;
+
+typedef struct vdbgi_bake_stats {
+    uint64_t probe_count;
+    uint64_t primary_ray_count;
+    uint64_t shadow_ray_count;
+    uint64_t hit_count;
+    uint64_t invalid_probe_count;
+    double seconds; /* wall time of the bake call */
+    int threads;    /* worker threads used */
+} vdbgi_bake_stats;
+
+/*
+ * Bake every probe: its irradiance (mean over the rays of the hit's albedo
+ * times (ambient + max(0, n.sun) sun_color [if the sun is visible from the
+ * hit]) / (1 + (d/falloff)^2), or sky for a miss) and its back-face fraction.
+ * stats may be NULL. The result depends only on the scene, the lattice and
+ * desc (not on threads or timing). The scene must be the one the probes were
+ * placed on.
+ */
+VDBGI_API vdbgi_result vdbgi_probes_bake(vdbgi_probes *probes, const vdbgi_scene *scene,
+                                         const vdbgi_bake_desc *desc, vdbgi_bake_stats *stats);
+
+/*
+ * The estimator at arbitrary points, for receivers and tests. Writes
+ * point_count * 3 floats to rgb and, if backface is not NULL, point_count
+ * back-face fractions. Random sampling seeds point i from (i, 0, 0).
+ */
+VDBGI_API vdbgi_result vdbgi_bake_points(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                         const vdbgi_bake_desc *desc, const float *points,
+                                         size_t point_count, float *rgb, float *backface);
+
+/*
+ * For benchmarks: trace exactly the rays the bake would (primary rays, then a
+ * shadow ray from each hit whose facing normal sees the sun) with no shading,
+ * on desc's threads and trace_method. Fills stats; no probe value changes.
+ */
+VDBGI_API vdbgi_result vdbgi_probes_trace_bare(const vdbgi_probes *probes, const vdbgi_scene *scene,
+                                               const vdbgi_bake_desc *desc,
+                                               vdbgi_bake_stats *stats);
+
+/*
+ * Write an OpenVDB file: a Vec3s grid "irradiance" (linear RGB) and a float
+ * grid "validity" (back-face fraction; above the stored invalid_threshold
+ * means invalid), both with a linear transform of voxel size = spacing and
+ * translation = origin, and the bake settings, scene name, triangle count,
+ * probe count and bake time as metadata of both grids. The file is written
+ * to a temporary name beside path and renamed when complete: a failure never
+ * leaves a partial file nor replaces an existing one.
+ */
+VDBGI_API vdbgi_result vdbgi_probes_write(const vdbgi_probes *probes, const char *path);
+
+/*
+ * Read a file written by vdbgi_probes_write (or any VDB file with a Vec3s
+ * grid "irradiance"; a missing "validity" grid means every probe is valid).
+ */
+VDBGI_API vdbgi_result vdbgi_probes_read(vdbgi_context *ctx, const char *path, vdbgi_probes **out);
+
+/* Destroy probes; NULL is a no-op. */
+VDBGI_API void vdbgi_probes_destroy(vdbgi_probes *probes);
+
+typedef struct vdbgi_probes_info {
+    size_t probe_count;
+    size_t invalid_count;    /* 0 until baked */
+    double spacing;          /* metres */
+    double margin;           /* metres */
+    double origin[3];        /* world position of ijk (0,0,0) */
+    int32_t ijk_min[3], ijk_max[3]; /* inclusive bounds of the probes */
+    float invalid_threshold; /* back-face fraction above which a probe is invalid */
+    int baked;               /* non-zero once values are present */
+} vdbgi_probes_info;
+
+VDBGI_API void vdbgi_probes_get_info(const vdbgi_probes *probes, vdbgi_probes_info *info);
+
+/*
+ * Probe number index (0 <= index < probe_count): its lattice coordinate,
+ * irradiance and back-face fraction. Any output pointer may be NULL.
+ * Returns VDBGI_ERR_INVALID_ARG for an index out of range.
+ */
+VDBGI_API vdbgi_result vdbgi_probes_get(const vdbgi_probes *probes, size_t index, int32_t ijk[3],
+                                        float rgb[3], float *backface);
+
+/*
+ * Metadata stored with the grids, as "name=value" text, index 0..n-1; NULL
+ * past the end. Owned by the probes.
+ */
+VDBGI_API const char *vdbgi_probes_metadata(const vdbgi_probes *probes, size_t index);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* VDBGI_H */

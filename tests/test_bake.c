@@ -1,0 +1,487 @@
+/*
+ * test_bake.c: the estimator matches seed 000's closed forms (a probe above a
+ * plane, a probe inside a closed box), probes inside solids are invalid,
+ * results do not depend on scale or thread count, and bad parameters, a
+ * cancelling callback and failing allocations are refused cleanly.
+ */
+#include "test_util.h"
+
+#include <math.h>
+
+static const double rho = 0.5, ambient = 0.15;
+
+/* Seed 000's estimator for a probe at height h over an infinite plane, sun at angle cos = ndotl. */
+static double plane_closed_form(double h, double ray_dist, double falloff, double ndotl)
+{
+    double bracket = 1.0 - h / ray_dist;
+    if (isfinite(falloff))
+        bracket -= (h / falloff) * (atan(falloff / h) - atan(falloff / ray_dist));
+    return rho * (ambient + ndotl) / 2.0 * bracket;
+}
+
+/* A plane of side 'size' at y = 0 (albedo rho) scaled by s, as a scene. */
+static vdbgi_scene *plane_scene(vdbgi_context *ctx, float size)
+{
+    test_mesh m = {0};
+    test_mesh_plane(&m, size, 0.0f);
+    const vdbgi_mesh_desc d = test_mesh_desc(&m, (float)rho, 0);
+    vdbgi_scene *s = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &d, 1, &s), VDBGI_OK);
+    return s;
+}
+
+static vdbgi_bake_desc plane_desc(int rays, float ray_dist, float falloff, vdbgi_sampling sampling)
+{
+    const vdbgi_bake_desc d = {.rays = rays, .ray_dist = ray_dist, .ambient = (float)ambient,
+                               .sun_dir = {0.0f, 1.0f, 0.0f}, .falloff = falloff,
+                               .sampling = sampling};
+    return d;
+}
+
+static void probe_above_plane_matches_closed_form_fibonacci(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = plane_scene(ctx, 100.0f); /* > 2 x ray_dist across */
+    const float heights[] = {0.25f, 1.0f, 3.0f, 10.0f};
+    const float falloffs[] = {4.0f, 1.0f, INFINITY};
+    for (size_t f = 0; f < 3; f++) {
+        const vdbgi_bake_desc d = plane_desc(16384, 40.0f, falloffs[f], VDBGI_SAMPLING_FIBONACCI);
+        float pts[4 * 3], rgb[4 * 3];
+        for (int i = 0; i < 4; i++)
+            pts[3 * i] = 0.123f, pts[3 * i + 1] = heights[i], pts[3 * i + 2] = -0.321f;
+        CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 4, rgb, NULL), VDBGI_OK);
+        for (int i = 0; i < 4; i++) {
+            const double want = plane_closed_form(heights[i], 40.0, falloffs[f], 1.0);
+            /* A Fibonacci set integrates this smooth-but-clipped integrand to ~1/N. */
+            CHECK_NEAR(rgb[3 * i], want, 2e-3 * want + 2e-4);
+            CHECK(rgb[3 * i] == rgb[3 * i + 1] && rgb[3 * i] == rgb[3 * i + 2]);
+        }
+    }
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+static void probe_above_plane_matches_closed_form_random(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = plane_scene(ctx, 100.0f);
+    const int rays = 16384;
+    const float heights[] = {0.5f, 2.0f, 8.0f};
+    const vdbgi_bake_desc d = plane_desc(rays, 40.0f, 4.0f, VDBGI_SAMPLING_RANDOM);
+    float pts[3 * 3], rgb[3 * 3];
+    for (int i = 0; i < 3; i++)
+        pts[3 * i] = 0.0f, pts[3 * i + 1] = heights[i], pts[3 * i + 2] = 0.0f;
+    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 3, rgb, NULL), VDBGI_OK);
+    for (int i = 0; i < 3; i++) {
+        const double want = plane_closed_form(heights[i], 40.0, 4.0, 1.0);
+        /* Each ray adds at most rho (ambient + 1): 5 standard errors of such a mean. */
+        const double sigma = rho * (ambient + 1.0) / 2.0 / sqrt((double)rays);
+        CHECK_NEAR(rgb[3 * i], want, 5.0 * sigma);
+    }
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+static void lattice_probes_above_plane_match_and_below_are_invalid(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = plane_scene(ctx, 24.0f);
+    const vdbgi_place_desc pd = {.spacing = 1.0, .margin = 3.0};
+    vdbgi_probes *p = NULL;
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
+    const vdbgi_bake_desc bd = plane_desc(2048, 10.0f, 4.0f, VDBGI_SAMPLING_FIBONACCI);
+    vdbgi_bake_stats st;
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &bd, &st), VDBGI_OK);
+    vdbgi_probes_info info;
+    vdbgi_probes_get_info(p, &info);
+    /* Origin 0.5: over the plane, layers at y = +-0.5, +-1.5, +-2.5 in 24 x 24 columns. */
+    size_t checked_above = 0, checked_below = 0, over = 0, over_invalid = 0;
+    for (size_t i = 0; i < info.probe_count; i++) {
+        int32_t ijk[3];
+        float rgb[3], bf;
+        vdbgi_probes_get(p, i, ijk, rgb, &bf);
+        const double x = info.origin[0] + ijk[0], y = info.origin[1] + ijk[1],
+                     z = info.origin[2] + ijk[2];
+        if (fabs(x) < 12.0 && fabs(z) < 12.0) {
+            over++;
+            over_invalid += bf > info.invalid_threshold;
+        }
+        if (fabs(x) > 1.0 || fabs(z) > 1.0) /* centre columns: the plane reaches past ray_dist */
+            continue;
+        if (y > 0.0) {
+            CHECK_NEAR(rgb[0], plane_closed_form(y, 10.0, 4.0, 1.0), 3e-3);
+            CHECK(bf == 0.0f);
+            checked_above++;
+        } else {
+            CHECK(bf == 1.0f); /* every hit is the back of the plane */
+            checked_below++;
+        }
+    }
+    CHECK(checked_above == 4 * 3 && checked_below == 4 * 3);
+    CHECK(over == 24 * 24 * 6 && over_invalid == 24 * 24 * 3);
+    CHECK(st.invalid_probe_count == info.invalid_count);
+    CHECK(st.primary_ray_count == 2048u * info.probe_count);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+/* A closed room of half-size r with inward faces; the sun outside it must not get in. */
+static void closed_box_reads_albedo_times_ambient_at_any_scale(void)
+{
+    const float scales[] = {0.5f, 1000.0f}; /* a 1 m room and a 2 km one */
+    for (int si = 0; si < 2; si++) {
+        const float r = scales[si];
+        vdbgi_context *ctx = test_context();
+        test_mesh m = {0};
+        const float lo[3] = {-r, -r, -r}, hi[3] = {r, r, r};
+        test_mesh_box(&m, lo, hi, 1);
+        const vdbgi_mesh_desc md = test_mesh_desc(&m, (float)rho, 0);
+        vdbgi_scene *s = NULL;
+        CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &s), VDBGI_OK);
+        float pts[3 * 3] = {0.0f, 0.0f, 0.0f, 0.9f * r, -0.9f * r, 0.5f * r,
+                            -0.99f * r, 0.99f * r, -0.99f * r};
+        float rgb[3 * 3], bf[3];
+        for (int sun = 0; sun < 2; sun++) {
+            vdbgi_bake_desc d = {.rays = 512, .ray_dist = 4.0f * r, .ambient = (float)ambient,
+                                 .falloff = INFINITY};
+            if (!sun)
+                d.sun_color[0] = VDBGI_NONE;
+            CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 3, rgb, bf), VDBGI_OK);
+            for (int i = 0; i < 9; i++)
+                CHECK_NEAR(rgb[i], rho * ambient, 1e-6);
+            for (int i = 0; i < 3; i++)
+                CHECK(bf[i] == 0.0f);
+        }
+        vdbgi_scene_destroy(s);
+        vdbgi_context_destroy(ctx);
+    }
+}
+
+static void plane_under_slanted_sun_has_no_self_shadow_at_any_scale(void)
+{
+    const float scales[] = {0.01f, 1.0f, 25.0f}; /* a 1 m plane, 100 m, 2.5 km */
+    const float sun[3] = {0.4f, 0.8f, 0.3f};
+    const double ndotl = 0.8 / sqrt(0.16 + 0.64 + 0.09);
+    for (int si = 0; si < 3; si++) {
+        const float k = scales[si];
+        vdbgi_context *ctx = test_context();
+        vdbgi_scene *s = plane_scene(ctx, 100.0f * k);
+        vdbgi_bake_desc d = plane_desc(4096, 40.0f * k, 4.0f * k, VDBGI_SAMPLING_FIBONACCI);
+        memcpy(d.sun_dir, sun, sizeof(sun));
+        const float pts[3] = {0.1f * k, 1.5f * k, 0.2f * k};
+        float rgb[3];
+        CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 1, rgb, NULL), VDBGI_OK);
+        const double want = plane_closed_form(1.5, 40.0, 4.0, ndotl);
+        CHECK_NEAR(rgb[0], want, 4e-3 * want);
+        vdbgi_scene_destroy(s);
+        vdbgi_context_destroy(ctx);
+    }
+}
+
+static void probes_inside_a_solid_are_invalid(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    const float lo[3] = {-2, -2, -2}, hi[3] = {2, 2, 2};
+    test_mesh_box(&m, lo, hi, 0);
+    const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.8f, 0);
+    vdbgi_scene *s = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &s), VDBGI_OK);
+    vdbgi_probes *p = NULL;
+    const vdbgi_place_desc pd = {.spacing = 0.5};
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, NULL, NULL), VDBGI_OK);
+    vdbgi_probes_info info;
+    vdbgi_probes_get_info(p, &info);
+    size_t inside = 0, outside = 0;
+    for (size_t i = 0; i < info.probe_count; i++) {
+        int32_t ijk[3];
+        float bf;
+        vdbgi_probes_get(p, i, ijk, NULL, &bf);
+        int in = 1;
+        for (int k = 0; k < 3; k++)
+            in &= fabs(info.origin[k] + 0.5 * ijk[k]) < 2.0;
+        if (in) {
+            CHECK(bf == 1.0f);
+            inside++;
+        } else {
+            CHECK(bf <= info.invalid_threshold);
+            outside++;
+        }
+    }
+    CHECK(inside == 8 * 8 * 8 && outside > 0);
+    CHECK(info.invalid_count == inside);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+/* A plane and two boxes, one of them double-sided: enough to exercise every branch. */
+static vdbgi_scene *mixed_scene(vdbgi_context *ctx)
+{
+    static test_mesh ground, solid, open;
+    memset(&ground, 0, sizeof(ground));
+    memset(&solid, 0, sizeof(solid));
+    memset(&open, 0, sizeof(open));
+    test_mesh_plane(&ground, 12.0f, 0.0f);
+    const float lo1[3] = {-3, 0, -2}, hi1[3] = {-1, 3, 2};
+    const float lo2[3] = {1, 0.5f, -1}, hi2[3] = {3, 1.5f, 1};
+    test_mesh_box(&solid, lo1, hi1, 0);
+    test_mesh_box(&open, lo2, hi2, 0);
+    const vdbgi_mesh_desc md[3] = {test_mesh_desc(&ground, 0.3f, 0),
+                                   test_mesh_desc(&solid, 0.7f, 0),
+                                   test_mesh_desc(&open, 0.5f, 1)};
+    vdbgi_scene *s = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, md, 3, &s), VDBGI_OK);
+    return s;
+}
+
+static void results_do_not_depend_on_thread_count(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = mixed_scene(ctx);
+    const vdbgi_place_desc pd = {.spacing = 0.5};
+    for (int sampling = 0; sampling < 2; sampling++) {
+        float *first_rgb = NULL, *first_bf = NULL;
+        size_t n = 0;
+        const int threads[] = {1, 2, 3, 7};
+        for (int t = 0; t < 4; t++) {
+            vdbgi_probes *p = NULL;
+            CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
+            const vdbgi_bake_desc bd = {.rays = 64, .sampling = (vdbgi_sampling)sampling,
+                                        .seed = 42, .threads = threads[t]};
+            CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &bd, NULL), VDBGI_OK);
+            vdbgi_probes_info info;
+            vdbgi_probes_get_info(p, &info);
+            if (t == 0) {
+                n = info.probe_count;
+                first_rgb = malloc(n * 3 * sizeof(float));
+                first_bf = malloc(n * sizeof(float));
+            }
+            CHECK(info.probe_count == n);
+            int same = 1;
+            for (size_t i = 0; i < n && i < info.probe_count; i++) {
+                float rgb[3], bf;
+                vdbgi_probes_get(p, i, NULL, rgb, &bf);
+                if (t == 0) {
+                    memcpy(&first_rgb[3 * i], rgb, sizeof(rgb));
+                    first_bf[i] = bf;
+                } else {
+                    same &= memcmp(&first_rgb[3 * i], rgb, sizeof(rgb)) == 0 &&
+                            memcmp(&first_bf[i], &bf, sizeof(bf)) == 0;
+                }
+            }
+            CHECK(same);
+            vdbgi_probes_destroy(p);
+        }
+        free(first_rgb);
+        free(first_bf);
+    }
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+static void random_sampling_differs_by_seed_and_probe(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = mixed_scene(ctx);
+    const float pts[6] = {0.2f, 0.7f, 0.1f, 0.2f, 0.7f, 0.1f};
+    float a[6], b[6], fa[6];
+    vdbgi_bake_desc d = {.rays = 16, .sampling = VDBGI_SAMPLING_RANDOM, .seed = 1};
+    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 2, a, NULL), VDBGI_OK);
+    d.seed = 2;
+    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 2, b, NULL), VDBGI_OK);
+    d.sampling = VDBGI_SAMPLING_FIBONACCI;
+    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 2, fa, NULL), VDBGI_OK);
+    /* Same place, different stream (point index or seed): different rotation, different value. */
+    CHECK(memcmp(&a[0], &a[3], 3 * sizeof(float)) != 0);
+    CHECK(memcmp(&a[0], &b[0], 3 * sizeof(float)) != 0);
+    /* The fixed set gives the same value at the same place. */
+    CHECK(memcmp(&fa[0], &fa[3], 3 * sizeof(float)) == 0);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+static void sky_fills_misses_and_falloff_off_is_flat(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = plane_scene(ctx, 100.0f);
+    /* Far above the plane (beyond ray_dist) every ray misses: the value is the sky. */
+    const vdbgi_bake_desc d = {.rays = 100, .ray_dist = 5.0f, .sky = {0.1f, 0.2f, 0.3f}};
+    const float pts[3] = {0.0f, 20.0f, 0.0f};
+    float rgb[3];
+    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 1, rgb, NULL), VDBGI_OK);
+    CHECK_NEAR(rgb[0], 0.1, 1e-6);
+    CHECK_NEAR(rgb[1], 0.2, 1e-6);
+    CHECK_NEAR(rgb[2], 0.3, 1e-6);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+static void trace_methods_agree(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = mixed_scene(ctx);
+    const float pts[6] = {0.2f, 0.7f, 0.1f, -0.5f, 3.5f, 1.0f};
+    float ref[6], rgb[6];
+    vdbgi_bake_desc d = {.rays = 100, .trace_method = VDBGI_TRACE_SINGLE};
+    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 2, ref, NULL), VDBGI_OK);
+    for (int m = VDBGI_TRACE_PACKET8; m <= VDBGI_TRACE_STREAM; m++) {
+        d.trace_method = (vdbgi_trace_method)m;
+        CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 2, rgb, NULL), VDBGI_OK);
+        for (int i = 0; i < 6; i++)
+            CHECK_NEAR(rgb[i], ref[i], 1e-6);
+    }
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+static void bare_trace_counts_the_same_rays(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = mixed_scene(ctx);
+    vdbgi_probes *p = NULL;
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, NULL, &p), VDBGI_OK);
+    const vdbgi_bake_desc d = {.rays = 32};
+    vdbgi_bake_stats bake, bare;
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &d, &bake), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_trace_bare(p, s, &d, &bare), VDBGI_OK);
+    CHECK(bake.primary_ray_count == bare.primary_ray_count);
+    CHECK(bake.shadow_ray_count == bare.shadow_ray_count && bake.shadow_ray_count > 0);
+    CHECK(bake.hit_count == bare.hit_count);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+static void bad_bake_parameters_are_refused(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = mixed_scene(ctx);
+    const float pt[3] = {0, 1, 0};
+    float rgb[3];
+    vdbgi_bake_desc bad[12];
+    memset(bad, 0, sizeof(bad));
+    bad[0].rays = -1;
+    bad[1].rays = 2000000;
+    bad[2].ray_dist = -1.0f;
+    bad[3].ambient = -0.5f;
+    bad[4].sun_dir[0] = NAN;
+    bad[5].sun_color[1] = -1.0f;
+    bad[6].falloff = -4.0f;
+    bad[7].sky[2] = INFINITY;
+    bad[8].sampling = (vdbgi_sampling)7;
+    bad[9].threads = -2;
+    bad[10].invalid_threshold = 1.5f;
+    bad[11].trace_method = (vdbgi_trace_method)9;
+    for (int i = 0; i < 12; i++) {
+        CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &bad[i], pt, 1, rgb, NULL),
+                     VDBGI_ERR_INVALID_ARG);
+        CHECK(strlen(vdbgi_context_error(ctx)) > 0);
+    }
+    const float nan_pt[3] = {0, NAN, 0};
+    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, NULL, nan_pt, 1, rgb, NULL),
+                 VDBGI_ERR_INVALID_ARG);
+
+    vdbgi_probes *p = (vdbgi_probes *)1;
+    const vdbgi_place_desc badp[4] = {{.spacing = -1.0}, {.spacing = NAN}, {.margin = -3.0},
+                                      {.spacing = 1e-9}};
+    for (int i = 0; i < 4; i++) {
+        CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &badp[i], &p), VDBGI_ERR_INVALID_ARG);
+        CHECK(p == NULL);
+        p = (vdbgi_probes *)1;
+    }
+    /* Too many probes: refused up front, naming the count and the memory. */
+    const vdbgi_place_desc many = {.spacing = 0.05, .max_probes = 1000};
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &many, &p), VDBGI_ERR_OUT_OF_MEMORY);
+    CHECK(strstr(vdbgi_context_error(ctx), "probes") && strstr(vdbgi_context_error(ctx), "GiB"));
+    /* Just over the limit: the exact count decides. */
+    const vdbgi_place_desc tight = {.spacing = 0.5, .max_probes = 10};
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &tight, &p), VDBGI_ERR_OUT_OF_MEMORY);
+    CHECK(strstr(vdbgi_context_error(ctx), "above the limit of 10") != NULL);
+    CHECK(p == NULL);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+static int cancel_at_half(void *user, float done)
+{
+    int *const calls = user;
+    (*calls)++;
+    return done >= 0.5f;
+}
+
+static void progress_is_reported_and_can_cancel(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = mixed_scene(ctx);
+    vdbgi_probes *p = NULL;
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, NULL, &p), VDBGI_OK);
+    int calls = 0;
+    vdbgi_bake_desc d = {.rays = 16, .threads = 1, .progress = cancel_at_half,
+                         .progress_user = &calls};
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &d, NULL), VDBGI_ERR_CANCELLED);
+    CHECK(calls >= 1 && calls <= 101);
+    vdbgi_probes_info info;
+    vdbgi_probes_get_info(p, &info);
+    CHECK(!info.baked); /* a cancelled bake leaves no half-written values */
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+/* Every allocation the pipeline makes may fail: each failure is reported and nothing leaks. */
+static void failing_allocations_are_reported_without_leaks(void)
+{
+    test_mesh m = {0};
+    test_mesh_plane(&m, 4.0f, 0.0f);
+    const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.5f, 0);
+    int succeeded = 0;
+    for (long n = 0; n < 200 && !succeeded; n++) {
+        test_alloc a = {0, n, 0};
+        const vdbgi_context_desc cd = {test_alloc_fn, test_free_fn, NULL, &a};
+        vdbgi_context *ctx = NULL;
+        vdbgi_result r = vdbgi_context_create(&cd, &ctx);
+        vdbgi_scene *s = NULL;
+        vdbgi_probes *p = NULL;
+        if (r == VDBGI_OK)
+            r = vdbgi_scene_create(ctx, &md, 1, &s);
+        if (r == VDBGI_OK)
+            r = vdbgi_probes_place(ctx, s, NULL, &p);
+        const vdbgi_bake_desc bd = {.rays = 8, .threads = 2};
+        if (r == VDBGI_OK)
+            r = vdbgi_probes_bake(p, s, &bd, NULL);
+        CHECK(r == VDBGI_OK || r == VDBGI_ERR_OUT_OF_MEMORY);
+        if (r != VDBGI_OK && p) {
+            vdbgi_probes_info info;
+            vdbgi_probes_get_info(p, &info);
+            CHECK(!info.baked);
+        }
+        succeeded = r == VDBGI_OK;
+        vdbgi_probes_destroy(p);
+        vdbgi_scene_destroy(s);
+        vdbgi_context_destroy(ctx);
+        CHECK(a.live == 0);
+    }
+    CHECK(succeeded);
+}
+
+int main(void)
+{
+    RUN(probe_above_plane_matches_closed_form_fibonacci);
+    RUN(probe_above_plane_matches_closed_form_random);
+    RUN(lattice_probes_above_plane_match_and_below_are_invalid);
+    RUN(closed_box_reads_albedo_times_ambient_at_any_scale);
+    RUN(plane_under_slanted_sun_has_no_self_shadow_at_any_scale);
+    RUN(probes_inside_a_solid_are_invalid);
+    RUN(results_do_not_depend_on_thread_count);
+    RUN(random_sampling_differs_by_seed_and_probe);
+    RUN(sky_fills_misses_and_falloff_off_is_flat);
+    RUN(trace_methods_agree);
+    RUN(bare_trace_counts_the_same_rays);
+    RUN(bad_bake_parameters_are_refused);
+    RUN(progress_is_reported_and_can_cancel);
+    RUN(failing_allocations_are_reported_without_leaks);
+    return CHECK_EXIT();
+}

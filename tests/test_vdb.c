@@ -1,0 +1,206 @@
+/*
+ * test_vdb.c: baked probes written as .vdb read back bit for bit, with the
+ * lattice transform and the bake settings as metadata; a failed write leaves
+ * no file and never replaces an existing one; files that are not VDB, or are
+ * cut short, are refused.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "test_util.h"
+
+#include <dirent.h>
+#include <math.h>
+#include <stdio.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+static char tmpdir[256];
+
+static const char *tmp_path(const char *name)
+{
+    static char buf[4][512];
+    static int slot;
+    char *const p = buf[slot++ & 3];
+    snprintf(p, 512, "%s/%s", tmpdir, name);
+    return p;
+}
+
+static vdbgi_probes *baked_probes(vdbgi_context *ctx, vdbgi_scene **scene_out)
+{
+    test_mesh m = {0};
+    test_mesh_plane(&m, 6.0f, 0.0f);
+    const float lo[3] = {-1, 0, -1}, hi[3] = {1, 2, 1};
+    test_mesh_box(&m, lo, hi, 0);
+    const vdbgi_mesh_desc d = test_mesh_desc(&m, 0.6f, 0);
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &d, 1, scene_out), VDBGI_OK);
+    vdbgi_probes *p = NULL;
+    const vdbgi_place_desc pd = {.spacing = 0.4, .origin = {0.1, -0.2, 0.3}, .origin_is_set = 1};
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, *scene_out, &pd, &p), VDBGI_OK);
+    const vdbgi_bake_desc bd = {.rays = 32, .falloff = INFINITY, .sampling = VDBGI_SAMPLING_RANDOM,
+                                .seed = 9, .sky = {0.01f, 0.02f, 0.03f}};
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, *scene_out, &bd, NULL), VDBGI_OK);
+    return p;
+}
+
+static const char *meta(const vdbgi_probes *p, const char *name)
+{
+    const size_t n = strlen(name);
+    for (size_t i = 0;; i++) {
+        const char *const line = vdbgi_probes_metadata(p, i);
+        if (!line)
+            return "";
+        if (strncmp(line, name, n) == 0 && line[n] == '=')
+            return line + n + 1;
+    }
+}
+
+static void written_probes_read_back_exactly(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = NULL;
+    vdbgi_probes *p = baked_probes(ctx, &s);
+    CHECK_RESULT(ctx, vdbgi_probes_write(p, tmp_path("a.vdb")), VDBGI_OK);
+    vdbgi_probes *q = NULL;
+    CHECK_RESULT(ctx, vdbgi_probes_read(ctx, tmp_path("a.vdb"), &q), VDBGI_OK);
+    if (!q)
+        goto done;
+    vdbgi_probes_info a, b;
+    vdbgi_probes_get_info(p, &a);
+    vdbgi_probes_get_info(q, &b);
+    CHECK(a.probe_count == b.probe_count && a.probe_count > 100);
+    CHECK(a.invalid_count == b.invalid_count && a.invalid_count > 0);
+    CHECK_NEAR(b.spacing, 0.4, 1e-12);
+    CHECK_NEAR(b.margin, 1.6, 1e-12);
+    CHECK_NEAR(b.origin[0], 0.1, 1e-12);
+    CHECK_NEAR(b.origin[1], -0.2, 1e-12);
+    CHECK_NEAR(b.origin[2], 0.3, 1e-12);
+    CHECK(b.invalid_threshold == a.invalid_threshold);
+    /* Same order (VDB tree order both ways) and the same bits. */
+    int same = 1;
+    for (size_t i = 0; i < a.probe_count; i++) {
+        int32_t ia[3], ib[3];
+        float ra[3], rb[3], fa, fb;
+        vdbgi_probes_get(p, i, ia, ra, &fa);
+        vdbgi_probes_get(q, i, ib, rb, &fb);
+        same &= memcmp(ia, ib, sizeof(ia)) == 0 && memcmp(ra, rb, sizeof(ra)) == 0 && fa == fb;
+    }
+    CHECK(same);
+    CHECK(strcmp(meta(q, "scene"), "memory") == 0);
+    CHECK(strcmp(meta(q, "sampling"), "random") == 0);
+    CHECK(strcmp(meta(q, "rays"), "32") == 0);
+    CHECK(strcmp(meta(q, "seed"), "9") == 0);
+    CHECK(strcmp(meta(q, "falloff"), "inf") == 0);
+    CHECK(strcmp(meta(q, "sky"), "0.00999999978,0.0199999996,0.0299999993") == 0);
+    CHECK(strcmp(meta(q, "triangles"), "14") == 0);
+    CHECK(atol(meta(q, "probes")) == (long)a.probe_count);
+    CHECK(strtod(meta(q, "bake_seconds"), NULL) > 0.0);
+    CHECK(strlen(meta(q, "vdbgi_version")) > 0);
+done:
+    vdbgi_probes_destroy(q);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+static int count_entries(const char *dir)
+{
+    DIR *const d = opendir(dir);
+    int n = 0;
+    for (struct dirent *e; d && (e = readdir(d));)
+        n += e->d_name[0] != '.';
+    if (d)
+        closedir(d);
+    return n;
+}
+
+static void failed_writes_leave_nothing_and_clobber_nothing(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = NULL;
+    vdbgi_probes *p = baked_probes(ctx, &s);
+    mkdir(tmp_path("w"), 0755);
+    /* Into a directory that does not exist. */
+    CHECK_RESULT(ctx, vdbgi_probes_write(p, tmp_path("w/no/such/dir/x.vdb")), VDBGI_ERR_IO);
+    CHECK(strstr(vdbgi_context_error(ctx), "x.vdb") != NULL);
+    /* Onto a directory: the rename fails, the temporary file is removed. */
+    mkdir(tmp_path("w/taken.vdb"), 0755);
+    CHECK_RESULT(ctx, vdbgi_probes_write(p, tmp_path("w/taken.vdb")), VDBGI_ERR_IO);
+    CHECK(count_entries(tmp_path("w")) == 1);
+    /* Unbaked probes have nothing to write: the existing file stays as it was. */
+    FILE *f = fopen(tmp_path("w/keep.vdb"), "w");
+    fputs("precious", f);
+    fclose(f);
+    vdbgi_probes *unbaked = NULL;
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, NULL, &unbaked), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_write(unbaked, tmp_path("w/keep.vdb")), VDBGI_ERR_INVALID_ARG);
+    char buf[16] = {0};
+    f = fopen(tmp_path("w/keep.vdb"), "r");
+    CHECK(f && fgets(buf, sizeof(buf), f) && strcmp(buf, "precious") == 0);
+    if (f)
+        fclose(f);
+    CHECK(count_entries(tmp_path("w")) == 2);
+    /* A successful write replaces it whole. */
+    CHECK_RESULT(ctx, vdbgi_probes_write(p, tmp_path("w/keep.vdb")), VDBGI_OK);
+    vdbgi_probes *q = NULL;
+    CHECK_RESULT(ctx, vdbgi_probes_read(ctx, tmp_path("w/keep.vdb"), &q), VDBGI_OK);
+    CHECK(count_entries(tmp_path("w")) == 2);
+    vdbgi_probes_destroy(q);
+    vdbgi_probes_destroy(unbaked);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+static void unreadable_files_are_refused(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = NULL;
+    vdbgi_probes *p = baked_probes(ctx, &s);
+    CHECK_RESULT(ctx, vdbgi_probes_write(p, tmp_path("good.vdb")), VDBGI_OK);
+    /* Cut the good file short at several places. */
+    FILE *const f = fopen(tmp_path("good.vdb"), "rb");
+    static unsigned char bytes[1 << 20];
+    const size_t size = f ? fread(bytes, 1, sizeof(bytes), f) : 0;
+    if (f)
+        fclose(f);
+    CHECK(size > 1000 && size < sizeof(bytes));
+    const size_t cuts[] = {0, 8, 100, size / 2, size - 1};
+    for (size_t c = 0; c < sizeof(cuts) / sizeof(cuts[0]); c++) {
+        FILE *const g = fopen(tmp_path("cut.vdb"), "wb");
+        fwrite(bytes, 1, cuts[c], g);
+        fclose(g);
+        vdbgi_probes *q = (vdbgi_probes *)1;
+        const vdbgi_result r = vdbgi_probes_read(ctx, tmp_path("cut.vdb"), &q);
+        CHECK(r == VDBGI_ERR_FORMAT || r == VDBGI_ERR_BACKEND);
+        CHECK(q == NULL);
+        if (r == VDBGI_OK)
+            vdbgi_probes_destroy(q);
+    }
+    FILE *const t = fopen(tmp_path("text.vdb"), "w");
+    fputs("not a vdb file\n", t);
+    fclose(t);
+    vdbgi_probes *q = NULL;
+    CHECK_RESULT(ctx, vdbgi_probes_read(ctx, tmp_path("text.vdb"), &q), VDBGI_ERR_FORMAT);
+    CHECK(strstr(vdbgi_context_error(ctx), "text.vdb") != NULL);
+    CHECK_RESULT(ctx, vdbgi_probes_read(ctx, tmp_path("missing.vdb"), &q), VDBGI_ERR_IO);
+    CHECK(strstr(vdbgi_context_error(ctx), "No such file") != NULL);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+int main(void)
+{
+    snprintf(tmpdir, sizeof(tmpdir), "/tmp/vdbgi-test-vdb-XXXXXX");
+    if (!mkdtemp(tmpdir)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    RUN(written_probes_read_back_exactly);
+    RUN(failed_writes_leave_nothing_and_clobber_nothing);
+    RUN(unreadable_files_are_refused);
+    char cmd[300];
+    snprintf(cmd, sizeof(cmd), "rm -rf '%s'", tmpdir);
+    if (system(cmd) != 0)
+        fprintf(stderr, "could not remove %s\n", tmpdir);
+    return CHECK_EXIT();
+}
