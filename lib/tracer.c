@@ -144,7 +144,7 @@ static void read_hit(const struct RTCRayHit *rh, vdbgi_hit *h)
         rtcInitIntersectContext(&ic);                                                              \
         for (size_t base = 0; base < b->count; base += N) {                                        \
             struct RTCRayHit##N rh;                                                                \
-            int valid[N];                                                                          \
+            _Alignas(4 * N) int valid[N]; /* Embree reads the mask with aligned vector loads */    \
             for (int l = 0; l < N; l++) {                                                          \
                 const size_t i = base + (size_t)l < b->count ? base + (size_t)l : base;            \
                 valid[l] = base + (size_t)l < b->count ? -1 : 0;                                   \
@@ -176,7 +176,7 @@ static void read_hit(const struct RTCRayHit *rh, vdbgi_hit *h)
         rtcInitIntersectContext(&ic);                                                              \
         for (size_t base = 0; base < b->count; base += N) {                                        \
             struct RTCRay##N r;                                                                    \
-            int valid[N];                                                                          \
+            _Alignas(4 * N) int valid[N];                                                          \
             for (int l = 0; l < N; l++) {                                                          \
                 const size_t i = base + (size_t)l < b->count ? base + (size_t)l : base;            \
                 valid[l] = base + (size_t)l < b->count ? -1 : 0;                                   \
