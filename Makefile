@@ -49,7 +49,7 @@ OIIO_CFLAGS = $(call pkg_cflags,OpenImageIO)
 OIIO_LIBS = $(call pkg_libs,OpenImageIO)
 ASSIMP_CFLAGS = $(call pkg_cflags,assimp)
 ASSIMP_LIBS = $(call pkg_libs,assimp)
-DEP_LIBS = $(VDB_LIBS) $(EMBREE_LIBS) $(OIIO_LIBS) $(ASSIMP_LIBS) -lz -lpthread -lm
+DEP_LIBS = $(VDB_LIBS) $(EMBREE_LIBS) $(OIIO_LIBS) $(ASSIMP_LIBS) -ldeflate -lz -lpthread -lm
 
 ALL_CFLAGS = -std=c11 $(WARN_C) $(OPT) -MMD -MP -fvisibility=hidden -DVDBGI_BUILDING \
              $(ASSIMP_CFLAGS) $(CFLAGS)
@@ -66,7 +66,7 @@ LIB_CXX := $(wildcard lib/*.cpp)
 LIB_OBJ := $(LIB_C:%.c=$(BUILD)/%.o) $(LIB_CXX:%.cpp=$(BUILD)/%.o)
 LIB_A := $(BUILD)/libvdbgi.a
 
-APP_NAMES := gi-bake gi-bench
+APP_NAMES := gi-bake vdb-to-gi gi-inspect gi-bench
 APPS := $(APP_NAMES:%=$(BUILD)/bin/%)
 CLI_OBJ := $(BUILD)/apps/cli.o
 
@@ -74,7 +74,7 @@ TEST_SRC := $(wildcard tests/test_*.c)
 TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 
 DEB_PACKAGES := gcc g++ make pkg-config libopenvdb-dev libboost-dev libimath-dev libtbb-dev \
-                libembree-dev libopenimageio-dev libassimp-dev zlib1g-dev libopenvdb-tools \
+                libembree-dev libopenimageio-dev libassimp-dev zlib1g-dev libdeflate-dev libopenvdb-tools \
                 python3 python3-openvdb openimageio-tools
 
 # Keep object files of apps and tests (make would delete them as intermediates).

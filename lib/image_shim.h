@@ -18,6 +18,15 @@ extern "C" {
 vdbgi_result vdbgi_image_decode(vdbgi_context *ctx, const char *path, const void *data,
                                 size_t data_size, const char *format_hint, vdbgi_texture *out);
 
+/*
+ * Write a width x height image of `channels` floats per pixel (row 0 at the
+ * top) to path, through a temporary file renamed when complete. The format
+ * follows the extension: .png stores 8 bits per channel (values are clamped
+ * to [0, 1]: encode them first), .exr stores half floats as given.
+ */
+vdbgi_result vdbgi_image_write(vdbgi_context *ctx, const char *path, int width, int height,
+                               int channels, const float *pixels);
+
 #ifdef __cplusplus
 }
 #endif

@@ -210,6 +210,55 @@ typedef struct vdbgi_bake_params {
 vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc *desc,
                                        vdbgi_bake_params *out);
 
+/* ---- field.c: the filled fine lattice, in OpenVDB's 8^3 leaves --------- */
+
+#define VDBGI_LEAF_LOG2 3
+#define VDBGI_LEAF_DIM 8
+#define VDBGI_LEAF_VOXELS 512
+
+/* One leaf: voxel (x, y, z) of the leaf is at offset x*64 + y*8 + z (VDB's order). */
+typedef struct vdbgi_leaf {
+    int32_t origin[3];                  /* multiple of 8, fine-lattice index */
+    uint64_t mask[8];                   /* bit n of word n/64: voxel n holds a value */
+    float rgb[VDBGI_LEAF_VOXELS][3];
+} vdbgi_leaf;
+
+typedef struct vdbgi_field {
+    vdbgi_context *ctx;
+    vdbgi_leaf *leaves;
+    size_t leaf_count;
+    uint32_t *table; /* open addressing: leaf index + 1, 0 = empty */
+    size_t table_size;
+} vdbgi_field;
+
+/* Allocate room for leaf_count leaves (zeroed) and an empty lookup table. */
+vdbgi_result vdbgi_field_alloc(vdbgi_context *ctx, size_t leaf_count, vdbgi_field *out);
+/* Index the leaves by origin; call once they are filled in. */
+void vdbgi_field_index(vdbgi_field *f);
+void vdbgi_field_free(vdbgi_field *f);
+/* The leaf holding fine point ijk, or NULL. */
+const vdbgi_leaf *vdbgi_field_leaf(const vdbgi_field *f, const int32_t ijk[3]);
+/* Value at fine point ijk; false where the field holds none. */
+bool vdbgi_field_get(const vdbgi_field *f, const int32_t ijk[3], float rgb[3]);
+/* The same, remembering the last leaf in *cache (start it at NULL; one per thread). */
+bool vdbgi_field_get_cached(const vdbgi_field *f, const int32_t ijk[3], float rgb[3],
+                            const vdbgi_leaf **cache);
+
+static inline int32_t vdbgi_floor_div(int32_t a, int32_t b) /* b > 0 */
+{
+    return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+
+/* How vdbgi_vdb_fill spreads valid values (see docs/converter.md). */
+typedef struct vdbgi_fill_params {
+    float invalid_threshold; /* back-face fraction above which a probe is not a source */
+    int cell_size;           /* fine probes per level-0 brick cell edge (4) */
+    int margin_cells;        /* cells added around the cells holding probes (1) */
+    int rim;                 /* fine points added around those cells for filtering (1) */
+    float weights[3];        /* weight of a face, edge and corner neighbour */
+    int max_iterations;      /* rings of spreading before giving up */
+} vdbgi_fill_params;
+
 #ifdef __cplusplus
 }
 #endif

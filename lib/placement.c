@@ -189,6 +189,39 @@ vdbgi_result vdbgi_probes_get(const vdbgi_probes *p, size_t index, int32_t ijk[3
     return VDBGI_OK;
 }
 
+vdbgi_result vdbgi_probes_sample(const vdbgi_probes *p, const float pos[3], float rgb[3])
+{
+    rgb[0] = rgb[1] = rgb[2] = 0.0f;
+    VDBGI_FAIL_IF(p->ctx, !p->rgb, VDBGI_ERR_INVALID_ARG, "probes have no values");
+    double t[3], fr[3];
+    int32_t i0[3];
+    for (int k = 0; k < 3; k++) {
+        t[k] = ((double)pos[k] - p->origin[k]) / p->spacing;
+        VDBGI_FAIL_IF(p->ctx, !(fabs(t[k]) < 2e9), VDBGI_ERR_INVALID_ARG,
+                      "position is outside the lattice");
+        i0[k] = (int32_t)floor(t[k]);
+        fr[k] = t[k] - i0[k];
+    }
+    double acc[3] = {0.0, 0.0, 0.0}, wsum = 0.0;
+    for (size_t n = 0; n < p->count; n++) {
+        const int32_t *const c = &p->ijk[3 * n];
+        const int32_t d[3] = {c[0] - i0[0], c[1] - i0[1], c[2] - i0[2]};
+        if ((d[0] | d[1] | d[2]) & ~1 || p->backface[n] > p->invalid_threshold)
+            continue; /* not one of the eight corners, or not to be trusted */
+        const double w = (d[0] ? fr[0] : 1.0 - fr[0]) * (d[1] ? fr[1] : 1.0 - fr[1]) *
+                         (d[2] ? fr[2] : 1.0 - fr[2]);
+        for (int k = 0; k < 3; k++)
+            acc[k] += w * p->rgb[3 * n + k];
+        wsum += w;
+    }
+    VDBGI_FAIL_IF(p->ctx, !(wsum > 0.0), VDBGI_ERR_INVALID_ARG,
+                  "no valid probe around (%g, %g, %g)", (double)pos[0], (double)pos[1],
+                  (double)pos[2]);
+    for (int k = 0; k < 3; k++)
+        rgb[k] = (float)(acc[k] / wsum);
+    return VDBGI_OK;
+}
+
 /* ---- metadata ------------------------------------------------------------ */
 
 static vdbgi_meta *meta_slot(vdbgi_probes *p, const char *name, vdbgi_meta_type type)

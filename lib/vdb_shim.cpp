@@ -4,8 +4,15 @@
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/MeshToVolume.h>
+#include <openvdb/tools/Morphology.h>
+#include <openvdb/tree/LeafManager.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <array>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <vector>
@@ -206,6 +213,188 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     }
     p->count = n;
     *out = guard.release();
+    return VDBGI_OK;
+    VDBGI_SHIM_END(ctx, "openvdb")
+}
+
+namespace {
+
+using Vec3SLeaf = openvdb::Vec3STree::LeafNodeType;
+
+openvdb::Coord cell_of(const openvdb::Coord &c, int cell)
+{
+    return openvdb::Coord(vdbgi_floor_div(c.x(), cell), vdbgi_floor_div(c.y(), cell),
+                          vdbgi_floor_div(c.z(), cell));
+}
+
+/* Copy a Vec3s tree's leaves (values and masks) into a C field. */
+vdbgi_result export_leaves(vdbgi_context *ctx, const openvdb::Vec3STree &tree, vdbgi_field *field)
+{
+    VDBGI_TRY(vdbgi_field_alloc(ctx, tree.leafCount(), field));
+    size_t n = 0;
+    for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf, ++n) {
+        vdbgi_leaf &out = field->leaves[n];
+        const openvdb::Coord o = leaf->origin();
+        out.origin[0] = o.x(), out.origin[1] = o.y(), out.origin[2] = o.z();
+        const auto &mask = leaf->getValueMask();
+        for (int w = 0; w < 8; w++)
+            out.mask[w] = mask.template getWord<uint64_t>(w);
+        static_assert(sizeof(openvdb::Vec3s) == 3 * sizeof(float), "Vec3s is three floats");
+        std::memcpy(out.rgb, leaf->buffer().data(), sizeof(out.rgb));
+    }
+    vdbgi_field_index(field);
+    return VDBGI_OK;
+}
+
+} // namespace
+
+extern "C" vdbgi_result vdbgi_vdb_fill(vdbgi_context *ctx, const vdbgi_probes *p,
+                                       const vdbgi_fill_params *fp, vdbgi_field *field,
+                                       int32_t **cells_out, size_t *cell_count, size_t *unreached)
+{
+    VDBGI_SHIM_BEGIN
+    using openvdb::Coord;
+    using openvdb::MaskTree;
+    *cells_out = nullptr;
+    *cell_count = 0;
+    *unreached = 0;
+    openvdb::initialize();
+
+    // Sources, and the cells that hold any probe.
+    openvdb::Vec3STree filled(openvdb::Vec3s(0.0f));
+    MaskTree cells(false);
+    size_t sources = 0;
+    {
+        openvdb::tree::ValueAccessor<openvdb::Vec3STree> fa(filled);
+        openvdb::tree::ValueAccessor<MaskTree> ca(cells);
+        for (size_t n = 0; n < p->count; n++) {
+            const Coord c(p->ijk[3 * n], p->ijk[3 * n + 1], p->ijk[3 * n + 2]);
+            if (p->backface[n] <= fp->invalid_threshold) {
+                ca.setValueOn(cell_of(c, fp->cell_size));
+                fa.setValueOn(c, openvdb::Vec3s(p->rgb[3 * n], p->rgb[3 * n + 1], p->rgb[3 * n + 2]));
+                sources++;
+            }
+        }
+    }
+    if (sources == 0)
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                          "no valid probe to fill from (%zu probes, all invalid or none)", p->count);
+    if (fp->margin_cells > 0)
+        openvdb::tools::dilateActiveValues(cells, fp->margin_cells, openvdb::tools::NN_FACE_EDGE_VERTEX,
+                                           openvdb::tools::IGNORE_TILES);
+
+    // The fine points to fill: every occupied cell, plus a rim for filtering.
+    MaskTree target(false);
+    {
+        openvdb::tree::ValueAccessor<MaskTree> ta(target);
+        const int cs = fp->cell_size;
+        for (auto it = cells.cbeginValueOn(); it; ++it) {
+            const Coord c = it.getCoord();
+            const Coord lo(c.x() * cs, c.y() * cs, c.z() * cs);
+            for (int x = 0; x < cs; x++)
+                for (int y = 0; y < cs; y++)
+                    for (int z = 0; z < cs; z++)
+                        ta.setValueOn(lo.offsetBy(x, y, z));
+        }
+    }
+    if (fp->rim > 0)
+        openvdb::tools::dilateActiveValues(target, fp->rim, openvdb::tools::NN_FACE_EDGE_VERTEX,
+                                           openvdb::tools::IGNORE_TILES);
+    size_t remaining = size_t(target.activeVoxelCount());
+    for (auto it = filled.cbeginValueOn(); it; ++it)
+        remaining -= target.isValueOn(it.getCoord());
+    auto front = std::make_unique<MaskTree>(filled, false, openvdb::TopologyCopy());
+
+    // Ring by ring: each target point next to a valued one takes the weighted mean of its
+    // valued neighbours. Every step costs in proportion to the ring, not to the grid.
+    const float w[4] = {0.0f, fp->weights[0], fp->weights[1], fp->weights[2]};
+    // Scratch for one ring, kept across rings: fresh pages cost more than the arithmetic.
+    std::vector<openvdb::Vec3s> values;
+    std::vector<openvdb::util::NodeMask<3>> fresh;
+    for (int iter = 0; iter < fp->max_iterations && remaining > 0; iter++) {
+        auto shell = std::make_unique<MaskTree>(*front);
+        openvdb::tools::dilateActiveValues(*shell, 1, openvdb::tools::NN_FACE_EDGE_VERTEX,
+                                           openvdb::tools::IGNORE_TILES);
+        openvdb::tree::LeafManager<MaskTree> leaves(*shell);
+        if (values.size() < 512 * leaves.leafCount())
+            values.resize(512 * leaves.leafCount());
+        fresh.assign(leaves.leafCount(), openvdb::util::NodeMask<3>());
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.leafCount()),
+                          [&](const tbb::blocked_range<size_t> &r) {
+            for (size_t l = r.begin(); l < r.end(); l++) {
+                const auto &shell_leaf = leaves.leaf(l);
+                const Coord o = shell_leaf.origin();
+                const auto *const tleaf = target.probeConstLeaf(o);
+                if (!tleaf)
+                    continue;
+                // The 3^3 leaves around this one: neighbour reads become buffer reads.
+                const Vec3SLeaf *nb[27];
+                for (int i = 0; i < 27; i++)
+                    nb[i] = filled.probeConstLeaf(
+                        o.offsetBy((i % 3 - 1) * 8, (i / 3 % 3 - 1) * 8, (i / 9 - 1) * 8));
+                for (auto v = shell_leaf.cbeginValueOn(); v; ++v) {
+                    const openvdb::Index pos = v.pos();
+                    if (!tleaf->isValueOn(pos) || (nb[13] && nb[13]->isValueOn(pos)))
+                        continue; // outside the target, or valued already
+                    const int x = int(pos >> 6), y = int(pos >> 3 & 7), z = int(pos & 7);
+                    openvdb::Vec3d sum(0.0);
+                    double wsum = 0.0;
+                    for (int dz = -1; dz <= 1; dz++)
+                        for (int dy = -1; dy <= 1; dy++)
+                            for (int dx = -1; dx <= 1; dx++) {
+                                const int k = std::abs(dx) + std::abs(dy) + std::abs(dz);
+                                const int nx = x + dx + 8, ny = y + dy + 8, nz = z + dz + 8;
+                                const Vec3SLeaf *const L =
+                                    nb[nx / 8 + 3 * (ny / 8) + 9 * (nz / 8)];
+                                const openvdb::Index n =
+                                    openvdb::Index((nx & 7) << 6 | (ny & 7) << 3 | (nz & 7));
+                                if (k && L && L->isValueOn(n)) {
+                                    sum += openvdb::Vec3d(L->getValue(n)) * w[k];
+                                    wsum += w[k];
+                                }
+                            }
+                    values[512 * l + pos] = openvdb::Vec3s(sum / wsum);
+                    fresh[l].setOn(pos);
+                }
+            }
+        });
+        auto next = std::make_unique<MaskTree>(false);
+        size_t added = 0;
+        for (size_t l = 0; l < leaves.leafCount(); l++) {
+            if (fresh[l].isOff())
+                continue;
+            const Coord o = leaves.leaf(l).origin();
+            Vec3SLeaf *const dst = filled.touchLeaf(o);
+            auto *const mask = next->touchLeaf(o);
+            for (auto on = fresh[l].beginOn(); on; ++on) {
+                dst->setValueOn(on.pos(), values[512 * l + on.pos()]);
+                mask->setValueOn(on.pos());
+                added++;
+            }
+        }
+        if (added == 0)
+            break; // what is left cannot be reached from any source
+        remaining -= added;
+        front = std::move(next);
+    }
+    *unreached = remaining;
+
+    const size_t ncells = size_t(cells.activeVoxelCount());
+    int32_t *const out = (int32_t *)vdbgi_calloc(ctx, ncells ? ncells : 1, 3 * sizeof(int32_t));
+    if (!out)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    size_t n = 0;
+    for (auto it = cells.cbeginValueOn(); it; ++it, ++n) {
+        const Coord c = it.getCoord();
+        out[3 * n] = c.x(), out[3 * n + 1] = c.y(), out[3 * n + 2] = c.z();
+    }
+    const vdbgi_result r = export_leaves(ctx, filled, field);
+    if (r != VDBGI_OK) {
+        vdbgi_free(ctx, out);
+        return r;
+    }
+    *cells_out = out;
+    *cell_count = n;
     return VDBGI_OK;
     VDBGI_SHIM_END(ctx, "openvdb")
 }

@@ -10,6 +10,12 @@
  *                        vdbgi_probes_write(pr, "world.vdb");
  *   vdbgi_probes_destroy(pr); vdbgi_scene_destroy(scene); vdbgi_context_destroy(ctx);
  *
+ * Converting a bake into GPU bricks (seed 000's runtime format):
+ *   vdbgi_probes_read(ctx, "world.vdb", &pr);
+ *   vdbgi_volume *vol;   vdbgi_volume_build(ctx, pr, &convert_desc, &vol);
+ *                        vdbgi_volume_write(vol, "world.gi.gz");
+ *                        vdbgi_volume_sample(vol, xyz, rgb);   what the shader sees
+ *
  * Every fallible call returns a vdbgi_result; on failure vdbgi_context_error()
  * holds a one-line message naming the value or file at fault. The library
  * never exits, aborts or prints: text reaches the user only through the log
@@ -352,10 +358,141 @@ VDBGI_API vdbgi_result vdbgi_probes_get(const vdbgi_probes *probes, size_t index
                                         float rgb[3], float *backface);
 
 /*
+ * The baked field at world position pos: trilinear interpolation of the
+ * eight probes around it, over those that exist and are valid (weights
+ * renormalised). Returns VDBGI_ERR_INVALID_ARG, rgb zero, when none of the
+ * eight is. Scans every probe: meant for inspection, not for loops.
+ */
+VDBGI_API vdbgi_result vdbgi_probes_sample(const vdbgi_probes *probes, const float pos[3],
+                                           float rgb[3]);
+
+/*
  * Metadata stored with the grids, as "name=value" text, index 0..n-1; NULL
  * past the end. Owned by the probes.
  */
 VDBGI_API const char *vdbgi_probes_metadata(const vdbgi_probes *probes, size_t index);
+
+/* ------------------------------------------------------------------------ */
+/* Volume: adaptive bricks, atlas and indirection (the .gi file).            */
+
+typedef struct vdbgi_volume vdbgi_volume;
+
+typedef enum vdbgi_encoding {
+    VDBGI_ENCODING_RGBM = 0,  /* rgba8: colour = rgb * a * range (seed 000, range 8) */
+    VDBGI_ENCODING_RGB9E5 = 1 /* WebGPU rgb9e5ufloat: shared 5-bit exponent, 9-bit mantissas */
+} vdbgi_encoding;
+
+typedef enum vdbgi_criterion {
+    VDBGI_CRITERION_AUTO = 0,   /* the default: VDBGI_CRITERION_INTERP (see docs/converter.md) */
+    VDBGI_CRITERION_RANGE = 1,  /* keep a block coarse if its colour range <= eps (seed 000) */
+    VDBGI_CRITERION_INTERP = 2  /* ... or if its brick's trilinear interpolation reproduces
+                                   every fine probe it covers within eps (Unreal) */
+} vdbgi_criterion;
+
+/*
+ * How to coarsen and encode. All-zero means the defaults:
+ *   eps:        tolerance, relative to the mean irradiance of the valid
+ *               probes (so one value suits dim and bright scenes): a block's
+ *               largest channel difference must be <= eps * mean. >= 0.
+ *               0 == 0.03; VDBGI_NONE for 0 (never coarsen a varying block).
+ *   levels:     brick levels allowed, 1..4 (max level + 1). 0 == 4.
+ *   criterion:  see vdbgi_criterion.
+ *   encoding:   see vdbgi_encoding.
+ *   progress:   as vdbgi_bake_desc's; may be NULL.
+ */
+typedef struct vdbgi_convert_desc {
+    float eps;
+    int levels;
+    vdbgi_criterion criterion;
+    vdbgi_encoding encoding;
+    int (*progress)(void *user, float done);
+    void *progress_user;
+} vdbgi_convert_desc;
+
+/* The RGBM range: colours up to this are encoded, brighter ones clamp. */
+#define VDBGI_RGBM_RANGE 8.0f
+/* The largest 3D texture dimension WebGPU guarantees; the atlas stays within it. */
+#define VDBGI_MAX_TEXTURE_DIM 2048
+
+/*
+ * Build the bricked volume of baked probes: fill invalid and absent probes
+ * from valid neighbours, coarsen top-down by desc's criterion, pack the atlas
+ * and the indirection texture, encode, and measure the error of what the
+ * shader will sample against the filled field at every valid probe. The
+ * probes are only read. Fails with VDBGI_ERR_INVALID_ARG for a bad desc,
+ * VDBGI_ERR_FORMAT for probes with no value or no valid probe, and
+ * VDBGI_ERR_OUT_OF_MEMORY, saying what to change, when the atlas or the
+ * indirection would exceed VDBGI_MAX_TEXTURE_DIM texels on an axis.
+ */
+VDBGI_API vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
+                                          const vdbgi_convert_desc *desc, vdbgi_volume **out);
+
+/*
+ * Write the .gi file (docs/format.md): header, indirection bytes, atlas
+ * bytes, gzip-compressed; through a temporary file renamed when complete.
+ */
+VDBGI_API vdbgi_result vdbgi_volume_write(const vdbgi_volume *volume, const char *path);
+
+/*
+ * Read a .gi file (gzip'd or not). Every size is checked against the header
+ * and the data; a truncated or corrupted file is VDBGI_ERR_FORMAT, and
+ * nothing is read past the end of the data.
+ */
+VDBGI_API vdbgi_result vdbgi_volume_read(vdbgi_context *ctx, const char *path,
+                                         vdbgi_volume **out);
+
+VDBGI_API void vdbgi_volume_destroy(vdbgi_volume *volume);
+
+typedef struct vdbgi_volume_info {
+    vdbgi_encoding encoding;
+    float rgbm_range;
+    float spacing;                  /* finest probe spacing, metres */
+    float box_min[3], box_max[3];   /* world box the indirection covers, metres */
+    uint32_t indirection_dims[3];   /* level-0 cells */
+    uint32_t atlas_dims[3];         /* texels */
+    uint32_t max_level;
+    uint32_t bricks[4];             /* kept bricks per level */
+    uint32_t brick_count;
+    size_t indirection_size, atlas_size; /* bytes, uncompressed */
+    size_t file_size;               /* bytes of the gzip'd file */
+    size_t dense_rgba8_size;        /* a dense RGBA8 grid over the probes' box */
+    /* Filled in by vdbgi_volume_build only (0 after vdbgi_volume_read): */
+    size_t probe_count, valid_count, filled_count, unreached_count;
+    size_t fallback_count;          /* brick texels with no filled point near: block mean */
+    size_t clamped_count;           /* texels whose colour exceeded the RGBM range */
+    double mean_irradiance;         /* over valid probes and channels */
+    double rmse, p99, max_error;    /* sampled field vs filled field at valid probes, absolute */
+    double seconds;                 /* wall time of the build */
+} vdbgi_volume_info;
+
+VDBGI_API void vdbgi_volume_get_info(const vdbgi_volume *volume, vdbgi_volume_info *info);
+
+/*
+ * The value the runtime shader of seed 000 computes at world position pos:
+ * NEAREST indirection read, level and slot decode, local coordinates,
+ * trilinear atlas read with the texel-centre convention and clamp-to-edge,
+ * decode. Outside the box the coordinates clamp like the textures do; an
+ * empty cell reads black.
+ */
+VDBGI_API void vdbgi_volume_sample(const vdbgi_volume *volume, const float pos[3], float rgb[3]);
+
+typedef enum vdbgi_axis { VDBGI_AXIS_X = 0, VDBGI_AXIS_Y = 1, VDBGI_AXIS_Z = 2 } vdbgi_axis;
+
+/*
+ * Slice images for people, through OpenImageIO, into directory dir (made if
+ * missing), one pixel per probe of the lattice plane nearest world
+ * coordinate `at` across `axis`: the baked probes (baked.*: black where
+ * there is none), the field the bricks give, read through the sampler
+ * (bricks.*), its difference from the filled field (difference.*, times
+ * 10), the brick level of each cell (levels.png: black empty, red level 0,
+ * yellow 1, green 2, blue 3), and the atlas's z layers side by side
+ * (atlas.*). PNG files are exposed by `exposure` stops and sRGB-encoded; EXR
+ * files hold linear values. probes must be those the volume was built from;
+ * a volume from vdbgi_volume_read has no filled field and is refused.
+ */
+VDBGI_API vdbgi_result vdbgi_volume_write_slices(const vdbgi_volume *volume,
+                                                 const vdbgi_probes *probes, vdbgi_axis axis,
+                                                 double at, float exposure, const char *dir);
 
 #ifdef __cplusplus
 }

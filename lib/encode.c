@@ -1,0 +1,119 @@
+/* encode.c: RGBM, RGB9E5 and half-float codecs, exact to their stated bounds. */
+#include "encode.h"
+
+#include <math.h>
+#include <string.h>
+
+static float sanitise(float c)
+{
+    return c > 0.0f ? c : 0.0f; /* NaN fails the comparison too */
+}
+
+bool vdbgi_rgbm_encode(const float rgb[3], float range, uint8_t out[4])
+{
+    const float c[3] = {sanitise(rgb[0]), sanitise(rgb[1]), sanitise(rgb[2])};
+    const float mx = fmaxf(c[0], fmaxf(c[1], c[2]));
+    const bool clamped = mx > range;
+    if (!(mx > 0.0f)) {
+        memset(out, 0, 4);
+        return false;
+    }
+    /* Round M up (never below one step) so that c / (M range) <= 1 for every channel. */
+    float m8 = ceilf(fminf(mx / range, 1.0f) * 255.0f);
+    m8 = m8 < 1.0f ? 1.0f : m8;
+    const float scale = m8 / 255.0f * range;
+    for (int k = 0; k < 3; k++)
+        out[k] = (uint8_t)lrintf(fminf(c[k] / scale, 1.0f) * 255.0f);
+    out[3] = (uint8_t)m8;
+    return clamped;
+}
+
+void vdbgi_rgbm_decode(const uint8_t in[4], float range, float rgb[3])
+{
+    const float m = (float)in[3] / 255.0f * range;
+    for (int k = 0; k < 3; k++)
+        rgb[k] = (float)in[k] / 255.0f * m;
+}
+
+#define RGB9E5_BITS 9
+#define RGB9E5_BIAS 15
+#define RGB9E5_MAX_EXP 31
+#define RGB9E5_MAX 65408.0f /* (511/512) * 2^(31 - 15) */
+
+bool vdbgi_rgb9e5_encode(const float rgb[3], uint32_t *out)
+{
+    float c[3];
+    bool clamped = false;
+    for (int k = 0; k < 3; k++) {
+        c[k] = sanitise(rgb[k]);
+        clamped |= c[k] > RGB9E5_MAX;
+        c[k] = fminf(c[k], RGB9E5_MAX);
+    }
+    const float mx = fmaxf(c[0], fmaxf(c[1], c[2]));
+    /* The spec's floor(log2(max)), via frexp (exact, unlike log2f near powers of two). */
+    int e2 = 0;
+    frexpf(mx, &e2);
+    int exp = (mx > 0.0f ? e2 - 1 : -RGB9E5_BIAS - 1);
+    if (exp < -RGB9E5_BIAS - 1)
+        exp = -RGB9E5_BIAS - 1;
+    exp += 1 + RGB9E5_BIAS;
+    double denom = ldexp(1.0, exp - RGB9E5_BIAS - RGB9E5_BITS);
+    if (floor(mx / denom + 0.5) == (double)(1 << RGB9E5_BITS)) {
+        exp += 1; /* rounding carried into the next power of two */
+        denom *= 2.0;
+    }
+    uint32_t m[3];
+    for (int k = 0; k < 3; k++)
+        m[k] = (uint32_t)floor(c[k] / denom + 0.5);
+    *out = m[0] | m[1] << 9 | m[2] << 18 | (uint32_t)exp << 27;
+    return clamped;
+}
+
+void vdbgi_rgb9e5_decode(uint32_t in, float rgb[3])
+{
+    const int exp = (int)(in >> 27);
+    const float scale = ldexpf(1.0f, exp - RGB9E5_BIAS - RGB9E5_BITS);
+    for (int k = 0; k < 3; k++)
+        rgb[k] = (float)((in >> (9 * k)) & 511u) * scale;
+}
+
+uint16_t vdbgi_half_from_float(float f)
+{
+    uint32_t x;
+    memcpy(&x, &f, 4);
+    const uint32_t sign = (x >> 16) & 0x8000u;
+    const uint32_t abs = x & 0x7FFFFFFFu;
+    if (abs > 0x7F800000u) /* NaN: keep it a quiet NaN */
+        return (uint16_t)(sign | 0x7E00u);
+    if (abs >= 0x477FF000u) /* rounds to at least 65520: infinity */
+        return (uint16_t)(sign | 0x7C00u);
+    if (abs < 0x38800000u) { /* below 2^-14: subnormal or zero */
+        const float a = fabsf(f) * 16777216.0f; /* in units of 2^-24, rounded to even */
+        return (uint16_t)(sign | (uint32_t)lrintf(a));
+    }
+    /* Normal: rebias the exponent, round the 13 dropped bits to nearest even. */
+    const uint32_t mant = abs & 0x7FFFFFu;
+    uint32_t h = ((abs >> 23) - 112u) << 10 | mant >> 13;
+    const uint32_t rest = mant & 0x1FFFu;
+    if (rest > 0x1000u || (rest == 0x1000u && (h & 1u)))
+        h++;
+    return (uint16_t)(sign | h);
+}
+
+float vdbgi_half_to_float(uint16_t h)
+{
+    const uint32_t sign = (uint32_t)(h & 0x8000u) << 16;
+    const uint32_t exp = (h >> 10) & 0x1Fu, mant = h & 0x3FFu;
+    float f;
+    if (exp == 0) {
+        f = ldexpf((float)mant, -24);
+        uint32_t x;
+        memcpy(&x, &f, 4);
+        x |= sign;
+        memcpy(&f, &x, 4);
+        return f;
+    }
+    const uint32_t x = sign | (exp == 31 ? 0x7F800000u | mant << 13 : (exp + 112u) << 23 | mant << 13);
+    memcpy(&f, &x, 4);
+    return f;
+}

@@ -1,0 +1,95 @@
+/*
+ * sampler.c: the lookup of seed 000's gi-volume.ts, step by step in float32,
+ * with the texture units' NEAREST and LINEAR filtering (clamp-to-edge,
+ * texel centres at +0.5) done by hand. Depends on nothing else in lib/.
+ */
+#include "sampler.h"
+
+#include <math.h>
+#include <string.h>
+
+static int clampi(int v, int lo, int hi)
+{
+    return v < lo ? lo : v > hi ? hi : v;
+}
+
+/* One atlas texel as the texture unit sees it after format conversion. */
+static void fetch(const vdbgi_volume_view *v, int x, int y, int z, float out[4])
+{
+    const size_t i = ((size_t)z * v->atlas_dims[1] + (size_t)y) * v->atlas_dims[0] + (size_t)x;
+    const uint8_t *const t = &v->atlas[4 * i];
+    if (v->encoding == 1) {
+        /* rgb9e5ufloat is decoded before filtering. */
+        const uint32_t w = (uint32_t)t[0] | (uint32_t)t[1] << 8 | (uint32_t)t[2] << 16 |
+                           (uint32_t)t[3] << 24;
+        const float scale = ldexpf(1.0f, (int)(w >> 27) - 15 - 9);
+        for (int k = 0; k < 3; k++)
+            out[k] = (float)((w >> (9 * k)) & 511u) * scale;
+        out[3] = 1.0f;
+    } else {
+        for (int k = 0; k < 4; k++)
+            out[k] = (float)t[k] / 255.0f; /* unorm8 */
+    }
+}
+
+/* LINEAR filtering at normalised coordinate uvw (texture-unit convention). */
+static void sample_linear(const vdbgi_volume_view *v, const float uvw[3], float out[4])
+{
+    int i0[3], i1[3];
+    float f[3];
+    for (int k = 0; k < 3; k++) {
+        const int dim = (int)v->atlas_dims[k];
+        const float t = uvw[k] * (float)dim - 0.5f;
+        const float fl = floorf(t);
+        f[k] = t - fl;
+        i0[k] = clampi((int)fl, 0, dim - 1);
+        i1[k] = clampi((int)fl + 1, 0, dim - 1);
+    }
+    memset(out, 0, 4 * sizeof(float));
+    for (int c = 0; c < 8; c++) {
+        const int x = c & 1 ? i1[0] : i0[0], y = c & 2 ? i1[1] : i0[1], z = c & 4 ? i1[2] : i0[2];
+        const float w = (c & 1 ? f[0] : 1.0f - f[0]) * (c & 2 ? f[1] : 1.0f - f[1]) *
+                        (c & 4 ? f[2] : 1.0f - f[2]);
+        float t[4];
+        fetch(v, x, y, z, t);
+        for (int k = 0; k < 4; k++)
+            out[k] += w * t[k];
+    }
+}
+
+void vdbgi_sampler_sample(const vdbgi_volume_view *v, const float pos[3], float rgb[3])
+{
+    float p[3], base[3], ind[4];
+    /* const p = box.mul(giRes).sub(0.5); const baseBrick = p.div(BRICK).floor() */
+    for (int k = 0; k < 3; k++) {
+        const float box = (pos[k] - v->box_min[k]) / (v->box_max[k] - v->box_min[k]);
+        const float gi_res = (float)(v->ind_dims[k] * VDBGI_BRICK);
+        p[k] = box * gi_res - 0.5f;
+        base[k] = floorf(p[k] / (float)VDBGI_BRICK);
+    }
+    /* giIndNode.sample(baseBrick.add(0.5).div(giIndDims)), NEAREST */
+    int it[3];
+    for (int k = 0; k < 3; k++) {
+        const float u = (base[k] + 0.5f) / (float)v->ind_dims[k];
+        it[k] = clampi((int)floorf(u * (float)v->ind_dims[k]), 0, (int)v->ind_dims[k] - 1);
+    }
+    const size_t ii = ((size_t)it[2] * v->ind_dims[1] + (size_t)it[1]) * v->ind_dims[0] + (size_t)it[0];
+    for (int k = 0; k < 4; k++)
+        ind[k] = (float)v->indirection[4 * ii + k] / 255.0f;
+    /* level = ind.a * 255 - 1 (max 0); span = 2^level; slot = ind.rgb * 255 */
+    const float level = fmaxf(ind[3] * 255.0f - 1.0f, 0.0f);
+    const float span = exp2f(level);
+    float uvw[3];
+    for (int k = 0; k < 3; k++) {
+        const float slot = ind[k] * 255.0f;
+        const float origin_cell = floorf(base[k] / span) * span * (float)VDBGI_BRICK;
+        const float q = (p[k] - origin_cell + 0.5f) / span - 0.5f;
+        const float atlas_texel = slot * (float)VDBGI_BRICK_PADDED + 1.0f + q;
+        uvw[k] = (atlas_texel + 0.5f) / (float)v->atlas_dims[k];
+    }
+    float s[4];
+    sample_linear(v, uvw, s);
+    /* irr = sample.rgb * sample.a * RANGE for RGBM; RGB9E5 is already linear. */
+    for (int k = 0; k < 3; k++)
+        rgb[k] = v->encoding == 1 ? s[k] : s[k] * s[3] * v->rgbm_range;
+}
