@@ -75,7 +75,7 @@ TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 
 DEB_PACKAGES := gcc g++ make pkg-config libopenvdb-dev libboost-dev libimath-dev libtbb-dev \
                 libembree-dev libopenimageio-dev libassimp-dev zlib1g-dev libdeflate-dev libopenvdb-tools \
-                python3 python3-openvdb openimageio-tools
+                python3 python3-openvdb openimageio-tools nodejs
 
 # Keep object files of apps and tests (make would delete them as intermediates).
 .SECONDARY:
@@ -152,13 +152,18 @@ check:
 asan:
 	$(Q)$(MAKE) --no-print-directory config=asan check
 
-## demo: install what is missing, build, bake the bundled world
+## demo: install what is missing, build, bake the bundled world and convert it
 demo:
 	$(Q)$(MAKE) --no-print-directory deps
 	$(Q)$(MAKE) --no-print-directory all
 	@mkdir -p out
 	$(BUILD)/bin/gi-bake data/world.glb -o out/world.vdb
-	@echo "demo: baked probes are in out/world.vdb (try: vdb_print -l out/world.vdb)"
+	$(BUILD)/bin/vdb-to-gi out/world.vdb -o out/world.gi.gz --slices out/slices --stats out/world.json
+	@echo
+	@echo "demo: out/world.vdb      baked probes (vdb_print -l out/world.vdb, or Blender)"
+	@echo "      out/world.gi.gz    bricks for the runtime (gi-inspect out/world.gi.gz --at 0,1,0)"
+	@echo "      out/world.json     conversion statistics"
+	@echo "      out/slices/*.png   the baked field, the bricks, their difference, levels, atlas"
 
 ## bench: measure bake throughput against a bare Embree loop (writes build/bench/)
 bench:

@@ -81,10 +81,26 @@ const char *vdbgi_context_error(const vdbgi_context *ctx)
 
 vdbgi_result vdbgi_fail(vdbgi_context *ctx, vdbgi_result code, const char *fmt, ...)
 {
+    char raw[sizeof(ctx->error)];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(ctx->error, sizeof(ctx->error), fmt, ap);
+    vsnprintf(raw, sizeof(raw), fmt, ap);
     va_end(ap);
+    /*
+     * One line of text, whatever the message quotes: backends' exception texts
+     * can carry newlines, or bytes read from a damaged file.
+     */
+    size_t n = 0;
+    for (const char *c = raw; *c && n + 1 < sizeof(ctx->error); c++) {
+        const unsigned char u = (unsigned char)*c;
+        const char out = u < 0x20 || u == 0x7F ? ' ' : (u >= 0x80 ? '?' : *c);
+        if (out == ' ' && (n == 0 || ctx->error[n - 1] == ' '))
+            continue;
+        ctx->error[n++] = out;
+    }
+    while (n > 0 && ctx->error[n - 1] == ' ')
+        n--;
+    ctx->error[n] = '\0';
     return code;
 }
 

@@ -104,10 +104,13 @@ vdbgi_result vdbgi_probes_place(vdbgi_context *ctx, const vdbgi_scene *scene,
     p->spacing = spacing;
     p->margin = margin;
     memcpy(p->origin, origin, sizeof(origin));
-    const vdbgi_result r =
+    vdbgi_result r =
         vdbgi_vdb_topology(ctx, scene->positions, scene->vertex_count, scene->indices,
                            scene->triangle_count, origin, spacing, margin, max_probes, &p->ijk,
                            &p->count);
+    if (r == VDBGI_OK && p->count == 0)
+        r = vdbgi_fail(ctx, VDBGI_ERR_INVALID_ARG,
+                       "no lattice point lies within the %g m margin of a surface", margin);
     if (r != VDBGI_OK) {
         vdbgi_probes_destroy(p);
         return r;
@@ -140,6 +143,10 @@ vdbgi_result vdbgi_probes_read(vdbgi_context *ctx, const char *path, vdbgi_probe
     fclose(f);
     vdbgi_probes *p = NULL;
     VDBGI_TRY(vdbgi_vdb_read(ctx, path, &p));
+    if (p->count == 0) {
+        vdbgi_probes_destroy(p);
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid 'irradiance' holds no probes", path);
+    }
     const vdbgi_meta *m = vdbgi_meta_find(p, "invalid_threshold");
     if (m && m->type == VDBGI_META_DOUBLE)
         p->invalid_threshold = (float)m->d;

@@ -232,8 +232,13 @@ typedef enum vdbgi_trace_method {
     VDBGI_TRACE_STREAM = 4  /* rtcIntersect1M / rtcOccluded1M over a probe's rays */
 } vdbgi_trace_method;
 
-/* Sentinel for fields where zero is meaningful but also means "default". */
-#define VDBGI_NONE (-1.0f)
+/*
+ * Sentinel for the fields whose zero means "default" but where zero is also a
+ * value one may want (no ambient fill, no sun, no coarsening): pass
+ * VDBGI_NONE to get zero. It is far out of every field's range, so no
+ * mistyped negative value can be read as it.
+ */
+#define VDBGI_NONE (-3.0e38f)
 
 /*
  * The irradiance estimator of seed 000. All-zero means the defaults:

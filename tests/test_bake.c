@@ -361,7 +361,7 @@ static void bad_bake_parameters_are_refused(void)
     vdbgi_scene *s = mixed_scene(ctx);
     const float pt[3] = {0, 1, 0};
     float rgb[3];
-    vdbgi_bake_desc bad[12];
+    vdbgi_bake_desc bad[13];
     memset(bad, 0, sizeof(bad));
     bad[0].rays = -1;
     bad[1].rays = 2000000;
@@ -375,7 +375,8 @@ static void bad_bake_parameters_are_refused(void)
     bad[9].threads = -2;
     bad[10].invalid_threshold = 1.5f;
     bad[11].trace_method = (vdbgi_trace_method)9;
-    for (int i = 0; i < 12; i++) {
+    bad[12].ambient = -1.0f; /* a mistyped negative is not the VDBGI_NONE sentinel */
+    for (int i = 0; i < 13; i++) {
         CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &bad[i], pt, 1, rgb, NULL),
                      VDBGI_ERR_INVALID_ARG);
         CHECK(strlen(vdbgi_context_error(ctx)) > 0);

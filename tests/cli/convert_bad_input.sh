@@ -1,0 +1,22 @@
+# Bad .vdb inputs: one line naming the problem, exit 1, no output file; an existing
+# output survives. The odd files are made with pyopenvdb (Debian's system python3).
+"$BIN/gi-bake" -q "$DATA/room.obj" -o good.vdb --rays 8 >/dev/null
+head -c 300 good.vdb > truncated.vdb
+printf 'not a vdb file\n' > text.vdb
+/usr/bin/python3 - <<'PY'
+import pyopenvdb as vdb
+d = vdb.FloatGrid(); d.name = "density"; d.getAccessor().setValueOn((0, 0, 0), 1.0)
+vdb.write("nogrid.vdb", grids=[d])
+f = vdb.FloatGrid(); f.name = "irradiance"; f.getAccessor().setValueOn((0, 0, 0), 1.0)
+vdb.write("wrongtype.vdb", grids=[f])
+e = vdb.Vec3SGrid(); e.name = "irradiance"
+vdb.write("empty.vdb", grids=[e])
+PY
+echo keep > out.gi.gz
+for f in missing.vdb text.vdb truncated.vdb nogrid.vdb wrongtype.vdb empty.vdb; do
+    "$BIN/vdb-to-gi" "$f" -o out.gi.gz 2>err >/dev/null
+    echo "$? $(cat err)"
+done
+"$BIN/vdb-to-gi" good.vdb -o no/such/dir/out.gi.gz 2>err >/dev/null; echo "$? $(cat err)"
+echo "out.gi.gz: $(cat out.gi.gz)"
+ls

@@ -1,0 +1,27 @@
+// check_loader.mjs FILE.gi.gz INSPECT.txt: the JavaScript loader agrees with
+// the C sampler. INSPECT.txt holds gi-inspect's "at X,Y,Z -> R G B" lines.
+import { readFile } from 'node:fs/promises';
+import { loadGi, sampleGi } from './gi_loader.mjs';
+
+const [file, inspect] = process.argv.slice(2);
+const gi = await loadGi(await readFile(file));
+console.log(`header: ${gi.indDims.join('x')} cells, ${gi.atlasDims.join('x')} texels, ` +
+            `encoding ${gi.encoding === 1 ? 'rgb9e5' : 'rgbm'}, bricks ${gi.bricks.join('/')}`);
+let count = 0, worst = 0, bad = 0, nonzero = 0;
+for (const line of (await readFile(inspect, 'utf8')).split('\n')) {
+  const m = line.match(/^at\s+(\S+),(\S+),(\S+) -> (\S+) (\S+) (\S+)$/);
+  if (!m) continue;
+  const pos = m.slice(1, 4).map(Number), want = m.slice(4, 7).map(Number);
+  const got = sampleGi(gi, pos);
+  for (let k = 0; k < 3; k++) {
+    // gi-inspect prints 6 significant digits; float32 rounding differs in the last bits.
+    const diff = Math.abs(got[k] - want[k]);
+    worst = Math.max(worst, diff);
+    if (diff > 1e-5 + 1e-5 * Math.abs(want[k])) bad++;
+  }
+  nonzero += want.some((v) => v > 0);
+  count++;
+}
+console.log(bad === 0 && count > 0 ? `${count} points agree (${nonzero} lit)` :
+            `${bad} channels of ${count} points disagree (worst ${worst})`);
+process.exit(bad === 0 && count > 0 ? 0 : 1);

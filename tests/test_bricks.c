@@ -1,0 +1,481 @@
+/*
+ * test_bricks.c: the bricked volume gives back what was baked. With no
+ * coarsening every valid probe reads back within the encoding's step; aprons
+ * make brick boundaries invisible; a larger eps never grows the atlas; a flat
+ * field becomes a few level-3 bricks and a linear one stays coarse under the
+ * interpolation criterion; invalid probes never leak; files round-trip and
+ * damaged ones are refused; bad parameters and failing allocations are
+ * reported cleanly.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "bricks.h"
+#include "test_util.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <unistd.h>
+
+static char tmpdir[256];
+
+static const char *tmp_path(const char *name)
+{
+    static char buf[4][512];
+    static int slot;
+    char *const p = buf[slot++ & 3];
+    snprintf(p, 512, "%s/%s", tmpdir, name);
+    return p;
+}
+
+typedef float (*field_fn)(double x, double y, double z, int channel);
+
+static float smooth(double x, double y, double z, int c)
+{
+    return (float)(0.2 + 0.08 * sin(0.35 * x + c) * cos(0.23 * z) + 0.01 * y);
+}
+
+static float flat(double x, double y, double z, int c)
+{
+    (void)x, (void)y, (void)z;
+    return 0.3f + 0.1f * (float)c;
+}
+
+static float ramp(double x, double y, double z, int c)
+{
+    (void)y, (void)z;
+    return (float)(0.05 + 0.01 * x + 0.001 * c);
+}
+
+/* Probes on a slab of nx x ny x nz lattice points, spacing 0.5, values f at the lattice. */
+static vdbgi_probes *slab(vdbgi_context *ctx, int nx, int ny, int nz, field_fn f)
+{
+    vdbgi_probes *p = NULL;
+    CHECK_RESULT(ctx, vdbgi_probes_alloc(ctx, (size_t)nx * ny * nz, true, &p), VDBGI_OK);
+    p->spacing = 0.5;
+    p->margin = 2.0;
+    p->origin[0] = 0.25, p->origin[1] = 0.25, p->origin[2] = 0.25;
+    size_t n = 0;
+    for (int x = 0; x < nx; x++)
+        for (int y = 0; y < ny; y++)
+            for (int z = 0; z < nz; z++, n++) {
+                p->ijk[3 * n] = x, p->ijk[3 * n + 1] = y, p->ijk[3 * n + 2] = z;
+                for (int c = 0; c < 3; c++)
+                    p->rgb[3 * n + c] = f(x, y, z, c);
+                p->backface[n] = 0.0f;
+            }
+    return p;
+}
+
+static void world_of(const vdbgi_probes *p, const double ijk[3], float pos[3])
+{
+    for (int k = 0; k < 3; k++)
+        pos[k] = (float)(p->origin[k] + p->spacing * ijk[k]);
+}
+
+/* Trilinear interpolation of f between lattice points: what the probes alone say. */
+static float lattice_trilinear(field_fn f, const double q[3], int c)
+{
+    const double x0 = floor(q[0]), y0 = floor(q[1]), z0 = floor(q[2]);
+    const double fx = q[0] - x0, fy = q[1] - y0, fz = q[2] - z0;
+    double v = 0.0;
+    for (int i = 0; i < 8; i++) {
+        const double w = (i & 1 ? fx : 1 - fx) * (i & 2 ? fy : 1 - fy) * (i & 4 ? fz : 1 - fz);
+        v += w * f(x0 + (i & 1), y0 + (i >> 1 & 1), z0 + (i >> 2 & 1), c);
+    }
+    return (float)v;
+}
+
+static void exact_bricks_give_back_every_valid_probe(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_probes *p = slab(ctx, 20, 9, 13, smooth);
+    for (int e = 0; e < 2; e++) {
+        const vdbgi_convert_desc d = {.eps = VDBGI_NONE, .levels = 1,
+                                      .encoding = (vdbgi_encoding)e};
+        vdbgi_volume *v = NULL;
+        CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
+        if (!v)
+            continue;
+        vdbgi_volume_info info;
+        vdbgi_volume_get_info(v, &info);
+        CHECK(info.bricks[1] == 0 && info.bricks[0] == info.brick_count);
+        double worst = 0.0;
+        for (size_t i = 0; i < p->count; i++) {
+            const double q[3] = {p->ijk[3 * i], p->ijk[3 * i + 1], p->ijk[3 * i + 2]};
+            float pos[3], got[3];
+            world_of(p, q, pos);
+            vdbgi_volume_sample(v, pos, got);
+            const float *const want = &p->rgb[3 * i];
+            const float mx = fmaxf(want[0], fmaxf(want[1], want[2]));
+            /* One RGBM step of this texel (M rounded up adds at most 8/255), or 2^-9. */
+            const float step = e == 0 ? (mx + 8.0f / 255.0f) / 255.0f : mx / 512.0f;
+            for (int k = 0; k < 3; k++)
+                worst = fmax(worst, fabs(got[k] - want[k]) / step);
+        }
+        CHECK(worst <= 1.0);
+        CHECK(info.rmse <= 0.004 * info.mean_irradiance);
+        vdbgi_volume_destroy(v);
+    }
+    vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+}
+
+static void aprons_hide_brick_boundaries(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_probes *p = slab(ctx, 40, 10, 24, smooth);
+    const vdbgi_convert_desc d = {.eps = VDBGI_NONE, .levels = 1};
+    vdbgi_volume *v = NULL;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
+    if (v) {
+        /* Lines crossing many level-0 brick boundaries (every 4 probes) on all axes. */
+        double worst = 0.0;
+        for (int axis = 0; axis < 3; axis++)
+            for (double t = 1.0; t <= (axis == 1 ? 7.0 : 20.0); t += 0.0625) {
+                double q[3] = {13.3, 4.6, 10.7};
+                q[axis] = t;
+                float pos[3], got[3];
+                world_of(p, q, pos);
+                vdbgi_volume_sample(v, pos, got);
+                for (int k = 0; k < 3; k++) {
+                    const float want = lattice_trilinear(smooth, q, k);
+                    const float step = (0.35f + 8.0f / 255.0f) / 255.0f;
+                    worst = fmax(worst, fabs(got[k] - want) / step);
+                }
+            }
+        CHECK(worst <= 1.0);
+        /* Without aprons a sample beside a boundary would blend the neighbouring slot. */
+        vdbgi_volume_destroy(v);
+    }
+    vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+}
+
+static void larger_eps_never_grows_the_atlas(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_probes *p = slab(ctx, 64, 10, 48, smooth);
+    const float eps[] = {VDBGI_NONE, 0.01f, 0.03f, 0.1f, 0.3f, 1.0f, 3.0f};
+    for (int c = VDBGI_CRITERION_RANGE; c <= VDBGI_CRITERION_INTERP; c++) {
+        size_t last_atlas = SIZE_MAX, last_bricks = SIZE_MAX;
+        double last_rmse = 0.0;
+        for (size_t i = 0; i < sizeof(eps) / sizeof(eps[0]); i++) {
+            const vdbgi_convert_desc d = {.eps = eps[i], .criterion = (vdbgi_criterion)c};
+            vdbgi_volume *v = NULL;
+            CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
+            if (!v)
+                continue;
+            vdbgi_volume_info info;
+            vdbgi_volume_get_info(v, &info);
+            CHECK(info.atlas_size <= last_atlas);
+            CHECK(info.brick_count <= last_bricks);
+            CHECK(info.rmse >= last_rmse * 0.999);
+            last_atlas = info.atlas_size;
+            last_bricks = info.brick_count;
+            last_rmse = info.rmse;
+            vdbgi_volume_destroy(v);
+        }
+        CHECK(last_bricks == 4 * 2 * 3); /* eps 3: one brick per level-3 block */
+    }
+    vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+}
+
+static void flat_field_becomes_a_few_level3_bricks(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_probes *p = slab(ctx, 64, 8, 64, flat);
+    vdbgi_volume *v = NULL;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, NULL, &v), VDBGI_OK);
+    if (v) {
+        vdbgi_volume_info info;
+        vdbgi_volume_get_info(v, &info);
+        CHECK(info.bricks[0] == 0 && info.bricks[1] == 0 && info.bricks[2] == 0);
+        /* Cells -1..16 across, -1..2 up (a cell of margin): level-3 blocks -1..2 and -1..0. */
+        CHECK(info.bricks[3] == 4 * 2 * 4);
+        CHECK(info.max_error <= (0.5 + 8.0 / 255.0) / 255.0);
+        float pos[3] = {10.0f, 1.0f, 20.0f}, got[3];
+        vdbgi_volume_sample(v, pos, got);
+        CHECK_NEAR(got[0], 0.3, 0.002);
+        CHECK_NEAR(got[2], 0.5, 0.002);
+        vdbgi_volume_destroy(v);
+    }
+    vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+}
+
+static void linear_ramp_stays_coarse_under_interpolation(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_probes *p = slab(ctx, 64, 8, 64, ramp);
+    uint32_t bricks[2] = {0, 0}, fine[2] = {0, 0};
+    double rmse[2] = {0, 0};
+    for (int c = 0; c < 2; c++) {
+        const vdbgi_convert_desc d = {.eps = 0.05f,
+                                      .criterion = c ? VDBGI_CRITERION_INTERP : VDBGI_CRITERION_RANGE};
+        vdbgi_volume *v = NULL;
+        CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
+        if (!v)
+            continue;
+        vdbgi_volume_info info;
+        vdbgi_volume_get_info(v, &info);
+        bricks[c] = info.brick_count;
+        fine[c] = info.bricks[0];
+        rmse[c] = info.rmse / info.mean_irradiance;
+        vdbgi_volume_destroy(v);
+    }
+    /*
+     * The ramp climbs 0.01 a probe: its range splits every block down to level 0,
+     * while interpolation reproduces it exactly except where the fill flattens it
+     * beyond the slab's ends, which level-1 bricks absorb.
+     */
+    CHECK(fine[0] > 1000 && fine[1] == 0);
+    CHECK(bricks[1] * 5 < bricks[0]);
+    CHECK(rmse[1] < 0.01);
+    vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+}
+
+static void invalid_probes_never_leak_their_value(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_probes *p = slab(ctx, 24, 12, 24, flat);
+    /* The lower half is "inside geometry": invalid, and absurdly bright. */
+    for (size_t i = 0; i < p->count; i++)
+        if (p->ijk[3 * i + 1] < 6) {
+            p->backface[i] = 1.0f;
+            p->rgb[3 * i] = p->rgb[3 * i + 1] = p->rgb[3 * i + 2] = 100.0f;
+        }
+    const vdbgi_convert_desc d = {.eps = VDBGI_NONE, .levels = 1};
+    vdbgi_volume *v = NULL;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
+    if (v) {
+        float worst = 0.0f;
+        for (size_t i = 0; i < p->count; i++) {
+            const double q[3] = {p->ijk[3 * i], p->ijk[3 * i + 1], p->ijk[3 * i + 2]};
+            float pos[3], got[3];
+            world_of(p, q, pos);
+            vdbgi_volume_sample(v, pos, got);
+            worst = fmaxf(worst, got[2]);
+        }
+        CHECK(worst <= 0.51f); /* the valid field's 0.5, never 100 */
+        for (size_t l = 0; l < v->filled.leaf_count; l++)
+            for (int n = 0; n < 512; n++)
+                if (v->filled.leaves[l].mask[n >> 6] >> (n & 63) & 1)
+                    CHECK(v->filled.leaves[l].rgb[n][2] <= 0.5f + 1e-6f);
+        vdbgi_volume_info info;
+        vdbgi_volume_get_info(v, &info);
+        CHECK(info.valid_count == p->count / 2 && info.unreached_count == 0);
+        vdbgi_volume_destroy(v);
+    }
+    vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+}
+
+static void files_round_trip_and_are_deterministic(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_probes *p = slab(ctx, 40, 10, 24, smooth);
+    vdbgi_volume *a = NULL, *b = NULL, *r = NULL;
+    const vdbgi_convert_desc d = {.eps = 0.02f};
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &a), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &b), VDBGI_OK);
+    if (a && b) {
+        CHECK(a->info.file_size == b->info.file_size &&
+              memcmp(a->file, b->file, a->info.file_size) == 0);
+        CHECK_RESULT(ctx, vdbgi_volume_write(a, tmp_path("a.gi.gz")), VDBGI_OK);
+        CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("a.gi.gz"), &r), VDBGI_OK);
+    }
+    if (r) {
+        vdbgi_volume_info ia, ir;
+        vdbgi_volume_get_info(a, &ia);
+        vdbgi_volume_get_info(r, &ir);
+        CHECK(memcmp(ia.indirection_dims, ir.indirection_dims, sizeof(ia.indirection_dims)) == 0);
+        CHECK(memcmp(ia.atlas_dims, ir.atlas_dims, sizeof(ia.atlas_dims)) == 0);
+        CHECK(memcmp(ia.bricks, ir.bricks, sizeof(ia.bricks)) == 0);
+        CHECK(ir.file_size == ia.file_size && ir.spacing == ia.spacing);
+        CHECK(memcmp(a->indirection, r->indirection, ia.indirection_size) == 0);
+        CHECK(memcmp(a->atlas, r->atlas, ia.atlas_size) == 0);
+        for (int i = 0; i < 1000; i++) {
+            const float pos[3] = {(float)(i % 23) * 0.9f - 1.0f, (float)(i % 7) * 0.8f - 0.5f,
+                                  (float)(i % 13) * 1.1f - 1.0f};
+            float x[3], y[3];
+            vdbgi_volume_sample(a, pos, x);
+            vdbgi_volume_sample(r, pos, y);
+            CHECK(memcmp(x, y, sizeof(x)) == 0);
+        }
+    }
+    vdbgi_volume_destroy(r);
+    vdbgi_volume_destroy(a);
+    vdbgi_volume_destroy(b);
+    vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+}
+
+static void damaged_files_are_refused(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_probes *p = slab(ctx, 12, 6, 12, smooth);
+    vdbgi_volume *v = NULL;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, NULL, &v), VDBGI_OK);
+    if (!v) {
+        vdbgi_probes_destroy(p);
+        vdbgi_context_destroy(ctx);
+        return;
+    }
+    const size_t size = v->info.file_size;
+    /* Every prefix of the gzip'd file. */
+    for (size_t cut = 0; cut < size; cut += 1 + cut / 64) {
+        FILE *f = fopen(tmp_path("cut.gi.gz"), "wb");
+        fwrite(v->file, 1, cut, f);
+        fclose(f);
+        vdbgi_volume *r = (vdbgi_volume *)1;
+        CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("cut.gi.gz"), &r), VDBGI_ERR_FORMAT);
+        CHECK(r == NULL);
+    }
+    /* Flipped bytes: refused, or (in gzip header fields zlib ignores) read unchanged. */
+    uint8_t *const copy = malloc(size);
+    for (size_t i = 0; i < size; i += 1 + size / 300) {
+        memcpy(copy, v->file, size);
+        copy[i] ^= 0x5A;
+        FILE *f = fopen(tmp_path("flip.gi.gz"), "wb");
+        fwrite(copy, 1, size, f);
+        fclose(f);
+        vdbgi_volume *r = NULL;
+        const vdbgi_result res = vdbgi_volume_read(ctx, tmp_path("flip.gi.gz"), &r);
+        CHECK(res == VDBGI_ERR_FORMAT ||
+              (res == VDBGI_OK && memcmp(r->raw, v->raw, VDBGI_GI_HEADER_SIZE +
+                                                             v->info.indirection_size +
+                                                             v->info.atlas_size) == 0));
+        vdbgi_volume_destroy(r);
+    }
+    /* Uncompressed, with a byte of trailing junk; and a lying header. */
+    const size_t raw = VDBGI_GI_HEADER_SIZE + v->info.indirection_size + v->info.atlas_size;
+    FILE *f = fopen(tmp_path("plain.gi"), "wb");
+    fwrite(v->raw, 1, raw, f);
+    fclose(f);
+    vdbgi_volume *r = NULL;
+    CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("plain.gi"), &r), VDBGI_OK);
+    vdbgi_volume_destroy(r);
+    f = fopen(tmp_path("plain.gi"), "ab");
+    fputc(0, f);
+    fclose(f);
+    CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("plain.gi"), &r), VDBGI_ERR_FORMAT);
+    uint8_t *const lie = malloc(raw);
+    memcpy(lie, v->raw, raw);
+    lie[24] = 0xFF; /* indirection width 255 disagrees with the stored byte count */
+    f = fopen(tmp_path("lie.gi"), "wb");
+    fwrite(lie, 1, raw, f);
+    fclose(f);
+    CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("lie.gi"), &r), VDBGI_ERR_FORMAT);
+    memcpy(lie, v->raw, raw);
+    lie[VDBGI_GI_HEADER_SIZE + 3] = 9; /* an indirection level no file allows */
+    lie[VDBGI_GI_HEADER_SIZE + 0] = 200;
+    f = fopen(tmp_path("lie.gi"), "wb");
+    fwrite(lie, 1, raw, f);
+    fclose(f);
+    CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("lie.gi"), &r), VDBGI_ERR_FORMAT);
+    CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("missing.gi.gz"), &r), VDBGI_ERR_IO);
+    free(lie);
+    free(copy);
+    vdbgi_volume_destroy(v);
+    vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+}
+
+static void bad_parameters_and_probes_are_refused(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_probes *p = slab(ctx, 8, 4, 8, flat);
+    vdbgi_volume *v = (vdbgi_volume *)1;
+    const vdbgi_convert_desc bad[] = {{.eps = -1.0f}, {.eps = -0.5f}, {.eps = NAN}, {.levels = 5},
+                                      {.levels = -1}, {.criterion = (vdbgi_criterion)9},
+                                      {.encoding = (vdbgi_encoding)7}};
+    for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
+        CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &bad[i], &v), VDBGI_ERR_INVALID_ARG);
+        CHECK(v == NULL);
+        v = (vdbgi_volume *)1;
+    }
+    CHECK(strstr(vdbgi_context_error(ctx), "encoding") != NULL);
+    /* Every probe invalid: nothing to fill from. */
+    for (size_t i = 0; i < p->count; i++)
+        p->backface[i] = 1.0f;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, NULL, &v), VDBGI_ERR_FORMAT);
+    CHECK(strstr(vdbgi_context_error(ctx), "no valid probe") != NULL);
+    vdbgi_probes_destroy(p);
+    /* No probes at all, and probes with no values. */
+    CHECK_RESULT(ctx, vdbgi_probes_alloc(ctx, 0, true, &p), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, NULL, &v), VDBGI_ERR_FORMAT);
+    vdbgi_probes_destroy(p);
+    CHECK_RESULT(ctx, vdbgi_probes_alloc(ctx, 4, false, &p), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, NULL, &v), VDBGI_ERR_FORMAT);
+    vdbgi_probes_destroy(p);
+    /* Two probes 10 km apart at 0.5 m: the indirection would exceed a 3D texture. */
+    p = slab(ctx, 2, 1, 1, flat);
+    p->ijk[3] = 20000;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, NULL, &v), VDBGI_ERR_OUT_OF_MEMORY);
+    CHECK(strstr(vdbgi_context_error(ctx), "2048") && strstr(vdbgi_context_error(ctx), "spacing"));
+    vdbgi_probes_destroy(p);
+    /* A read volume has no fields to slice. */
+    p = slab(ctx, 8, 4, 8, flat);
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, NULL, &v), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_volume_write(v, tmp_path("s.gi.gz")), VDBGI_OK);
+    vdbgi_volume *r = NULL;
+    CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("s.gi.gz"), &r), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_volume_write_slices(r, p, VDBGI_AXIS_Y, 0.5, 0.0f, tmp_path("sl")),
+                 VDBGI_ERR_INVALID_ARG);
+    CHECK_RESULT(ctx, vdbgi_volume_write_slices(v, p, VDBGI_AXIS_Y, 0.5, 0.0f, tmp_path("sl")),
+                 VDBGI_OK);
+    CHECK(access(tmp_path("sl/levels.png"), R_OK) == 0 && access(tmp_path("sl/atlas.exr"), R_OK) == 0);
+    vdbgi_volume_destroy(r);
+    vdbgi_volume_destroy(v);
+    vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+}
+
+static void failing_allocations_are_reported_without_leaks(void)
+{
+    int succeeded = 0;
+    for (long n = 0; n < 400 && !succeeded; n++) {
+        test_alloc a = {0, -1, 0};
+        const vdbgi_context_desc cd = {test_alloc_fn, test_free_fn, NULL, &a};
+        vdbgi_context *ctx = NULL;
+        vdbgi_context_create(&cd, &ctx);
+        vdbgi_probes *p = slab(ctx, 12, 6, 12, smooth);
+        a.calls = 0;
+        a.fail_at = n; /* fail inside the build only */
+        vdbgi_volume *v = NULL;
+        const vdbgi_result r = vdbgi_volume_build(ctx, p, NULL, &v);
+        CHECK(r == VDBGI_OK || r == VDBGI_ERR_OUT_OF_MEMORY);
+        CHECK((r == VDBGI_OK) == (v != NULL));
+        succeeded = r == VDBGI_OK;
+        vdbgi_volume_destroy(v);
+        vdbgi_probes_destroy(p);
+        vdbgi_context_destroy(ctx);
+        CHECK(a.live == 0);
+    }
+    CHECK(succeeded);
+}
+
+int main(void)
+{
+    snprintf(tmpdir, sizeof(tmpdir), "/tmp/vdbgi-test-bricks-XXXXXX");
+    if (!mkdtemp(tmpdir)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    RUN(exact_bricks_give_back_every_valid_probe);
+    RUN(aprons_hide_brick_boundaries);
+    RUN(larger_eps_never_grows_the_atlas);
+    RUN(flat_field_becomes_a_few_level3_bricks);
+    RUN(linear_ramp_stays_coarse_under_interpolation);
+    RUN(invalid_probes_never_leak_their_value);
+    RUN(files_round_trip_and_are_deterministic);
+    RUN(damaged_files_are_refused);
+    RUN(bad_parameters_and_probes_are_refused);
+    RUN(failing_allocations_are_reported_without_leaks);
+    char cmd[300];
+    snprintf(cmd, sizeof(cmd), "rm -rf '%s'", tmpdir);
+    if (system(cmd) != 0)
+        fprintf(stderr, "could not remove %s\n", tmpdir);
+    return CHECK_EXIT();
+}
