@@ -165,7 +165,7 @@ demo:
 	@echo "      out/world.json     conversion statistics"
 	@echo "      out/slices/*.png   the baked field, the bricks, their difference, levels, atlas"
 
-## bench: measure bake throughput against a bare Embree loop (writes build/bench/)
+## bench: bake throughput against bare Embree, conversion size/error/time (build/bench/bench.md)
 bench:
 	$(Q)$(MAKE) --no-print-directory deps
 	$(Q)$(MAKE) --no-print-directory all

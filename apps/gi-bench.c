@@ -19,8 +19,9 @@ extern char **environ;
 static void usage(void)
 {
     printf("Usage: gi-bench bake SCENE [options]\n"
+           "       gi-bench convert PROBES.vdb [options]\n"
            "\n"
-           "Measure, in one run on one machine, the ray throughput of:\n"
+           "bake: measure, in one run on one machine, the ray throughput of:\n"
            "  - a bare Embree loop that traces exactly the bake's rays (primary rays, then a\n"
            "    shadow ray from each hit that faces the sun) with no shading, for each query\n"
            "    shape (rtcIntersect1, 8- and 16-wide packets, rtcIntersect1M streams);\n"
@@ -28,6 +29,11 @@ static void usage(void)
            "  - the whole gi-bake process (load, topology, trace, VDB write), run as a child.\n"
            "Each is run --repeat times and the fastest kept, as the machine is shared.\n"
            "Prints a Markdown table; ratios are against the fastest bare loop.\n"
+           "\n"
+           "convert: time reading the .vdb (fastest of --repeat), then convert it with each\n"
+           "criterion (range, interp) at eps 0, 0.01, 0.03, 0.1, 0.2, 0.4 in RGBM, and the\n"
+           "default in RGB9E5; print bytes against the dense RGBA8 grid, the error, and the\n"
+           "conversion time against the read.\n"
            "\n"
            "Options:\n"
            "      --spacing M     probe spacing in metres (0.5)\n"
@@ -41,11 +47,12 @@ static void usage(void)
            "\n"
            "Examples:\n"
            "  gi-bench bake data/world.glb\n"
-           "  gi-bench bake world200.glb --repeat 1\n");
+           "  gi-bench bake world200.glb --repeat 1\n"
+           "  gi-bench convert world.vdb\n");
 }
 
 typedef struct options {
-    const char *scene, *gi_bake, *out;
+    const char *mode, *scene, *gi_bake, *out;
     double spacing;
     int rays, threads, repeat;
 } options;
@@ -99,10 +106,12 @@ static int parse_args(int argc, char **argv, options *o)
         default: return cli_usage_error("unknown option '%s'", argv[optind - 1]);
         }
     }
-    if (optind == argc || strcmp(argv[optind], "bake") != 0)
-        return cli_usage_error("the only benchmark is 'bake': gi-bench bake SCENE");
+    if (optind == argc ||
+        (strcmp(argv[optind], "bake") != 0 && strcmp(argv[optind], "convert") != 0))
+        return cli_usage_error("say which benchmark: gi-bench bake SCENE, or gi-bench convert PROBES.vdb");
     if (argc - optind != 2)
-        return cli_usage_error("give one scene: gi-bench bake SCENE");
+        return cli_usage_error("give one input: gi-bench %s FILE", argv[optind]);
+    o->mode = argv[optind];
     o->scene = argv[optind + 1];
     return -1;
 }
@@ -128,6 +137,86 @@ static double time_process(char *const argv[])
 static const char *const method_names[] = {"auto", "rtcIntersect1", "packet 8", "packet 16",
                                            "stream 1M"};
 
+/* One conversion of the sweep, as a table row. */
+static int convert_row(vdbgi_context *ctx, const vdbgi_probes *p, const vdbgi_convert_desc *d,
+                       const char *label, double read_seconds)
+{
+    vdbgi_volume *v = NULL;
+    const vdbgi_result r = vdbgi_volume_build(ctx, p, d, &v);
+    if (r != VDBGI_OK)
+        return cli_fail(ctx, r);
+    vdbgi_volume_info vi;
+    vdbgi_volume_get_info(v, &vi);
+    const double raw = (double)(vi.indirection_size + vi.atlas_size);
+    const double mean = vi.mean_irradiance > 0.0 ? vi.mean_irradiance : 1.0;
+    printf("| %s | %u / %u / %u / %u | %.2f | %.2f | %.2f | %.2f | %.3f | %.3f | %.2f | %.3f | "
+           "%.2f |\n",
+           label, vi.bricks[0], vi.bricks[1], vi.bricks[2], vi.bricks[3], raw * 1e-6,
+           (double)vi.file_size * 1e-6, (double)vi.dense_rgba8_size / raw,
+           (double)vi.dense_rgba8_size / (double)vi.file_size, 100.0 * vi.rmse / mean,
+           100.0 * vi.p99 / mean, 100.0 * vi.max_error / mean, vi.seconds,
+           vi.seconds / read_seconds);
+    vdbgi_volume_destroy(v);
+    return CLI_OK;
+}
+
+static int bench_convert(const options *o)
+{
+    const vdbgi_context_desc cd = {.log = cli_log};
+    vdbgi_context *ctx = NULL;
+    if (vdbgi_context_create(&cd, &ctx) != VDBGI_OK) {
+        cli_error("cannot create a context: out of memory");
+        return CLI_FAILED;
+    }
+    vdbgi_probes *p = NULL;
+    double read_seconds = 0.0;
+    for (int rep = 0; rep < o->repeat; rep++) {
+        vdbgi_probes_destroy(p);
+        p = NULL;
+        const double t0 = cli_now();
+        const vdbgi_result r = vdbgi_probes_read(ctx, o->scene, &p);
+        const double t = cli_now() - t0;
+        if (r != VDBGI_OK) {
+            const int code = cli_fail(ctx, r);
+            vdbgi_context_destroy(ctx);
+            return code;
+        }
+        read_seconds = rep == 0 || t < read_seconds ? t : read_seconds;
+    }
+    vdbgi_probes_info pi;
+    vdbgi_probes_get_info(p, &pi);
+    char dense[32];
+    const double box = (double)(pi.ijk_max[0] - pi.ijk_min[0] + 1) *
+                       (pi.ijk_max[1] - pi.ijk_min[1] + 1) * (pi.ijk_max[2] - pi.ijk_min[2] + 1);
+    printf("### %s: %zu probes (%zu invalid) at %g m; reading it takes %.3f s\n\n", o->scene,
+           pi.probe_count, pi.invalid_count, pi.spacing, read_seconds);
+    printf("Dense RGBA8 grid over the probes' box: %s (%.0f%% of its lattice points are probes).\n\n",
+           cli_bytes(4.0 * box, dense, sizeof(dense)), 100.0 * (double)pi.probe_count / box);
+    printf("| criterion, eps, encoding | bricks L0 / L1 / L2 / L3 | raw MB | gzip MB | dense/raw "
+           "| dense/gzip | RMSE %% | p99 %% | max %% | convert s | convert/read |\n");
+    printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    static const float eps[] = {VDBGI_NONE, 0.01f, 0.03f, 0.1f, 0.2f, 0.4f};
+    static const char *const eps_text[] = {"0", "0.01", "0.03", "0.1", "0.2", "0.4"};
+    int code = CLI_OK;
+    for (int c = VDBGI_CRITERION_RANGE; c <= VDBGI_CRITERION_INTERP && code == CLI_OK; c++)
+        for (size_t e = 0; e < sizeof(eps) / sizeof(eps[0]) && code == CLI_OK; e++) {
+            const vdbgi_convert_desc d = {.eps = eps[e], .criterion = (vdbgi_criterion)c};
+            char label[64];
+            snprintf(label, sizeof(label), "%s, %s, rgbm", c == VDBGI_CRITERION_RANGE ? "range" : "interp",
+                     eps_text[e]);
+            code = convert_row(ctx, p, &d, label, read_seconds);
+        }
+    const vdbgi_convert_desc defaults = {0}, e9 = {.encoding = VDBGI_ENCODING_RGB9E5};
+    if (code == CLI_OK)
+        code = convert_row(ctx, p, &defaults, "**default**, rgbm", read_seconds);
+    if (code == CLI_OK)
+        code = convert_row(ctx, p, &e9, "default, rgb9e5", read_seconds);
+    printf("\n");
+    vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+    return code;
+}
+
 int main(int argc, char **argv)
 {
     cli_init("gi-bench");
@@ -135,6 +224,8 @@ int main(int argc, char **argv)
     const int parsed = parse_args(argc, argv, &o);
     if (parsed >= 0)
         return parsed;
+    if (strcmp(o.mode, "convert") == 0)
+        return bench_convert(&o);
 
     /* gi-bake lives beside gi-bench unless told otherwise. */
     char gi_bake[PATH_MAX];

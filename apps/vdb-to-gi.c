@@ -23,7 +23,7 @@ static void usage(void)
            "Options:\n"
            "  -o, --output FILE     the .gi.gz to write (required; replaced only on success)\n"
            "      --eps E           coarsening tolerance, relative to the mean irradiance\n"
-           "                        (0.03); 0 keeps every varying block fine\n"
+           "                        (0.1); 0 keeps every varying block fine\n"
            "      --max-level L     largest brick level, 0..3: a level-L brick spans 4*2^L\n"
            "                        probes (3)\n"
            "      --criterion C     interp: keep a coarse brick when its interpolation\n"

@@ -363,7 +363,7 @@ static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *d
     const vdbgi_convert_desc none = {0};
     if (!desc)
         desc = &none;
-    *eps = desc->eps == 0.0f ? 0.03f : desc->eps == VDBGI_NONE ? 0.0f : desc->eps;
+    *eps = desc->eps == 0.0f ? 0.1f : desc->eps == VDBGI_NONE ? 0.0f : desc->eps;
     VDBGI_FAIL_IF(ctx, !(*eps >= 0.0f) || !isfinite(*eps), VDBGI_ERR_INVALID_ARG,
                   "eps must be >= 0 and finite (got %g)", (double)desc->eps);
     const int levels = desc->levels ? desc->levels : 4;

@@ -399,7 +399,7 @@ typedef enum vdbgi_criterion {
  *   eps:        tolerance, relative to the mean irradiance of the valid
  *               probes (so one value suits dim and bright scenes): a block's
  *               largest channel difference must be <= eps * mean. >= 0.
- *               0 == 0.03; VDBGI_NONE for 0 (never coarsen a varying block).
+ *               0 == 0.1; VDBGI_NONE for 0 (never coarsen a varying block).
  *   levels:     brick levels allowed, 1..4 (max level + 1). 0 == 4.
  *   criterion:  see vdbgi_criterion.
  *   encoding:   see vdbgi_encoding.

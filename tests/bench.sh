@@ -1,15 +1,20 @@
 #!/bin/sh
-# bench.sh: `make bench`. Bake throughput against a bare Embree loop over the same rays,
-# on the bundled world and on a generated 200 x 200 m world; writes build/bench/bench.md.
+# bench.sh: `make bench`. On the bundled world and a generated 200 x 200 m world:
+# bake throughput against a bare Embree loop over the same rays, then conversion
+# size, error and time against reading the .vdb. Writes build/bench/bench.md.
 set -eu
 BUILD=${BUILD:-build/release}
 OUT=build/bench
 mkdir -p "$OUT"
 [ -f "$OUT/world200.glb" ] || python3 data/make_scenes.py --world 200 "$OUT/world200.glb"
 {
-    echo "## gi-bench bake, $(date -u +%Y-%m-%d), $(nproc) cores: $(sed -n 's/^model name\t: //p' /proc/cpuinfo | head -n 1)"
+    echo "## gi-bench, $(date -u +%Y-%m-%d), $(nproc) cores: $(sed -n 's/^model name\t: //p' /proc/cpuinfo | head -n 1)"
     echo
     "$BUILD/bin/gi-bench" bake data/world.glb --repeat 3
     "$BUILD/bin/gi-bench" bake "$OUT/world200.glb" --repeat 1
+    "$BUILD/bin/gi-bake" -q data/world.glb -o "$OUT/world.vdb" >/dev/null
+    "$BUILD/bin/gi-bake" -q "$OUT/world200.glb" -o "$OUT/world200.vdb" >/dev/null
+    "$BUILD/bin/gi-bench" convert "$OUT/world.vdb" --repeat 3
+    "$BUILD/bin/gi-bench" convert "$OUT/world200.vdb" --repeat 3
 } | tee "$OUT/bench.md"
 echo "bench: results in $OUT/bench.md"
