@@ -3,6 +3,7 @@
 #include "cli.h"
 
 #include <errno.h>
+#include <getopt.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -52,6 +53,32 @@ int cli_fail(const vdbgi_context *ctx, vdbgi_result r)
     const char *const msg = vdbgi_context_error(ctx);
     cli_error("%s", msg && *msg ? msg : vdbgi_result_string(r));
     return CLI_FAILED;
+}
+
+int cli_bad_option(int c, char **argv)
+{
+    return c == ':' ? cli_usage_error("option '%s' needs a value", argv[optind - 1])
+                    : cli_usage_error("unknown option '%s'", argv[optind - 1]);
+}
+
+int cli_one_input(int argc, char **argv, const char *what, const char **out)
+{
+    if (optind == argc)
+        return cli_usage_error("no %s given", what);
+    if (argc - optind > 1)
+        return cli_usage_error("one %s at a time (got '%s' and '%s')", what, argv[optind],
+                               argv[optind + 1]);
+    *out = argv[optind];
+    return -1;
+}
+
+vdbgi_context *cli_context(void)
+{
+    const vdbgi_context_desc cd = {.log = cli_log};
+    vdbgi_context *ctx = NULL;
+    if (vdbgi_context_create(&cd, &ctx) != VDBGI_OK)
+        cli_error("cannot create a context: out of memory");
+    return ctx;
 }
 
 void cli_log(void *user, vdbgi_log_level level, const char *message)

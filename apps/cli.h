@@ -28,6 +28,19 @@ int cli_usage_error(const char *fmt, ...) CLI_PRINTF(1, 2);
 /* Report a failed library call: "prog: <context error>"; returns CLI_FAILED. */
 int cli_fail(const vdbgi_context *ctx, vdbgi_result r);
 
+/*
+ * The end of every app's argument parsing: c is getopt_long's ':' (missing
+ * value) or '?' (unknown option); returns CLI_USAGE after saying which.
+ */
+int cli_bad_option(int c, char **argv);
+/*
+ * Take the one positional argument left after options into *out: returns -1
+ * when there is exactly one, else a usage error ("no scene given").
+ */
+int cli_one_input(int argc, char **argv, const char *what, const char **out);
+/* A context that logs through cli_log, or NULL after saying why. */
+vdbgi_context *cli_context(void);
+
 /* Log callback for vdbgi_context_desc: prints by cli_verbosity. */
 void cli_log(void *user, vdbgi_log_level level, const char *message);
 

@@ -207,16 +207,12 @@ static int parse_args(int argc, char **argv, options *o)
         case 'v': cli_verbosity++; break;
         case 'h': usage(); return CLI_OK;
         case OPT_VERSION: printf("gi-bake %s\n", vdbgi_version_string()); return CLI_OK;
-        case ':': return cli_usage_error("option '%s' needs a value", argv[optind - 1]);
-        default: return cli_usage_error("unknown option '%s'", argv[optind - 1]);
+        default: return cli_bad_option(c, argv);
         }
     }
-    if (optind == argc)
-        return cli_usage_error("no scene given");
-    if (argc - optind > 1)
-        return cli_usage_error("one scene at a time (got '%s' and '%s')", argv[optind],
-                               argv[optind + 1]);
-    o->scene = argv[optind];
+    const int taken = cli_one_input(argc, argv, "scene", &o->scene);
+    if (taken >= 0)
+        return taken;
     if (!o->output)
         return cli_usage_error("no output given: use -o OUT.vdb");
     return -1;
@@ -240,12 +236,9 @@ int main(int argc, char **argv)
     if (same_file(o.scene, o.output))
         return cli_usage_error("output '%s' is the scene itself", o.output);
 
-    const vdbgi_context_desc cd = {.log = cli_log};
-    vdbgi_context *ctx = NULL;
-    if (vdbgi_context_create(&cd, &ctx) != VDBGI_OK) {
-        cli_error("cannot create a context: out of memory");
+    vdbgi_context *const ctx = cli_context();
+    if (!ctx)
         return CLI_FAILED;
-    }
     vdbgi_scene *scene = NULL;
     vdbgi_probes *probes = NULL;
     int code = CLI_FAILED;

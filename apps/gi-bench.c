@@ -102,8 +102,7 @@ static int parse_args(int argc, char **argv, options *o)
         case OPT_OUT: o->out = optarg; break;
         case 'h': usage(); return CLI_OK;
         case OPT_VERSION: printf("gi-bench %s\n", vdbgi_version_string()); return CLI_OK;
-        case ':': return cli_usage_error("option '%s' needs a value", argv[optind - 1]);
-        default: return cli_usage_error("unknown option '%s'", argv[optind - 1]);
+        default: return cli_bad_option(c, argv);
         }
     }
     if (optind == argc ||
@@ -162,12 +161,9 @@ static int convert_row(vdbgi_context *ctx, const vdbgi_probes *p, const vdbgi_co
 
 static int bench_convert(const options *o)
 {
-    const vdbgi_context_desc cd = {.log = cli_log};
-    vdbgi_context *ctx = NULL;
-    if (vdbgi_context_create(&cd, &ctx) != VDBGI_OK) {
-        cli_error("cannot create a context: out of memory");
+    vdbgi_context *const ctx = cli_context();
+    if (!ctx)
         return CLI_FAILED;
-    }
     vdbgi_probes *p = NULL;
     double read_seconds = 0.0;
     for (int rep = 0; rep < o->repeat; rep++) {
@@ -247,14 +243,11 @@ int main(int argc, char **argv)
         close(fd);
     }
 
-    const vdbgi_context_desc cd = {.log = cli_log};
-    vdbgi_context *ctx = NULL;
+    vdbgi_context *const ctx = cli_context();
     vdbgi_scene *scene = NULL;
     vdbgi_probes *probes = NULL;
-    if (vdbgi_context_create(&cd, &ctx) != VDBGI_OK) {
-        cli_error("cannot create a context: out of memory");
+    if (!ctx)
         return CLI_FAILED;
-    }
     int code = CLI_FAILED;
     vdbgi_result r = vdbgi_scene_load(ctx, o.scene, &scene);
     const vdbgi_place_desc pd = {.spacing = o.spacing};

@@ -134,8 +134,7 @@ int main(int argc, char **argv)
             printf("gi-inspect %s\n", vdbgi_version_string());
             free(at);
             return CLI_OK;
-        case ':': free(at); return cli_usage_error("option '%s' needs a value", argv[optind - 1]);
-        default: free(at); return cli_usage_error("unknown option '%s'", argv[optind - 1]);
+        default: free(at); return cli_bad_option(c, argv);
         }
     }
     if (argc - optind != 1) {
@@ -143,11 +142,9 @@ int main(int argc, char **argv)
         return cli_usage_error(optind == argc ? "no file given" : "one file at a time");
     }
     const char *const path = argv[optind];
-    const vdbgi_context_desc cd = {.log = cli_log};
-    vdbgi_context *ctx = NULL;
-    if (vdbgi_context_create(&cd, &ctx) != VDBGI_OK) {
+    vdbgi_context *const ctx = cli_context();
+    if (!ctx) {
         free(at);
-        cli_error("cannot create a context: out of memory");
         return CLI_FAILED;
     }
     const int code = is_vdb(path) ? inspect_vdb(ctx, path, at, at_count)

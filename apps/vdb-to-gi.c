@@ -137,16 +137,12 @@ static int parse_args(int argc, char **argv, options *o)
         case 'v': cli_verbosity++; break;
         case 'h': usage(); return CLI_OK;
         case OPT_VERSION: printf("vdb-to-gi %s\n", vdbgi_version_string()); return CLI_OK;
-        case ':': return cli_usage_error("option '%s' needs a value", argv[optind - 1]);
-        default: return cli_usage_error("unknown option '%s'", argv[optind - 1]);
+        default: return cli_bad_option(c, argv);
         }
     }
-    if (optind == argc)
-        return cli_usage_error("no input given");
-    if (argc - optind > 1)
-        return cli_usage_error("one input at a time (got '%s' and '%s')", argv[optind],
-                               argv[optind + 1]);
-    o->input = argv[optind];
+    const int taken = cli_one_input(argc, argv, "input", &o->input);
+    if (taken >= 0)
+        return taken;
     if (!o->output)
         return cli_usage_error("no output given: use -o OUT.gi.gz");
     return -1;
@@ -279,12 +275,9 @@ int main(int argc, char **argv)
     const int parsed = parse_args(argc, argv, &o);
     if (parsed >= 0)
         return parsed;
-    const vdbgi_context_desc cd = {.log = cli_log};
-    vdbgi_context *ctx = NULL;
-    if (vdbgi_context_create(&cd, &ctx) != VDBGI_OK) {
-        cli_error("cannot create a context: out of memory");
+    vdbgi_context *const ctx = cli_context();
+    if (!ctx)
         return CLI_FAILED;
-    }
     vdbgi_probes *probes = NULL;
     vdbgi_volume *vol = NULL;
     int code = CLI_FAILED;

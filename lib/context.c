@@ -165,7 +165,7 @@ int vdbgi_core_count(void)
     return n > 0 ? (int)n : 1;
 }
 
-vdbgi_result vdbgi_temp_create(vdbgi_context *ctx, const char *path, char **tmp_out)
+static vdbgi_result temp_create(vdbgi_context *ctx, const char *path, char **tmp_out)
 {
     *tmp_out = NULL;
     VDBGI_FAIL_IF(ctx, !path || !*path, VDBGI_ERR_INVALID_ARG, "no output path given");
@@ -191,15 +191,7 @@ vdbgi_result vdbgi_temp_create(vdbgi_context *ctx, const char *path, char **tmp_
     return VDBGI_OK;
 }
 
-vdbgi_result vdbgi_output_check(vdbgi_context *ctx, const char *path)
-{
-    char *tmp = NULL;
-    VDBGI_TRY(vdbgi_temp_create(ctx, path, &tmp));
-    vdbgi_temp_discard(ctx, tmp);
-    return VDBGI_OK;
-}
-
-void vdbgi_temp_discard(vdbgi_context *ctx, char *tmp)
+static void temp_discard(vdbgi_context *ctx, char *tmp)
 {
     if (tmp) {
         unlink(tmp);
@@ -207,14 +199,35 @@ void vdbgi_temp_discard(vdbgi_context *ctx, char *tmp)
     }
 }
 
-vdbgi_result vdbgi_temp_commit(vdbgi_context *ctx, char *tmp, const char *path)
+static vdbgi_result temp_commit(vdbgi_context *ctx, char *tmp, const char *path)
 {
     if (rename(tmp, path) != 0) {
         const int err = errno;
-        vdbgi_temp_discard(ctx, tmp);
+        temp_discard(ctx, tmp);
         return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot rename into place: %s", path,
                           strerror(err));
     }
     vdbgi_free(ctx, tmp);
     return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_output_check(vdbgi_context *ctx, const char *path)
+{
+    char *tmp = NULL;
+    VDBGI_TRY(temp_create(ctx, path, &tmp));
+    temp_discard(ctx, tmp);
+    return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_write_atomic(vdbgi_context *ctx, const char *path, vdbgi_writer write,
+                                const void *user)
+{
+    char *tmp = NULL;
+    VDBGI_TRY(temp_create(ctx, path, &tmp));
+    const vdbgi_result r = write(ctx, tmp, user);
+    if (r != VDBGI_OK) {
+        temp_discard(ctx, tmp);
+        return r;
+    }
+    return temp_commit(ctx, tmp, path);
 }

@@ -96,21 +96,29 @@ vdbgi_result vdbgi_gifile_encode(vdbgi_volume *v)
     return VDBGI_OK;
 }
 
-vdbgi_result vdbgi_volume_write(const vdbgi_volume *v, const char *path)
+typedef struct file_job {
+    const vdbgi_volume *v;
+    const char *path; /* for messages: the name the user gave */
+} file_job;
+
+static vdbgi_result write_file(vdbgi_context *ctx, const char *tmp, const void *user)
 {
-    vdbgi_context *const ctx = v->ctx;
-    VDBGI_FAIL_IF(ctx, !v->file, VDBGI_ERR_INVALID_ARG, "volume has no encoded file");
-    char *tmp = NULL;
-    VDBGI_TRY(vdbgi_temp_create(ctx, path, &tmp));
+    const file_job *const job = user;
     FILE *const f = fopen(tmp, "wb");
-    const bool ok = f && fwrite(v->file, 1, v->info.file_size, f) == v->info.file_size;
+    const size_t n = job->v->info.file_size;
+    const bool ok = f && fwrite(job->v->file, 1, n, f) == n;
     const int err = errno;
     const bool closed = f && fclose(f) == 0;
-    if (!ok || !closed) {
-        vdbgi_temp_discard(ctx, tmp);
-        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write: %s", path, strerror(err));
-    }
-    return vdbgi_temp_commit(ctx, tmp, path);
+    VDBGI_FAIL_IF(ctx, !ok || !closed, VDBGI_ERR_IO, "%s: cannot write: %s", job->path,
+                  strerror(err));
+    return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_volume_write(const vdbgi_volume *v, const char *path)
+{
+    VDBGI_FAIL_IF(v->ctx, !v->file, VDBGI_ERR_INVALID_ARG, "volume has no encoded file");
+    const file_job job = {v, path};
+    return vdbgi_write_atomic(v->ctx, path, write_file, &job);
 }
 
 /* ---- reading ---------------------------------------------------------------- */

@@ -68,32 +68,46 @@ extern "C" vdbgi_result vdbgi_image_decode(vdbgi_context *ctx, const char *path,
     VDBGI_SHIM_END(ctx, "openimageio")
 }
 
+namespace {
+
+struct image_job {
+    const char *path, *ext;
+    int width, height, channels;
+    const float *pixels;
+};
+
+} // namespace
+
+extern "C" {
+/* Writes one image to the temporary name vdbgi_write_atomic hands it. */
+static vdbgi_result write_image_tmp(vdbgi_context *ctx, const char *tmp, const void *user)
+{
+    VDBGI_SHIM_BEGIN
+    const image_job &job = *static_cast<const image_job *>(user);
+    const bool exr = std::strcmp(job.ext, "exr") == 0;
+    // The temporary name has no image extension, so name the format explicitly.
+    auto out = ImageOutput::create(job.ext);
+    if (!out)
+        return vdbgi_fail(ctx, VDBGI_ERR_BACKEND, "openimageio: no %s writer: %s", job.ext,
+                          OIIO::geterror().c_str());
+    ImageSpec spec(job.width, job.height, job.channels, exr ? TypeDesc::HALF : TypeDesc::UINT8);
+    if (exr)
+        spec.attribute("compression", "zip");
+    if (!(out->open(tmp, spec) && out->write_image(TypeDesc::FLOAT, job.pixels) && out->close()))
+        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write image: %s", job.path,
+                          out->geterror().c_str());
+    return VDBGI_OK;
+    VDBGI_SHIM_END(ctx, "openimageio")
+}
+}
+
 extern "C" vdbgi_result vdbgi_image_write(vdbgi_context *ctx, const char *path, int width,
                                           int height, int channels, const float *pixels)
 {
-    VDBGI_SHIM_BEGIN
-    const std::string name(path);
-    const size_t dot = name.rfind('.');
-    const std::string ext = dot == std::string::npos ? "" : name.substr(dot + 1);
-    const bool exr = ext == "exr";
-    if (!exr && ext != "png")
+    const char *const dot = std::strrchr(path, '.');
+    const char *const ext = dot ? dot + 1 : "";
+    if (std::strcmp(ext, "exr") != 0 && std::strcmp(ext, "png") != 0)
         return vdbgi_fail(ctx, VDBGI_ERR_INVALID_ARG, "%s: images are .png or .exr", path);
-    // The temporary name has no image extension, so name the format explicitly.
-    auto out = ImageOutput::create(ext);
-    if (!out)
-        return vdbgi_fail(ctx, VDBGI_ERR_BACKEND, "openimageio: no %s writer: %s", ext.c_str(),
-                          OIIO::geterror().c_str());
-    char *tmp = nullptr;
-    VDBGI_TRY(vdbgi_temp_create(ctx, path, &tmp));
-    ImageSpec spec(width, height, channels, exr ? TypeDesc::HALF : TypeDesc::UINT8);
-    if (exr)
-        spec.attribute("compression", "zip");
-    bool ok = out->open(tmp, spec) && out->write_image(TypeDesc::FLOAT, pixels) && out->close();
-    if (!ok) {
-        const std::string err = out->geterror();
-        vdbgi_temp_discard(ctx, tmp);
-        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write image: %s", path, err.c_str());
-    }
-    return vdbgi_temp_commit(ctx, tmp, path);
-    VDBGI_SHIM_END(ctx, "openimageio")
+    const image_job job = {path, ext, width, height, channels, pixels};
+    return vdbgi_write_atomic(ctx, path, write_image_tmp, &job);
 }

@@ -59,14 +59,14 @@ double vdbgi_now(void);
 int vdbgi_core_count(void);
 
 /*
- * Outputs are written to a temporary file beside the target and renamed when
- * complete. temp_create makes "path.tmp-XXXXXX" (failing with VDBGI_ERR_IO if
- * the directory cannot be written); temp_commit renames it over path and
- * frees the name; temp_discard removes it and frees the name (NULL is a no-op).
+ * Write an output the safe way: write(ctx, tmp, user) fills a temporary
+ * file "path.tmp-XXXXXX" made beside path, which is renamed over path if it
+ * succeeds and removed if it fails. A failed write never leaves a partial
+ * file nor touches an existing one. VDBGI_ERR_IO if the directory refuses.
  */
-vdbgi_result vdbgi_temp_create(vdbgi_context *ctx, const char *path, char **tmp_out);
-vdbgi_result vdbgi_temp_commit(vdbgi_context *ctx, char *tmp, const char *path);
-void vdbgi_temp_discard(vdbgi_context *ctx, char *tmp);
+typedef vdbgi_result (*vdbgi_writer)(vdbgi_context *ctx, const char *tmp, const void *user);
+vdbgi_result vdbgi_write_atomic(vdbgi_context *ctx, const char *path, vdbgi_writer write,
+                                const void *user);
 
 /* ---- scene.c ----------------------------------------------------------- */
 

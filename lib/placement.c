@@ -119,18 +119,15 @@ vdbgi_result vdbgi_probes_place(vdbgi_context *ctx, const vdbgi_scene *scene,
     return VDBGI_OK;
 }
 
+static vdbgi_result write_vdb(vdbgi_context *ctx, const char *tmp, const void *probes)
+{
+    return vdbgi_vdb_write(ctx, tmp, probes);
+}
+
 vdbgi_result vdbgi_probes_write(const vdbgi_probes *p, const char *path)
 {
-    vdbgi_context *const ctx = p->ctx;
-    VDBGI_FAIL_IF(ctx, !p->rgb, VDBGI_ERR_INVALID_ARG, "probes have no values: bake them first");
-    char *tmp = NULL;
-    VDBGI_TRY(vdbgi_temp_create(ctx, path, &tmp));
-    const vdbgi_result r = vdbgi_vdb_write(ctx, tmp, p);
-    if (r != VDBGI_OK) {
-        vdbgi_temp_discard(ctx, tmp);
-        return r;
-    }
-    return vdbgi_temp_commit(ctx, tmp, path);
+    VDBGI_FAIL_IF(p->ctx, !p->rgb, VDBGI_ERR_INVALID_ARG, "probes have no values: bake them first");
+    return vdbgi_write_atomic(p->ctx, path, write_vdb, p);
 }
 
 vdbgi_result vdbgi_probes_read(vdbgi_context *ctx, const char *path, vdbgi_probes **out)

@@ -4,6 +4,7 @@
  * results do not depend on scale or thread count, and bad parameters, a
  * cancelling callback and failing allocations are refused cleanly.
  */
+#define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
 
 #include <math.h>

@@ -15,17 +15,6 @@
 #include <stdio.h>
 #include <unistd.h>
 
-static char tmpdir[256];
-
-static const char *tmp_path(const char *name)
-{
-    static char buf[4][512];
-    static int slot;
-    char *const p = buf[slot++ & 3];
-    snprintf(p, 512, "%s/%s", tmpdir, name);
-    return p;
-}
-
 typedef float (*field_fn)(double x, double y, double z, int channel);
 
 static float smooth(double x, double y, double z, int c)
@@ -458,11 +447,7 @@ static void failing_allocations_are_reported_without_leaks(void)
 
 int main(void)
 {
-    snprintf(tmpdir, sizeof(tmpdir), "/tmp/vdbgi-test-bricks-XXXXXX");
-    if (!mkdtemp(tmpdir)) {
-        perror("mkdtemp");
-        return 1;
-    }
+    test_tmpdir_make("test-bricks");
     RUN(exact_bricks_give_back_every_valid_probe);
     RUN(aprons_hide_brick_boundaries);
     RUN(larger_eps_never_grows_the_atlas);
@@ -473,9 +458,6 @@ int main(void)
     RUN(damaged_files_are_refused);
     RUN(bad_parameters_and_probes_are_refused);
     RUN(failing_allocations_are_reported_without_leaks);
-    char cmd[300];
-    snprintf(cmd, sizeof(cmd), "rm -rf '%s'", tmpdir);
-    if (system(cmd) != 0)
-        fprintf(stderr, "could not remove %s\n", tmpdir);
+    test_tmpdir_remove();
     return CHECK_EXIT();
 }

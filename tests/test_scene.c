@@ -14,17 +14,6 @@
 #include <unistd.h>
 #include <zlib.h>
 
-static char tmpdir[256];
-
-static const char *tmp_path(const char *name)
-{
-    static char buf[4][512];
-    static int slot;
-    char *const p = buf[slot++ & 3];
-    snprintf(p, 512, "%s/%s", tmpdir, name);
-    return p;
-}
-
 static void write_file(const char *name, const void *data, size_t size)
 {
     FILE *const f = fopen(tmp_path(name), "wb");
@@ -367,7 +356,7 @@ static void bad_scene_files_are_refused(void)
     }
     /* A directory is not a scene either. */
     vdbgi_scene *s = NULL;
-    CHECK(vdbgi_scene_load(ctx, tmpdir, &s) != VDBGI_OK && s == NULL);
+    CHECK(vdbgi_scene_load(ctx, test_tmpdir, &s) != VDBGI_OK && s == NULL);
     vdbgi_context_destroy(ctx);
 }
 
@@ -416,11 +405,7 @@ static void failing_allocations_while_loading_do_not_leak(void)
 
 int main(void)
 {
-    snprintf(tmpdir, sizeof(tmpdir), "/tmp/vdbgi-test-scene-XXXXXX");
-    if (!mkdtemp(tmpdir)) {
-        perror("mkdtemp");
-        return 1;
-    }
+    test_tmpdir_make("test-scene");
     RUN(obj_albedo_is_kd_times_external_texture);
     RUN(glb_applies_transforms_factor_vertex_colour_and_embedded_texture);
     RUN(double_sided_back_hits_do_not_count_as_invalid);
@@ -429,9 +414,6 @@ int main(void)
     RUN(bad_scene_files_are_refused);
     RUN(memory_scenes_check_their_input);
     RUN(failing_allocations_while_loading_do_not_leak);
-    char cmd[300];
-    snprintf(cmd, sizeof(cmd), "rm -rf '%s'", tmpdir);
-    if (system(cmd) != 0)
-        fprintf(stderr, "could not remove %s\n", tmpdir);
+    test_tmpdir_remove();
     return CHECK_EXIT();
 }

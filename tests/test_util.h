@@ -108,4 +108,34 @@ static inline vdbgi_context *test_context(void)
     return ctx;
 }
 
+/* A scratch directory per test program: made by test_tmpdir_make, removed at the end. */
+static char test_tmpdir[256];
+
+static inline void test_tmpdir_make(const char *name)
+{
+    snprintf(test_tmpdir, sizeof(test_tmpdir), "/tmp/vdbgi-%s-XXXXXX", name);
+    if (!mkdtemp(test_tmpdir)) {
+        perror("mkdtemp");
+        exit(1);
+    }
+}
+
+static inline void test_tmpdir_remove(void)
+{
+    char cmd[300];
+    snprintf(cmd, sizeof(cmd), "rm -rf '%s'", test_tmpdir);
+    if (system(cmd) != 0)
+        fprintf(stderr, "could not remove %s\n", test_tmpdir);
+}
+
+/* name inside the scratch directory; four results may be held at once. */
+static inline const char *tmp_path(const char *name)
+{
+    static char buf[4][512];
+    static int slot;
+    char *const p = buf[slot++ & 3];
+    snprintf(p, 512, "%s/%s", test_tmpdir, name);
+    return p;
+}
+
 #endif /* VDBGI_TEST_UTIL_H */

@@ -13,17 +13,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static char tmpdir[256];
-
-static const char *tmp_path(const char *name)
-{
-    static char buf[4][512];
-    static int slot;
-    char *const p = buf[slot++ & 3];
-    snprintf(p, 512, "%s/%s", tmpdir, name);
-    return p;
-}
-
 static vdbgi_probes *baked_probes(vdbgi_context *ctx, vdbgi_scene **scene_out)
 {
     test_mesh m = {0};
@@ -190,17 +179,10 @@ static void unreadable_files_are_refused(void)
 
 int main(void)
 {
-    snprintf(tmpdir, sizeof(tmpdir), "/tmp/vdbgi-test-vdb-XXXXXX");
-    if (!mkdtemp(tmpdir)) {
-        perror("mkdtemp");
-        return 1;
-    }
+    test_tmpdir_make("test-vdb");
     RUN(written_probes_read_back_exactly);
     RUN(failed_writes_leave_nothing_and_clobber_nothing);
     RUN(unreadable_files_are_refused);
-    char cmd[300];
-    snprintf(cmd, sizeof(cmd), "rm -rf '%s'", tmpdir);
-    if (system(cmd) != 0)
-        fprintf(stderr, "could not remove %s\n", tmpdir);
+    test_tmpdir_remove();
     return CHECK_EXIT();
 }
