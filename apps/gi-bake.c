@@ -39,6 +39,8 @@ static void usage(void)
            "      --invalid-threshold F  back-face fraction above which a probe is invalid "
            "(0.25)\n"
            "      --trace METHOD       auto, single, packet8, packet16 or stream (auto)\n"
+           "      --basis B            scalar, or ambient-cube: also six directional colours\n"
+           "                           per probe, for Bevy's irradiance volumes (scalar)\n"
            "  -q, --quiet              errors only, no progress\n"
            "  -v, --verbose            more detail on stderr\n"
            "  -h, --help               print this help and exit\n"
@@ -47,7 +49,8 @@ static void usage(void)
            "Examples:\n"
            "  gi-bake data/world.glb -o world.vdb\n"
            "  gi-bake data/room.obj -o room.vdb --spacing 0.25 --sun-color 0,0,0\n"
-           "  gi-bake data/world.glb -o world.vdb --sampling random --rays 256 --falloff inf\n");
+           "  gi-bake data/world.glb -o world.vdb --sampling random --rays 256 --falloff inf\n"
+           "  gi-bake data/world.glb -o world.vdb --basis ambient-cube\n");
 }
 
 enum {
@@ -66,6 +69,7 @@ enum {
     OPT_THREADS,
     OPT_INVALID,
     OPT_TRACE,
+    OPT_BASIS,
     OPT_VERSION
 };
 
@@ -98,6 +102,7 @@ static int parse_args(int argc, char **argv, options *o)
         {"threads", required_argument, NULL, OPT_THREADS},
         {"invalid-threshold", required_argument, NULL, OPT_INVALID},
         {"trace", required_argument, NULL, OPT_TRACE},
+        {"basis", required_argument, NULL, OPT_BASIS},
         {"quiet", no_argument, NULL, 'q'},
         {"verbose", no_argument, NULL, 'v'},
         {"help", no_argument, NULL, 'h'},
@@ -203,6 +208,14 @@ static int parse_args(int argc, char **argv, options *o)
             o->bake.trace_method = (vdbgi_trace_method)m;
             break;
         }
+        case OPT_BASIS:
+            if (strcmp(optarg, "scalar") == 0)
+                o->bake.basis = VDBGI_BASIS_SCALAR;
+            else if (strcmp(optarg, "ambient-cube") == 0)
+                o->bake.basis = VDBGI_BASIS_AMBIENT_CUBE;
+            else
+                return cli_usage_error("--basis must be scalar or ambient-cube (got '%s')", optarg);
+            break;
         case 'q': cli_verbosity = 1; break;
         case 'v': cli_verbosity++; break;
         case 'h': usage(); return CLI_OK;

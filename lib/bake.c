@@ -87,6 +87,9 @@ vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc
     VDBGI_FAIL_IF(ctx, desc->trace_method < VDBGI_TRACE_AUTO || desc->trace_method > VDBGI_TRACE_STREAM,
                   VDBGI_ERR_INVALID_ARG, "unknown trace method %d", (int)desc->trace_method);
     bp->method = desc->trace_method == VDBGI_TRACE_AUTO ? VDBGI_TRACE_BEST : desc->trace_method;
+    VDBGI_FAIL_IF(ctx, desc->basis != VDBGI_BASIS_SCALAR && desc->basis != VDBGI_BASIS_AMBIENT_CUBE,
+                  VDBGI_ERR_INVALID_ARG, "unknown basis %d", (int)desc->basis);
+    bp->basis = desc->basis;
     return VDBGI_OK;
 }
 
@@ -147,6 +150,36 @@ static void random_rotation(uint64_t stream, float m[9])
 
 /* ---- one probe ------------------------------------------------------------- */
 
+/*
+ * The six sides from the rays' radiance: side (axis a, sign) weights ray i by
+ * max(0, +-d_i[a]), the cosine to the side's normal, and divides by the sum
+ * of those weights over the directions actually traced, so that uniform
+ * radiance gives itself exactly whatever the direction set.
+ */
+static void ambient_cube(const float *radiance, const float *dirs, int n, float out[18])
+{
+    double acc[6][3], wsum[6];
+    memset(acc, 0, sizeof(acc));
+    memset(wsum, 0, sizeof(wsum));
+    for (int i = 0; i < n; i++) {
+        const float *const d = &dirs[3 * i];
+        const float *const L = &radiance[3 * i];
+        /* Misses under a black sky carry nothing: only their weight counts. */
+        const bool dark = L[0] == 0.0f && L[1] == 0.0f && L[2] == 0.0f;
+        for (int a = 0; a < 3; a++) {
+            const int side = 2 * a + (d[a] < 0.0f); /* +a is even, -a odd */
+            const double w = fabs((double)d[a]);
+            wsum[side] += w;
+            if (!dark)
+                for (int k = 0; k < 3; k++)
+                    acc[side][k] += w * (double)L[k];
+        }
+    }
+    for (int side = 0; side < 6; side++)
+        for (int k = 0; k < 3; k++)
+            out[3 * side + k] = wsum[side] > 0.0 ? (float)(acc[side][k] / wsum[side]) : 0.0f;
+}
+
 typedef struct bake_shared {
     const vdbgi_scene *scene;
     const vdbgi_bake_params *bp;
@@ -158,6 +191,7 @@ typedef struct bake_shared {
     double origin[3], spacing;
     size_t count;
     float *rgb, *backface;
+    float *cube; /* 18 per probe, or NULL for the scalar basis */
     /* Work distribution. */
     atomic_size_t next;
     atomic_size_t done;
@@ -168,6 +202,8 @@ typedef struct bake_thread {
     bake_shared *sh;
     float *dir, *sorg;
     float *sun_weight; /* per shadow ray: albedo x falloff x n.sun, RGB */
+    float *radiance;   /* per ray, RGB: kept only for ambient cubes */
+    uint32_t *shadow_ray; /* per shadow ray: the primary ray it continues */
     vdbgi_hit *hits;
     unsigned char *occluded;
     void *scratch;
@@ -214,6 +250,8 @@ static void bake_probe(bake_thread *th, size_t index)
         const vdbgi_hit *const h = &th->hits[i];
         if (!(h->t < INFINITY)) {
             miss_count++;
+            if (sh->cube)
+                memcpy(&th->radiance[3 * i], bp->sky, 3 * sizeof(float));
             continue;
         }
         hit_count++;
@@ -238,6 +276,9 @@ static void bake_probe(bake_thread *th, size_t index)
                 albedo_w[k] = albedo[k] * w;
                 acc[k] += (double)(albedo_w[k] * bp->ambient);
             }
+            if (sh->cube)
+                for (int k = 0; k < 3; k++)
+                    th->radiance[3 * i + k] = albedo_w[k] * bp->ambient;
         }
         if (wants_sun) {
             float *const so = &th->sorg[3 * shadow_count];
@@ -245,6 +286,7 @@ static void bake_probe(bake_thread *th, size_t index)
                 so[k] = pos[k] + h->t * d[k] + off * nf[k];
                 th->sun_weight[3 * shadow_count + k] = albedo_w[k] * ndotl * bp->sun_color[k];
             }
+            th->shadow_ray[shadow_count] = (uint32_t)i;
             shadow_count++;
         }
     }
@@ -254,8 +296,11 @@ static void bake_probe(bake_thread *th, size_t index)
         if (sh->shade)
             for (size_t s = 0; s < shadow_count; s++)
                 if (!th->occluded[s])
-                    for (int k = 0; k < 3; k++)
+                    for (int k = 0; k < 3; k++) {
                         acc[k] += (double)th->sun_weight[3 * s + k];
+                        if (sh->cube)
+                            th->radiance[3 * th->shadow_ray[s] + k] += th->sun_weight[3 * s + k];
+                    }
     }
     th->primary += (uint64_t)n;
     th->shadow += shadow_count;
@@ -266,6 +311,8 @@ static void bake_probe(bake_thread *th, size_t index)
         for (int k = 0; k < 3; k++)
             sh->rgb[3 * index + k] = (float)((acc[k] + (double)miss_count * bp->sky[k]) / n);
         sh->backface[index] = bf;
+        if (sh->cube)
+            ambient_cube(th->radiance, dirs, n, &sh->cube[18 * index]);
     }
 }
 
@@ -308,6 +355,8 @@ static void threads_free(vdbgi_context *ctx, bake_thread *ths, int n)
         vdbgi_free(ctx, ths[t].dir);
         vdbgi_free(ctx, ths[t].sorg);
         vdbgi_free(ctx, ths[t].sun_weight);
+        vdbgi_free(ctx, ths[t].radiance);
+        vdbgi_free(ctx, ths[t].shadow_ray);
         vdbgi_free(ctx, ths[t].hits);
         vdbgi_free(ctx, ths[t].occluded);
         vdbgi_free(ctx, ths[t].scratch);
@@ -342,10 +391,14 @@ static vdbgi_result bake_run(vdbgi_context *ctx, bake_shared *sh, const vdbgi_ba
         th->dir = vdbgi_calloc(ctx, n, 3 * sizeof(float));
         th->sorg = vdbgi_calloc(ctx, n, 3 * sizeof(float));
         th->sun_weight = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+        th->shadow_ray = vdbgi_calloc(ctx, n, sizeof(uint32_t));
+        if (sh->cube)
+            th->radiance = vdbgi_calloc(ctx, n, 3 * sizeof(float));
         th->hits = vdbgi_calloc(ctx, n, sizeof(vdbgi_hit));
         th->occluded = vdbgi_calloc(ctx, n, 1);
         th->scratch = vdbgi_alloc(ctx, vdbgi_tracer_scratch_size(n));
-        if (!th->dir || !th->sorg || !th->sun_weight || !th->hits ||
+        if (!th->dir || !th->sorg || !th->sun_weight || !th->shadow_ray ||
+            (sh->cube && !th->radiance) || !th->hits ||
             !th->occluded || !th->scratch)
             r = VDBGI_ERR_OUT_OF_MEMORY;
     }
@@ -409,6 +462,7 @@ static void record_settings(vdbgi_probes *p, const vdbgi_scene *scene,
     vdbgi_meta_set_int(p, "seed", (int64_t)bp->seed);
     vdbgi_meta_set_double(p, "invalid_threshold", bp->invalid_threshold);
     vdbgi_meta_set_double(p, "ray_offset", scene->ray_offset);
+    vdbgi_meta_set_string(p, "basis", bp->basis == VDBGI_BASIS_AMBIENT_CUBE ? "ambient-cube" : "scalar");
 }
 
 vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
@@ -421,27 +475,33 @@ vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
     const size_t n = p->count ? p->count : 1;
     float *const rgb = vdbgi_calloc(ctx, n, 3 * sizeof(float));
     float *const backface = vdbgi_calloc(ctx, n, sizeof(float));
-    if (!rgb || !backface) {
+    float *const cube =
+        bp.basis == VDBGI_BASIS_AMBIENT_CUBE ? vdbgi_calloc(ctx, n, 18 * sizeof(float)) : NULL;
+    if (!rgb || !backface || (bp.basis == VDBGI_BASIS_AMBIENT_CUBE && !cube)) {
         vdbgi_free(ctx, rgb);
         vdbgi_free(ctx, backface);
+        vdbgi_free(ctx, cube);
         return VDBGI_ERR_OUT_OF_MEMORY;
     }
     bake_shared sh = {.scene = scene, .bp = &bp, .shade = true, .ijk = p->ijk,
                       .spacing = p->spacing, .count = p->count, .rgb = rgb,
-                      .backface = backface};
+                      .backface = backface, .cube = cube};
     memcpy(sh.origin, p->origin, sizeof(sh.origin));
     vdbgi_bake_stats st;
     const vdbgi_result r = bake_run(ctx, &sh, desc, &st);
     if (r != VDBGI_OK) {
         vdbgi_free(ctx, rgb);
         vdbgi_free(ctx, backface);
+        vdbgi_free(ctx, cube);
         return r;
     }
     /* Replace old values only once the new ones are complete. */
     vdbgi_free(ctx, p->rgb);
     vdbgi_free(ctx, p->backface);
+    vdbgi_free(ctx, p->cube);
     p->rgb = rgb;
     p->backface = backface;
+    p->cube = cube;
     p->invalid_threshold = bp.invalid_threshold;
     p->invalid_count = (size_t)st.invalid_probe_count;
     record_settings(p, scene, &bp, &st);

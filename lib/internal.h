@@ -181,6 +181,7 @@ struct vdbgi_probes {
     int32_t *ijk;     /* 3 per probe */
     float *rgb;       /* 3 per probe, NULL until baked or read */
     float *backface;  /* per probe */
+    float *cube;      /* 18 per probe (6 sides x RGB, vdbgi_side order), or NULL */
     float invalid_threshold;
     size_t invalid_count;
     vdbgi_meta meta[VDBGI_META_CAPACITY];
@@ -205,6 +206,7 @@ typedef struct vdbgi_bake_params {
     uint64_t seed;
     int threads;
     vdbgi_trace_method method;
+    vdbgi_basis basis;
 } vdbgi_bake_params;
 
 vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc *desc,

@@ -37,6 +37,7 @@ void vdbgi_probes_destroy(vdbgi_probes *p)
     vdbgi_free(p->ctx, p->ijk);
     vdbgi_free(p->ctx, p->rgb);
     vdbgi_free(p->ctx, p->backface);
+    vdbgi_free(p->ctx, p->cube);
     vdbgi_free(p->ctx, p);
 }
 
@@ -166,6 +167,7 @@ void vdbgi_probes_get_info(const vdbgi_probes *p, vdbgi_probes_info *info)
     memcpy(info->origin, p->origin, sizeof(info->origin));
     info->invalid_threshold = p->invalid_threshold;
     info->baked = p->rgb != NULL;
+    info->basis = p->cube ? VDBGI_BASIS_AMBIENT_CUBE : VDBGI_BASIS_SCALAR;
     for (int k = 0; k < 3; k++) {
         info->ijk_min[k] = p->count ? INT32_MAX : 0;
         info->ijk_max[k] = p->count ? INT32_MIN : 0;
@@ -190,6 +192,16 @@ vdbgi_result vdbgi_probes_get(const vdbgi_probes *p, size_t index, int32_t ijk[3
             rgb[k] = p->rgb ? p->rgb[3 * index + k] : 0.0f;
     if (backface)
         *backface = p->backface ? p->backface[index] : 0.0f;
+    return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_probes_get_cube(const vdbgi_probes *p, size_t index, float cube[6][3])
+{
+    VDBGI_FAIL_IF(p->ctx, index >= p->count, VDBGI_ERR_INVALID_ARG,
+                  "probe index %zu out of range (%zu probes)", index, p->count);
+    VDBGI_FAIL_IF(p->ctx, !p->cube, VDBGI_ERR_INVALID_ARG,
+                  "probes have no ambient cubes: bake with the ambient-cube basis");
+    memcpy(cube, &p->cube[18 * index], 18 * sizeof(float));
     return VDBGI_OK;
 }
 

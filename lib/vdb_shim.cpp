@@ -19,6 +19,9 @@
 
 namespace {
 
+const char *const side_grid_names[6] = {"irradiance_px", "irradiance_nx", "irradiance_py",
+                                        "irradiance_ny", "irradiance_pz", "irradiance_nz"};
+
 openvdb::math::Transform::Ptr lattice_transform(const double origin[3], double spacing)
 {
     auto xf = openvdb::math::Transform::createLinearTransform(spacing);
@@ -142,11 +145,27 @@ extern "C" vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path,
             va.setValue(c, p->backface[n]);
         }
     }
-    for (size_t m = 0; m < p->meta_count; m++) {
-        add_meta(*irr, p->meta[m]);
-        add_meta(*val, p->meta[m]);
-    }
     openvdb::GridPtrVec grids{irr, val};
+    if (p->cube) {
+        // Ambient-cube sides: one Vec3s grid each, sharing the topology.
+        for (int side = 0; side < 6; side++) {
+            auto g = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+            g->setName(side_grid_names[side]);
+            g->setTransform(xf->copy());
+            g->setGridClass(openvdb::GRID_UNKNOWN);
+            g->setVectorType(openvdb::VEC_INVARIANT);
+            auto a = g->getAccessor();
+            for (size_t n = 0; n < p->count; n++) {
+                const float *const c = &p->cube[18 * n + 3 * side];
+                a.setValue(openvdb::Coord(p->ijk[3 * n], p->ijk[3 * n + 1], p->ijk[3 * n + 2]),
+                           openvdb::Vec3s(c[0], c[1], c[2]));
+            }
+            grids.push_back(g);
+        }
+    }
+    for (auto &g : grids)
+        for (size_t m = 0; m < p->meta_count; m++)
+            add_meta(*g, p->meta[m]);
     openvdb::io::File file(path);
     file.write(grids);
     file.close();
@@ -170,10 +189,16 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: no grid named 'irradiance'", path);
     openvdb::GridBase::Ptr base;
     openvdb::GridBase::Ptr vbase;
+    openvdb::GridBase::Ptr sides[6];
+    bool has_cube = true;
+    for (int side = 0; side < 6; side++)
+        has_cube = has_cube && file.hasGrid(side_grid_names[side]);
     try {
         base = file.readGrid("irradiance");
         if (file.hasGrid("validity"))
             vbase = file.readGrid("validity");
+        for (int side = 0; has_cube && side < 6; side++)
+            sides[side] = file.readGrid(side_grid_names[side]);
     } catch (const openvdb::Exception &e) {
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: damaged grid data (%s)", path, e.what());
     }
@@ -186,6 +211,11 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     if (vbase && !val)
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid 'validity' is %s, not float", path,
                           vbase->valueType().c_str());
+    openvdb::Vec3SGrid::Ptr side_grids[6];
+    for (int side = 0; has_cube && side < 6; side++)
+        if (!(side_grids[side] = openvdb::gridPtrCast<openvdb::Vec3SGrid>(sides[side])))
+            return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid '%s' is %s, not vec3s", path,
+                              side_grid_names[side], sides[side]->valueType().c_str());
     const openvdb::math::Transform &xf = irr->transform();
     const openvdb::Vec3d vs = xf.voxelSize();
     if (!xf.isLinear() || std::fabs(vs.x() - vs.y()) > 1e-9 * vs.x() ||
@@ -201,6 +231,8 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     p->spacing = vs.x();
     p->origin[0] = o.x(), p->origin[1] = o.y(), p->origin[2] = o.z();
     read_meta(*irr, p);
+    if (has_cube && !(p->cube = (float *)vdbgi_calloc(ctx, count ? count : 1, 18 * sizeof(float))))
+        return VDBGI_ERR_OUT_OF_MEMORY;
     auto va = val ? std::make_unique<openvdb::FloatGrid::ConstAccessor>(val->getConstAccessor())
                   : nullptr;
     size_t n = 0;
@@ -210,6 +242,15 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
         p->ijk[3 * n] = c.x(), p->ijk[3 * n + 1] = c.y(), p->ijk[3 * n + 2] = c.z();
         p->rgb[3 * n] = v.x(), p->rgb[3 * n + 1] = v.y(), p->rgb[3 * n + 2] = v.z();
         p->backface[n] = va ? va->getValue(c) : 0.0f;
+    }
+    for (int side = 0; has_cube && side < 6; side++) {
+        const auto a = side_grids[side]->getConstAccessor();
+        for (size_t i = 0; i < n; i++) {
+            const openvdb::Vec3s v =
+                a.getValue(openvdb::Coord(p->ijk[3 * i], p->ijk[3 * i + 1], p->ijk[3 * i + 2]));
+            float *const c = &p->cube[18 * i + 3 * side];
+            c[0] = v.x(), c[1] = v.y(), c[2] = v.z();
+        }
     }
     p->count = n;
     *out = guard.release();

@@ -224,6 +224,27 @@ typedef enum vdbgi_sampling {
     VDBGI_SAMPLING_RANDOM = 1     /* that set under a random rotation per probe */
 } vdbgi_sampling;
 
+typedef enum vdbgi_basis {
+    VDBGI_BASIS_SCALAR = 0,      /* one colour per probe (seed 000) */
+    VDBGI_BASIS_AMBIENT_CUBE = 1 /* also six colours, one per axis direction (Bevy, HL2) */
+} vdbgi_basis;
+
+/*
+ * Ambient-cube sides, in the order vdbgi_probes_get_cube returns them and
+ * with the grid names the .vdb uses: irradiance_px, _nx, _py, _ny, _pz, _nz.
+ * Side s is what a surface facing that direction receives: the
+ * cosine-weighted mean over its hemisphere of the rays' radiance, normalised
+ * over the directions actually traced, so uniform radiance L gives exactly L.
+ */
+typedef enum vdbgi_side {
+    VDBGI_SIDE_PX = 0,
+    VDBGI_SIDE_NX = 1,
+    VDBGI_SIDE_PY = 2,
+    VDBGI_SIDE_NY = 3,
+    VDBGI_SIDE_PZ = 4,
+    VDBGI_SIDE_NZ = 5
+} vdbgi_side;
+
 typedef enum vdbgi_trace_method {
     VDBGI_TRACE_AUTO = 0,   /* the fastest measured on this build (see docs/performance.md) */
     VDBGI_TRACE_SINGLE = 1, /* rtcIntersect1 / rtcOccluded1, one ray at a time */
@@ -261,6 +282,9 @@ typedef enum vdbgi_trace_method {
  *   invalid_threshold: a probe whose back-face fraction (back-face hits over
  *                all hits) exceeds this is invalid. 0 == 0.25.
  *   trace_method: Embree query shape, see vdbgi_trace_method.
+ *   basis:       VDBGI_BASIS_AMBIENT_CUBE adds six directional colours per
+ *                probe from the same rays (see vdbgi_side); the scalar value
+ *                keeps its meaning and its bits.
  *   progress:    called on the caller's thread with the fraction done, at
  *                most about 100 times; a non-zero return stops the bake with
  *                VDBGI_ERR_CANCELLED. May be NULL.
@@ -278,6 +302,7 @@ typedef struct vdbgi_bake_desc {
     int threads;
     float invalid_threshold;
     vdbgi_trace_method trace_method;
+    vdbgi_basis basis;
     int (*progress)(void *user, float done);
     void *progress_user;
 } vdbgi_bake_desc;
@@ -350,6 +375,7 @@ typedef struct vdbgi_probes_info {
     int32_t ijk_min[3], ijk_max[3]; /* inclusive bounds of the probes */
     float invalid_threshold; /* back-face fraction above which a probe is invalid */
     int baked;               /* non-zero once values are present */
+    vdbgi_basis basis;       /* VDBGI_BASIS_AMBIENT_CUBE when cubes are present */
 } vdbgi_probes_info;
 
 VDBGI_API void vdbgi_probes_get_info(const vdbgi_probes *probes, vdbgi_probes_info *info);
@@ -370,6 +396,14 @@ VDBGI_API vdbgi_result vdbgi_probes_get(const vdbgi_probes *probes, size_t index
  */
 VDBGI_API vdbgi_result vdbgi_probes_sample(const vdbgi_probes *probes, const float pos[3],
                                            float rgb[3]);
+
+/*
+ * Probe number index's ambient cube, six RGB colours in vdbgi_side order.
+ * VDBGI_ERR_INVALID_ARG for an index out of range or probes baked (or read)
+ * without the ambient-cube basis.
+ */
+VDBGI_API vdbgi_result vdbgi_probes_get_cube(const vdbgi_probes *probes, size_t index,
+                                             float cube[6][3]);
 
 /*
  * Metadata stored with the grids, as "name=value" text, index 0..n-1; NULL

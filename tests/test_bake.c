@@ -362,7 +362,7 @@ static void bad_bake_parameters_are_refused(void)
     vdbgi_scene *s = mixed_scene(ctx);
     const float pt[3] = {0, 1, 0};
     float rgb[3];
-    vdbgi_bake_desc bad[13];
+    vdbgi_bake_desc bad[14];
     memset(bad, 0, sizeof(bad));
     bad[0].rays = -1;
     bad[1].rays = 2000000;
@@ -377,7 +377,8 @@ static void bad_bake_parameters_are_refused(void)
     bad[10].invalid_threshold = 1.5f;
     bad[11].trace_method = (vdbgi_trace_method)9;
     bad[12].ambient = -1.0f; /* a mistyped negative is not the VDBGI_NONE sentinel */
-    for (int i = 0; i < 13; i++) {
+    bad[13].basis = (vdbgi_basis)3;
+    for (int i = 0; i < 14; i++) {
         CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &bad[i], pt, 1, rgb, NULL),
                      VDBGI_ERR_INVALID_ARG);
         CHECK(strlen(vdbgi_context_error(ctx)) > 0);
@@ -469,6 +470,107 @@ static void failing_allocations_are_reported_without_leaks(void)
     CHECK(succeeded);
 }
 
+/* Seed 000's estimator seen by a surface facing down at the plane (cosine-weighted, normalised). */
+static double plane_facing_down_closed_form(double h, double ray_dist, double falloff)
+{
+    /* 2 int_{h/R}^1 rho (a + 1) mu^3 / (mu^2 + c^2) dmu with c = h / falloff. */
+    const double m0 = h / ray_dist, c2 = isfinite(falloff) ? (h / falloff) * (h / falloff) : 0.0;
+    return rho * (ambient + 1.0) * ((1.0 - m0 * m0) - c2 * log((1.0 + c2) / (m0 * m0 + c2)));
+}
+
+static void ambient_cube_above_a_plane_matches_closed_form(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = plane_scene(ctx, 24.0f);
+    const vdbgi_place_desc pd = {.spacing = 1.0, .margin = 2.0};
+    vdbgi_probes *p = NULL;
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
+    const float falloffs[2] = {4.0f, INFINITY};
+    for (int f = 0; f < 2; f++) {
+        vdbgi_bake_desc bd = plane_desc(4096, 10.0f, falloffs[f], VDBGI_SAMPLING_FIBONACCI);
+        bd.basis = VDBGI_BASIS_AMBIENT_CUBE;
+        CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &bd, NULL), VDBGI_OK);
+        vdbgi_probes_info info;
+        vdbgi_probes_get_info(p, &info);
+        CHECK(info.basis == VDBGI_BASIS_AMBIENT_CUBE);
+        size_t checked = 0;
+        for (size_t i = 0; i < info.probe_count; i++) {
+            int32_t ijk[3];
+            float cube[6][3];
+            vdbgi_probes_get(p, i, ijk, NULL, NULL);
+            const double x = info.origin[0] + ijk[0], y = info.origin[1] + ijk[1],
+                         z = info.origin[2] + ijk[2];
+            if (fabs(x) > 1.0 || fabs(z) > 1.0 || y < 0.0)
+                continue;
+            CHECK_RESULT(ctx, vdbgi_probes_get_cube(p, i, cube), VDBGI_OK);
+            const double down = plane_facing_down_closed_form(y, 10.0, falloffs[f]);
+            CHECK_NEAR(cube[VDBGI_SIDE_NY][0], down, 4e-3 * down);
+            CHECK(cube[VDBGI_SIDE_PY][0] == 0.0f); /* facing the black sky */
+            /* Sideways: between the two, and the same on all four sides. */
+            for (int side = VDBGI_SIDE_PX; side <= VDBGI_SIDE_NZ; side++) {
+                if (side == VDBGI_SIDE_PY || side == VDBGI_SIDE_NY)
+                    continue;
+                CHECK(cube[side][0] > 0.0f && cube[side][0] < down);
+                CHECK_NEAR(cube[side][0], cube[VDBGI_SIDE_PX][0], 0.01 * cube[VDBGI_SIDE_PX][0]);
+            }
+            checked++;
+        }
+        CHECK(checked == 4 * 2);
+    }
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+static void ambient_cube_in_uniform_surroundings_agrees_and_keeps_the_scalar(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    const float lo[3] = {-2, -2, -2}, hi[3] = {2, 2, 2};
+    test_mesh_box(&m, lo, hi, 1);
+    const vdbgi_mesh_desc md = test_mesh_desc(&m, (float)rho, 0);
+    vdbgi_scene *s = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &s), VDBGI_OK);
+    vdbgi_probes *p = NULL;
+    const vdbgi_place_desc pd = {.spacing = 0.5};
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
+    vdbgi_bake_desc bd = {.rays = 300, .falloff = INFINITY, .sampling = VDBGI_SAMPLING_RANDOM};
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &bd, NULL), VDBGI_OK);
+    vdbgi_probes_info info;
+    vdbgi_probes_get_info(p, &info);
+    float *const scalar = malloc(info.probe_count * 3 * sizeof(float));
+    for (size_t i = 0; i < info.probe_count; i++)
+        vdbgi_probes_get(p, i, NULL, &scalar[3 * i], NULL);
+    float cube[6][3];
+    CHECK_RESULT(ctx, vdbgi_probes_get_cube(p, 0, cube), VDBGI_ERR_INVALID_ARG);
+    bd.basis = VDBGI_BASIS_AMBIENT_CUBE;
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &bd, NULL), VDBGI_OK);
+    size_t inside = 0;
+    int same = 1;
+    for (size_t i = 0; i < info.probe_count; i++) {
+        int32_t ijk[3];
+        float rgb[3], bf;
+        vdbgi_probes_get(p, i, ijk, rgb, &bf);
+        same &= memcmp(rgb, &scalar[3 * i], sizeof(rgb)) == 0;
+        int in = 1;
+        for (int k = 0; k < 3; k++)
+            in &= fabs(info.origin[k] + 0.5 * ijk[k]) < 1.9;
+        if (!in)
+            continue;
+        /* Every ray hits a wall of albedo rho lit by ambient alone: every side reads rho x ambient. */
+        vdbgi_probes_get_cube(p, i, cube);
+        for (int side = 0; side < 6; side++)
+            CHECK_NEAR(cube[side][1], rho * ambient, 1e-6);
+        inside++;
+    }
+    CHECK(same); /* the scalar keeps its bits */
+    CHECK(inside > 100);
+    free(scalar);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
 int main(void)
 {
     RUN(probe_above_plane_matches_closed_form_fibonacci);
@@ -485,5 +587,7 @@ int main(void)
     RUN(bad_bake_parameters_are_refused);
     RUN(progress_is_reported_and_can_cancel);
     RUN(failing_allocations_are_reported_without_leaks);
+    RUN(ambient_cube_above_a_plane_matches_closed_form);
+    RUN(ambient_cube_in_uniform_surroundings_agrees_and_keeps_the_scalar);
     return CHECK_EXIT();
 }

@@ -177,12 +177,48 @@ static void unreadable_files_are_refused(void)
     vdbgi_context_destroy(ctx);
 }
 
+static void ambient_cubes_round_trip_as_six_grids(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    test_mesh_plane(&m, 6.0f, 0.0f);
+    const vdbgi_mesh_desc d = test_mesh_desc(&m, 0.6f, 0);
+    vdbgi_scene *s = NULL;
+    vdbgi_probes *p = NULL, *q = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &d, 1, &s), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, NULL, &p), VDBGI_OK);
+    const vdbgi_bake_desc bd = {.rays = 32, .basis = VDBGI_BASIS_AMBIENT_CUBE};
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &bd, NULL), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_write(p, tmp_path("cube.vdb")), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_read(ctx, tmp_path("cube.vdb"), &q), VDBGI_OK);
+    if (q) {
+        vdbgi_probes_info info;
+        vdbgi_probes_get_info(q, &info);
+        CHECK(info.basis == VDBGI_BASIS_AMBIENT_CUBE);
+        CHECK(strcmp(meta(q, "basis"), "ambient-cube") == 0);
+        int same = 1, lit = 0;
+        for (size_t i = 0; i < info.probe_count; i++) {
+            float a[6][3], b[6][3];
+            vdbgi_probes_get_cube(p, i, a);
+            vdbgi_probes_get_cube(q, i, b);
+            same &= memcmp(a, b, sizeof(a)) == 0;
+            lit += a[VDBGI_SIDE_NY][0] > 0.0f;
+        }
+        CHECK(same && lit > 0);
+    }
+    vdbgi_probes_destroy(q);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
 int main(void)
 {
     test_tmpdir_make("test-vdb");
     RUN(written_probes_read_back_exactly);
     RUN(failed_writes_leave_nothing_and_clobber_nothing);
     RUN(unreadable_files_are_refused);
+    RUN(ambient_cubes_round_trip_as_six_grids);
     test_tmpdir_remove();
     return CHECK_EXIT();
 }
