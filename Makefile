@@ -75,7 +75,7 @@ TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 
 DEB_PACKAGES := gcc g++ make pkg-config libopenvdb-dev libboost-dev libimath-dev libtbb-dev \
                 libembree-dev libopenimageio-dev libassimp-dev zlib1g-dev libdeflate-dev libopenvdb-tools \
-                python3 python3-openvdb openimageio-tools nodejs
+                python3 python3-openvdb openimageio-tools
 
 # Keep object files of apps and tests (make would delete them as intermediates).
 .SECONDARY:
@@ -135,11 +135,17 @@ deps:
 	for p in $(DEB_PACKAGES); do \
 	    dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'ok installed' || missing="$$missing $$p"; \
 	done; \
+	command -v node >/dev/null 2>&1 || missing="$$missing nodejs"; \
+	command -v npm >/dev/null 2>&1 || missing="$$missing npm"; \
 	if [ -n "$$missing" ]; then \
 	    sudo=""; [ "$$(id -u)" = 0 ] || sudo=sudo; \
 	    echo "deps: installing$$missing"; \
 	    $$sudo apt-get update -qq && \
 	    DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq --no-install-recommends $$missing; \
+	fi; \
+	if [ ! -d tests/js/node_modules/ktx-parse ]; then \
+	    echo "deps: npm install (tests/js: ktx-parse, an independent KTX2 reader)"; \
+	    (cd tests/js && npm install --no-audit --no-fund --loglevel=error >/dev/null); \
 	fi
 
 ## check: install what is missing, build, run every test; ends with "N passed, N failed"

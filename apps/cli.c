@@ -139,6 +139,29 @@ bool cli_parse_vec3(const char *s, float out[3])
     return true;
 }
 
+bool cli_parse_doubles(const char *s, double *out, int n)
+{
+    if (!s)
+        return false;
+    const char *p = s;
+    for (int k = 0; k < n; k++) {
+        char *end = NULL;
+        errno = 0;
+        const double v = strtod(p, &end);
+        if (end == p || errno == ERANGE || !isfinite(v))
+            return false;
+        out[k] = v;
+        if (k + 1 < n) {
+            if (*end != ',')
+                return false;
+            p = end + 1;
+        } else if (*end) {
+            return false;
+        }
+    }
+    return true;
+}
+
 double cli_now(void)
 {
     struct timespec ts;

@@ -48,6 +48,8 @@ void cli_log(void *user, vdbgi_log_level level, const char *message);
 bool cli_parse_int(const char *s, long long *out);
 bool cli_parse_double(const char *s, double *out); /* accepts "inf" */
 bool cli_parse_vec3(const char *s, float out[3]);  /* "x,y,z" */
+/* "a,b,..." of exactly n finite numbers. */
+bool cli_parse_doubles(const char *s, double *out, int n);
 
 /*
  * A one-line "\r" progress meter on stderr, shown only when stderr is a

@@ -12,6 +12,7 @@
 static void usage(void)
 {
     printf("Usage: vdb-to-gi IN.vdb -o OUT.gi.gz [options]\n"
+           "       vdb-to-gi IN.vdb --bevy OUT.ktx2 | --bevy-baked-gi OUT.png [options]\n"
            "\n"
            "Convert the probes baked by gi-bake into what a game ships: adaptive bricks of\n"
            "4x4x4 probes (big where light is flat, small where it changes), packed into an\n"
@@ -19,6 +20,10 @@ static void usage(void)
            "2 m cell at its brick, both RGBM-encoded (or RGB9E5) and gzip'd into one file\n"
            "(docs/format.md). Invalid and absent probes are filled from valid neighbours\n"
            "first. Statistics go to stdout.\n"
+           "\n"
+           "With --bevy or --bevy-baked-gi (probes baked with --basis ambient-cube), also\n"
+           "resample the ambient cubes onto a dense grid for Bevy's irradiance volumes and\n"
+           "write OUT plus OUT.json, the volume's box and transform (docs/bevy.md).\n"
            "\n"
            "Options:\n"
            "  -o, --output FILE     the .gi.gz to write (required; replaced only on success)\n"
@@ -35,6 +40,12 @@ static void usage(void)
            "      --slice-at M      world coordinate of the slice (the plane with most probes)\n"
            "      --exposure S      stops applied to the PNG slices (auto)\n"
            "      --stats FILE      also write the statistics as JSON\n"
+           "      --bevy FILE       Bevy IrradianceVolume texture, KTX2 (seed 001's layout)\n"
+           "      --bevy-format F   rgba16f or rgb9e5 texels for --bevy (rgba16f)\n"
+           "      --bevy-baked-gi FILE  bevy-baked-gi's RGBA8 PNG of 3x2 cells (seed 002)\n"
+           "      --box X0,Y0,Z0,X1,Y1,Z1  world box of the Bevy volume (the baked bounds)\n"
+           "      --res N|X,Y,Z     Bevy voxels per axis (from --voxel)\n"
+           "      --voxel M         Bevy voxel size in metres (4 x the probe spacing)\n"
            "  -q, --quiet           no statistics, errors only\n"
            "  -v, --verbose         more detail on stderr (-vv: timings of each step)\n"
            "  -h, --help            print this help and exit\n"
@@ -43,7 +54,8 @@ static void usage(void)
            "Examples:\n"
            "  vdb-to-gi world.vdb -o world.gi.gz\n"
            "  vdb-to-gi world.vdb -o world.gi.gz --eps 0.05 --slices slices --stats stats.json\n"
-           "  vdb-to-gi world.vdb -o exact.gi.gz --eps 0 --max-level 0 --encoding rgb9e5\n");
+           "  vdb-to-gi world.vdb -o exact.gi.gz --eps 0 --max-level 0 --encoding rgb9e5\n"
+           "  vdb-to-gi cubes.vdb --bevy volume.ktx2 --voxel 1\n");
 }
 
 enum {
@@ -56,11 +68,19 @@ enum {
     OPT_SLICE_AT,
     OPT_EXPOSURE,
     OPT_STATS,
+    OPT_BEVY,
+    OPT_BEVY_FORMAT,
+    OPT_BEVY_BAKED_GI,
+    OPT_BOX,
+    OPT_RES,
+    OPT_VOXEL,
     OPT_VERSION
 };
 
 typedef struct options {
-    const char *input, *output, *slices, *stats;
+    const char *input, *output, *slices, *stats, *bevy, *bevy_baked_gi;
+    vdbgi_bevy_format bevy_format;
+    vdbgi_bevy_desc bevy_desc;
     vdbgi_convert_desc convert;
     vdbgi_axis axis;
     double slice_at, exposure; /* NAN: automatic */
@@ -78,6 +98,12 @@ static int parse_args(int argc, char **argv, options *o)
                                           {"slice-at", required_argument, NULL, OPT_SLICE_AT},
                                           {"exposure", required_argument, NULL, OPT_EXPOSURE},
                                           {"stats", required_argument, NULL, OPT_STATS},
+                                          {"bevy", required_argument, NULL, OPT_BEVY},
+                                          {"bevy-format", required_argument, NULL, OPT_BEVY_FORMAT},
+                                          {"bevy-baked-gi", required_argument, NULL, OPT_BEVY_BAKED_GI},
+                                          {"box", required_argument, NULL, OPT_BOX},
+                                          {"res", required_argument, NULL, OPT_RES},
+                                          {"voxel", required_argument, NULL, OPT_VOXEL},
                                           {"quiet", no_argument, NULL, 'q'},
                                           {"verbose", no_argument, NULL, 'v'},
                                           {"help", no_argument, NULL, 'h'},
@@ -133,6 +159,47 @@ static int parse_args(int argc, char **argv, options *o)
             o->exposure = d;
             break;
         case OPT_STATS: o->stats = optarg; break;
+        case OPT_BEVY: o->bevy = optarg; break;
+        case OPT_BEVY_BAKED_GI: o->bevy_baked_gi = optarg; break;
+        case OPT_BEVY_FORMAT:
+            if (strcmp(optarg, "rgba16f") == 0)
+                o->bevy_format = VDBGI_BEVY_RGBA16F;
+            else if (strcmp(optarg, "rgb9e5") == 0)
+                o->bevy_format = VDBGI_BEVY_RGB9E5;
+            else
+                return cli_usage_error("--bevy-format must be rgba16f or rgb9e5 (got '%s')",
+                                       optarg);
+            break;
+        case OPT_BOX: {
+            double b[6];
+            if (!cli_parse_doubles(optarg, b, 6) || b[3] <= b[0] || b[4] <= b[1] || b[5] <= b[2])
+                return cli_usage_error("--box must be x0,y0,z0,x1,y1,z1 with x1 > x0, y1 > y0, "
+                                       "z1 > z0 (got '%s')",
+                                       optarg);
+            memcpy(o->bevy_desc.box_min, b, sizeof(o->bevy_desc.box_min));
+            memcpy(o->bevy_desc.box_max, b + 3, sizeof(o->bevy_desc.box_max));
+            o->bevy_desc.box_is_set = 1;
+            break;
+        }
+        case OPT_RES: {
+            double r[3];
+            const bool one = cli_parse_doubles(optarg, r, 1);
+            if (one)
+                r[1] = r[2] = r[0];
+            if ((!one && !cli_parse_doubles(optarg, r, 3)) || r[0] < 1 || r[1] < 1 || r[2] < 1 ||
+                r[0] > 1e6 || r[1] > 1e6 || r[2] > 1e6 || r[0] != floor(r[0]) ||
+                r[1] != floor(r[1]) || r[2] != floor(r[2]))
+                return cli_usage_error("--res must be N or X,Y,Z whole numbers >= 1 (got '%s')",
+                                       optarg);
+            for (int k = 0; k < 3; k++)
+                o->bevy_desc.resolution[k] = (int)r[k];
+            break;
+        }
+        case OPT_VOXEL:
+            if (!cli_parse_double(optarg, &d) || !(d > 0.0) || !isfinite(d))
+                return cli_usage_error("--voxel must be a number > 0 (got '%s')", optarg);
+            o->bevy_desc.voxel_size = d;
+            break;
         case 'q': cli_verbosity = 1; break;
         case 'v': cli_verbosity++; break;
         case 'h': usage(); return CLI_OK;
@@ -143,8 +210,10 @@ static int parse_args(int argc, char **argv, options *o)
     const int taken = cli_one_input(argc, argv, "input", &o->input);
     if (taken >= 0)
         return taken;
-    if (!o->output)
-        return cli_usage_error("no output given: use -o OUT.gi.gz");
+    if (!o->output && !o->bevy && !o->bevy_baked_gi)
+        return cli_usage_error("no output given: use -o OUT.gi.gz, --bevy or --bevy-baked-gi");
+    if (!o->output && (o->slices || o->stats))
+        return cli_usage_error("--slices and --stats describe the .gi: give -o OUT.gi.gz too");
     return -1;
 }
 
@@ -251,6 +320,30 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             vi->seconds / read_seconds, read_seconds);
 }
 
+static const char *base_name(const char *path)
+{
+    const char *const slash = strrchr(path, '/');
+    return slash ? slash + 1 : path;
+}
+
+static void print_bevy(const vdbgi_bevy *b, const options *o)
+{
+    vdbgi_bevy_info bi;
+    vdbgi_bevy_get_info(b, &bi);
+    printf("bevy         %dx%dx%d voxels over %g,%g,%g .. %g,%g,%g m\n", bi.resolution[0],
+           bi.resolution[1], bi.resolution[2], bi.box_min[0], bi.box_min[1], bi.box_min[2],
+           bi.box_max[0], bi.box_max[1], bi.box_max[2]);
+    if (o->bevy)
+        printf("bevy         %s: %dx%dx%d %s texels, %s\n", o->bevy, bi.resolution[0],
+               2 * bi.resolution[1], 3 * bi.resolution[2],
+               o->bevy_format == VDBGI_BEVY_RGB9E5 ? "rgb9e5" : "rgba16f", "KTX2");
+    if (o->bevy_baked_gi)
+        printf("bevy         %s: %dx%d RGBA8 texels of 3x2 cells\n", o->bevy_baked_gi,
+               3 * bi.resolution[0], 2 * bi.resolution[1] * bi.resolution[2]);
+    printf("bevy         LightProbe Transform: translation %g,%g,%g, scale %g,%g,%g\n",
+           bi.center[0], bi.center[1], bi.center[2], bi.size[0], bi.size[1], bi.size[2]);
+}
+
 /* The JSON statistics, through a temporary name like every output. */
 static bool write_json(const options *o, const vdbgi_volume_info *vi, const vdbgi_probes_info *pi,
                        double read_seconds)
@@ -281,20 +374,47 @@ int main(int argc, char **argv)
     vdbgi_probes *probes = NULL;
     vdbgi_volume *vol = NULL;
     int code = CLI_FAILED;
-    vdbgi_result r = vdbgi_output_check(ctx, o.output);
+    /* Every output is checked before any work, so a bad path fails in a second, not a minute. */
+    char json[2][4096];
+    const char *const bevy_out[2] = {o.bevy, o.bevy_baked_gi};
+    vdbgi_result r = VDBGI_OK;
+    for (int i = 0; i < 2; i++)
+        if (bevy_out[i]) {
+            snprintf(json[i], sizeof(json[i]), "%s.json", bevy_out[i]);
+            if (r == VDBGI_OK)
+                r = vdbgi_output_check(ctx, bevy_out[i]);
+            if (r == VDBGI_OK)
+                r = vdbgi_output_check(ctx, json[i]);
+        }
+    if (r == VDBGI_OK && o.output)
+        r = vdbgi_output_check(ctx, o.output);
     if (r == VDBGI_OK && o.stats)
         r = vdbgi_output_check(ctx, o.stats);
     const double t0 = cli_now();
     if (r == VDBGI_OK)
         r = vdbgi_probes_read(ctx, o.input, &probes);
     const double read_seconds = cli_now() - t0;
-    if (r == VDBGI_OK)
+    /* The Bevy volume first: it refuses probes without cubes before the longer conversion. */
+    vdbgi_bevy *bevy = NULL;
+    if (r == VDBGI_OK && (o.bevy || o.bevy_baked_gi))
+        r = vdbgi_bevy_build(ctx, probes, &o.bevy_desc, &bevy);
+    if (r == VDBGI_OK && o.bevy)
+        r = vdbgi_bevy_write_ktx2(bevy, o.bevy, o.bevy_format);
+    if (r == VDBGI_OK && o.bevy)
+        r = vdbgi_bevy_write_json(bevy, json[0], base_name(o.bevy), "bevy-irradiance-volume-ktx2");
+    if (r == VDBGI_OK && o.bevy_baked_gi)
+        r = vdbgi_bevy_write_baked_gi(bevy, o.bevy_baked_gi);
+    if (r == VDBGI_OK && o.bevy_baked_gi)
+        r = vdbgi_bevy_write_json(bevy, json[1], base_name(o.bevy_baked_gi), "bevy-baked-gi-png");
+    if (r == VDBGI_OK && bevy && cli_verbosity >= 2)
+        print_bevy(bevy, &o);
+    if (r == VDBGI_OK && o.output)
         r = vdbgi_volume_build(ctx, probes, &o.convert, &vol);
-    if (r == VDBGI_OK)
+    if (r == VDBGI_OK && o.output)
         r = vdbgi_volume_write(vol, o.output);
     vdbgi_volume_info vi;
     vdbgi_probes_info pi;
-    if (r == VDBGI_OK) {
+    if (r == VDBGI_OK && o.output) {
         vdbgi_volume_get_info(vol, &vi);
         vdbgi_probes_get_info(probes, &pi);
     }
@@ -308,7 +428,7 @@ int main(int argc, char **argv)
     }
     if (r != VDBGI_OK) {
         code = cli_fail(ctx, r);
-    } else {
+    } else if (o.output) {
         code = CLI_OK;
         if (cli_verbosity >= 2)
             print_stats(stdout, &o, &vi, &pi, read_seconds, false);
@@ -317,6 +437,9 @@ int main(int argc, char **argv)
             code = CLI_FAILED;
         }
     }
+    if (r == VDBGI_OK && !o.output)
+        code = CLI_OK;
+    vdbgi_bevy_destroy(bevy);
     vdbgi_volume_destroy(vol);
     vdbgi_probes_destroy(probes);
     vdbgi_context_destroy(ctx);

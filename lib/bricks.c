@@ -132,42 +132,6 @@ typedef struct builder {
 } builder;
 
 /*
- * The filled field at fine position pos (lattice units, may be fractional):
- * trilinear over the 8 lattice points around it, renormalised over those
- * that hold a value. Returns false when none does.
- */
-static bool field_trilinear(const vdbgi_field *f, const double pos[3], float rgb[3],
-                            const vdbgi_leaf **cache)
-{
-    int32_t i0[3];
-    double fr[3];
-    for (int k = 0; k < 3; k++) {
-        const double fl = floor(pos[k]);
-        i0[k] = (int32_t)fl;
-        fr[k] = pos[k] - fl;
-    }
-    double acc[3] = {0.0, 0.0, 0.0}, wsum = 0.0;
-    for (int c = 0; c < 8; c++) {
-        const double w = (c & 1 ? fr[0] : 1.0 - fr[0]) * (c & 2 ? fr[1] : 1.0 - fr[1]) *
-                         (c & 4 ? fr[2] : 1.0 - fr[2]);
-        if (w == 0.0)
-            continue;
-        const int32_t p[3] = {i0[0] + (c & 1), i0[1] + (c >> 1 & 1), i0[2] + (c >> 2 & 1)};
-        float v[3];
-        if (vdbgi_field_get_cached(f, p, v, cache)) {
-            for (int k = 0; k < 3; k++)
-                acc[k] += w * v[k];
-            wsum += w;
-        }
-    }
-    if (wsum <= 0.0)
-        return false;
-    for (int k = 0; k < 3; k++)
-        rgb[k] = (float)(acc[k] / wsum);
-    return true;
-}
-
-/*
  * The 6^3 values of a level-L brick: probe q (-1..4 per axis, -1 and 4 the
  * apron) stands at fine position origin + (q + 0.5) 2^L - 0.5, the centre of
  * its 2^L block (the shader's convention). Points the fill did not reach take
@@ -190,7 +154,7 @@ static size_t brick_samples(const builder *b, const int32_t key[3], int level,
                 double pos[3];
                 for (int k = 0; k < 3; k++)
                     pos[k] = (double)key[k] * VDBGI_BRICK * span + (q[k] + 0.5) * span - 0.5;
-                if (!field_trilinear(&b->vol->filled, pos, out[z][y][x], &cache)) {
+                if (!vdbgi_field_trilinear(&b->vol->filled, pos, out[z][y][x], &cache)) {
                     memcpy(out[z][y][x], mean, sizeof(mean));
                     fallbacks++;
                 }
@@ -654,9 +618,7 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
 
     int32_t *cells = NULL;
     size_t cell_count = 0;
-    const vdbgi_fill_params fp = {.invalid_threshold = probes->invalid_threshold,
-                                  .cell_size = VDBGI_BRICK, .margin_cells = 1, .rim = 1,
-                                  .weights = {1.0f, 0.5f, 1.0f / 3.0f}, .max_iterations = 1024};
+    const vdbgi_fill_params fp = vdbgi_fill_params_default(probes->invalid_threshold);
     vdbgi_result r = vdbgi_vdb_fill(ctx, probes, &fp, &v->filled, &cells, &cell_count,
                                     &info->unreached_count);
     if (r != VDBGI_OK)

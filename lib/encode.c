@@ -77,6 +77,35 @@ void vdbgi_rgb9e5_decode(uint32_t in, float rgb[3])
         rgb[k] = (float)((in >> (9 * k)) & 511u) * scale;
 }
 
+bool vdbgi_sharedexp8_encode(const float rgb[3], uint8_t out[4])
+{
+    const float c[3] = {sanitise(rgb[0]), sanitise(rgb[1]), sanitise(rgb[2])};
+    const float mx = fmaxf(c[0], fmaxf(c[1], c[2]));
+    memset(out, 0, 4);
+    if (!(mx > 0.0f))
+        return false;
+    /* mx = m 2^e2 with m in [0.5, 1): 2^e2 holds it, or 2^(e2-1) if m is exactly 0.5. */
+    int e2 = 0;
+    const float m = frexpf(mx, &e2);
+    int e = 128 + (m == 0.5f ? e2 - 1 : e2);
+    const bool clamped = e > 255 || !isfinite(mx);
+    e = e < 0 ? 0 : (e > 255 ? 255 : e);
+    const double scale = ldexp(1.0, e - 128);
+    for (int k = 0; k < 3; k++) {
+        const double v = (double)c[k] / scale * 255.0;
+        out[k] = (uint8_t)(v >= 255.0 ? 255 : (long)floor(v + 0.5));
+    }
+    out[3] = (uint8_t)e;
+    return clamped;
+}
+
+void vdbgi_sharedexp8_decode(const uint8_t in[4], float rgb[3])
+{
+    const float scale = ldexpf(1.0f, (int)in[3] - 128) / 255.0f;
+    for (int k = 0; k < 3; k++)
+        rgb[k] = (float)in[k] * scale;
+}
+
 uint16_t vdbgi_half_from_float(float f)
 {
     uint32_t x;

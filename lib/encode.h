@@ -25,6 +25,17 @@ void vdbgi_rgbm_decode(const uint8_t in[4], float range, float rgb[3]);
 bool vdbgi_rgb9e5_encode(const float rgb[3], uint32_t *out);
 void vdbgi_rgb9e5_decode(uint32_t in, float rgb[3]);
 
+/*
+ * bevy-baked-gi's 8-bit shared exponent (seed 002): C = 2^(a - 128) (r, g, b) / 255
+ * with bytes r, g, b, a. The exponent is the smallest that holds the largest
+ * channel, which keeps the most precision: decoding lands within half a step,
+ * 2^(a-128)/510, that is within 1/255 of the largest channel. Negative and NaN
+ * channels encode as 0; zero is (0, 0, 0, 0); beyond 2^127 clamps (the
+ * return value says so).
+ */
+bool vdbgi_sharedexp8_encode(const float rgb[3], uint8_t out[4]);
+void vdbgi_sharedexp8_decode(const uint8_t in[4], float rgb[3]);
+
 /* IEEE 754 binary16, round to nearest even; overflow goes to infinity. */
 uint16_t vdbgi_half_from_float(float f);
 float vdbgi_half_to_float(uint16_t h);

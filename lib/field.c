@@ -1,6 +1,7 @@
 /* field.c: the filled fine lattice as VDB-shaped leaves, with lookup by position. */
 #include "internal.h"
 
+#include <math.h>
 #include <string.h>
 
 vdbgi_result vdbgi_field_alloc(vdbgi_context *ctx, size_t leaf_count, vdbgi_field *out)
@@ -89,5 +90,46 @@ bool vdbgi_field_get_cached(const vdbgi_field *f, const int32_t ijk[3], float rg
     if (!(l->mask[n >> 6] >> (n & 63) & 1))
         return false;
     memcpy(rgb, l->rgb[n], 3 * sizeof(float));
+    return true;
+}
+
+vdbgi_fill_params vdbgi_fill_params_default(float invalid_threshold)
+{
+    /* Level-0 cells of 4 probes, the one-cell margin, a rim of one point for the aprons, and
+       inverse-squared-distance weights for face, edge and corner neighbours. */
+    const vdbgi_fill_params fp = {.invalid_threshold = invalid_threshold, .cell_size = 4,
+                                  .margin_cells = 1, .rim = 1,
+                                  .weights = {1.0f, 0.5f, 1.0f / 3.0f}, .max_iterations = 1024};
+    return fp;
+}
+
+bool vdbgi_field_trilinear(const vdbgi_field *f, const double pos[3], float rgb[3],
+                           const vdbgi_leaf **cache)
+{
+    int32_t i0[3];
+    double fr[3];
+    for (int k = 0; k < 3; k++) {
+        const double fl = floor(pos[k]);
+        i0[k] = (int32_t)fl;
+        fr[k] = pos[k] - fl;
+    }
+    double acc[3] = {0.0, 0.0, 0.0}, wsum = 0.0;
+    for (int c = 0; c < 8; c++) {
+        const double w = (c & 1 ? fr[0] : 1.0 - fr[0]) * (c & 2 ? fr[1] : 1.0 - fr[1]) *
+                         (c & 4 ? fr[2] : 1.0 - fr[2]);
+        if (w == 0.0)
+            continue;
+        const int32_t p[3] = {i0[0] + (c & 1), i0[1] + (c >> 1 & 1), i0[2] + (c >> 2 & 1)};
+        float v[3];
+        if (vdbgi_field_get_cached(f, p, v, cache)) {
+            for (int k = 0; k < 3; k++)
+                acc[k] += w * v[k];
+            wsum += w;
+        }
+    }
+    if (wsum <= 0.0)
+        return false;
+    for (int k = 0; k < 3; k++)
+        rgb[k] = (float)(acc[k] / wsum);
     return true;
 }

@@ -28,7 +28,15 @@ extern "C" vdbgi_result vdbgi_image_decode(vdbgi_context *ctx, const char *path,
     } else {
         name = path;
     }
-    auto in = ImageInput::open(name, nullptr, mem.get());
+    // Keep RGB as stored: by default OIIO would premultiply it by a PNG's alpha.
+    ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    if (mem) {
+        // With a config, OIIO 2.4 takes the proxy from it rather than from the argument.
+        void *proxy = mem.get();
+        config.attribute("oiio:ioproxy", TypeDesc::PTR, &proxy);
+    }
+    auto in = ImageInput::open(name, &config, mem.get());
     if (!in) {
         const std::string err = OIIO::geterror();
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: cannot read image: %s",
@@ -74,6 +82,7 @@ struct image_job {
     const char *path, *ext;
     int width, height, channels;
     const float *pixels;
+    bool data;
 };
 
 } // namespace
@@ -93,6 +102,10 @@ static vdbgi_result write_image_tmp(vdbgi_context *ctx, const char *tmp, const v
     ImageSpec spec(job.width, job.height, job.channels, exr ? TypeDesc::HALF : TypeDesc::UINT8);
     if (exr)
         spec.attribute("compression", "zip");
+    if (job.data)
+        spec.attribute("oiio:ColorSpace", "Linear");
+    // Our alpha is data, not coverage: write RGB as given, never divided by it.
+    spec.attribute("oiio:UnassociatedAlpha", 1);
     if (!(out->open(tmp, spec) && out->write_image(TypeDesc::FLOAT, job.pixels) && out->close()))
         return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write image: %s", job.path,
                           out->geterror().c_str());
@@ -102,12 +115,13 @@ static vdbgi_result write_image_tmp(vdbgi_context *ctx, const char *tmp, const v
 }
 
 extern "C" vdbgi_result vdbgi_image_write(vdbgi_context *ctx, const char *path, int width,
-                                          int height, int channels, const float *pixels)
+                                          int height, int channels, const float *pixels,
+                                          bool data)
 {
     const char *const dot = std::strrchr(path, '.');
     const char *const ext = dot ? dot + 1 : "";
     if (std::strcmp(ext, "exr") != 0 && std::strcmp(ext, "png") != 0)
         return vdbgi_fail(ctx, VDBGI_ERR_INVALID_ARG, "%s: images are .png or .exr", path);
-    const image_job job = {path, ext, width, height, channels, pixels};
+    const image_job job = {path, ext, width, height, channels, pixels, data};
     return vdbgi_write_atomic(ctx, path, write_image_tmp, &job);
 }

@@ -22,10 +22,11 @@ vdbgi_result vdbgi_image_decode(vdbgi_context *ctx, const char *path, const void
  * Write a width x height image of `channels` floats per pixel (row 0 at the
  * top) to path, through a temporary file renamed when complete. The format
  * follows the extension: .png stores 8 bits per channel (values are clamped
- * to [0, 1]: encode them first), .exr stores half floats as given.
+ * to [0, 1]: encode them first), .exr stores half floats as given. With
+ * data set, a PNG is tagged as linear values (gAMA 1.0), not sRGB colour.
  */
 vdbgi_result vdbgi_image_write(vdbgi_context *ctx, const char *path, int width, int height,
-                               int channels, const float *pixels);
+                               int channels, const float *pixels, bool data);
 
 #ifdef __cplusplus
 }

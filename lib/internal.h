@@ -261,6 +261,17 @@ typedef struct vdbgi_fill_params {
     int max_iterations;      /* rings of spreading before giving up */
 } vdbgi_fill_params;
 
+/* The converter's fill: what bricks.c and bevy.c both use. */
+vdbgi_fill_params vdbgi_fill_params_default(float invalid_threshold);
+
+/*
+ * The field at fine position pos (lattice units, may be fractional):
+ * trilinear over the 8 lattice points around it, renormalised over those
+ * that hold a value. False when none does. cache as for vdbgi_field_get_cached.
+ */
+bool vdbgi_field_trilinear(const vdbgi_field *f, const double pos[3], float rgb[3],
+                           const vdbgi_leaf **cache);
+
 #ifdef __cplusplus
 }
 #endif

@@ -25,12 +25,12 @@ static vdbgi_result write_pair(vdbgi_context *ctx, const char *dir, const char *
     for (size_t i = 0; i < n; i++)
         rgb[i] *= scale;
     snprintf(path, sizeof(path), "%s/%s.exr", dir, name);
-    VDBGI_TRY(vdbgi_image_write(ctx, path, w, h, 3, rgb));
+    VDBGI_TRY(vdbgi_image_write(ctx, path, w, h, 3, rgb, false));
     const float gain = exp2f(exposure);
     for (size_t i = 0; i < n; i++)
         rgb[i] = linear_to_srgb(rgb[i] * gain);
     snprintf(path, sizeof(path), "%s/%s.png", dir, name);
-    return vdbgi_image_write(ctx, path, w, h, 3, rgb);
+    return vdbgi_image_write(ctx, path, w, h, 3, rgb, false);
 }
 
 vdbgi_result vdbgi_volume_write_slices(const vdbgi_volume *v, const vdbgi_probes *probes,
@@ -113,7 +113,7 @@ vdbgi_result vdbgi_volume_write_slices(const vdbgi_volume *v, const vdbgi_probes
     if (r == VDBGI_OK) {
         char path[4096];
         snprintf(path, sizeof(path), "%s/levels.png", dir);
-        r = vdbgi_image_write(ctx, path, w, h, 3, levels);
+        r = vdbgi_image_write(ctx, path, w, h, 3, levels, false);
     }
     vdbgi_free(ctx, baked);
     vdbgi_free(ctx, bricks);

@@ -533,6 +533,89 @@ VDBGI_API vdbgi_result vdbgi_volume_write_slices(const vdbgi_volume *volume,
                                                  const vdbgi_probes *probes, vdbgi_axis axis,
                                                  double at, float exposure, const char *dir);
 
+/* ------------------------------------------------------------------------ */
+/* Bevy irradiance volumes: dense grids of ambient cubes (seeds 001, 002).   */
+
+typedef struct vdbgi_bevy vdbgi_bevy;
+
+typedef enum vdbgi_bevy_format {
+    VDBGI_BEVY_RGBA16F = 0, /* Rgba16Float texels, alpha 1 */
+    VDBGI_BEVY_RGB9E5 = 1   /* Rgb9e5Ufloat texels */
+} vdbgi_bevy_format;
+
+/*
+ * The dense voxel grid of a Bevy irradiance volume. All-zero means defaults:
+ *   resolution:  voxels per axis, each >= 1. (0,0,0) == from voxel_size.
+ *   voxel_size:  metres, > 0, used when resolution is 0. 0 == 4 x spacing.
+ *   box_min/max: world box the volume covers, inside the baked bounds.
+ *                Ignored unless box_is_set; the default is the baked bounds
+ *                (the probes' box plus half a spacing on every side).
+ * Texture limits: layout 1 is (Rx, 2Ry, 3Rz) texels, each at most 2048;
+ * layout 2 is 3Rx x 2RyRz texels, each at most 8192.
+ */
+typedef struct vdbgi_bevy_desc {
+    int resolution[3];
+    double voxel_size;
+    double box_min[3], box_max[3];
+    int box_is_set;
+} vdbgi_bevy_desc;
+
+/*
+ * Resample baked ambient cubes onto the dense grid: each side is filled from
+ * valid probes as the converter fills (docs/converter.md), read trilinearly
+ * at every voxel centre, and voxels with no filled point around them take
+ * the mean of their valued grid neighbours, ring by ring. Fails with
+ * VDBGI_ERR_INVALID_ARG for probes without ambient cubes, a box outside the
+ * baked bounds, a zero or oversized resolution.
+ */
+VDBGI_API vdbgi_result vdbgi_bevy_build(vdbgi_context *ctx, const vdbgi_probes *probes,
+                                        const vdbgi_bevy_desc *desc, vdbgi_bevy **out);
+
+/*
+ * A volume from memory: cube holds, for voxel (x, y, z) at index
+ * (z*Ry + y)*Rx + x, six RGB colours in vdbgi_side order (18 floats). Copied.
+ */
+VDBGI_API vdbgi_result vdbgi_bevy_create(vdbgi_context *ctx, const float *cube,
+                                         const int resolution[3], const double box_min[3],
+                                         const double box_max[3], vdbgi_bevy **out);
+
+VDBGI_API void vdbgi_bevy_destroy(vdbgi_bevy *volume);
+
+typedef struct vdbgi_bevy_info {
+    int resolution[3];
+    double box_min[3], box_max[3];
+    double center[3], size[3]; /* the light probe's Transform: translation, scale */
+    size_t ktx2_texels;        /* Rx * 2Ry * 3Rz */
+    size_t clamped_count;      /* colours clamped by the last write */
+} vdbgi_bevy_info;
+
+VDBGI_API void vdbgi_bevy_get_info(const vdbgi_bevy *volume, vdbgi_bevy_info *info);
+
+/*
+ * Layout 1 (Bevy's IrradianceVolume, seed 001): a 3D texture (Rx, 2Ry, 3Rz)
+ * where side S of voxel (x, y, z) sits at s = x, t = y (+Ry for +X, +Y, +Z),
+ * p = z (+Rz for Y sides, +2Rz for Z sides), in a KTX2 file. NaN and
+ * negative colours are written as 0; colours beyond the format clamp.
+ */
+VDBGI_API vdbgi_result vdbgi_bevy_write_ktx2(vdbgi_bevy *volume, const char *path,
+                                             vdbgi_bevy_format format);
+
+/*
+ * Layout 2 (bevy-baked-gi, seed 002): a linear RGBA8 PNG of 3x2-texel cells,
+ * cell i = (z*Ry + y)*Rx + x at texel (3 (i mod Rx), 2 floor(i / Rx)), the
+ * upper row +X +Y +Z, the lower -X -Y -Z, each colour in the 8-bit shared
+ * exponent encoding C = 2^(255A - 128) (R, G, B). No sRGB conversion.
+ */
+VDBGI_API vdbgi_result vdbgi_bevy_write_baked_gi(vdbgi_bevy *volume, const char *path);
+
+/*
+ * The volume's placement as JSON (resolution, box, the Transform's
+ * translation and scale, the texture's name and layout), for the app that
+ * spawns the LightProbe.
+ */
+VDBGI_API vdbgi_result vdbgi_bevy_write_json(const vdbgi_bevy *volume, const char *path,
+                                             const char *texture, const char *layout);
+
 #ifdef __cplusplus
 }
 #endif

@@ -2,7 +2,8 @@
  * test_encode.c: the texel codecs keep their stated bounds: RGBM decodes
  * within one step of its input and flags what clamps; RGB9E5 within 2^-9 of
  * the largest channel and exact where representable; half floats round to
- * nearest even exactly as the compiler's _Float16 does.
+ * nearest even exactly as the compiler's _Float16 does; bevy-baked-gi's 8-bit
+ * shared exponent picks the most precise exponent and stays within half a step.
  */
 #include "check.h"
 #include "encode.h"
@@ -153,6 +154,54 @@ static void half_matches_the_compilers_float16(void)
     CHECK(vdbgi_half_from_float(-0.0f) == 0x8000);
 }
 
+static void sharedexp8_keeps_the_most_precision(void)
+{
+    for (int i = 0; i < 200000; i++) {
+        float c[3], d[3];
+        uint8_t t[4];
+        random_colour(c, 1e4);
+        CHECK(!vdbgi_sharedexp8_encode(c, t));
+        vdbgi_sharedexp8_decode(t, d);
+        const float mx = fmaxf(c[0], fmaxf(c[1], c[2]));
+        const float step = ldexpf(1.0f, (int)t[3] - 128) / 255.0f;
+        /* The smallest exponent that holds the largest channel: one more and it would not. */
+        CHECK(mx <= ldexpf(1.0f, (int)t[3] - 128) && mx > ldexpf(1.0f, (int)t[3] - 129));
+        for (int k = 0; k < 3; k++)
+            CHECK(fabsf(d[k] - c[k]) <= 0.5f * step * 1.0001f);
+        if (check_test_failures)
+            break;
+    }
+    const float zero[3] = {0, 0, 0}, bad[3] = {NAN, -2.0f, -0.0f}, one[3] = {1.0f, 0.5f, 0.25f};
+    uint8_t t[4];
+    float d[3];
+    vdbgi_sharedexp8_encode(zero, t);
+    CHECK(t[0] == 0 && t[1] == 0 && t[2] == 0 && t[3] == 0);
+    vdbgi_sharedexp8_encode(bad, t);
+    CHECK(t[0] == 0 && t[1] == 0 && t[2] == 0 && t[3] == 0);
+    vdbgi_sharedexp8_encode(one, t);
+    CHECK(t[3] == 128 && t[0] == 255); /* 1.0 = 2^0 x 255/255 */
+    vdbgi_sharedexp8_decode(t, d);
+    CHECK(d[0] == 1.0f);
+    const float huge[3] = {1e38f, 0.0f, 0.0f};
+    CHECK(!vdbgi_sharedexp8_encode(huge, t) && t[3] == 255);
+    const float inf[3] = {INFINITY, 1.0f, 0.0f};
+    CHECK(vdbgi_sharedexp8_encode(inf, t));
+}
+
+static void half_keeps_its_precision_from_1e_minus4_to_1e4(void)
+{
+    for (int i = 0; i < 100000; i++) {
+        float c[3];
+        random_colour(c, 1e4);
+        const float back = vdbgi_half_to_float(vdbgi_half_from_float(c[0]));
+        /* Normal halves (>= 2^-14) hold 11 significant bits; below, a fixed 2^-25 step. */
+        CHECK(fabsf(back - c[0]) <= fmaxf(c[0] * ldexpf(1.0f, -11), ldexpf(1.0f, -25)));
+        if (check_test_failures)
+            break;
+    }
+    CHECK(vdbgi_half_from_float(0.0f) == 0);
+}
+
 int main(void)
 {
     RUN(rgbm_decodes_within_one_step);
@@ -160,5 +209,7 @@ int main(void)
     RUN(rgb9e5_is_within_its_precision);
     RUN(rgb9e5_is_exact_where_representable_and_clamps);
     RUN(half_matches_the_compilers_float16);
+    RUN(sharedexp8_keeps_the_most_precision);
+    RUN(half_keeps_its_precision_from_1e_minus4_to_1e4);
     return CHECK_EXIT();
 }
