@@ -25,7 +25,10 @@ static void usage(void)
            "      --spacing M          probe spacing in metres (0.5)\n"
            "      --margin M           keep probes within M metres of a surface (4 x spacing)\n"
            "      --max-probes N       refuse lattices of more than N probes (50000000)\n"
-           "      --rays N             rays per probe (128)\n"
+           "      --rays N|auto        rays per probe, or auto: batches of 32 until the\n"
+           "                           standard error is below --noise (128)\n"
+           "      --noise T            auto's target, relative to the probe's value (0.02)\n"
+           "      --max-rays N         auto's cap (1024)\n"
            "      --ray-dist M         longest ray in metres (40)\n"
            "      --ambient A          ambient fill received at every hit (0.15)\n"
            "      --sun X,Y,Z          direction towards the sun (0.4,0.8,0.3)\n"
@@ -58,6 +61,8 @@ enum {
     OPT_MARGIN,
     OPT_MAX_PROBES,
     OPT_RAYS,
+    OPT_NOISE,
+    OPT_MAX_RAYS,
     OPT_RAY_DIST,
     OPT_AMBIENT,
     OPT_SUN,
@@ -91,6 +96,8 @@ static int parse_args(int argc, char **argv, options *o)
         {"margin", required_argument, NULL, OPT_MARGIN},
         {"max-probes", required_argument, NULL, OPT_MAX_PROBES},
         {"rays", required_argument, NULL, OPT_RAYS},
+        {"noise", required_argument, NULL, OPT_NOISE},
+        {"max-rays", required_argument, NULL, OPT_MAX_RAYS},
         {"ray-dist", required_argument, NULL, OPT_RAY_DIST},
         {"ambient", required_argument, NULL, OPT_AMBIENT},
         {"sun", required_argument, NULL, OPT_SUN},
@@ -132,10 +139,25 @@ static int parse_args(int argc, char **argv, options *o)
             o->place.max_probes = (uint64_t)i;
             break;
         case OPT_RAYS:
+            if (strcmp(optarg, "auto") == 0) {
+                o->bake.rays = VDBGI_RAYS_AUTO;
+                break;
+            }
             if (!cli_parse_int(optarg, &i) || i < 1 || i > 1000000)
-                return cli_usage_error("--rays must be an integer in 1..1000000 (got '%s')",
+                return cli_usage_error("--rays must be auto or an integer in 1..1000000 (got '%s')",
                                        optarg);
             o->bake.rays = (int)i;
+            break;
+        case OPT_NOISE:
+            if (!cli_parse_double(optarg, &d) || !(d > 0.0) || !isfinite(d))
+                return cli_usage_error("--noise must be a number > 0 (got '%s')", optarg);
+            o->bake.noise = (float)d;
+            break;
+        case OPT_MAX_RAYS:
+            if (!cli_parse_int(optarg, &i) || i < 64 || i > 1000000)
+                return cli_usage_error("--max-rays must be an integer in 64..1000000 (got '%s')",
+                                       optarg);
+            o->bake.max_rays = (int)i;
             break;
         case OPT_RAY_DIST:
             if (!cli_parse_double(optarg, &d) || !(d > 0.0) || !isfinite(d))

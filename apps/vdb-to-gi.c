@@ -35,6 +35,8 @@ static void usage(void)
            "                        reproduces every probe it covers within eps; range: when\n"
            "                        its colour range is within eps, as seed 000 (interp)\n"
            "      --encoding E      rgbm (rgba8, range 8, as seed 000) or rgb9e5 (rgbm)\n"
+           "      --noise-sigmas K  allow each block K standard errors of sampling noise\n"
+           "                        (the bake's stderr grid) before it splits; 0 for none (1)\n"
            "      --slices DIR      write slice images (PNG and EXR) into DIR\n"
            "      --slice-axis A    x, y or z (y)\n"
            "      --slice-at M      world coordinate of the slice (the plane with most probes)\n"
@@ -63,6 +65,7 @@ enum {
     OPT_MAX_LEVEL,
     OPT_CRITERION,
     OPT_ENCODING,
+    OPT_NOISE_SIGMAS,
     OPT_SLICES,
     OPT_SLICE_AXIS,
     OPT_SLICE_AT,
@@ -93,6 +96,7 @@ static int parse_args(int argc, char **argv, options *o)
                                           {"max-level", required_argument, NULL, OPT_MAX_LEVEL},
                                           {"criterion", required_argument, NULL, OPT_CRITERION},
                                           {"encoding", required_argument, NULL, OPT_ENCODING},
+                                          {"noise-sigmas", required_argument, NULL, OPT_NOISE_SIGMAS},
                                           {"slices", required_argument, NULL, OPT_SLICES},
                                           {"slice-axis", required_argument, NULL, OPT_SLICE_AXIS},
                                           {"slice-at", required_argument, NULL, OPT_SLICE_AT},
@@ -141,6 +145,12 @@ static int parse_args(int argc, char **argv, options *o)
                 o->convert.encoding = VDBGI_ENCODING_RGB9E5;
             else
                 return cli_usage_error("--encoding must be rgbm or rgb9e5 (got '%s')", optarg);
+            break;
+        case OPT_NOISE_SIGMAS:
+            if (!cli_parse_double(optarg, &d) || !(d >= 0.0) || !isfinite(d) || d > 100.0)
+                return cli_usage_error("--noise-sigmas must be a number in 0..100 (got '%s')",
+                                       optarg);
+            o->convert.noise_sigmas = d == 0.0 ? VDBGI_NONE : (float)d;
             break;
         case OPT_SLICES: o->slices = optarg; break;
         case OPT_SLICE_AXIS:

@@ -12,6 +12,9 @@
 /* The query shape VDBGI_TRACE_AUTO picks: the fastest in docs/performance.md. */
 #define VDBGI_TRACE_BEST VDBGI_TRACE_PACKET16
 
+/* Rays per batch of an adaptive bake: one spherical Fibonacci set, rotated anew each batch. */
+#define ADAPTIVE_BATCH 32
+
 /* Probes handed to a thread at a time: small enough to balance, big enough to amortise. */
 #define CHUNK 32
 
@@ -35,9 +38,17 @@ vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc
     if (!desc)
         desc = &none;
     memset(bp, 0, sizeof(*bp));
-    bp->rays = desc->rays ? desc->rays : 128;
+    bp->adaptive = desc->rays == VDBGI_RAYS_AUTO;
+    bp->rays = desc->rays == 0 || bp->adaptive ? 128 : desc->rays;
     VDBGI_FAIL_IF(ctx, bp->rays < 1 || bp->rays > 1000000, VDBGI_ERR_INVALID_ARG,
                   "rays per probe must be in 1..1000000 (got %d)", desc->rays);
+    bp->noise = desc->noise != 0.0f ? desc->noise : 0.02f;
+    VDBGI_FAIL_IF(ctx, !(bp->noise > 0.0f) || !isfinite(bp->noise), VDBGI_ERR_INVALID_ARG,
+                  "noise target must be > 0 (got %g)", (double)desc->noise);
+    bp->max_rays = desc->max_rays ? desc->max_rays : 1024;
+    VDBGI_FAIL_IF(ctx, bp->max_rays < 2 * ADAPTIVE_BATCH || bp->max_rays > 1000000,
+                  VDBGI_ERR_INVALID_ARG, "max rays must be in %d..1000000 (got %d)",
+                  2 * ADAPTIVE_BATCH, desc->max_rays);
     bp->ray_dist = desc->ray_dist != 0.0f ? desc->ray_dist : 40.0f;
     VDBGI_FAIL_IF(ctx, !(bp->ray_dist > 0.0f) || !isfinite(bp->ray_dist), VDBGI_ERR_INVALID_ARG,
                   "ray distance must be > 0 and finite (got %g)", (double)desc->ray_dist);
@@ -150,40 +161,18 @@ static void random_rotation(uint64_t stream, float m[9])
 
 /* ---- one probe ------------------------------------------------------------- */
 
-/*
- * The six sides from the rays' radiance: side (axis a, sign) weights ray i by
- * max(0, +-d_i[a]), the cosine to the side's normal, and divides by the sum
- * of those weights over the directions actually traced, so that uniform
- * radiance gives itself exactly whatever the direction set.
- */
-static void ambient_cube(const float *radiance, const float *dirs, int n, float out[18])
-{
-    double acc[6][3], wsum[6];
-    memset(acc, 0, sizeof(acc));
-    memset(wsum, 0, sizeof(wsum));
-    for (int i = 0; i < n; i++) {
-        const float *const d = &dirs[3 * i];
-        const float *const L = &radiance[3 * i];
-        /* Misses under a black sky carry nothing: only their weight counts. */
-        const bool dark = L[0] == 0.0f && L[1] == 0.0f && L[2] == 0.0f;
-        for (int a = 0; a < 3; a++) {
-            const int side = 2 * a + (d[a] < 0.0f); /* +a is even, -a odd */
-            const double w = fabs((double)d[a]);
-            wsum[side] += w;
-            if (!dark)
-                for (int k = 0; k < 3; k++)
-                    acc[side][k] += w * (double)L[k];
-        }
-    }
-    for (int side = 0; side < 6; side++)
-        for (int k = 0; k < 3; k++)
-            out[3 * side + k] = wsum[side] > 0.0 ? (float)(acc[side][k] / wsum[side]) : 0.0f;
-}
+/* What a probe's rays add up to, batch after batch. */
+typedef struct probe_sums {
+    double sum[3];   /* radiance, per channel */
+    double sum_sq;   /* squares of the per-ray mean over channels, for the standard error */
+    double cube[6][3], cube_w[6];
+    size_t rays, hits, back, shadow;
+} probe_sums;
 
 typedef struct bake_shared {
     const vdbgi_scene *scene;
     const vdbgi_bake_params *bp;
-    const float *base_dirs; /* rays * 3 */
+    const float *base_dirs; /* rays (or ADAPTIVE_BATCH) * 3 */
     bool shade;             /* false: the bare benchmark loop */
     /* Either a lattice (ijk + origin + spacing) or explicit points. */
     const int32_t *ijk;
@@ -191,7 +180,9 @@ typedef struct bake_shared {
     double origin[3], spacing;
     size_t count;
     float *rgb, *backface;
-    float *cube; /* 18 per probe, or NULL for the scalar basis */
+    float *stderr_;   /* per probe, or NULL */
+    uint32_t *rays;   /* per probe, or NULL */
+    float *cube;      /* 18 per probe, or NULL for the scalar basis */
     /* Work distribution. */
     atomic_size_t next;
     atomic_size_t done;
@@ -202,7 +193,7 @@ typedef struct bake_thread {
     bake_shared *sh;
     float *dir, *sorg;
     float *sun_weight; /* per shadow ray: albedo x falloff x n.sun, RGB */
-    float *radiance;   /* per ray, RGB: kept only for ambient cubes */
+    float *radiance;   /* per ray, RGB: what the ray brings back */
     uint32_t *shadow_ray; /* per shadow ray: the primary ray it continues */
     vdbgi_hit *hits;
     unsigned char *occluded;
@@ -212,49 +203,32 @@ typedef struct bake_thread {
     bool started;
 } bake_thread;
 
-static void bake_probe(bake_thread *th, size_t index)
+/*
+ * Trace n rays from pos along dirs and add what they bring back to *sums:
+ * seed 000's sum, the squares for the standard error, the ambient-cube sides
+ * (each side weights a ray by its cosine to the side's normal and keeps the sum
+ * of weights, so uniform radiance gives itself exactly) and the counts.
+ * Without shading (the bare loop) only the rays and the counts.
+ */
+static void trace_batch(bake_thread *th, const float pos[3], const float *dirs, int n,
+                        probe_sums *sums)
 {
     const bake_shared *const sh = th->sh;
     const vdbgi_bake_params *const bp = sh->bp;
     const vdbgi_scene *const scene = sh->scene;
-    const int n = bp->rays;
-    float pos[3];
-    uint64_t stream;
-    if (sh->ijk) {
-        const int32_t *const c = &sh->ijk[3 * index];
-        for (int k = 0; k < 3; k++)
-            pos[k] = (float)(sh->origin[k] + sh->spacing * c[k]);
-        stream = probe_stream(c[0], c[1], c[2], bp->seed);
-    } else {
-        memcpy(pos, &sh->points[3 * index], sizeof(pos));
-        stream = probe_stream((int32_t)index, 0, 0, bp->seed);
-    }
-    const float *dirs = sh->base_dirs;
-    if (bp->sampling == VDBGI_SAMPLING_RANDOM) {
-        float m[9];
-        random_rotation(stream, m);
-        for (int i = 0; i < n; i++) {
-            const float *const d = &sh->base_dirs[3 * i];
-            for (int r = 0; r < 3; r++)
-                th->dir[3 * i + r] = m[3 * r] * d[0] + m[3 * r + 1] * d[1] + m[3 * r + 2] * d[2];
-        }
-        dirs = th->dir;
-    }
     const vdbgi_ray_batch primary = {pos, dirs, 0, 3, 0.0f, bp->ray_dist, (size_t)n};
     vdbgi_tracer_intersect(scene->tracer, bp->method, &primary, th->hits, th->scratch);
 
-    double acc[3] = {0.0, 0.0, 0.0};
-    size_t shadow_count = 0, hit_count = 0, back_count = 0, miss_count = 0;
+    size_t shadow_count = 0;
     const float off = scene->ray_offset;
     for (int i = 0; i < n; i++) {
         const vdbgi_hit *const h = &th->hits[i];
+        float *const L = &th->radiance[3 * i];
         if (!(h->t < INFINITY)) {
-            miss_count++;
-            if (sh->cube)
-                memcpy(&th->radiance[3 * i], bp->sky, 3 * sizeof(float));
+            memcpy(L, bp->sky, 3 * sizeof(float));
             continue;
         }
-        hit_count++;
+        sums->hits++;
         const float *const d = &dirs[3 * i];
         const vdbgi_tri *const tri = &scene->tris[h->prim];
         const float *const tn = tri->normal;
@@ -262,10 +236,9 @@ static void bake_probe(bake_thread *th, size_t index)
         /* The ray arrives from the side the normal points away from: a back face. */
         const float flip = facing > 0.0f ? -1.0f : 1.0f;
         if (facing > 0.0f && !(tri->flags & VDBGI_TRI_DOUBLE_SIDED))
-            back_count++;
+            sums->back++;
         const float nf[3] = {tn[0] * flip, tn[1] * flip, tn[2] * flip};
         const float ndotl = nf[0] * bp->sun_dir[0] + nf[1] * bp->sun_dir[1] + nf[2] * bp->sun_dir[2];
-        const bool wants_sun = bp->sun_on && ndotl > 0.0f;
         float albedo_w[3] = {0.0f, 0.0f, 0.0f};
         if (sh->shade) {
             float albedo[3];
@@ -274,13 +247,10 @@ static void bake_probe(bake_thread *th, size_t index)
             const float w = 1.0f / (1.0f + q * q); /* q = 0 when falloff is infinite */
             for (int k = 0; k < 3; k++) {
                 albedo_w[k] = albedo[k] * w;
-                acc[k] += (double)(albedo_w[k] * bp->ambient);
+                L[k] = albedo_w[k] * bp->ambient;
             }
-            if (sh->cube)
-                for (int k = 0; k < 3; k++)
-                    th->radiance[3 * i + k] = albedo_w[k] * bp->ambient;
         }
-        if (wants_sun) {
+        if (bp->sun_on && ndotl > 0.0f) {
             float *const so = &th->sorg[3 * shadow_count];
             for (int k = 0; k < 3; k++) {
                 so[k] = pos[k] + h->t * d[k] + off * nf[k];
@@ -296,24 +266,120 @@ static void bake_probe(bake_thread *th, size_t index)
         if (sh->shade)
             for (size_t s = 0; s < shadow_count; s++)
                 if (!th->occluded[s])
-                    for (int k = 0; k < 3; k++) {
-                        acc[k] += (double)th->sun_weight[3 * s + k];
-                        if (sh->cube)
-                            th->radiance[3 * th->shadow_ray[s] + k] += th->sun_weight[3 * s + k];
-                    }
+                    for (int k = 0; k < 3; k++)
+                        th->radiance[3 * th->shadow_ray[s] + k] += th->sun_weight[3 * s + k];
     }
-    th->primary += (uint64_t)n;
-    th->shadow += shadow_count;
-    th->hits_count += hit_count;
-    const float bf = hit_count ? (float)back_count / (float)hit_count : 0.0f;
-    th->invalid += bf > bp->invalid_threshold;
-    if (sh->shade) {
+    sums->rays += (size_t)n;
+    sums->shadow += shadow_count;
+    if (!sh->shade)
+        return;
+    for (int i = 0; i < n; i++) {
+        const float *const L = &th->radiance[3 * i];
         for (int k = 0; k < 3; k++)
-            sh->rgb[3 * index + k] = (float)((acc[k] + (double)miss_count * bp->sky[k]) / n);
-        sh->backface[index] = bf;
-        if (sh->cube)
-            ambient_cube(th->radiance, dirs, n, &sh->cube[18 * index]);
+            sums->sum[k] += L[k];
+        const double l = ((double)L[0] + L[1] + L[2]) / 3.0;
+        sums->sum_sq += l * l;
     }
+    if (sh->cube)
+        for (int i = 0; i < n; i++) {
+            const float *const d = &dirs[3 * i];
+            const float *const L = &th->radiance[3 * i];
+            /* Misses under a black sky carry nothing: only their weight counts. */
+            const bool dark = L[0] == 0.0f && L[1] == 0.0f && L[2] == 0.0f;
+            for (int a = 0; a < 3; a++) {
+                const int side = 2 * a + (d[a] < 0.0f); /* +a is even, -a odd */
+                const double w = fabs((double)d[a]);
+                sums->cube_w[side] += w;
+                if (!dark)
+                    for (int k = 0; k < 3; k++)
+                        sums->cube[side][k] += w * (double)L[k];
+            }
+        }
+}
+
+/* Standard error of a probe's value (the mean over channels), from its sums. */
+static double standard_error(const probe_sums *s)
+{
+    if (s->rays < 2)
+        return 0.0;
+    const double n = (double)s->rays;
+    const double mean = (s->sum[0] + s->sum[1] + s->sum[2]) / 3.0 / n;
+    const double var = (s->sum_sq - n * mean * mean) / (n - 1.0);
+    return var > 0.0 ? sqrt(var / n) : 0.0;
+}
+
+static void rotate_dirs(uint64_t stream, const float *base, int n, float *out)
+{
+    float m[9];
+    random_rotation(stream, m);
+    for (int i = 0; i < n; i++) {
+        const float *const d = &base[3 * i];
+        for (int r = 0; r < 3; r++)
+            out[3 * i + r] = m[3 * r] * d[0] + m[3 * r + 1] * d[1] + m[3 * r + 2] * d[2];
+    }
+}
+
+static void bake_probe(bake_thread *th, size_t index)
+{
+    const bake_shared *const sh = th->sh;
+    const vdbgi_bake_params *const bp = sh->bp;
+    float pos[3];
+    uint64_t stream;
+    if (sh->ijk) {
+        const int32_t *const c = &sh->ijk[3 * index];
+        for (int k = 0; k < 3; k++)
+            pos[k] = (float)(sh->origin[k] + sh->spacing * c[k]);
+        stream = probe_stream(c[0], c[1], c[2], bp->seed);
+    } else {
+        memcpy(pos, &sh->points[3 * index], sizeof(pos));
+        stream = probe_stream((int32_t)index, 0, 0, bp->seed);
+    }
+    probe_sums sums;
+    memset(&sums, 0, sizeof(sums));
+    if (bp->adaptive) {
+        /*
+         * Batches of one Fibonacci set under a new random rotation each, until the
+         * standard error falls below the target (relative to the probe's value,
+         * with a floor for dark probes) or the cap is reached.
+         */
+        for (uint64_t b = 0;; b++) {
+            uint64_t batch_stream = stream + 0x9E3779B97F4A7C15ull * (b + 1);
+            rotate_dirs(splitmix64(&batch_stream), sh->base_dirs, ADAPTIVE_BATCH, th->dir);
+            trace_batch(th, pos, th->dir, ADAPTIVE_BATCH, &sums);
+            if (sums.rays + ADAPTIVE_BATCH > (size_t)bp->max_rays)
+                break;
+            if (sums.rays >= 2 * ADAPTIVE_BATCH) {
+                const double mean = (sums.sum[0] + sums.sum[1] + sums.sum[2]) / 3.0 / (double)sums.rays;
+                if (standard_error(&sums) <= bp->noise * fmax(mean, 1e-3))
+                    break;
+            }
+        }
+    } else if (bp->sampling == VDBGI_SAMPLING_RANDOM) {
+        rotate_dirs(stream, sh->base_dirs, bp->rays, th->dir);
+        trace_batch(th, pos, th->dir, bp->rays, &sums);
+    } else {
+        trace_batch(th, pos, sh->base_dirs, bp->rays, &sums);
+    }
+    th->primary += sums.rays;
+    th->shadow += sums.shadow;
+    th->hits_count += sums.hits;
+    const float bf = sums.hits ? (float)sums.back / (float)sums.hits : 0.0f;
+    th->invalid += bf > bp->invalid_threshold;
+    if (!sh->shade)
+        return;
+    for (int k = 0; k < 3; k++)
+        sh->rgb[3 * index + k] = (float)(sums.sum[k] / (double)sums.rays);
+    sh->backface[index] = bf;
+    if (sh->stderr_)
+        sh->stderr_[index] = (float)standard_error(&sums);
+    if (sh->rays)
+        sh->rays[index] = (uint32_t)sums.rays;
+    if (sh->cube)
+        for (int side = 0; side < 6; side++)
+            for (int k = 0; k < 3; k++)
+                sh->cube[18 * index + 3 * side + k] =
+                    sums.cube_w[side] > 0.0 ? (float)(sums.cube[side][k] / sums.cube_w[side])
+                                            : 0.0f;
 }
 
 /* Take chunks until none are left; returns after the last one or on cancel. */
@@ -370,10 +436,12 @@ static vdbgi_result bake_run(vdbgi_context *ctx, bake_shared *sh, const vdbgi_ba
 {
     const vdbgi_bake_params *const bp = sh->bp;
     const double t0 = vdbgi_now();
-    float *const base_dirs = vdbgi_calloc(ctx, (size_t)bp->rays, 3 * sizeof(float));
+    /* The direction set: all the rays of a probe, or one adaptive batch. */
+    const int set = bp->adaptive ? ADAPTIVE_BATCH : bp->rays;
+    float *const base_dirs = vdbgi_calloc(ctx, (size_t)set, 3 * sizeof(float));
     if (!base_dirs)
         return VDBGI_ERR_OUT_OF_MEMORY;
-    fibonacci_directions(bp->rays, base_dirs);
+    fibonacci_directions(set, base_dirs);
     sh->base_dirs = base_dirs;
     atomic_init(&sh->next, 0);
     atomic_init(&sh->done, 0);
@@ -384,7 +452,7 @@ static vdbgi_result bake_run(vdbgi_context *ctx, bake_shared *sh, const vdbgi_ba
     const int nth = (size_t)bp->threads < chunks ? bp->threads : (chunks ? (int)chunks : 1);
     bake_thread *const ths = vdbgi_calloc(ctx, (size_t)nth, sizeof(*ths));
     vdbgi_result r = ths ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
-    const size_t n = (size_t)bp->rays;
+    const size_t n = (size_t)set;
     for (int t = 0; r == VDBGI_OK && t < nth; t++) {
         bake_thread *const th = &ths[t];
         th->sh = sh;
@@ -392,13 +460,12 @@ static vdbgi_result bake_run(vdbgi_context *ctx, bake_shared *sh, const vdbgi_ba
         th->sorg = vdbgi_calloc(ctx, n, 3 * sizeof(float));
         th->sun_weight = vdbgi_calloc(ctx, n, 3 * sizeof(float));
         th->shadow_ray = vdbgi_calloc(ctx, n, sizeof(uint32_t));
-        if (sh->cube)
-            th->radiance = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+        th->radiance = vdbgi_calloc(ctx, n, 3 * sizeof(float));
         th->hits = vdbgi_calloc(ctx, n, sizeof(vdbgi_hit));
         th->occluded = vdbgi_calloc(ctx, n, 1);
         th->scratch = vdbgi_alloc(ctx, vdbgi_tracer_scratch_size(n));
-        if (!th->dir || !th->sorg || !th->sun_weight || !th->shadow_ray ||
-            (sh->cube && !th->radiance) || !th->hits ||
+        if (!th->dir || !th->sorg || !th->sun_weight || !th->shadow_ray || !th->radiance ||
+            !th->hits ||
             !th->occluded || !th->scratch)
             r = VDBGI_ERR_OUT_OF_MEMORY;
     }
@@ -451,7 +518,11 @@ static void record_settings(vdbgi_probes *p, const vdbgi_scene *scene,
     vdbgi_meta_set_double(p, "spacing", p->spacing);
     vdbgi_meta_set_double(p, "margin", p->margin);
     vdbgi_meta_set_vec3(p, "origin", origin);
-    vdbgi_meta_set_int(p, "rays", bp->rays);
+    vdbgi_meta_set_int(p, "rays", bp->adaptive ? VDBGI_RAYS_AUTO : bp->rays);
+    if (bp->adaptive) {
+        vdbgi_meta_set_double(p, "noise", bp->noise);
+        vdbgi_meta_set_int(p, "max_rays", bp->max_rays);
+    }
     vdbgi_meta_set_double(p, "ray_dist", bp->ray_dist);
     vdbgi_meta_set_double(p, "ambient", bp->ambient);
     vdbgi_meta_set_vec3(p, "sun_dir", bp->sun_dir);
@@ -477,15 +548,20 @@ vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
     float *const backface = vdbgi_calloc(ctx, n, sizeof(float));
     float *const cube =
         bp.basis == VDBGI_BASIS_AMBIENT_CUBE ? vdbgi_calloc(ctx, n, 18 * sizeof(float)) : NULL;
-    if (!rgb || !backface || (bp.basis == VDBGI_BASIS_AMBIENT_CUBE && !cube)) {
+    float *const stderr_ = vdbgi_calloc(ctx, n, sizeof(float));
+    uint32_t *const rays = bp.adaptive ? vdbgi_calloc(ctx, n, sizeof(uint32_t)) : NULL;
+    if (!rgb || !backface || !stderr_ || (bp.basis == VDBGI_BASIS_AMBIENT_CUBE && !cube) ||
+        (bp.adaptive && !rays)) {
         vdbgi_free(ctx, rgb);
         vdbgi_free(ctx, backface);
         vdbgi_free(ctx, cube);
+        vdbgi_free(ctx, stderr_);
+        vdbgi_free(ctx, rays);
         return VDBGI_ERR_OUT_OF_MEMORY;
     }
     bake_shared sh = {.scene = scene, .bp = &bp, .shade = true, .ijk = p->ijk,
                       .spacing = p->spacing, .count = p->count, .rgb = rgb,
-                      .backface = backface, .cube = cube};
+                      .backface = backface, .stderr_ = stderr_, .rays = rays, .cube = cube};
     memcpy(sh.origin, p->origin, sizeof(sh.origin));
     vdbgi_bake_stats st;
     const vdbgi_result r = bake_run(ctx, &sh, desc, &st);
@@ -493,15 +569,21 @@ vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
         vdbgi_free(ctx, rgb);
         vdbgi_free(ctx, backface);
         vdbgi_free(ctx, cube);
+        vdbgi_free(ctx, stderr_);
+        vdbgi_free(ctx, rays);
         return r;
     }
     /* Replace old values only once the new ones are complete. */
     vdbgi_free(ctx, p->rgb);
     vdbgi_free(ctx, p->backface);
     vdbgi_free(ctx, p->cube);
+    vdbgi_free(ctx, p->stderr_);
+    vdbgi_free(ctx, p->rays);
     p->rgb = rgb;
     p->backface = backface;
     p->cube = cube;
+    p->stderr_ = stderr_;
+    p->rays = rays;
     p->invalid_threshold = bp.invalid_threshold;
     p->invalid_count = (size_t)st.invalid_probe_count;
     record_settings(p, scene, &bp, &st);
@@ -517,6 +599,8 @@ vdbgi_result vdbgi_probes_trace_bare(const vdbgi_probes *p, const vdbgi_scene *s
     VDBGI_FAIL_IF(ctx, !scene || !stats, VDBGI_ERR_INVALID_ARG, "no scene or stats given");
     vdbgi_bake_params bp;
     VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, &bp));
+    VDBGI_FAIL_IF(ctx, bp.adaptive, VDBGI_ERR_INVALID_ARG,
+                  "the bare loop needs a fixed ray count: an adaptive one depends on shading");
     bake_shared sh = {.scene = scene, .bp = &bp, .shade = false, .ijk = p->ijk,
                       .spacing = p->spacing, .count = p->count};
     memcpy(sh.origin, p->origin, sizeof(sh.origin));

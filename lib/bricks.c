@@ -18,6 +18,7 @@ typedef struct block_stats {
     float lo[3], hi[3];
     double sum[3];
     uint32_t count; /* filled points summed */
+    float noise;    /* largest standard error of a valid probe in the block */
 } block_stats;
 
 typedef struct level_map {
@@ -87,6 +88,7 @@ static size_t map_insert(level_map *m, const int32_t k[3])
         st->sum[c] = 0.0;
     }
     st->count = 0;
+    st->noise = 0.0f;
     m->table[s] = (uint32_t)i + 1;
     return i;
 }
@@ -99,6 +101,7 @@ static void stats_merge(block_stats *into, const block_stats *from)
         into->sum[c] += from->sum[c];
     }
     into->count += from->count;
+    into->noise = fmaxf(into->noise, from->noise);
 }
 
 /* Largest channel range; 0 for a block with no filled point (it reads its fallback). */
@@ -126,6 +129,7 @@ typedef struct builder {
     level_map levels[4];
     int max_level;
     float tolerance; /* eps * mean irradiance: absolute, per channel */
+    float sigmas;    /* noise allowance: a probe may stray this many standard errors */
     vdbgi_criterion criterion;
     kept_brick *kept;
     size_t kept_count, kept_capacity;
@@ -191,7 +195,7 @@ static void brick_interpolate(float s[6][6][6][3], const int32_t key[3], int lev
 }
 
 /* Unreal's test: does the coarse brick reproduce every filled point it covers within tolerance? */
-static bool interpolation_fits(builder *b, const int32_t key[3], int level)
+static bool interpolation_fits(builder *b, const int32_t key[3], int level, float noise)
 {
     float s[6][6][6][3];
     brick_samples(b, key, level, s);
@@ -216,7 +220,7 @@ static bool interpolation_fits(builder *b, const int32_t key[3], int level)
                                 continue;
                             brick_interpolate(s, key, level, p, got);
                             for (int k = 0; k < 3; k++)
-                                if (fabsf(got[k] - want[k]) > b->tolerance)
+                                if (fabsf(got[k] - want[k]) > b->tolerance + noise)
                                     return false;
                         }
             }
@@ -249,8 +253,13 @@ static vdbgi_result visit(builder *b, const int32_t key[3], int level)
     if (i < 0)
         return VDBGI_OK; /* empty air: no brick */
     const block_stats *const st = &b->levels[level].stats[i];
-    if (level == 0 || stats_range(st) <= b->tolerance ||
-        (b->criterion == VDBGI_CRITERION_INTERP && interpolation_fits(b, key, level)))
+    /*
+     * Sampling noise spreads a flat field over about +-sigmas standard errors,
+     * so that much of the range (twice: both ends) is not the light's doing.
+     */
+    const float noise = b->sigmas * st->noise;
+    if (level == 0 || stats_range(st) - 2.0f * noise <= b->tolerance ||
+        (b->criterion == VDBGI_CRITERION_INTERP && interpolation_fits(b, key, level, noise)))
         return keep(b, key, level);
     for (int c = 0; c < 8; c++) {
         const int32_t child[3] = {2 * key[0] + (c & 1), 2 * key[1] + (c >> 1 & 1),
@@ -305,6 +314,17 @@ static vdbgi_result build_pyramid(builder *b, const int32_t *cells, size_t cell_
                     }
         }
     }
+    /* Each cell's noise: the largest standard error among its valid probes. */
+    const vdbgi_probes *const p = b->probes;
+    for (size_t n = 0; p->stderr_ && n < p->count; n++) {
+        if (p->backface[n] > p->invalid_threshold)
+            continue;
+        const int32_t ck[3] = {vdbgi_floor_div(p->ijk[3 * n], 4), vdbgi_floor_div(p->ijk[3 * n + 1], 4),
+                               vdbgi_floor_div(p->ijk[3 * n + 2], 4)};
+        const long ci = map_find(&b->levels[0], ck);
+        if (ci >= 0)
+            b->levels[0].stats[ci].noise = fmaxf(b->levels[0].stats[ci].noise, p->stderr_[n]);
+    }
     for (int l = 1; l <= b->max_level; l++) {
         const level_map *const fine = &b->levels[l - 1];
         for (size_t i = 0; i < fine->count; i++) {
@@ -321,7 +341,7 @@ static vdbgi_result build_pyramid(builder *b, const int32_t *cells, size_t cell_
 /* ---- packing, encoding, error ---------------------------------------------- */
 
 static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *desc, float *eps,
-                                 int *max_level, vdbgi_criterion *criterion,
+                                 float *sigmas, int *max_level, vdbgi_criterion *criterion,
                                  vdbgi_encoding *encoding)
 {
     const vdbgi_convert_desc none = {0};
@@ -330,6 +350,11 @@ static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *d
     *eps = desc->eps == 0.0f ? 0.1f : desc->eps == VDBGI_NONE ? 0.0f : desc->eps;
     VDBGI_FAIL_IF(ctx, !(*eps >= 0.0f) || !isfinite(*eps), VDBGI_ERR_INVALID_ARG,
                   "eps must be >= 0 and finite (got %g)", (double)desc->eps);
+    *sigmas = desc->noise_sigmas == 0.0f ? 1.0f
+              : desc->noise_sigmas == VDBGI_NONE ? 0.0f
+                                                 : desc->noise_sigmas;
+    VDBGI_FAIL_IF(ctx, !(*sigmas >= 0.0f) || !isfinite(*sigmas), VDBGI_ERR_INVALID_ARG,
+                  "noise allowance must be >= 0 standard errors (got %g)", (double)desc->noise_sigmas);
     const int levels = desc->levels ? desc->levels : 4;
     VDBGI_FAIL_IF(ctx, levels < 1 || levels > 4, VDBGI_ERR_INVALID_ARG,
                   "max level must be in 0..3 (got %d)", levels - 1);
@@ -585,7 +610,7 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     builder b = {.ctx = ctx, .probes = probes};
     float eps = 0.0f;
     vdbgi_encoding encoding = VDBGI_ENCODING_RGBM;
-    VDBGI_TRY(resolve_desc(ctx, desc, &eps, &b.max_level, &b.criterion, &encoding));
+    VDBGI_TRY(resolve_desc(ctx, desc, &eps, &b.sigmas, &b.max_level, &b.criterion, &encoding));
     VDBGI_FAIL_IF(ctx, !probes->rgb, VDBGI_ERR_FORMAT, "probes have no values: bake them first");
     VDBGI_FAIL_IF(ctx, probes->count == 0, VDBGI_ERR_FORMAT, "the grid holds no probes");
 

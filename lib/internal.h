@@ -182,6 +182,8 @@ struct vdbgi_probes {
     float *rgb;       /* 3 per probe, NULL until baked or read */
     float *backface;  /* per probe */
     float *cube;      /* 18 per probe (6 sides x RGB, vdbgi_side order), or NULL */
+    float *stderr_;   /* per probe: standard error of the value, or NULL (not baked) */
+    uint32_t *rays;   /* per probe: rays traced, or NULL (every probe had desc->rays) */
     float invalid_threshold;
     size_t invalid_count;
     vdbgi_meta meta[VDBGI_META_CAPACITY];
@@ -199,6 +201,9 @@ const vdbgi_meta *vdbgi_meta_find(const vdbgi_probes *probes, const char *name);
 /* Resolved estimator settings (defaults applied, sun normalised). */
 typedef struct vdbgi_bake_params {
     int rays;
+    bool adaptive;   /* rays in batches until the noise target or max_rays */
+    float noise;
+    int max_rays;
     float ray_dist, ambient, falloff, invalid_threshold;
     float sun_dir[3], sun_color[3], sky[3];
     bool sun_on;

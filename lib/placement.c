@@ -38,6 +38,8 @@ void vdbgi_probes_destroy(vdbgi_probes *p)
     vdbgi_free(p->ctx, p->rgb);
     vdbgi_free(p->ctx, p->backface);
     vdbgi_free(p->ctx, p->cube);
+    vdbgi_free(p->ctx, p->stderr_);
+    vdbgi_free(p->ctx, p->rays);
     vdbgi_free(p->ctx, p);
 }
 
@@ -192,6 +194,20 @@ vdbgi_result vdbgi_probes_get(const vdbgi_probes *p, size_t index, int32_t ijk[3
             rgb[k] = p->rgb ? p->rgb[3 * index + k] : 0.0f;
     if (backface)
         *backface = p->backface ? p->backface[index] : 0.0f;
+    return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_probes_get_noise(const vdbgi_probes *p, size_t index, float *stderr_out,
+                                    uint32_t *rays_out)
+{
+    VDBGI_FAIL_IF(p->ctx, index >= p->count, VDBGI_ERR_INVALID_ARG,
+                  "probe index %zu out of range (%zu probes)", index, p->count);
+    const vdbgi_meta *const m = vdbgi_meta_find(p, "rays");
+    if (stderr_out)
+        *stderr_out = p->stderr_ ? p->stderr_[index] : 0.0f;
+    if (rays_out)
+        *rays_out = p->rays ? p->rays[index]
+                            : (m && m->type == VDBGI_META_INT && m->i > 0 ? (uint32_t)m->i : 0);
     return VDBGI_OK;
 }
 

@@ -11,6 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <algorithm>
 #include <array>
 #include <cstdlib>
 #include <cstring>
@@ -146,6 +147,28 @@ extern "C" vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path,
         }
     }
     openvdb::GridPtrVec grids{irr, val};
+    if (p->stderr_ || p->rays) {
+        // Sampling noise per probe, and the rays an adaptive bake spent on it.
+        auto se = openvdb::FloatGrid::create(0.0f);
+        auto rays = openvdb::Int32Grid::create(0);
+        se->setName("stderr");
+        rays->setName("rays");
+        se->setTransform(xf->copy());
+        rays->setTransform(xf->copy());
+        auto sa = se->getAccessor();
+        auto ra = rays->getAccessor();
+        for (size_t n = 0; n < p->count; n++) {
+            const openvdb::Coord c(p->ijk[3 * n], p->ijk[3 * n + 1], p->ijk[3 * n + 2]);
+            if (p->stderr_)
+                sa.setValue(c, p->stderr_[n]);
+            if (p->rays)
+                ra.setValue(c, int32_t(p->rays[n]));
+        }
+        if (p->stderr_)
+            grids.push_back(se);
+        if (p->rays)
+            grids.push_back(rays);
+    }
     if (p->cube) {
         // Ambient-cube sides: one Vec3s grid each, sharing the topology.
         for (int side = 0; side < 6; side++) {
@@ -189,7 +212,7 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: no grid named 'irradiance'", path);
     openvdb::GridBase::Ptr base;
     openvdb::GridBase::Ptr vbase;
-    openvdb::GridBase::Ptr sides[6];
+    openvdb::GridBase::Ptr sides[6], sebase, raysbase;
     bool has_cube = true;
     for (int side = 0; side < 6; side++)
         has_cube = has_cube && file.hasGrid(side_grid_names[side]);
@@ -199,6 +222,10 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
             vbase = file.readGrid("validity");
         for (int side = 0; has_cube && side < 6; side++)
             sides[side] = file.readGrid(side_grid_names[side]);
+        if (file.hasGrid("stderr"))
+            sebase = file.readGrid("stderr");
+        if (file.hasGrid("rays"))
+            raysbase = file.readGrid("rays");
     } catch (const openvdb::Exception &e) {
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: damaged grid data (%s)", path, e.what());
     }
@@ -231,6 +258,11 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     p->spacing = vs.x();
     p->origin[0] = o.x(), p->origin[1] = o.y(), p->origin[2] = o.z();
     read_meta(*irr, p);
+    const auto se = openvdb::gridPtrCast<openvdb::FloatGrid>(sebase);
+    const auto rays = openvdb::gridPtrCast<openvdb::Int32Grid>(raysbase);
+    if ((se && !(p->stderr_ = (float *)vdbgi_calloc(ctx, count ? count : 1, sizeof(float)))) ||
+        (rays && !(p->rays = (uint32_t *)vdbgi_calloc(ctx, count ? count : 1, sizeof(uint32_t)))))
+        return VDBGI_ERR_OUT_OF_MEMORY;
     if (has_cube && !(p->cube = (float *)vdbgi_calloc(ctx, count ? count : 1, 18 * sizeof(float))))
         return VDBGI_ERR_OUT_OF_MEMORY;
     auto va = val ? std::make_unique<openvdb::FloatGrid::ConstAccessor>(val->getConstAccessor())
@@ -242,6 +274,20 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
         p->ijk[3 * n] = c.x(), p->ijk[3 * n + 1] = c.y(), p->ijk[3 * n + 2] = c.z();
         p->rgb[3 * n] = v.x(), p->rgb[3 * n + 1] = v.y(), p->rgb[3 * n + 2] = v.z();
         p->backface[n] = va ? va->getValue(c) : 0.0f;
+    }
+    if (se || rays) {
+        // Grids of another type under these names are not ours: left as absent.
+        openvdb::FloatGrid::Ptr se_or_empty = se ? se : openvdb::FloatGrid::create();
+        openvdb::Int32Grid::Ptr rays_or_empty = rays ? rays : openvdb::Int32Grid::create();
+        const auto sa = se_or_empty->getConstAccessor();
+        const auto ra = rays_or_empty->getConstAccessor();
+        for (size_t i = 0; i < n; i++) {
+            const openvdb::Coord c(p->ijk[3 * i], p->ijk[3 * i + 1], p->ijk[3 * i + 2]);
+            if (se)
+                p->stderr_[i] = sa.getValue(c);
+            if (rays)
+                p->rays[i] = uint32_t(std::max(0, ra.getValue(c)));
+        }
     }
     for (int side = 0; has_cube && side < 6; side++) {
         const auto a = side_grids[side]->getConstAccessor();

@@ -264,6 +264,11 @@ typedef enum vdbgi_trace_method {
 /*
  * The irradiance estimator of seed 000. All-zero means the defaults:
  *   rays:        directions per probe, 1..1 000 000. 0 == 128.
+ *                VDBGI_RAYS_AUTO: batches of 32 (a Fibonacci set under a new
+ *                random rotation each) until the probe's standard error is at
+ *                most noise x max(its value, 1e-3), or max_rays.
+ *   noise:       the target of VDBGI_RAYS_AUTO, relative, > 0. 0 == 0.02.
+ *   max_rays:    the cap of VDBGI_RAYS_AUTO, 64..1 000 000. 0 == 1024.
  *   ray_dist:    longest ray, metres, > 0. 0 == 40.
  *   ambient:     fill light added at every hit, >= 0. 0 == 0.15;
  *                VDBGI_NONE for no fill.
@@ -289,8 +294,12 @@ typedef enum vdbgi_trace_method {
  *                most about 100 times; a non-zero return stops the bake with
  *                VDBGI_ERR_CANCELLED. May be NULL.
  */
+#define VDBGI_RAYS_AUTO (-1)
+
 typedef struct vdbgi_bake_desc {
     int rays;
+    float noise;
+    int max_rays;
     float ray_dist;
     float ambient;
     float sun_dir[3];
@@ -341,15 +350,19 @@ VDBGI_API vdbgi_result vdbgi_bake_points(vdbgi_context *ctx, const vdbgi_scene *
  * For benchmarks: trace exactly the rays the bake would (primary rays, then a
  * shadow ray from each hit whose facing normal sees the sun) with no shading,
  * on desc's threads and trace_method. Fills stats; no probe value changes.
+ * An adaptive ray count (VDBGI_RAYS_AUTO) depends on the shading, so it is
+ * refused with VDBGI_ERR_INVALID_ARG.
  */
 VDBGI_API vdbgi_result vdbgi_probes_trace_bare(const vdbgi_probes *probes, const vdbgi_scene *scene,
                                                const vdbgi_bake_desc *desc,
                                                vdbgi_bake_stats *stats);
 
 /*
- * Write an OpenVDB file: a Vec3s grid "irradiance" (linear RGB) and a float
+ * Write an OpenVDB file: a Vec3s grid "irradiance" (linear RGB), a float
  * grid "validity" (back-face fraction; above the stored invalid_threshold
- * means invalid), both with a linear transform of voxel size = spacing and
+ * means invalid), a float grid "stderr" (each probe's standard error), an
+ * Int32 grid "rays" when the count was adaptive, six Vec3s grids with
+ * ambient cubes, all with a linear transform of voxel size = spacing and
  * translation = origin, and the bake settings, scene name, triangle count,
  * probe count and bake time as metadata of both grids. The file is written
  * to a temporary name beside path and renamed when complete: a failure never
@@ -402,6 +415,14 @@ VDBGI_API vdbgi_result vdbgi_probes_sample(const vdbgi_probes *probes, const flo
  * VDBGI_ERR_INVALID_ARG for an index out of range or probes baked (or read)
  * without the ambient-cube basis.
  */
+/*
+ * Probe number index's standard error (of its value, the mean over channels,
+ * estimated from the spread of its rays) and the rays it took. Either
+ * pointer may be NULL. VDBGI_ERR_INVALID_ARG out of range.
+ */
+VDBGI_API vdbgi_result vdbgi_probes_get_noise(const vdbgi_probes *probes, size_t index,
+                                              float *stderr_out, uint32_t *rays_out);
+
 VDBGI_API vdbgi_result vdbgi_probes_get_cube(const vdbgi_probes *probes, size_t index,
                                              float cube[6][3]);
 
@@ -437,10 +458,18 @@ typedef enum vdbgi_criterion {
  *   levels:     brick levels allowed, 1..4 (max level + 1). 0 == 4.
  *   criterion:  see vdbgi_criterion.
  *   encoding:   see vdbgi_encoding.
+ *   noise_sigmas: sampling-noise allowance, in standard errors (the bake's
+ *               "stderr" grid): a block's range is discounted by twice this
+ *               many times its noisiest valid probe's standard error, and the
+ *               interpolation test allows it once. >= 0. 0 == 1 (the
+ *               bake's estimate assumes independent rays and overstates the
+ *               error of its rotated Fibonacci sets 1.7-3.6x: docs/stability.md);
+ *               VDBGI_NONE for no allowance.
  *   progress:   as vdbgi_bake_desc's; may be NULL.
  */
 typedef struct vdbgi_convert_desc {
     float eps;
+    float noise_sigmas;
     int levels;
     vdbgi_criterion criterion;
     vdbgi_encoding encoding;

@@ -364,7 +364,7 @@ static void bad_bake_parameters_are_refused(void)
     float rgb[3];
     vdbgi_bake_desc bad[14];
     memset(bad, 0, sizeof(bad));
-    bad[0].rays = -1;
+    bad[0].rays = -2;
     bad[1].rays = 2000000;
     bad[2].ray_dist = -1.0f;
     bad[3].ambient = -0.5f;
@@ -571,6 +571,115 @@ static void ambient_cube_in_uniform_surroundings_agrees_and_keeps_the_scalar(voi
     vdbgi_context_destroy(ctx);
 }
 
+static void adaptive_rays_stop_early_where_light_is_even(void)
+{
+    vdbgi_context *ctx = test_context();
+    /* A closed room, sun off, no falloff: every ray of an inside probe brings the same value. */
+    test_mesh walls = {0}, pillar = {0};
+    const float lo[3] = {-3, -3, -3}, hi[3] = {3, 3, 3};
+    const float plo[3] = {1.0f, -3.0f, 1.0f}, phi[3] = {1.4f, 3.0f, 1.4f};
+    test_mesh_box(&walls, lo, hi, 1);
+    test_mesh_box(&pillar, plo, phi, 0);
+    const vdbgi_mesh_desc md[2] = {test_mesh_desc(&walls, 0.5f, 0), test_mesh_desc(&pillar, 0.9f, 0)};
+    vdbgi_scene *s = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, md, 1, &s), VDBGI_OK);
+    vdbgi_probes *p = NULL;
+    const vdbgi_place_desc pd = {.spacing = 1.0, .margin = 8.0};
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
+    vdbgi_bake_desc d = {.rays = VDBGI_RAYS_AUTO, .falloff = INFINITY, .threads = 1};
+    d.sun_color[0] = VDBGI_NONE;
+    vdbgi_bake_stats st;
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &d, &st), VDBGI_OK);
+    vdbgi_probes_info info;
+    vdbgi_probes_get_info(p, &info);
+    for (size_t i = 0; i < info.probe_count; i++) {
+        float se;
+        uint32_t rays;
+        float bf;
+        vdbgi_probes_get(p, i, NULL, NULL, &bf);
+        vdbgi_probes_get_noise(p, i, &se, &rays);
+        if (bf == 0.0f)
+            CHECK(se < 1e-6f && rays == 64); /* two batches: the least it takes */
+    }
+    CHECK(st.primary_ray_count < 64u * info.probe_count + 64u * info.invalid_count * 16u);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
+    /* With the pillar the light varies: probes take more rays, up to the cap, the same on any thread count. */
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, md, 2, &s), VDBGI_OK);
+    vdbgi_probes *q[2] = {NULL, NULL};
+    d.sun_color[0] = 0.0f; /* the sun on: its shadow of the pillar varies the most */
+    d.max_rays = 512;
+    for (int t = 0; t < 2; t++) {
+        CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &q[t]), VDBGI_OK);
+        d.threads = t + 1;
+        CHECK_RESULT(ctx, vdbgi_probes_bake(q[t], s, &d, NULL), VDBGI_OK);
+    }
+    uint32_t most = 0, least = UINT32_MAX;
+    int same = 1;
+    vdbgi_probes_get_info(q[0], &info);
+    for (size_t i = 0; i < info.probe_count; i++) {
+        float a[3], b[3], sa, sb;
+        uint32_t ra, rb;
+        vdbgi_probes_get(q[0], i, NULL, a, NULL);
+        vdbgi_probes_get(q[1], i, NULL, b, NULL);
+        vdbgi_probes_get_noise(q[0], i, &sa, &ra);
+        vdbgi_probes_get_noise(q[1], i, &sb, &rb);
+        same &= memcmp(a, b, sizeof(a)) == 0 && sa == sb && ra == rb;
+        most = ra > most ? ra : most;
+        least = ra < least ? ra : least;
+        CHECK(ra >= 64 && ra <= 512 && ra % 32 == 0);
+    }
+    CHECK(same && most == 512 && least == 64);
+    const vdbgi_bake_desc fixed = {.rays = VDBGI_RAYS_AUTO};
+    CHECK_RESULT(ctx, vdbgi_probes_trace_bare(q[0], s, &fixed, &st), VDBGI_ERR_INVALID_ARG);
+    const vdbgi_bake_desc bad[3] = {{.rays = VDBGI_RAYS_AUTO, .noise = -1.0f},
+                                    {.rays = VDBGI_RAYS_AUTO, .max_rays = 10},
+                                    {.rays = -7}};
+    for (int i = 0; i < 3; i++)
+        CHECK_RESULT(ctx, vdbgi_probes_bake(q[0], s, &bad[i], NULL), VDBGI_ERR_INVALID_ARG);
+    vdbgi_probes_destroy(q[0]);
+    vdbgi_probes_destroy(q[1]);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+static void standard_error_tracks_the_actual_error(void)
+{
+    /* Above the plane the closed form is the truth: the stored standard error should bound the
+       actual error of random sampling, without overstating it by an order of magnitude. */
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = plane_scene(ctx, 24.0f);
+    const vdbgi_place_desc pd = {.spacing = 0.5, .margin = 2.0};
+    vdbgi_probes *p = NULL;
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
+    const vdbgi_bake_desc d = plane_desc(64, 10.0f, 4.0f, VDBGI_SAMPLING_RANDOM);
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &d, NULL), VDBGI_OK);
+    vdbgi_probes_info info;
+    vdbgi_probes_get_info(p, &info);
+    double err2 = 0.0, se2 = 0.0;
+    size_t n = 0;
+    for (size_t i = 0; i < info.probe_count; i++) {
+        int32_t ijk[3];
+        float rgb[3], se;
+        vdbgi_probes_get(p, i, ijk, rgb, NULL);
+        vdbgi_probes_get_noise(p, i, &se, NULL);
+        const double x = info.origin[0] + 0.5 * ijk[0], y = info.origin[1] + 0.5 * ijk[1],
+                     z = info.origin[2] + 0.5 * ijk[2];
+        if (y < 0.0 || fabs(x) > 1.5 || fabs(z) > 1.5) /* the plane reaches past ray_dist */
+            continue;
+        const double want = plane_closed_form(y, 10.0, 4.0, 1.0);
+        err2 += (rgb[0] - want) * (rgb[0] - want);
+        se2 += (double)se * se;
+        n++;
+    }
+    const double ratio = sqrt(err2 / se2);
+    CHECK(n == 6 * 6 * 4);
+    CHECK(ratio > 0.1 && ratio < 1.0);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
 int main(void)
 {
     RUN(probe_above_plane_matches_closed_form_fibonacci);
@@ -589,5 +698,7 @@ int main(void)
     RUN(failing_allocations_are_reported_without_leaks);
     RUN(ambient_cube_above_a_plane_matches_closed_form);
     RUN(ambient_cube_in_uniform_surroundings_agrees_and_keeps_the_scalar);
+    RUN(adaptive_rays_stop_early_where_light_is_even);
+    RUN(standard_error_tracks_the_actual_error);
     return CHECK_EXIT();
 }
