@@ -611,6 +611,19 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     float eps = 0.0f;
     vdbgi_encoding encoding = VDBGI_ENCODING_RGBM;
     VDBGI_TRY(resolve_desc(ctx, desc, &eps, &b.sigmas, &b.max_level, &b.criterion, &encoding));
+    /*
+     * A fixed Fibonacci set gives every probe the same directions: its error is a bias
+     * shared by neighbours, not noise, and its standard error is no measure of it. The
+     * default allowance applies to random and adaptive bakes only.
+     */
+    const vdbgi_meta *const sampling = vdbgi_meta_find(probes, "sampling");
+    const vdbgi_meta *const rays_meta = vdbgi_meta_find(probes, "rays");
+    const bool fixed_set = sampling && sampling->type == VDBGI_META_STRING &&
+                           strcmp(sampling->text, "fibonacci") == 0 &&
+                           !(rays_meta && rays_meta->type == VDBGI_META_INT &&
+                             rays_meta->i == VDBGI_RAYS_AUTO);
+    if (fixed_set && (!desc || desc->noise_sigmas == 0.0f))
+        b.sigmas = 0.0f;
     VDBGI_FAIL_IF(ctx, !probes->rgb, VDBGI_ERR_FORMAT, "probes have no values: bake them first");
     VDBGI_FAIL_IF(ctx, probes->count == 0, VDBGI_ERR_FORMAT, "the grid holds no probes");
 

@@ -461,10 +461,11 @@ typedef enum vdbgi_criterion {
  *   noise_sigmas: sampling-noise allowance, in standard errors (the bake's
  *               "stderr" grid): a block's range is discounted by twice this
  *               many times its noisiest valid probe's standard error, and the
- *               interpolation test allows it once. >= 0. 0 == 1 (the
- *               bake's estimate assumes independent rays and overstates the
- *               error of its rotated Fibonacci sets 1.7-3.6x: docs/stability.md);
- *               VDBGI_NONE for no allowance.
+ *               interpolation test allows it once. >= 0. 0 == 1 for random
+ *               and adaptive bakes (the estimate assumes independent rays and
+ *               overstates a rotated Fibonacci set's error 1.7-3.6x:
+ *               docs/stability.md) and 0 for the fixed Fibonacci set, whose
+ *               error is a shared bias, not noise; VDBGI_NONE for none.
  *   progress:   as vdbgi_bake_desc's; may be NULL.
  */
 typedef struct vdbgi_convert_desc {
