@@ -75,12 +75,12 @@ TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 
 DEB_PACKAGES := gcc g++ make pkg-config libopenvdb-dev libboost-dev libimath-dev libtbb-dev \
                 libembree-dev libopenimageio-dev libassimp-dev zlib1g-dev libdeflate-dev libopenvdb-tools \
-                python3 python3-openvdb openimageio-tools
+                python3 python3-openvdb openimageio-tools gnuplot-nox
 
 # Keep object files of apps and tests (make would delete them as intermediates).
 .SECONDARY:
 
-.PHONY: all lib apps tests check demo bench deps asan install uninstall clean format list
+.PHONY: all lib apps tests check demo bench chart deps asan install uninstall clean format list
 
 ## all: build the library and the apps (default)
 all: lib apps
@@ -176,6 +176,12 @@ bench:
 	$(Q)$(MAKE) --no-print-directory deps
 	$(Q)$(MAKE) --no-print-directory all
 	$(Q)BUILD=$(BUILD) sh tests/bench.sh
+
+## chart: sweep rays, eps and spacing, redraw docs/img/chart_*.png (a minute or two)
+chart:
+	$(Q)$(MAKE) --no-print-directory deps
+	$(Q)$(MAKE) --no-print-directory all
+	$(Q)BUILD=$(BUILD) sh tests/chart.sh
 
 ## install: vdbgi.h, libvdbgi.a, vdbgi.pc and the apps under $(DESTDIR)$(PREFIX)
 install: all

@@ -28,7 +28,7 @@ static void usage(void)
            "      --rays N|auto        rays per probe, or auto: batches of 32 until the\n"
            "                           standard error is below --noise (128)\n"
            "      --noise T            auto's target, relative to the probe's value (0.02)\n"
-           "      --max-rays N         auto's cap (1024)\n"
+           "      --max-rays N         auto's cap, a power of two (1024)\n"
            "      --ray-dist M         longest ray in metres (40)\n"
            "      --ambient A          ambient fill received at every hit (0.15)\n"
            "      --sun X,Y,Z          direction towards the sun (0.4,0.8,0.3)\n"
@@ -154,8 +154,8 @@ static int parse_args(int argc, char **argv, options *o)
             o->bake.noise = (float)d;
             break;
         case OPT_MAX_RAYS:
-            if (!cli_parse_int(optarg, &i) || i < 64 || i > 1000000)
-                return cli_usage_error("--max-rays must be an integer in 64..1000000 (got '%s')",
+            if (!cli_parse_int(optarg, &i) || i < 64 || i > (1 << 20) || (i & (i - 1)))
+                return cli_usage_error("--max-rays must be a power of two in 64..1048576 (got '%s')",
                                        optarg);
             o->bake.max_rays = (int)i;
             break;

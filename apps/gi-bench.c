@@ -3,7 +3,9 @@
 #include "cli.h"
 #include "vdbgi.h"
 
+#include <errno.h>
 #include <fcntl.h>
+#include <math.h>
 #include <getopt.h>
 #include <limits.h>
 #include <spawn.h>
@@ -35,20 +37,28 @@ static void usage(void)
            "default in RGB9E5; print bytes against the dense RGBA8 grid, the error, and the\n"
            "conversion time against the read.\n"
            "\n"
+           "sweep: speed against accuracy on SCENE, as CSV files in --out: rays.csv (rays\n"
+           "16..1024 per sampling, and adaptive targets, against a 4096-ray random bake of\n"
+           "the same probes at 1 m), size.csv (bytes against error over eps, max level,\n"
+           "criterion and encoding), spacing.csv (0.25..2 m: probes, time, bytes, and\n"
+           "the error at 3000 points on the surfaces, against 2048-ray estimates there).\n"
+           "\n"
            "Options:\n"
            "      --spacing M     probe spacing in metres (0.5)\n"
            "      --rays N        rays per probe (128)\n"
            "      --threads N     worker threads (all cores)\n"
            "      --repeat N      runs of each measurement, fastest kept (3)\n"
            "      --gi-bake PATH  the gi-bake to time (the one beside gi-bench)\n"
-           "      --out FILE      where gi-bake writes its .vdb (a temporary file)\n"
+           "      --out PATH      bake: where gi-bake writes its .vdb (a temporary file);\n"
+           "                      sweep: the directory for the CSV files (build/chart)\n"
            "  -h, --help          print this help and exit\n"
            "      --version       print the version and exit\n"
            "\n"
            "Examples:\n"
            "  gi-bench bake data/world.glb\n"
            "  gi-bench bake world200.glb --repeat 1\n"
-           "  gi-bench convert world.vdb\n");
+           "  gi-bench convert world.vdb\n"
+           "  gi-bench sweep data/world.glb --out build/chart\n");
 }
 
 typedef struct options {
@@ -106,8 +116,10 @@ static int parse_args(int argc, char **argv, options *o)
         }
     }
     if (optind == argc ||
-        (strcmp(argv[optind], "bake") != 0 && strcmp(argv[optind], "convert") != 0))
-        return cli_usage_error("say which benchmark: gi-bench bake SCENE, or gi-bench convert PROBES.vdb");
+        (strcmp(argv[optind], "bake") != 0 && strcmp(argv[optind], "convert") != 0 &&
+         strcmp(argv[optind], "sweep") != 0))
+        return cli_usage_error("say which benchmark: gi-bench bake SCENE, convert PROBES.vdb "
+                               "or sweep SCENE");
     if (argc - optind != 2)
         return cli_usage_error("give one input: gi-bench %s FILE", argv[optind]);
     o->mode = argv[optind];
@@ -213,6 +225,241 @@ static int bench_convert(const options *o)
     return code;
 }
 
+/* ---- sweep ------------------------------------------------------------------ */
+
+typedef struct sweep {
+    vdbgi_context *ctx;
+    const options *o;
+    vdbgi_scene *scene;
+    FILE *csv;
+} sweep;
+
+static FILE *open_csv(const char *dir, const char *name, const char *header)
+{
+    char path[4096];
+    snprintf(path, sizeof(path), "%s/%s", dir, name);
+    FILE *const f = fopen(path, "w");
+    if (f)
+        fprintf(f, "%s\n", header);
+    else
+        cli_error("%s: cannot write", path);
+    return f;
+}
+
+/* RMSE and mean of b against a over n RGB values, relative to a's mean. */
+static void compare(const float *a, const float *b, size_t n, double *rmse_rel, double *p99_rel)
+{
+    double sq = 0.0, mean = 0.0;
+    double *const e = calloc(n ? n : 1, sizeof(double));
+    for (size_t i = 0; i < n; i++) {
+        double worst = 0.0;
+        for (int k = 0; k < 3; k++) {
+            const double d = (double)b[3 * i + k] - a[3 * i + k];
+            sq += d * d;
+            mean += a[3 * i + k];
+            worst = fabs(d) > worst ? fabs(d) : worst;
+        }
+        if (e)
+            e[i] = worst;
+    }
+    mean /= 3.0 * (double)(n ? n : 1);
+    *rmse_rel = sqrt(sq / (3.0 * (double)(n ? n : 1))) / mean;
+    *p99_rel = 0.0;
+    if (e && n) {
+        for (size_t i = 1; i < n; i++) /* insertion sort is enough for a few thousand */
+            for (size_t j = i; j > 0 && e[j - 1] > e[j]; j--) {
+                const double t = e[j];
+                e[j] = e[j - 1], e[j - 1] = t;
+            }
+        *p99_rel = e[(size_t)(0.99 * (double)(n - 1))] / mean;
+    }
+    free(e);
+}
+
+static int sweep_rays(sweep *w, const char *dir)
+{
+    vdbgi_context *const ctx = w->ctx;
+    const vdbgi_place_desc pd = {.spacing = 1.0};
+    vdbgi_probes *p = NULL;
+    vdbgi_result r = vdbgi_probes_place(ctx, w->scene, &pd, &p);
+    if (r != VDBGI_OK)
+        return cli_fail(ctx, r);
+    vdbgi_probes_info pi;
+    vdbgi_probes_get_info(p, &pi);
+    const size_t n = pi.probe_count;
+    float *const ref = calloc(n * 3, sizeof(float)), *const got = calloc(n * 3, sizeof(float));
+    const vdbgi_bake_desc rd = {.rays = 4096, .sampling = VDBGI_SAMPLING_RANDOM, .seed = 99};
+    r = vdbgi_probes_bake(p, w->scene, &rd, NULL);
+    /* Only probes that are valid in the reference count: the others are filled anyway. */
+    size_t m = 0;
+    unsigned char *const valid = calloc(n ? n : 1, 1);
+    for (size_t i = 0; r == VDBGI_OK && i < n; i++) {
+        float bf;
+        vdbgi_probes_get(p, i, NULL, &ref[3 * m], &bf);
+        valid[i] = bf <= pi.invalid_threshold;
+        m += valid[i];
+    }
+    FILE *const f = open_csv(dir, "rays.csv", "sampling,rays,noise_target,seconds,rmse_rel,p99_rel");
+    static const int rays[] = {16, 32, 64, 128, 256, 512, 1024};
+    static const float targets[] = {0.1f, 0.05f, 0.02f, 0.01f};
+    for (int sampling = 0; r == VDBGI_OK && f && sampling < 3; sampling++) {
+        const int runs = sampling < 2 ? (int)(sizeof(rays) / sizeof(rays[0])) : 4;
+        for (int k = 0; r == VDBGI_OK && k < runs; k++) {
+            vdbgi_bake_desc d = {.rays = sampling < 2 ? rays[k] : VDBGI_RAYS_AUTO,
+                                 .sampling = sampling == 0 ? VDBGI_SAMPLING_FIBONACCI
+                                                           : VDBGI_SAMPLING_RANDOM,
+                                 .noise = sampling == 2 ? targets[k] : 0.0f};
+            vdbgi_bake_stats st;
+            if ((r = vdbgi_probes_bake(p, w->scene, &d, &st)) != VDBGI_OK)
+                break;
+            size_t j = 0;
+            for (size_t i = 0; i < n; i++)
+                if (valid[i])
+                    vdbgi_probes_get(p, i, NULL, &got[3 * j++], NULL);
+            double rmse, p99;
+            compare(ref, got, m, &rmse, &p99);
+            fprintf(f, "%s,%.1f,%g,%.4f,%.6f,%.6f\n",
+                    sampling == 0 ? "fibonacci" : sampling == 1 ? "random" : "adaptive",
+                    (double)st.primary_ray_count / (double)n, sampling == 2 ? (double)targets[k] : 0.0,
+                    st.seconds, rmse, p99);
+            fflush(f);
+        }
+    }
+    if (f)
+        fclose(f);
+    free(ref);
+    free(got);
+    free(valid);
+    vdbgi_probes_destroy(p);
+    return r == VDBGI_OK && f ? CLI_OK : (r != VDBGI_OK ? cli_fail(ctx, r) : CLI_FAILED);
+}
+
+static int sweep_size(sweep *w, const char *dir)
+{
+    vdbgi_context *const ctx = w->ctx;
+    vdbgi_probes *p = NULL;
+    vdbgi_result r = vdbgi_probes_place(ctx, w->scene, NULL, &p);
+    if (r == VDBGI_OK)
+        r = vdbgi_probes_bake(p, w->scene, NULL, NULL);
+    FILE *const f = r == VDBGI_OK ? open_csv(dir, "size.csv",
+                                             "criterion,eps,max_level,encoding,raw_bytes,"
+                                             "gzip_bytes,dense_bytes,rmse_rel,p99_rel")
+                                  : NULL;
+    static const float eps[] = {VDBGI_NONE, 0.01f, 0.03f, 0.1f, 0.2f, 0.4f, 0.8f, 1.6f};
+    static const char *const eps_text[] = {"0", "0.01", "0.03", "0.1", "0.2", "0.4", "0.8", "1.6"};
+    for (int c = VDBGI_CRITERION_RANGE; f && r == VDBGI_OK && c <= VDBGI_CRITERION_INTERP; c++)
+        for (int e = 0; r == VDBGI_OK && e < 2; e++)
+            for (int levels = 1; r == VDBGI_OK && levels <= 4; levels += 3)
+                for (size_t i = 0; r == VDBGI_OK && i < sizeof(eps) / sizeof(eps[0]); i++) {
+                    const vdbgi_convert_desc d = {.eps = eps[i], .levels = levels,
+                                                  .criterion = (vdbgi_criterion)c,
+                                                  .encoding = (vdbgi_encoding)e};
+                    vdbgi_volume *v = NULL;
+                    if ((r = vdbgi_volume_build(ctx, p, &d, &v)) != VDBGI_OK)
+                        break;
+                    vdbgi_volume_info vi;
+                    vdbgi_volume_get_info(v, &vi);
+                    fprintf(f, "%s,%s,%d,%s,%zu,%zu,%zu,%.6f,%.6f\n",
+                            c == VDBGI_CRITERION_RANGE ? "range" : "interp", eps_text[i],
+                            levels - 1, e ? "rgb9e5" : "rgbm",
+                            vi.indirection_size + vi.atlas_size, vi.file_size,
+                            vi.dense_rgba8_size, vi.rmse / vi.mean_irradiance,
+                            vi.p99 / vi.mean_irradiance);
+                    vdbgi_volume_destroy(v);
+                }
+    if (f)
+        fclose(f);
+    vdbgi_probes_destroy(p);
+    return r == VDBGI_OK && f ? CLI_OK : (r != VDBGI_OK ? cli_fail(ctx, r) : CLI_FAILED);
+}
+
+static int sweep_spacing(sweep *w, const char *dir)
+{
+    vdbgi_context *const ctx = w->ctx;
+    enum { RECEIVERS = 3000 };
+    float *const pts = calloc(3 * RECEIVERS, sizeof(float));
+    float *const ref = calloc(3 * RECEIVERS, sizeof(float));
+    float *const got = calloc(3 * RECEIVERS, sizeof(float));
+    float *const bf = calloc(RECEIVERS, sizeof(float));
+    /* Receivers 10 cm off the surfaces, and what 2048 random rays see there. */
+    vdbgi_result r = vdbgi_scene_sample_surface(w->scene, RECEIVERS, 0.1f, 7, pts);
+    const vdbgi_bake_desc rd = {.rays = 2048, .sampling = VDBGI_SAMPLING_RANDOM, .seed = 5};
+    if (r == VDBGI_OK)
+        r = vdbgi_bake_points(ctx, w->scene, &rd, pts, RECEIVERS, ref, bf);
+    /* Faces nobody sees (under the ground, inside solids) are not receivers: drop them. */
+    int kept = 0;
+    for (int k = 0; r == VDBGI_OK && k < RECEIVERS; k++)
+        if (bf[k] <= 0.25f) {
+            memmove(&pts[3 * kept], &pts[3 * k], 3 * sizeof(float));
+            memmove(&ref[3 * kept], &ref[3 * k], 3 * sizeof(float));
+            kept++;
+        }
+    FILE *const f = r == VDBGI_OK ? open_csv(dir, "spacing.csv",
+                                             "spacing,probes,bake_seconds,raw_bytes,gzip_bytes,"
+                                             "dense_bytes,receivers,receiver_rmse_rel,"
+                                             "receiver_p99_rel")
+                                  : NULL;
+    static const double spacing[] = {0.25, 0.5, 1.0, 2.0};
+    for (int i = 0; f && r == VDBGI_OK && i < 4; i++) {
+        const vdbgi_place_desc pd = {.spacing = spacing[i]};
+        vdbgi_probes *p = NULL;
+        vdbgi_volume *v = NULL;
+        vdbgi_bake_stats st = {0};
+        r = vdbgi_probes_place(ctx, w->scene, &pd, &p);
+        if (r == VDBGI_OK)
+            r = vdbgi_probes_bake(p, w->scene, NULL, &st);
+        if (r == VDBGI_OK)
+            r = vdbgi_volume_build(ctx, p, NULL, &v);
+        if (r == VDBGI_OK) {
+            for (int k = 0; k < kept; k++)
+                vdbgi_volume_sample(v, &pts[3 * k], &got[3 * k]);
+            double rmse, p99;
+            compare(ref, got, (size_t)kept, &rmse, &p99);
+            vdbgi_volume_info vi;
+            vdbgi_volume_get_info(v, &vi);
+            fprintf(f, "%g,%llu,%.4f,%zu,%zu,%zu,%d,%.6f,%.6f\n", spacing[i],
+                    (unsigned long long)st.probe_count, st.seconds,
+                    vi.indirection_size + vi.atlas_size, vi.file_size, vi.dense_rgba8_size, kept,
+                    rmse, p99);
+            fflush(f);
+        }
+        vdbgi_volume_destroy(v);
+        vdbgi_probes_destroy(p);
+    }
+    if (f)
+        fclose(f);
+    free(pts);
+    free(ref);
+    free(got);
+    free(bf);
+    return r == VDBGI_OK && f ? CLI_OK : (r != VDBGI_OK ? cli_fail(ctx, r) : CLI_FAILED);
+}
+
+static int bench_sweep(const options *o)
+{
+    const char *const dir = o->out ? o->out : "build/chart";
+    if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
+        cli_error("%s: cannot make directory: %s", dir, strerror(errno));
+        return CLI_FAILED;
+    }
+    sweep w = {.o = o};
+    if (!(w.ctx = cli_context()))
+        return CLI_FAILED;
+    vdbgi_result r = vdbgi_scene_load(w.ctx, o->scene, &w.scene);
+    int code = r == VDBGI_OK ? CLI_OK : cli_fail(w.ctx, r);
+    if (code == CLI_OK)
+        code = sweep_rays(&w, dir);
+    if (code == CLI_OK)
+        code = sweep_size(&w, dir);
+    if (code == CLI_OK)
+        code = sweep_spacing(&w, dir);
+    if (code == CLI_OK)
+        printf("sweep: rays.csv, size.csv and spacing.csv in %s\n", dir);
+    vdbgi_scene_destroy(w.scene);
+    vdbgi_context_destroy(w.ctx);
+    return code;
+}
+
 int main(int argc, char **argv)
 {
     cli_init("gi-bench");
@@ -222,6 +469,8 @@ int main(int argc, char **argv)
         return parsed;
     if (strcmp(o.mode, "convert") == 0)
         return bench_convert(&o);
+    if (strcmp(o.mode, "sweep") == 0)
+        return bench_sweep(&o);
 
     /* gi-bake lives beside gi-bench unless told otherwise. */
     char gi_bake[PATH_MAX];

@@ -46,9 +46,10 @@ vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc
     VDBGI_FAIL_IF(ctx, !(bp->noise > 0.0f) || !isfinite(bp->noise), VDBGI_ERR_INVALID_ARG,
                   "noise target must be > 0 (got %g)", (double)desc->noise);
     bp->max_rays = desc->max_rays ? desc->max_rays : 1024;
-    VDBGI_FAIL_IF(ctx, bp->max_rays < 2 * ADAPTIVE_BATCH || bp->max_rays > 1000000,
-                  VDBGI_ERR_INVALID_ARG, "max rays must be in %d..1000000 (got %d)",
-                  2 * ADAPTIVE_BATCH, desc->max_rays);
+    VDBGI_FAIL_IF(ctx, bp->max_rays < 2 * ADAPTIVE_BATCH || bp->max_rays > (1 << 20) ||
+                           (bp->max_rays & (bp->max_rays - 1)),
+                  VDBGI_ERR_INVALID_ARG, "max rays must be a power of two in %d..%d (got %d)",
+                  2 * ADAPTIVE_BATCH, 1 << 20, desc->max_rays);
     bp->ray_dist = desc->ray_dist != 0.0f ? desc->ray_dist : 40.0f;
     VDBGI_FAIL_IF(ctx, !(bp->ray_dist > 0.0f) || !isfinite(bp->ray_dist), VDBGI_ERR_INVALID_ARG,
                   "ray distance must be > 0 and finite (got %g)", (double)desc->ray_dist);
@@ -120,6 +121,29 @@ static void fibonacci_directions(int n, float *dirs)
         dirs[3 * i + 0] = (float)(r * cos(phi));
         dirs[3 * i + 1] = (float)z;
         dirs[3 * i + 2] = (float)(r * sin(phi));
+    }
+}
+
+/*
+ * Reorder a set of n (a power of two) directions so that entry k holds the
+ * one at the bit-reversed index: the first 2^j entries are every (n/2^j)-th
+ * direction of the set, so any prefix of whole batches covers the sphere
+ * about as evenly as a set of its own size.
+ */
+static void bit_reverse_order(float *dirs, int n)
+{
+    int bits = 0;
+    while ((1 << bits) < n)
+        bits++;
+    for (int k = 0; k < n; k++) {
+        int r = 0;
+        for (int b = 0; b < bits; b++)
+            r |= (k >> b & 1) << (bits - 1 - b);
+        if (r > k)
+            for (int c = 0; c < 3; c++) {
+                const float t = dirs[3 * k + c];
+                dirs[3 * k + c] = dirs[3 * r + c], dirs[3 * r + c] = t;
+            }
     }
 }
 
@@ -338,14 +362,14 @@ static void bake_probe(bake_thread *th, size_t index)
     memset(&sums, 0, sizeof(sums));
     if (bp->adaptive) {
         /*
-         * Batches of one Fibonacci set under a new random rotation each, until the
-         * standard error falls below the target (relative to the probe's value,
-         * with a floor for dark probes) or the cap is reached.
+         * One Fibonacci set of max_rays directions under a random rotation, traced in
+         * batches in bit-reversed order (every prefix is itself evenly spread), until
+         * the standard error falls below the target (relative to the probe's value,
+         * with a floor for dark probes) or the set is used up.
          */
-        for (uint64_t b = 0;; b++) {
-            uint64_t batch_stream = stream + 0x9E3779B97F4A7C15ull * (b + 1);
-            rotate_dirs(splitmix64(&batch_stream), sh->base_dirs, ADAPTIVE_BATCH, th->dir);
-            trace_batch(th, pos, th->dir, ADAPTIVE_BATCH, &sums);
+        rotate_dirs(stream, sh->base_dirs, bp->max_rays, th->dir);
+        for (;;) {
+            trace_batch(th, pos, &th->dir[3 * sums.rays], ADAPTIVE_BATCH, &sums);
             if (sums.rays + ADAPTIVE_BATCH > (size_t)bp->max_rays)
                 break;
             if (sums.rays >= 2 * ADAPTIVE_BATCH) {
@@ -436,12 +460,14 @@ static vdbgi_result bake_run(vdbgi_context *ctx, bake_shared *sh, const vdbgi_ba
 {
     const vdbgi_bake_params *const bp = sh->bp;
     const double t0 = vdbgi_now();
-    /* The direction set: all the rays of a probe, or one adaptive batch. */
-    const int set = bp->adaptive ? ADAPTIVE_BATCH : bp->rays;
+    /* The direction set: all the rays of a probe, or the adaptive cap in bit-reversed order. */
+    const int set = bp->adaptive ? bp->max_rays : bp->rays;
     float *const base_dirs = vdbgi_calloc(ctx, (size_t)set, 3 * sizeof(float));
     if (!base_dirs)
         return VDBGI_ERR_OUT_OF_MEMORY;
     fibonacci_directions(set, base_dirs);
+    if (bp->adaptive)
+        bit_reverse_order(base_dirs, set);
     sh->base_dirs = base_dirs;
     atomic_init(&sh->next, 0);
     atomic_init(&sh->done, 0);
@@ -452,7 +478,7 @@ static vdbgi_result bake_run(vdbgi_context *ctx, bake_shared *sh, const vdbgi_ba
     const int nth = (size_t)bp->threads < chunks ? bp->threads : (chunks ? (int)chunks : 1);
     bake_thread *const ths = vdbgi_calloc(ctx, (size_t)nth, sizeof(*ths));
     vdbgi_result r = ths ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
-    const size_t n = (size_t)set;
+    const size_t n = (size_t)set; /* per-thread buffers: a whole set (adaptive: the cap) */
     for (int t = 0; r == VDBGI_OK && t < nth; t++) {
         bake_thread *const th = &ths[t];
         th->sh = sh;

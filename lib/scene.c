@@ -518,3 +518,62 @@ void vdbgi_scene_albedo(const vdbgi_scene *scene, uint32_t prim, float u, float 
             rgb[k] *= tex[k];
     }
 }
+
+/* ---- receivers ------------------------------------------------------------ */
+
+static double next_uniform(uint64_t *state)
+{
+    uint64_t z = (*state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return (double)((z ^ (z >> 31)) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+vdbgi_result vdbgi_scene_sample_surface(const vdbgi_scene *scene, size_t point_count,
+                                        float offset, uint64_t seed, float *points)
+{
+    vdbgi_context *const ctx = scene->ctx;
+    VDBGI_FAIL_IF(ctx, point_count && !points, VDBGI_ERR_INVALID_ARG, "no output given");
+    VDBGI_FAIL_IF(ctx, !isfinite(offset), VDBGI_ERR_INVALID_ARG, "offset must be finite");
+    /* Cumulative areas, then a binary search per point. */
+    double *const cdf = vdbgi_calloc(ctx, scene->triangle_count, sizeof(double));
+    if (!cdf)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    double total = 0.0;
+    for (size_t t = 0; t < scene->triangle_count; t++) {
+        const float *const p0 = &scene->positions[3 * scene->indices[3 * t]];
+        const float *const p1 = &scene->positions[3 * scene->indices[3 * t + 1]];
+        const float *const p2 = &scene->positions[3 * scene->indices[3 * t + 2]];
+        const double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+        const double e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+        const double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                             e1[0] * e2[1] - e1[1] * e2[0]};
+        total += 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+        cdf[t] = total;
+    }
+    uint64_t state = seed;
+    for (size_t i = 0; i < point_count; i++) {
+        const double target = next_uniform(&state) * total;
+        size_t lo = 0, hi = scene->triangle_count - 1;
+        while (lo < hi) {
+            const size_t mid = lo + (hi - lo) / 2;
+            if (cdf[mid] < target)
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
+        /* Uniform on the triangle: fold the unit square's upper half back. */
+        double u = next_uniform(&state), v = next_uniform(&state);
+        if (u + v > 1.0)
+            u = 1.0 - u, v = 1.0 - v;
+        const uint32_t *const idx = &scene->indices[3 * lo];
+        const float *const p0 = &scene->positions[3 * idx[0]];
+        const float *const p1 = &scene->positions[3 * idx[1]];
+        const float *const p2 = &scene->positions[3 * idx[2]];
+        for (int k = 0; k < 3; k++)
+            points[3 * i + k] = (float)((1.0 - u - v) * p0[k] + u * p1[k] + v * p2[k]) +
+                                offset * scene->tris[lo].normal[k];
+    }
+    vdbgi_free(ctx, cdf);
+    return VDBGI_OK;
+}

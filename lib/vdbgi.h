@@ -177,6 +177,16 @@ typedef struct vdbgi_scene_info {
 /* Describe a scene. Strings belong to the scene. */
 VDBGI_API void vdbgi_scene_get_info(const vdbgi_scene *scene, vdbgi_scene_info *info);
 
+/*
+ * Receivers: point_count points on the scene's surfaces, each triangle chosen
+ * with probability proportional to its area and the point uniform on it,
+ * then moved `offset` metres along the triangle's front normal (where a
+ * runtime lookup of a vertex or fragment would sample). Written as 3 floats
+ * each into points; the same seed gives the same points.
+ */
+VDBGI_API vdbgi_result vdbgi_scene_sample_surface(const vdbgi_scene *scene, size_t point_count,
+                                                  float offset, uint64_t seed, float *points);
+
 /* ------------------------------------------------------------------------ */
 /* Probes: the lattice near surfaces, its irradiance and validity.           */
 
@@ -264,11 +274,13 @@ typedef enum vdbgi_trace_method {
 /*
  * The irradiance estimator of seed 000. All-zero means the defaults:
  *   rays:        directions per probe, 1..1 000 000. 0 == 128.
- *                VDBGI_RAYS_AUTO: batches of 32 (a Fibonacci set under a new
- *                random rotation each) until the probe's standard error is at
- *                most noise x max(its value, 1e-3), or max_rays.
+ *                VDBGI_RAYS_AUTO: a Fibonacci set of max_rays directions under
+ *                a random rotation, traced 32 at a time in bit-reversed order
+ *                (each prefix evenly spread) until the probe's standard error
+ *                is at most noise x max(its value, 1e-3), or the set runs out.
  *   noise:       the target of VDBGI_RAYS_AUTO, relative, > 0. 0 == 0.02.
- *   max_rays:    the cap of VDBGI_RAYS_AUTO, 64..1 000 000. 0 == 1024.
+ *   max_rays:    the cap of VDBGI_RAYS_AUTO, a power of two, 64..2^20.
+ *                0 == 1024.
  *   ray_dist:    longest ray, metres, > 0. 0 == 40.
  *   ambient:     fill light added at every hit, >= 0. 0 == 0.15;
  *                VDBGI_NONE for no fill.
