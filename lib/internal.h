@@ -114,6 +114,8 @@ struct vdbgi_scene {
 
 /* Albedo of triangle prim at barycentrics (u, v) (Embree's: p = (1-u-v) v0 + u v1 + v v2). */
 void vdbgi_scene_albedo(const vdbgi_scene *scene, uint32_t prim, float u, float v, float rgb[3]);
+/* Area of triangle t, square metres. */
+double vdbgi_scene_triangle_area(const vdbgi_scene *scene, size_t t);
 
 /* ---- tracer.c: the only file that includes Embree ---------------------- */
 

@@ -48,14 +48,7 @@ static double estimate_probe_count(const vdbgi_scene *s, double spacing, double 
 {
     double area = 0.0;
     for (size_t t = 0; t < s->triangle_count; t++) {
-        const float *const p0 = &s->positions[3 * s->indices[3 * t]];
-        const float *const p1 = &s->positions[3 * s->indices[3 * t + 1]];
-        const float *const p2 = &s->positions[3 * s->indices[3 * t + 2]];
-        const double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
-        const double e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
-        const double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                             e1[0] * e2[1] - e1[1] * e2[0]};
-        area += 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+        area += vdbgi_scene_triangle_area(s, t);
     }
     return area * (2.0 * margin + spacing) / (spacing * spacing * spacing);
 }

@@ -529,6 +529,18 @@ static double next_uniform(uint64_t *state)
     return (double)((z ^ (z >> 31)) >> 11) * (1.0 / 9007199254740992.0);
 }
 
+double vdbgi_scene_triangle_area(const vdbgi_scene *scene, size_t t)
+{
+    const float *const p0 = &scene->positions[3 * scene->indices[3 * t]];
+    const float *const p1 = &scene->positions[3 * scene->indices[3 * t + 1]];
+    const float *const p2 = &scene->positions[3 * scene->indices[3 * t + 2]];
+    const double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+    const double e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+    const double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                         e1[0] * e2[1] - e1[1] * e2[0]};
+    return 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+}
+
 vdbgi_result vdbgi_scene_sample_surface(const vdbgi_scene *scene, size_t point_count,
                                         float offset, uint64_t seed, float *points)
 {
@@ -541,14 +553,7 @@ vdbgi_result vdbgi_scene_sample_surface(const vdbgi_scene *scene, size_t point_c
         return VDBGI_ERR_OUT_OF_MEMORY;
     double total = 0.0;
     for (size_t t = 0; t < scene->triangle_count; t++) {
-        const float *const p0 = &scene->positions[3 * scene->indices[3 * t]];
-        const float *const p1 = &scene->positions[3 * scene->indices[3 * t + 1]];
-        const float *const p2 = &scene->positions[3 * scene->indices[3 * t + 2]];
-        const double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
-        const double e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
-        const double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                             e1[0] * e2[1] - e1[1] * e2[0]};
-        total += 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+        total += vdbgi_scene_triangle_area(scene, t);
         cdf[t] = total;
     }
     uint64_t state = seed;
