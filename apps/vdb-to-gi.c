@@ -38,6 +38,9 @@ static void usage(void)
            "      --noise-sigmas K  allow each block K standard errors of sampling noise\n"
            "                        (the bake's stderr grid) before it splits; 0 for none\n"
            "                        (1 for random or adaptive bakes, 0 for Fibonacci ones)\n"
+           "      --fill F          what an invalid probe inside a thin wall takes from its\n"
+           "                        neighbours: mean, or darkest to keep light from leaking\n"
+           "                        into dark interiors (mean)\n"
            "      --slices DIR      write slice images (PNG and EXR) into DIR\n"
            "      --slice-axis A    x, y or z (y)\n"
            "      --slice-at M      world coordinate of the slice (the plane with most probes)\n"
@@ -67,6 +70,7 @@ enum {
     OPT_CRITERION,
     OPT_ENCODING,
     OPT_NOISE_SIGMAS,
+    OPT_FILL,
     OPT_SLICES,
     OPT_SLICE_AXIS,
     OPT_SLICE_AT,
@@ -98,6 +102,7 @@ static int parse_args(int argc, char **argv, options *o)
                                           {"criterion", required_argument, NULL, OPT_CRITERION},
                                           {"encoding", required_argument, NULL, OPT_ENCODING},
                                           {"noise-sigmas", required_argument, NULL, OPT_NOISE_SIGMAS},
+                                          {"fill", required_argument, NULL, OPT_FILL},
                                           {"slices", required_argument, NULL, OPT_SLICES},
                                           {"slice-axis", required_argument, NULL, OPT_SLICE_AXIS},
                                           {"slice-at", required_argument, NULL, OPT_SLICE_AT},
@@ -152,6 +157,14 @@ static int parse_args(int argc, char **argv, options *o)
                 return cli_usage_error("--noise-sigmas must be a number in 0..100 (got '%s')",
                                        optarg);
             o->convert.noise_sigmas = d == 0.0 ? VDBGI_NONE : (float)d;
+            break;
+        case OPT_FILL:
+            if (strcmp(optarg, "mean") == 0)
+                o->convert.fill = VDBGI_FILL_MEAN;
+            else if (strcmp(optarg, "darkest") == 0)
+                o->convert.fill = VDBGI_FILL_DARKEST;
+            else
+                return cli_usage_error("--fill must be mean or darkest (got '%s')", optarg);
             break;
         case OPT_SLICES: o->slices = optarg; break;
         case OPT_SLICE_AXIS:

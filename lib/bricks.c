@@ -342,7 +342,7 @@ static vdbgi_result build_pyramid(builder *b, const int32_t *cells, size_t cell_
 
 static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *desc, float *eps,
                                  float *sigmas, int *max_level, vdbgi_criterion *criterion,
-                                 vdbgi_encoding *encoding)
+                                 vdbgi_encoding *encoding, bool *darkest)
 {
     const vdbgi_convert_desc none = {0};
     if (!desc)
@@ -365,6 +365,9 @@ static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *d
     VDBGI_FAIL_IF(ctx, desc->encoding != VDBGI_ENCODING_RGBM && desc->encoding != VDBGI_ENCODING_RGB9E5,
                   VDBGI_ERR_INVALID_ARG, "unknown encoding %d", (int)desc->encoding);
     *encoding = desc->encoding;
+    VDBGI_FAIL_IF(ctx, desc->fill < VDBGI_FILL_AUTO || desc->fill > VDBGI_FILL_DARKEST,
+                  VDBGI_ERR_INVALID_ARG, "unknown fill %d", (int)desc->fill);
+    *darkest = desc->fill == VDBGI_FILL_DARKEST;
     return VDBGI_OK;
 }
 
@@ -610,7 +613,9 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     builder b = {.ctx = ctx, .probes = probes};
     float eps = 0.0f;
     vdbgi_encoding encoding = VDBGI_ENCODING_RGBM;
-    VDBGI_TRY(resolve_desc(ctx, desc, &eps, &b.sigmas, &b.max_level, &b.criterion, &encoding));
+    bool darkest = false;
+    VDBGI_TRY(resolve_desc(ctx, desc, &eps, &b.sigmas, &b.max_level, &b.criterion, &encoding,
+                           &darkest));
     /*
      * A fixed Fibonacci set gives every probe the same directions: its error is a bias
      * shared by neighbours, not noise, and its standard error is no measure of it. The
@@ -656,7 +661,8 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
 
     int32_t *cells = NULL;
     size_t cell_count = 0;
-    const vdbgi_fill_params fp = vdbgi_fill_params_default(probes->invalid_threshold);
+    vdbgi_fill_params fp = vdbgi_fill_params_default(probes->invalid_threshold);
+    fp.darkest = darkest;
     vdbgi_result r = vdbgi_vdb_fill(ctx, probes, &fp, &v->filled, &cells, &cell_count,
                                     &info->unreached_count);
     if (r != VDBGI_OK)

@@ -266,6 +266,8 @@ typedef struct vdbgi_fill_params {
     int rim;                 /* fine points added around those cells for filtering (1) */
     float weights[3];        /* weight of a face, edge and corner neighbour */
     int max_iterations;      /* rings of spreading before giving up */
+    bool darkest;            /* invalid probes take their darkest valued neighbour, not the
+                                mean: a probe inside a wall then leaks no light to the dark side */
 } vdbgi_fill_params;
 
 /* The converter's fill: what bricks.c and bevy.c both use. */

@@ -349,17 +349,19 @@ extern "C" vdbgi_result vdbgi_vdb_fill(vdbgi_context *ctx, const vdbgi_probes *p
 
     // Sources, and the cells that hold any probe.
     openvdb::Vec3STree filled(openvdb::Vec3s(0.0f));
-    MaskTree cells(false);
+    MaskTree cells(false), invalid(false);
     size_t sources = 0;
     {
         openvdb::tree::ValueAccessor<openvdb::Vec3STree> fa(filled);
-        openvdb::tree::ValueAccessor<MaskTree> ca(cells);
+        openvdb::tree::ValueAccessor<MaskTree> ca(cells), ia(invalid);
         for (size_t n = 0; n < p->count; n++) {
             const Coord c(p->ijk[3 * n], p->ijk[3 * n + 1], p->ijk[3 * n + 2]);
             if (p->backface[n] <= fp->invalid_threshold) {
                 ca.setValueOn(cell_of(c, fp->cell_size));
                 fa.setValueOn(c, openvdb::Vec3s(p->rgb[3 * n], p->rgb[3 * n + 1], p->rgb[3 * n + 2]));
                 sources++;
+            } else if (fp->darkest) {
+                ia.setValueOn(c);
             }
         }
     }
@@ -414,6 +416,7 @@ extern "C" vdbgi_result vdbgi_vdb_fill(vdbgi_context *ctx, const vdbgi_probes *p
                 const auto *const tleaf = target.probeConstLeaf(o);
                 if (!tleaf)
                     continue;
+                const auto *const ileaf = invalid.probeConstLeaf(o);
                 // The 3^3 leaves around this one: neighbour reads become buffer reads.
                 const Vec3SLeaf *nb[27];
                 for (int i = 0; i < 27; i++)
@@ -426,6 +429,14 @@ extern "C" vdbgi_result vdbgi_vdb_fill(vdbgi_context *ctx, const vdbgi_probes *p
                     const int x = int(pos >> 6), y = int(pos >> 3 & 7), z = int(pos & 7);
                     openvdb::Vec3d sum(0.0);
                     double wsum = 0.0;
+                    // A probe inside a thin wall is shared by the cells on both sides of it:
+                    // when two of its valued neighbours face each other across it, its darkest
+                    // neighbour keeps light from crossing (docs/stability.md). A probe under a
+                    // floor, valued from one side only, takes the weighted mean.
+                    const bool invalid_probe = ileaf && ileaf->isValueOn(pos);
+                    openvdb::Vec3d dark(0.0);
+                    float best = INFINITY;
+                    uint32_t valued = 0; // bit (dx+1) + 3(dy+1) + 9(dz+1); bit 26-i is its opposite
                     for (int dz = -1; dz <= 1; dz++)
                         for (int dy = -1; dy <= 1; dy++)
                             for (int dx = -1; dx <= 1; dx++) {
@@ -435,11 +446,24 @@ extern "C" vdbgi_result vdbgi_vdb_fill(vdbgi_context *ctx, const vdbgi_probes *p
                                     nb[nx / 8 + 3 * (ny / 8) + 9 * (nz / 8)];
                                 const openvdb::Index n =
                                     openvdb::Index((nx & 7) << 6 | (ny & 7) << 3 | (nz & 7));
-                                if (k && L && L->isValueOn(n)) {
-                                    sum += openvdb::Vec3d(L->getValue(n)) * w[k];
-                                    wsum += w[k];
+                                if (!k || !L || !L->isValueOn(n))
+                                    continue;
+                                const openvdb::Vec3s c = L->getValue(n);
+                                sum += openvdb::Vec3d(c) * w[k];
+                                wsum += w[k];
+                                if (invalid_probe) {
+                                    valued |= 1u << ((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1));
+                                    if (c[0] + c[1] + c[2] < best) { // first of equals: fixed order
+                                        best = c[0] + c[1] + c[2];
+                                        dark = openvdb::Vec3d(c);
+                                    }
                                 }
                             }
+                    bool across = false;
+                    for (int i = 0; i < 13 && !across; i++)
+                        across = (valued >> i & 1) && (valued >> (26 - i) & 1);
+                    if (fp->darkest && across)
+                        sum = dark, wsum = 1.0;
                     values[512 * l + pos] = openvdb::Vec3s(sum / wsum);
                     fresh[l].setOn(pos);
                 }

@@ -461,6 +461,16 @@ typedef enum vdbgi_criterion {
                                    every fine probe it covers within eps (Unreal) */
 } vdbgi_criterion;
 
+typedef enum vdbgi_fill {
+    VDBGI_FILL_AUTO = 0,    /* the default: VDBGI_FILL_MEAN */
+    VDBGI_FILL_MEAN = 1,    /* an invalid or absent probe takes the weighted mean of its
+                               valued neighbours */
+    VDBGI_FILL_DARKEST = 2  /* ... except an invalid probe with valued neighbours on opposite
+                               sides (inside a wall thinner than the spacing), which takes
+                               its darkest one: less light leaks into dark interiors, more
+                               error in the open (docs/stability.md) */
+} vdbgi_fill;
+
 /*
  * How to coarsen and encode. All-zero means the defaults:
  *   eps:        tolerance, relative to the mean irradiance of the valid
@@ -478,6 +488,7 @@ typedef enum vdbgi_criterion {
  *               overstates a rotated Fibonacci set's error 1.7-3.6x:
  *               docs/stability.md) and 0 for the fixed Fibonacci set, whose
  *               error is a shared bias, not noise; VDBGI_NONE for none.
+ *   fill:       see vdbgi_fill.
  *   progress:   as vdbgi_bake_desc's; may be NULL.
  */
 typedef struct vdbgi_convert_desc {
@@ -486,6 +497,7 @@ typedef struct vdbgi_convert_desc {
     int levels;
     vdbgi_criterion criterion;
     vdbgi_encoding encoding;
+    vdbgi_fill fill;
     int (*progress)(void *user, float done);
     void *progress_user;
 } vdbgi_convert_desc;

@@ -378,13 +378,13 @@ static void bad_parameters_and_probes_are_refused(void)
     vdbgi_volume *v = (vdbgi_volume *)1;
     const vdbgi_convert_desc bad[] = {{.eps = -1.0f}, {.eps = -0.5f}, {.eps = NAN}, {.levels = 5},
                                       {.levels = -1}, {.criterion = (vdbgi_criterion)9},
-                                      {.encoding = (vdbgi_encoding)7}};
+                                      {.encoding = (vdbgi_encoding)7}, {.fill = (vdbgi_fill)3}};
     for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
         CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &bad[i], &v), VDBGI_ERR_INVALID_ARG);
         CHECK(v == NULL);
         v = (vdbgi_volume *)1;
     }
-    CHECK(strstr(vdbgi_context_error(ctx), "encoding") != NULL);
+    CHECK(strstr(vdbgi_context_error(ctx), "fill") != NULL);
     /* Every probe invalid: nothing to fill from. */
     for (size_t i = 0; i < p->count; i++)
         p->backface[i] = 1.0f;
