@@ -177,10 +177,10 @@ bench:
 	$(Q)$(MAKE) --no-print-directory all
 	$(Q)BUILD=$(BUILD) sh tests/bench.sh
 
-## chart: sweep rays, eps and spacing, redraw docs/img/chart_*.png (a minute or two)
+## chart: sweep rays, eps and spacing, redraw docs/img/chart_*.png, stability table (two minutes)
 chart:
 	$(Q)$(MAKE) --no-print-directory deps
-	$(Q)$(MAKE) --no-print-directory all
+	$(Q)$(MAKE) --no-print-directory all $(BUILD)/tests/test_stability
 	$(Q)BUILD=$(BUILD) sh tests/chart.sh
 
 ## install: vdbgi.h, libvdbgi.a, vdbgi.pc and the apps under $(DESTDIR)$(PREFIX)

@@ -9,13 +9,12 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "bricks.h"
+#include "test_slab.h"
 #include "test_util.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <unistd.h>
-
-typedef float (*field_fn)(double x, double y, double z, int channel);
 
 static float smooth(double x, double y, double z, int c)
 {
@@ -32,26 +31,6 @@ static float ramp(double x, double y, double z, int c)
 {
     (void)y, (void)z;
     return (float)(0.05 + 0.01 * x + 0.001 * c);
-}
-
-/* Probes on a slab of nx x ny x nz lattice points, spacing 0.5, values f at the lattice. */
-static vdbgi_probes *slab(vdbgi_context *ctx, int nx, int ny, int nz, field_fn f)
-{
-    vdbgi_probes *p = NULL;
-    CHECK_RESULT(ctx, vdbgi_probes_alloc(ctx, (size_t)nx * ny * nz, true, &p), VDBGI_OK);
-    p->spacing = 0.5;
-    p->margin = 2.0;
-    p->origin[0] = 0.25, p->origin[1] = 0.25, p->origin[2] = 0.25;
-    size_t n = 0;
-    for (int x = 0; x < nx; x++)
-        for (int y = 0; y < ny; y++)
-            for (int z = 0; z < nz; z++, n++) {
-                p->ijk[3 * n] = x, p->ijk[3 * n + 1] = y, p->ijk[3 * n + 2] = z;
-                for (int c = 0; c < 3; c++)
-                    p->rgb[3 * n + c] = f(x, y, z, c);
-                p->backface[n] = 0.0f;
-            }
-    return p;
 }
 
 static void world_of(const vdbgi_probes *p, const double ijk[3], float pos[3])
@@ -76,7 +55,7 @@ static float lattice_trilinear(field_fn f, const double q[3], int c)
 static void exact_bricks_give_back_every_valid_probe(void)
 {
     vdbgi_context *ctx = test_context();
-    vdbgi_probes *p = slab(ctx, 20, 9, 13, smooth);
+    vdbgi_probes *p = test_slab(ctx, 20, 9, 13, smooth);
     for (int e = 0; e < 2; e++) {
         const vdbgi_convert_desc d = {.eps = VDBGI_NONE, .levels = 1,
                                       .encoding = (vdbgi_encoding)e};
@@ -111,7 +90,7 @@ static void exact_bricks_give_back_every_valid_probe(void)
 static void aprons_hide_brick_boundaries(void)
 {
     vdbgi_context *ctx = test_context();
-    vdbgi_probes *p = slab(ctx, 40, 10, 24, smooth);
+    vdbgi_probes *p = test_slab(ctx, 40, 10, 24, smooth);
     const vdbgi_convert_desc d = {.eps = VDBGI_NONE, .levels = 1};
     vdbgi_volume *v = NULL;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
@@ -142,7 +121,7 @@ static void aprons_hide_brick_boundaries(void)
 static void larger_eps_never_grows_the_atlas(void)
 {
     vdbgi_context *ctx = test_context();
-    vdbgi_probes *p = slab(ctx, 64, 10, 48, smooth);
+    vdbgi_probes *p = test_slab(ctx, 64, 10, 48, smooth);
     const float eps[] = {VDBGI_NONE, 0.01f, 0.03f, 0.1f, 0.3f, 1.0f, 3.0f};
     for (int c = VDBGI_CRITERION_RANGE; c <= VDBGI_CRITERION_INTERP; c++) {
         size_t last_atlas = SIZE_MAX, last_bricks = SIZE_MAX;
@@ -172,7 +151,7 @@ static void larger_eps_never_grows_the_atlas(void)
 static void flat_field_becomes_a_few_level3_bricks(void)
 {
     vdbgi_context *ctx = test_context();
-    vdbgi_probes *p = slab(ctx, 64, 8, 64, flat);
+    vdbgi_probes *p = test_slab(ctx, 64, 8, 64, flat);
     vdbgi_volume *v = NULL;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, NULL, &v), VDBGI_OK);
     if (v) {
@@ -195,7 +174,7 @@ static void flat_field_becomes_a_few_level3_bricks(void)
 static void linear_ramp_stays_coarse_under_interpolation(void)
 {
     vdbgi_context *ctx = test_context();
-    vdbgi_probes *p = slab(ctx, 64, 8, 64, ramp);
+    vdbgi_probes *p = test_slab(ctx, 64, 8, 64, ramp);
     uint32_t bricks[2] = {0, 0}, fine[2] = {0, 0};
     double rmse[2] = {0, 0};
     for (int c = 0; c < 2; c++) {
@@ -227,7 +206,7 @@ static void linear_ramp_stays_coarse_under_interpolation(void)
 static void invalid_probes_never_leak_their_value(void)
 {
     vdbgi_context *ctx = test_context();
-    vdbgi_probes *p = slab(ctx, 24, 12, 24, flat);
+    vdbgi_probes *p = test_slab(ctx, 24, 12, 24, flat);
     /* The lower half is "inside geometry": invalid, and absurdly bright. */
     for (size_t i = 0; i < p->count; i++)
         if (p->ijk[3 * i + 1] < 6) {
@@ -263,7 +242,7 @@ static void invalid_probes_never_leak_their_value(void)
 static void files_round_trip_and_are_deterministic(void)
 {
     vdbgi_context *ctx = test_context();
-    vdbgi_probes *p = slab(ctx, 40, 10, 24, smooth);
+    vdbgi_probes *p = test_slab(ctx, 40, 10, 24, smooth);
     vdbgi_volume *a = NULL, *b = NULL, *r = NULL;
     const vdbgi_convert_desc d = {.eps = 0.02f};
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &a), VDBGI_OK);
@@ -303,7 +282,7 @@ static void files_round_trip_and_are_deterministic(void)
 static void damaged_files_are_refused(void)
 {
     vdbgi_context *ctx = test_context();
-    vdbgi_probes *p = slab(ctx, 12, 6, 12, smooth);
+    vdbgi_probes *p = test_slab(ctx, 12, 6, 12, smooth);
     vdbgi_volume *v = NULL;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, NULL, &v), VDBGI_OK);
     if (!v) {
@@ -374,7 +353,7 @@ static void damaged_files_are_refused(void)
 static void bad_parameters_and_probes_are_refused(void)
 {
     vdbgi_context *ctx = test_context();
-    vdbgi_probes *p = slab(ctx, 8, 4, 8, flat);
+    vdbgi_probes *p = test_slab(ctx, 8, 4, 8, flat);
     vdbgi_volume *v = (vdbgi_volume *)1;
     const vdbgi_convert_desc bad[] = {{.eps = -1.0f}, {.eps = -0.5f}, {.eps = NAN}, {.levels = 5},
                                       {.levels = -1}, {.criterion = (vdbgi_criterion)9},
@@ -399,13 +378,13 @@ static void bad_parameters_and_probes_are_refused(void)
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, NULL, &v), VDBGI_ERR_FORMAT);
     vdbgi_probes_destroy(p);
     /* Two probes 10 km apart at 0.5 m: the indirection would exceed a 3D texture. */
-    p = slab(ctx, 2, 1, 1, flat);
+    p = test_slab(ctx, 2, 1, 1, flat);
     p->ijk[3] = 20000;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, NULL, &v), VDBGI_ERR_OUT_OF_MEMORY);
     CHECK(strstr(vdbgi_context_error(ctx), "2048") && strstr(vdbgi_context_error(ctx), "spacing"));
     vdbgi_probes_destroy(p);
     /* A read volume has no fields to slice. */
-    p = slab(ctx, 8, 4, 8, flat);
+    p = test_slab(ctx, 8, 4, 8, flat);
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, NULL, &v), VDBGI_OK);
     CHECK_RESULT(ctx, vdbgi_volume_write(v, tmp_path("s.gi.gz")), VDBGI_OK);
     vdbgi_volume *r = NULL;
@@ -429,7 +408,7 @@ static void failing_allocations_are_reported_without_leaks(void)
         const vdbgi_context_desc cd = {test_alloc_fn, test_free_fn, NULL, &a};
         vdbgi_context *ctx = NULL;
         vdbgi_context_create(&cd, &ctx);
-        vdbgi_probes *p = slab(ctx, 12, 6, 12, smooth);
+        vdbgi_probes *p = test_slab(ctx, 12, 6, 12, smooth);
         a.calls = 0;
         a.fail_at = n; /* fail inside the build only */
         vdbgi_volume *v = NULL;

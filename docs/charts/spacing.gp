@@ -15,5 +15,6 @@ unset logscale y
 set ylabel "error at surface receivers (% of mean)"
 set key top left
 plot csv."/spacing.csv" using 1:(100*$8) with linespoints title "RMSE", \
-     csv."/spacing.csv" using 1:(100*$9) with linespoints title "99th percentile"
+     csv."/spacing.csv" using 1:(100*$9) with linespoints title "99th percentile", \
+     csv."/spacing.csv" using 1:(100*$10) with linespoints dashtype 2 title "RMSE, --fill darkest"
 unset multiplot
