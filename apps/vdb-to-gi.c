@@ -40,7 +40,7 @@ static void usage(void)
            "                        (1 for random or adaptive bakes, 0 for Fibonacci ones)\n"
            "      --fill F          what an invalid probe inside a thin wall takes from its\n"
            "                        neighbours: mean, or darkest to keep light from leaking\n"
-           "                        into dark interiors (mean)\n"
+           "                        into dark interiors (mean); applies to --bevy too\n"
            "      --slices DIR      write slice images (PNG and EXR) into DIR\n"
            "      --slice-axis A    x, y or z (y)\n"
            "      --slice-at M      world coordinate of the slice (the plane with most probes)\n"
@@ -420,6 +420,7 @@ int main(int argc, char **argv)
     const double read_seconds = cli_now() - t0;
     /* The Bevy volume first: it refuses probes without cubes before the longer conversion. */
     vdbgi_bevy *bevy = NULL;
+    o.bevy_desc.fill = o.convert.fill;
     if (r == VDBGI_OK && (o.bevy || o.bevy_baked_gi))
         r = vdbgi_bevy_build(ctx, probes, &o.bevy_desc, &bevy);
     if (r == VDBGI_OK && o.bevy)

@@ -166,9 +166,11 @@ vdbgi_result vdbgi_bevy_build(vdbgi_context *ctx, const vdbgi_probes *p,
     VDBGI_FAIL_IF(ctx, !p->cube, VDBGI_ERR_INVALID_ARG,
                   "the probes have no ambient cubes: bake with --basis ambient-cube");
     VDBGI_FAIL_IF(ctx, p->count == 0, VDBGI_ERR_FORMAT, "the grid holds no probes");
-    const vdbgi_bevy_desc none = {{0, 0, 0}, 0.0, {0, 0, 0}, {0, 0, 0}, 0};
+    const vdbgi_bevy_desc none = {{0, 0, 0}, 0.0, {0, 0, 0}, {0, 0, 0}, 0, VDBGI_FILL_AUTO};
     if (!desc)
         desc = &none;
+    VDBGI_FAIL_IF(ctx, desc->fill < VDBGI_FILL_AUTO || desc->fill > VDBGI_FILL_DARKEST,
+                  VDBGI_ERR_INVALID_ARG, "unknown fill %d", (int)desc->fill);
 
     /* The baked bounds: the probes' box and half a spacing around it. */
     vdbgi_probes_info pi;
@@ -202,7 +204,8 @@ vdbgi_result vdbgi_bevy_build(vdbgi_context *ctx, const vdbgi_probes *p,
     float *const side_rgb = vdbgi_calloc(ctx, p->count, 3 * sizeof(float));
     unsigned char *const valued = vdbgi_calloc(ctx, n, 1);
     vdbgi_result r = side_rgb && valued ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
-    const vdbgi_fill_params fp = vdbgi_fill_params_default(p->invalid_threshold);
+    vdbgi_fill_params fp = vdbgi_fill_params_default(p->invalid_threshold);
+    fp.darkest = desc->fill == VDBGI_FILL_DARKEST;
     for (int side = 0; side < 6 && r == VDBGI_OK; side++) {
         for (size_t i = 0; i < p->count; i++)
             memcpy(&side_rgb[3 * i], &p->cube[18 * i + 3 * side], 3 * sizeof(float));

@@ -9,6 +9,7 @@
 
 #include <math.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -179,7 +180,7 @@ static void brick_interpolate(float s[6][6][6][3], const int32_t key[3], int lev
         const float fl = floorf(t);
         i0[k] = (int)fl;
         fr[k] = t - fl;
-        if (i0[k] > 4) { /* t <= 4.75 for the block and the step around it: a guard */
+        if (i0[k] > 4) { /* t <= 4.75 for a coarse block and the step past it: a guard */
             i0[k] = 4;
             fr[k] = 1.0f;
         }
@@ -195,11 +196,14 @@ static void brick_interpolate(float s[6][6][6][3], const int32_t key[3], int lev
 }
 
 /*
- * Unreal's test: does the coarse brick reproduce every filled point it covers
- * within tolerance? The points one step outside the block are tested too: the
- * shader switches bricks halfway between the block's last probe and the next,
- * and with both ends of that step within tolerance the jump there is as well
- * (docs/stability.md, level seams).
+ * Unreal's test: does the coarse brick reproduce every filled point it draws
+ * within tolerance? The shader keeps a block's brick up to the next block's
+ * first probe, so the probes one step past the block's far faces are tested
+ * too: with both ends of that last step within tolerance, and the next
+ * block's brick exact or within its own tolerance at that probe, the jump
+ * where the bricks meet stays within the two tolerances (docs/stability.md,
+ * level seams). The near faces need no extra points: the block's first probe
+ * is its own.
  */
 static bool interpolation_fits(builder *b, const int32_t key[3], int level, float noise)
 {
@@ -208,9 +212,9 @@ static bool interpolation_fits(builder *b, const int32_t key[3], int level, floa
     const int span = 1 << level, n = VDBGI_BRICK * span;
     const level_map *const cells = &b->levels[0];
     const vdbgi_leaf *cache = NULL;
-    for (int z = -1; z <= n; z++)
-        for (int y = -1; y <= n; y++)
-            for (int x = -1; x <= n; x++) {
+    for (int z = 0; z <= n; z++)
+        for (int y = 0; y <= n; y++)
+            for (int x = 0; x <= n; x++) {
                 const int32_t p[3] = {key[0] * n + x, key[1] * n + y, key[2] * n + z};
                 const int32_t cell[3] = {vdbgi_floor_div(p[0], VDBGI_BRICK),
                                          vdbgi_floor_div(p[1], VDBGI_BRICK),
@@ -228,19 +232,15 @@ static bool interpolation_fits(builder *b, const int32_t key[3], int level, floa
     return true;
 }
 
+/*
+ * Kept bricks go into the region of b->kept reserved for their root block:
+ * bricks are disjoint and each holds a cell, so a root never keeps more
+ * bricks than it has cells, and the region is sized to that.
+ */
 static vdbgi_result keep(builder *b, const int32_t key[3], int level)
 {
-    if (b->kept_count == b->kept_capacity) {
-        const size_t cap = b->kept_capacity ? 2 * b->kept_capacity : 1024;
-        kept_brick *const k = vdbgi_calloc(b->ctx, cap, sizeof(*k));
-        if (!k)
-            return VDBGI_ERR_OUT_OF_MEMORY;
-        if (b->kept_count)
-            memcpy(k, b->kept, b->kept_count * sizeof(*k));
-        vdbgi_free(b->ctx, b->kept);
-        b->kept = k;
-        b->kept_capacity = cap;
-    }
+    if (b->kept_count == b->kept_capacity)
+        return vdbgi_fail(b->ctx, VDBGI_ERR_BACKEND, "internal error: more bricks than cells");
     kept_brick *const k = &b->kept[b->kept_count++];
     memcpy(k->key, key, sizeof(k->key));
     k->level = level;
@@ -254,6 +254,8 @@ static vdbgi_result visit(builder *b, const int32_t key[3], int level)
     if (i < 0)
         return VDBGI_OK; /* empty air: no brick */
     const block_stats *const st = &b->levels[level].stats[i];
+    if (level == 0)
+        return keep(b, key, level);
     /*
      * Sampling noise spreads a flat field over about +-sigmas standard errors,
      * so that much of the range (twice: both ends) is not the light's doing.
@@ -262,12 +264,12 @@ static vdbgi_result visit(builder *b, const int32_t key[3], int level)
     /*
      * A flat block is not enough for the interpolation criterion: its brick's apron
      * reaches half a coarse texel into the neighbours, and a flat block beside a
-     * shadow edge would pull the edge into its own probes (docs/stability.md).
+     * shadow edge would draw the edge into its own probes (docs/stability.md).
      */
     const bool coarse = b->criterion == VDBGI_CRITERION_RANGE
                             ? stats_range(st) - 2.0f * noise <= b->tolerance
                             : interpolation_fits(b, key, level, noise);
-    if (level == 0 || coarse)
+    if (coarse)
         return keep(b, key, level);
     for (int c = 0; c < 8; c++) {
         const int32_t child[3] = {2 * key[0] + (c & 1), 2 * key[1] + (c >> 1 & 1),
@@ -606,6 +608,94 @@ static vdbgi_result fill_atlas(builder *b)
     return VDBGI_OK;
 }
 
+/*
+ * Coarsen every root block over all cores. Roots are handed out one at a
+ * time; each writes its bricks into its own region of b->kept, and the
+ * regions are joined in z, y, x order of the roots afterwards, so the brick
+ * order, hence the file, does not depend on the threads.
+ */
+typedef struct coarsen_job {
+    const builder *b;
+    const int32_t (*roots)[3];
+    builder *parts; /* one per root: the builder with that root's region as kept */
+    size_t count;
+    atomic_size_t *next;
+    vdbgi_result result;
+    pthread_t thread;
+    bool started;
+} coarsen_job;
+
+static void *coarsen_worker(void *arg)
+{
+    coarsen_job *const job = arg;
+    for (size_t i; job->result == VDBGI_OK && (i = atomic_fetch_add(job->next, 1)) < job->count;)
+        job->result = visit(&job->parts[i], job->roots[i], job->b->max_level);
+    return NULL;
+}
+
+static vdbgi_result coarsen(builder *b)
+{
+    vdbgi_context *const ctx = b->ctx;
+    const level_map *const top = &b->levels[b->max_level], *const cells = &b->levels[0];
+    const size_t n = top->count;
+    int32_t(*roots)[3] = vdbgi_calloc(ctx, n ? n : 1, sizeof(*roots));
+    size_t *const cells_under = vdbgi_calloc(ctx, n ? n : 1, sizeof(size_t)); /* by top index */
+    builder *const parts = vdbgi_calloc(ctx, n ? n : 1, sizeof(*parts));
+    b->kept = vdbgi_calloc(ctx, cells->count ? cells->count : 1, sizeof(*b->kept));
+    vdbgi_result r = VDBGI_OK;
+    if (!roots || !cells_under || !parts || !b->kept) {
+        r = VDBGI_ERR_OUT_OF_MEMORY;
+        goto done;
+    }
+    /* Each root's region: as many bricks as it has level-0 cells, roots in z, y, x order. */
+    memcpy(roots, top->keys, n * sizeof(*roots));
+    qsort(roots, n, sizeof(*roots), compare_keys);
+    for (size_t c = 0; c < cells->count; c++) {
+        int32_t root[3];
+        for (int k = 0; k < 3; k++)
+            root[k] = vdbgi_floor_div(cells->keys[c][k], 1 << b->max_level);
+        const long ti = map_find(top, root);
+        if (ti >= 0) /* always: the pyramid holds every cell's ancestors */
+            cells_under[ti]++;
+    }
+    size_t sum = 0;
+    for (size_t i = 0; i < n; i++) {
+        const size_t count = cells_under[map_find(top, roots[i])]; /* roots are top's keys */
+        parts[i] = *b;
+        parts[i].kept = b->kept + sum;
+        parts[i].kept_count = 0;
+        parts[i].kept_capacity = count;
+        sum += count;
+    }
+    enum { MAX_JOBS = 64 };
+    coarsen_job jobs[MAX_JOBS];
+    atomic_size_t next = 0;
+    int t_count = vdbgi_core_count();
+    t_count = t_count > MAX_JOBS ? MAX_JOBS : t_count;
+    for (int t = 0; t < t_count; t++)
+        jobs[t] = (coarsen_job){.b = b, .roots = (const int32_t(*)[3])roots, .parts = parts,
+                                .count = n, .next = &next};
+    for (int t = 1; t < t_count; t++)
+        jobs[t].started = pthread_create(&jobs[t].thread, NULL, coarsen_worker, &jobs[t]) == 0;
+    coarsen_worker(&jobs[0]); /* a thread that did not start leaves its roots to this one */
+    for (int t = 1; t < t_count; t++)
+        if (jobs[t].started)
+            pthread_join(jobs[t].thread, NULL);
+    for (int t = 0; t < t_count && r == VDBGI_OK; t++)
+        r = jobs[t].result;
+    /* Join the regions in root order. */
+    b->kept_count = 0;
+    for (size_t i = 0; r == VDBGI_OK && i < n; i++) {
+        memmove(b->kept + b->kept_count, parts[i].kept, parts[i].kept_count * sizeof(*b->kept));
+        b->kept_count += parts[i].kept_count;
+    }
+done:
+    vdbgi_free(ctx, roots);
+    vdbgi_free(ctx, cells_under);
+    vdbgi_free(ctx, parts);
+    return r;
+}
+
 static int report(const vdbgi_convert_desc *desc, float done)
 {
     return desc && desc->progress ? desc->progress(desc->progress_user, done) : 0;
@@ -710,22 +800,8 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
 
     if ((r = build_pyramid(&b, cells, cell_count)) != VDBGI_OK)
         goto fail;
-    {
-        /* Visit the roots in z, y, x order so the brick order, hence the file, is fixed. */
-        const level_map *const top = &b.levels[b.max_level];
-        int32_t(*roots)[3] = vdbgi_calloc(ctx, top->count ? top->count : 1, sizeof(*roots));
-        if (!roots) {
-            r = VDBGI_ERR_OUT_OF_MEMORY;
-            goto fail;
-        }
-        memcpy(roots, top->keys, top->count * sizeof(*roots));
-        qsort(roots, top->count, sizeof(*roots), compare_keys);
-        for (size_t i = 0; i < top->count && r == VDBGI_OK; i++)
-            r = visit(&b, roots[i], b.max_level);
-        vdbgi_free(ctx, roots);
-        if (r != VDBGI_OK)
-            goto fail;
-    }
+    if ((r = coarsen(&b)) != VDBGI_OK)
+        goto fail;
     vdbgi_log(ctx, VDBGI_LOG_DEBUG, "pyramid and coarsening: %zu bricks in %.3f s", b.kept_count,
               vdbgi_now() - t1);
     t1 = vdbgi_now();

@@ -430,13 +430,14 @@ extern "C" vdbgi_result vdbgi_vdb_fill(vdbgi_context *ctx, const vdbgi_probes *p
                     openvdb::Vec3d sum(0.0);
                     double wsum = 0.0;
                     // A probe inside a thin wall is shared by the cells on both sides of it:
-                    // when two of its valued neighbours face each other across it, its darkest
+                    // when two of its face neighbours on one axis are both valued, its darkest
                     // neighbour keeps light from crossing (docs/stability.md). A probe under a
-                    // floor, valued from one side only, takes the weighted mean.
+                    // floor, valued from one side only, takes the weighted mean, and so does
+                    // one inside a convex corner, whose valued neighbours are diagonal.
                     const bool invalid_probe = ileaf && ileaf->isValueOn(pos);
                     openvdb::Vec3d dark(0.0);
                     float best = INFINITY;
-                    uint32_t valued = 0; // bit (dx+1) + 3(dy+1) + 9(dz+1); bit 26-i is its opposite
+                    uint32_t valued = 0; // bit (dx+1) + 3(dy+1) + 9(dz+1)
                     for (int dz = -1; dz <= 1; dz++)
                         for (int dy = -1; dy <= 1; dy++)
                             for (int dx = -1; dx <= 1; dx++) {
@@ -453,15 +454,17 @@ extern "C" vdbgi_result vdbgi_vdb_fill(vdbgi_context *ctx, const vdbgi_probes *p
                                 wsum += w[k];
                                 if (invalid_probe) {
                                     valued |= 1u << ((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1));
-                                    if (c[0] + c[1] + c[2] < best) { // first of equals: fixed order
+                                    // Darkest by r + g + b; the first of equals, in this
+                                    // fixed order, keeps the result independent of threads.
+                                    if (c[0] + c[1] + c[2] < best) {
                                         best = c[0] + c[1] + c[2];
                                         dark = openvdb::Vec3d(c);
                                     }
                                 }
                             }
-                    bool across = false;
-                    for (int i = 0; i < 13 && !across; i++)
-                        across = (valued >> i & 1) && (valued >> (26 - i) & 1);
+                    // Face pairs: -x/+x are bits 12/14, -y/+y 10/16, -z/+z 4/22.
+                    const bool across = ((valued >> 12 & valued >> 14) | (valued >> 10 & valued >> 16) |
+                                         (valued >> 4 & valued >> 22)) & 1u;
                     if (fp->darkest && across)
                         sum = dark, wsum = 1.0;
                     values[512 * l + pos] = openvdb::Vec3s(sum / wsum);

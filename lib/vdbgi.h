@@ -465,10 +465,11 @@ typedef enum vdbgi_fill {
     VDBGI_FILL_AUTO = 0,    /* the default: VDBGI_FILL_MEAN */
     VDBGI_FILL_MEAN = 1,    /* an invalid or absent probe takes the weighted mean of its
                                valued neighbours */
-    VDBGI_FILL_DARKEST = 2  /* ... except an invalid probe with valued neighbours on opposite
-                               sides (inside a wall thinner than the spacing), which takes
-                               its darkest one: less light leaks into dark interiors, more
-                               error in the open (docs/stability.md) */
+    VDBGI_FILL_DARKEST = 2  /* ... except an invalid probe whose two face neighbours along
+                               one axis both hold values (inside a wall thinner than the
+                               spacing), which takes its darkest neighbour (least r+g+b):
+                               less light leaks into dark interiors, more error in the open
+                               (docs/stability.md) */
 } vdbgi_fill;
 
 /*
@@ -612,6 +613,7 @@ typedef struct vdbgi_bevy_desc {
     double voxel_size;
     double box_min[3], box_max[3];
     int box_is_set;
+    vdbgi_fill fill; /* as vdbgi_convert_desc's, for every side */
 } vdbgi_bevy_desc;
 
 /*

@@ -230,6 +230,7 @@ static void bad_volumes_are_refused_without_files(void)
         {.resolution = {4, 0, 4}},                                          /* zero */
         {.resolution = {3000, 1, 1}},                                       /* > 2048 */
         {.resolution = {4, 2000, 4}},                                       /* 2Ry > 2048 */
+        {.fill = (vdbgi_fill)5},
         {.voxel_size = -1.0},
     };
     for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {

@@ -194,7 +194,7 @@ static void linear_ramp_stays_coarse_under_interpolation(void)
     /*
      * The ramp climbs 0.01 a probe: its range splits every block down to level 0,
      * while interpolation reproduces it exactly except where the fill flattens it
-     * beyond the slab's ends, which level-1 bricks absorb (1168 against 264).
+     * beyond the slab's ends, which level-1 bricks absorb (1168 against 240).
      */
     CHECK(fine[0] > 1000 && fine[1] == 0);
     CHECK(bricks[1] * 4 < bricks[0]);

@@ -11,6 +11,7 @@
 #include "test_slab.h"
 #include "test_util.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -128,9 +129,13 @@ static void noise_allowance_keeps_low_ray_bakes_coarse(void)
         CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
         const vdbgi_bake_desc bd = {.rays = rays[r], .sampling = VDBGI_SAMPLING_RANDOM};
         CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &bd, NULL), VDBGI_OK);
-        /* The stored standard error against the actual error (the 1024-ray bake as truth). */
+        CHECK(p && p->count == ref->count); /* same scene and desc: the same probes in order */
+        /*
+         * The stored standard error against the actual error, taking the 1024-ray bake
+         * as the truth where it has at least 8x the rays (its own error then adds < 2 %).
+         */
         double se2 = 0.0, err2 = 0.0;
-        for (size_t i = 0; p && p->stderr_ && rays[r] < 1024 && i < p->count; i++) {
+        for (size_t i = 0; p && p->stderr_ && rays[r] <= 128 && i < p->count; i++) {
             if (ref->backface[i] > ref->invalid_threshold)
                 continue;
             const double d = (p->rgb[3 * i] + p->rgb[3 * i + 1] + p->rgb[3 * i + 2] -
@@ -296,27 +301,31 @@ enum { FILL_NONE, FILL_MEAN, FILL_DARKEST, FILL_CASES };
 static const char *const fill_names[FILL_CASES] = {"no_validity", "mean", "darkest"};
 
 /*
- * Mean irradiance 10 cm off the wall on the dark side: the reference (the
+ * Mean irradiance 10 cm off the wall on each side: the reference (the
  * estimator at those points) and the bricked field, baked and converted
- * with every probe valid, and with validity and each fill.
+ * with every probe valid, and with validity and each fill. out[side][0] is
+ * the reference, out[side][1 + fill] the field; side 0 is dark, 1 lit.
  */
-static void leak_case(float t, double origin_x, double out[FILL_CASES + 1])
+static void leak_case(float t, double origin_x, double out[2][FILL_CASES + 1])
 {
     vdbgi_context *ctx = test_context();
     mesh_buf b = {0};
     vdbgi_scene *s = two_rooms(ctx, t, &b);
-    enum { NY = 12, NZ = 24 };
-    static float pts[NY * NZ * 3], ref[NY * NZ * 3];
-    for (int y = 0; y < NY; y++)
-        for (int z = 0; z < NZ; z++) {
-            float *p = &pts[3 * (y * NZ + z)];
-            p[0] = -t / 2 - 0.1f;
-            p[1] = 0.2f + 2.6f * ((float)y + 0.5f) / NY;
-            p[2] = -2.8f + 5.6f * ((float)z + 0.5f) / NZ;
-        }
+    enum { NY = 12, NZ = 24, N = NY * NZ };
+    static float pts[2][3 * N], ref[3 * N];
+    for (int side = 0; side < 2; side++)
+        for (int y = 0; y < NY; y++)
+            for (int z = 0; z < NZ; z++) {
+                float *p = &pts[side][3 * (y * NZ + z)];
+                p[0] = side ? t / 2 + 0.1f : -t / 2 - 0.1f;
+                p[1] = 0.2f + 2.6f * ((float)y + 0.5f) / NY;
+                p[2] = -2.8f + 5.6f * ((float)z + 0.5f) / NZ;
+            }
     const vdbgi_bake_desc rd = {.rays = full ? 4096 : 1024};
-    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &rd, pts, NY * NZ, ref, NULL), VDBGI_OK);
-    out[0] = luminance_mean(ref, NY * NZ);
+    for (int side = 0; side < 2; side++) {
+        CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &rd, pts[side], N, ref, NULL), VDBGI_OK);
+        out[side][0] = luminance_mean(ref, N);
+    }
     const vdbgi_place_desc pd = {.spacing = 0.5, .origin = {origin_x, 0.25, 0.25}, .origin_is_set = 1};
     for (int f = 0; f < FILL_CASES; f++) {
         vdbgi_probes *pr = NULL;
@@ -328,13 +337,15 @@ static void leak_case(float t, double origin_x, double out[FILL_CASES + 1])
                                        .fill = f == FILL_DARKEST ? VDBGI_FILL_DARKEST : VDBGI_FILL_MEAN};
         vdbgi_volume *v = NULL;
         CHECK_RESULT(ctx, vdbgi_volume_build(ctx, pr, &cd, &v), VDBGI_OK);
-        double sum = 0.0;
-        for (int i = 0; v && i < NY * NZ; i++) {
-            float rgb[3];
-            vdbgi_volume_sample(v, &pts[3 * i], rgb);
-            sum += rgb[0] + rgb[1] + rgb[2];
+        for (int side = 0; side < 2; side++) {
+            double sum = 0.0;
+            for (int i = 0; v && i < N; i++) {
+                float rgb[3];
+                vdbgi_volume_sample(v, &pts[side][3 * i], rgb);
+                sum += rgb[0] + rgb[1] + rgb[2];
+            }
+            out[side][1 + f] = sum / (3.0 * N);
         }
-        out[1 + f] = sum / (3.0 * NY * NZ);
         vdbgi_volume_destroy(v);
         vdbgi_probes_destroy(pr);
     }
@@ -350,22 +361,27 @@ static void thin_wall_leaks_fall_with_the_darkest_fill(void)
     for (int ti = 0; ti < (full ? 3 : 1); ti++)
         for (int in_wall = 1; in_wall >= 0; in_wall--) {
             /* Origin x = 0 puts a plane of probes inside the wall; 0.25 puts the wall between two. */
-            double r[FILL_CASES + 1];
+            double r[2][FILL_CASES + 1];
             leak_case(t[ti], in_wall ? 0.0 : 0.25, r);
-            double leak[FILL_CASES];
+            double leak[FILL_CASES], lit[FILL_CASES];
             char name[64];
             snprintf(name, sizeof(name), "leak_t%.2f_%s", (double)t[ti], in_wall ? "probe_in_wall" : "wall_between");
-            report(name, "dark_reference", r[0]);
+            report(name, "dark_reference", r[0][0]);
+            report(name, "lit_reference", r[1][0]);
             for (int f = 0; f < FILL_CASES; f++) {
-                leak[f] = (r[1 + f] - r[0]) / r[0]; /* light gained on the dark side */
+                leak[f] = (r[0][1 + f] - r[0][0]) / r[0][0]; /* light gained on the dark side */
+                lit[f] = (r[1][1 + f] - r[1][0]) / r[1][0];  /* and the lit side's change */
                 char metric[64];
                 snprintf(metric, sizeof(metric), "excess_%s", fill_names[f]);
                 report(name, metric, leak[f]);
+                snprintf(metric, sizeof(metric), "lit_side_%s", fill_names[f]);
+                report(name, metric, lit[f]);
             }
             if (in_wall) {
                 /* A probe inside the wall: validity with the darkest fill cuts the leak. */
                 CHECK(leak[FILL_NONE] > 0.05);
-                CHECK(fabs(leak[FILL_DARKEST]) < 0.5 * leak[FILL_NONE]);
+                CHECK(leak[FILL_DARKEST] < 0.5 * leak[FILL_NONE]);
+                CHECK(leak[FILL_DARKEST] > -0.15); /* without blacking the dark side out */
                 CHECK(leak[FILL_DARKEST] < leak[FILL_MEAN]);
             } else {
                 /* No probe in the wall: nothing is invalid there, so no fill can help. */
@@ -380,14 +396,14 @@ static void thin_wall_leaks_fall_with_the_darkest_fill(void)
  * Encode-decode relative error, largest channel error over the largest
  * channel, from 1e-4 to 16 for grey and for a saturated orange, RGBM (range
  * 8) against RGB9E5. RGBM's step is M * 8 / 255 with M >= 1/255, so below
- * about 0.03 its relative error exceeds 1 %; above 8 it clamps.
+ * about 0.008 its relative error can exceed 1 %; above 8 it clamps.
  */
 static void rgbm_range_and_clamps(void)
 {
     const int per_decade = full ? 200 : 20;
     double worst[2][5] = {{0}}; /* [codec][decade from 1e-4; the last runs on to 8] */
     double rgbm_bound_violation = 0.0;
-    for (int i = 0; i <= 5 * per_decade + (int)(log10(16.0) * per_decade); i++) {
+    for (int i = 0; i <= 4 * per_decade + (int)(log10(16.0) * per_decade); i++) {
         const double v = 1e-4 * pow(10.0, (double)i / per_decade);
         const int decade = (int)floor(log10(v) + 4.0 + 1e-9);
         for (int colour = 0; colour < 2; colour++) {
@@ -486,7 +502,7 @@ static void level_seams_stay_within_eps(void)
         const vdbgi_volume_view view = vdbgi_volume_view_of(v);
         const uint32_t *d = view.ind_dims;
         double jump = 0.0, same_level_jump = 0.0;
-        size_t seams = 0;
+        size_t seams = 0, sampled = 0; /* faces between levels; points read on them */
         for (uint32_t z = 0; z < d[2]; z++)
             for (uint32_t y = 0; y < d[1]; y++)
                 for (uint32_t x = 0; x < d[0]; x++)
@@ -524,6 +540,7 @@ static void level_seams_stay_within_eps(void)
                                 float f0[3], f1[3];
                                 vdbgi_sampler_sample(&view, pos[0], f0);
                                 vdbgi_sampler_sample(&view, pos[1], f1);
+                                sampled += a0 != a1;
                                 for (int k = 0; k < 3; k++) {
                                     const double j = fabs(f1[k] - f0[k]) / info.mean_irradiance;
                                     if (a0 != a1)
@@ -537,15 +554,19 @@ static void level_seams_stay_within_eps(void)
         snprintf(name, sizeof(name), "seam_%s_%s_eps_%.2f", range ? "range" : "interp",
                  enc ? "rgb9e5" : "rgbm", (double)eps[e]);
         report(name, "level_seams", (double)seams);
+        report(name, "seam_points_sampled", (double)sampled);
         report(name, "max_jump", jump);
         report(name, "max_jump_over_eps", jump / eps[e]);
         report(name, "same_level_max_jump", same_level_jump);
         report(name, "bricks", info.brick_count);
         report(name, "max_error", info.max_error / info.mean_irradiance);
-        CHECK(seams > 0);
         if (!range) {
-            /* Interpolation tests the step around each block: seams and probes within eps. */
-            CHECK(jump <= eps[e] + 0.005);
+            CHECK(sampled > 0);
+            /*
+             * Interpolation tests the step past each block: every probe within eps, and a
+             * seam within eps of the field on each side, so within 2 eps (+ RGBM's step).
+             */
+            CHECK(jump <= 2.0 * eps[e] + 0.005);
             CHECK(info.max_error / info.mean_irradiance <= eps[e] + 0.005);
         }
         CHECK(same_level_jump <= 0.01); /* aprons: no seam at all between equal levels */
@@ -596,36 +617,42 @@ static long peak_rss_kib(void)
 }
 
 /*
- * A plane 1 km across at 0.5 m: about 20 million probes. Refused, with the
- * count and memory, by a limit below that before any lattice is built; the
- * full run also places it under the default limit and records the time and
- * the peak memory.
+ * A plane 1 km across at 0.5 m: about 32 million probes. Refused, with the
+ * count and memory, by a limit below that from the triangle-area estimate,
+ * before any lattice is built (the context's allocator sees next to nothing);
+ * the full run also places it under the default limit and records the time
+ * and the process's peak memory.
  */
 static void a_kilometre_plane_is_refused_or_placed_within_memory(void)
 {
-    vdbgi_context *ctx = test_context();
+    test_alloc a = {0, LONG_MAX, 0}; /* never fails; counts */
+    const vdbgi_context_desc cd = {test_alloc_fn, test_free_fn, test_log, &a};
+    vdbgi_context *ctx = NULL;
+    CHECK_RESULT(ctx, vdbgi_context_create(&cd, &ctx), VDBGI_OK);
     test_mesh m = {0};
     test_mesh_plane(&m, 1000.0f, 0.0f);
     const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.5f, 0);
     vdbgi_scene *s = NULL;
     CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &s), VDBGI_OK);
     vdbgi_probes *p = NULL;
-    const long rss0 = peak_rss_kib();
+    const long calls = a.calls, live = a.live;
     double t0 = now();
     const vdbgi_place_desc small = {.spacing = 0.5, .max_probes = 1000000};
     CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &small, &p), VDBGI_ERR_OUT_OF_MEMORY);
     report("kilometre", "refusal_seconds", now() - t0);
-    report("kilometre", "refusal_peak_rss_growth_mib", (double)(peak_rss_kib() - rss0) / 1024.0);
+    report("kilometre", "refusal_allocations", (double)(a.calls - calls));
     CHECK(p == NULL);
-    CHECK(strstr(vdbgi_context_error(ctx), "probes") != NULL);
-    CHECK(peak_rss_kib() - rss0 < 64 * 1024); /* refused from the estimate, not after building */
+    CHECK(strstr(vdbgi_context_error(ctx), "about") && strstr(vdbgi_context_error(ctx), "probes"));
+    CHECK(a.calls - calls < 16); /* refused from the estimate, not after building */
+    CHECK(a.live == live);
     if (full) {
         const vdbgi_place_desc pd = {.spacing = 0.5};
+        report("kilometre", "process_peak_rss_before_mib", (double)peak_rss_kib() / 1024.0);
         t0 = now();
         CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
         report("kilometre", "place_seconds", now() - t0);
         report("kilometre", "probes", p ? (double)p->count : 0.0);
-        report("kilometre", "peak_rss_mib", (double)peak_rss_kib() / 1024.0);
+        report("kilometre", "process_peak_rss_mib", (double)peak_rss_kib() / 1024.0);
         vdbgi_probes_destroy(p);
     }
     vdbgi_scene_destroy(s);
