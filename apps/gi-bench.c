@@ -42,7 +42,7 @@ static void usage(void)
            "the same probes at 1 m), size.csv (bytes against error over eps, max level,\n"
            "criterion and encoding), spacing.csv (0.25..2 m: probes, time, bytes, and\n"
            "the error at 3000 points on the surfaces, against 2048-ray estimates there,\n"
-           "under the mean and the darkest fill).\n"
+           "under the default darkest fill and the mean fill).\n"
            "\n"
            "Options:\n"
            "      --spacing M     probe spacing in metres (0.5)\n"
@@ -398,8 +398,8 @@ static int sweep_spacing(sweep *w, const char *dir)
     FILE *const f = r == VDBGI_OK ? open_csv(dir, "spacing.csv",
                                              "spacing,probes,bake_seconds,raw_bytes,gzip_bytes,"
                                              "dense_bytes,receivers,receiver_rmse_rel,"
-                                             "receiver_p99_rel,darkest_fill_rmse_rel,"
-                                             "darkest_fill_p99_rel")
+                                             "receiver_p99_rel,mean_fill_rmse_rel,"
+                                             "mean_fill_p99_rel")
                                   : NULL;
     static const double spacing[] = {0.25, 0.5, 1.0, 2.0};
     for (int i = 0; f && r == VDBGI_OK && i < 4; i++) {
@@ -412,28 +412,28 @@ static int sweep_spacing(sweep *w, const char *dir)
             r = vdbgi_probes_bake(p, w->scene, NULL, &st);
         if (r == VDBGI_OK)
             r = vdbgi_volume_build(ctx, p, NULL, &v);
-        /* The same probes under the darkest-neighbour fill: what it costs in the open. */
-        vdbgi_volume *dark = NULL;
-        const vdbgi_convert_desc dd = {.fill = VDBGI_FILL_DARKEST};
+        /* The same probes under the mean fill: what the darkest fill costs in the open. */
+        vdbgi_volume *mean = NULL;
+        const vdbgi_convert_desc md = {.fill = VDBGI_FILL_MEAN};
         if (r == VDBGI_OK)
-            r = vdbgi_volume_build(ctx, p, &dd, &dark);
+            r = vdbgi_volume_build(ctx, p, &md, &mean);
         if (r == VDBGI_OK) {
-            double rmse, p99, dark_rmse, dark_p99;
+            double rmse, p99, mean_rmse, mean_p99;
             for (int k = 0; k < kept; k++)
                 vdbgi_volume_sample(v, &pts[3 * k], &got[3 * k]);
             compare(ref, got, (size_t)kept, &rmse, &p99);
             for (int k = 0; k < kept; k++)
-                vdbgi_volume_sample(dark, &pts[3 * k], &got[3 * k]);
-            compare(ref, got, (size_t)kept, &dark_rmse, &dark_p99);
+                vdbgi_volume_sample(mean, &pts[3 * k], &got[3 * k]);
+            compare(ref, got, (size_t)kept, &mean_rmse, &mean_p99);
             vdbgi_volume_info vi;
             vdbgi_volume_get_info(v, &vi);
             fprintf(f, "%g,%llu,%.4f,%zu,%zu,%zu,%d,%.6f,%.6f,%.6f,%.6f\n", spacing[i],
                     (unsigned long long)st.probe_count, st.seconds,
                     vi.indirection_size + vi.atlas_size, vi.file_size, vi.dense_rgba8_size, kept,
-                    rmse, p99, dark_rmse, dark_p99);
+                    rmse, p99, mean_rmse, mean_p99);
             fflush(f);
         }
-        vdbgi_volume_destroy(dark);
+        vdbgi_volume_destroy(mean);
         vdbgi_volume_destroy(v);
         vdbgi_probes_destroy(p);
     }

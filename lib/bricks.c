@@ -377,7 +377,7 @@ static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *d
     *encoding = desc->encoding;
     VDBGI_FAIL_IF(ctx, desc->fill < VDBGI_FILL_AUTO || desc->fill > VDBGI_FILL_DARKEST,
                   VDBGI_ERR_INVALID_ARG, "unknown fill %d", (int)desc->fill);
-    *darkest = desc->fill == VDBGI_FILL_DARKEST;
+    *darkest = desc->fill != VDBGI_FILL_MEAN; /* darkest by default: docs/stability.md */
     return VDBGI_OK;
 }
 

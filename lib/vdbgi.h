@@ -462,14 +462,14 @@ typedef enum vdbgi_criterion {
 } vdbgi_criterion;
 
 typedef enum vdbgi_fill {
-    VDBGI_FILL_AUTO = 0,    /* the default: VDBGI_FILL_MEAN */
+    VDBGI_FILL_AUTO = 0,    /* the default: VDBGI_FILL_DARKEST */
     VDBGI_FILL_MEAN = 1,    /* an invalid or absent probe takes the weighted mean of its
                                valued neighbours */
     VDBGI_FILL_DARKEST = 2  /* ... except an invalid probe whose two face neighbours along
                                one axis both hold values (inside a wall thinner than the
                                spacing), which takes its darkest neighbour (least r+g+b):
-                               less light leaks into dark interiors, more error in the open
-                               (docs/stability.md) */
+                               a fraction of the light leaks into dark rooms, at no
+                               measurable cost in the open (docs/stability.md) */
 } vdbgi_fill;
 
 /*
@@ -486,7 +486,7 @@ typedef enum vdbgi_fill {
  *               many times its noisiest valid probe's standard error, and the
  *               interpolation test allows it once. >= 0. 0 == 1 for random
  *               and adaptive bakes (the estimate assumes independent rays and
- *               overstates a rotated Fibonacci set's error 1.7-3.6x:
+ *               overstates a rotated Fibonacci set's error 1.9-2.4x:
  *               docs/stability.md) and 0 for the fixed Fibonacci set, whose
  *               error is a shared bias, not noise; VDBGI_NONE for none.
  *   fill:       see vdbgi_fill.

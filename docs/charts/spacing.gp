@@ -16,5 +16,5 @@ set ylabel "error at surface receivers (% of mean)"
 set key top left
 plot csv."/spacing.csv" using 1:(100*$8) with linespoints title "RMSE", \
      csv."/spacing.csv" using 1:(100*$9) with linespoints title "99th percentile", \
-     csv."/spacing.csv" using 1:(100*$10) with linespoints dashtype 2 title "RMSE, --fill darkest"
+     csv."/spacing.csv" using 1:(100*$10) with linespoints dashtype 2 title "RMSE, --fill mean"
 unset multiplot
