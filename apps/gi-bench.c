@@ -374,6 +374,15 @@ static int sweep_size(sweep *w, const char *dir)
     return r == VDBGI_OK && f ? CLI_OK : (r != VDBGI_OK ? cli_fail(ctx, r) : CLI_FAILED);
 }
 
+/* Error of a volume at the receivers pts against their estimates ref; got is scratch. */
+static void receiver_error(const vdbgi_volume *v, const float *pts, const float *ref, float *got,
+                           int n, double *rmse, double *p99)
+{
+    for (int k = 0; k < n; k++)
+        vdbgi_volume_sample(v, &pts[3 * k], &got[3 * k]);
+    compare(ref, got, (size_t)n, rmse, p99);
+}
+
 static int sweep_spacing(sweep *w, const char *dir)
 {
     vdbgi_context *const ctx = w->ctx;
@@ -419,12 +428,8 @@ static int sweep_spacing(sweep *w, const char *dir)
             r = vdbgi_volume_build(ctx, p, &md, &mean);
         if (r == VDBGI_OK) {
             double rmse, p99, mean_rmse, mean_p99;
-            for (int k = 0; k < kept; k++)
-                vdbgi_volume_sample(v, &pts[3 * k], &got[3 * k]);
-            compare(ref, got, (size_t)kept, &rmse, &p99);
-            for (int k = 0; k < kept; k++)
-                vdbgi_volume_sample(mean, &pts[3 * k], &got[3 * k]);
-            compare(ref, got, (size_t)kept, &mean_rmse, &mean_p99);
+            receiver_error(v, pts, ref, got, kept, &rmse, &p99);
+            receiver_error(mean, pts, ref, got, kept, &mean_rmse, &mean_p99);
             vdbgi_volume_info vi;
             vdbgi_volume_get_info(v, &vi);
             fprintf(f, "%g,%llu,%.4f,%zu,%zu,%zu,%d,%.6f,%.6f,%.6f,%.6f\n", spacing[i],

@@ -204,8 +204,7 @@ vdbgi_result vdbgi_bevy_build(vdbgi_context *ctx, const vdbgi_probes *p,
     float *const side_rgb = vdbgi_calloc(ctx, p->count, 3 * sizeof(float));
     unsigned char *const valued = vdbgi_calloc(ctx, n, 1);
     vdbgi_result r = side_rgb && valued ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
-    vdbgi_fill_params fp = vdbgi_fill_params_default(p->invalid_threshold);
-    fp.darkest = desc->fill != VDBGI_FILL_MEAN;
+    const vdbgi_fill_params fp = vdbgi_fill_params_default(p->invalid_threshold, desc->fill);
     for (int side = 0; side < 6 && r == VDBGI_OK; side++) {
         for (size_t i = 0; i < p->count; i++)
             memcpy(&side_rgb[3 * i], &p->cube[18 * i + 3 * side], 3 * sizeof(float));

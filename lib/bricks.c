@@ -8,7 +8,6 @@
 #include "vdb_shim.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -352,7 +351,7 @@ static vdbgi_result build_pyramid(builder *b, const int32_t *cells, size_t cell_
 
 static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *desc, float *eps,
                                  float *sigmas, int *max_level, vdbgi_criterion *criterion,
-                                 vdbgi_encoding *encoding, bool *darkest)
+                                 vdbgi_encoding *encoding)
 {
     const vdbgi_convert_desc none = {0};
     if (!desc)
@@ -377,7 +376,6 @@ static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *d
     *encoding = desc->encoding;
     VDBGI_FAIL_IF(ctx, desc->fill < VDBGI_FILL_AUTO || desc->fill > VDBGI_FILL_DARKEST,
                   VDBGI_ERR_INVALID_ARG, "unknown fill %d", (int)desc->fill);
-    *darkest = desc->fill != VDBGI_FILL_MEAN; /* darkest by default: docs/stability.md */
     return VDBGI_OK;
 }
 
@@ -558,8 +556,6 @@ typedef struct atlas_job {
     const builder *b;
     size_t begin, end; /* kept bricks [begin, end) */
     size_t fallbacks, clamped;
-    pthread_t thread;
-    bool started;
 } atlas_job;
 
 static void *atlas_worker(void *arg)
@@ -592,15 +588,7 @@ static vdbgi_result fill_atlas(builder *b)
         jobs[t].begin = b->kept_count * (size_t)t / (size_t)n;
         jobs[t].end = b->kept_count * (size_t)(t + 1) / (size_t)n;
     }
-    for (int t = 1; t < n; t++)
-        jobs[t].started = pthread_create(&jobs[t].thread, NULL, atlas_worker, &jobs[t]) == 0;
-    for (int t = 1; t < n; t++)
-        if (!jobs[t].started)
-            atlas_worker(&jobs[t]); /* no thread: do its share here */
-    atlas_worker(&jobs[0]);
-    for (int t = 1; t < n; t++)
-        if (jobs[t].started)
-            pthread_join(jobs[t].thread, NULL);
+    vdbgi_run_threads(n, atlas_worker, jobs, sizeof(jobs[0]));
     for (int t = 0; t < n; t++) {
         b->vol->info.fallback_count += jobs[t].fallbacks;
         b->vol->info.clamped_count += jobs[t].clamped;
@@ -621,8 +609,6 @@ typedef struct coarsen_job {
     size_t count;
     atomic_size_t *next;
     vdbgi_result result;
-    pthread_t thread;
-    bool started;
 } coarsen_job;
 
 static void *coarsen_worker(void *arg)
@@ -675,12 +661,7 @@ static vdbgi_result coarsen(builder *b)
     for (int t = 0; t < t_count; t++)
         jobs[t] = (coarsen_job){.b = b, .roots = (const int32_t(*)[3])roots, .parts = parts,
                                 .count = n, .next = &next};
-    for (int t = 1; t < t_count; t++)
-        jobs[t].started = pthread_create(&jobs[t].thread, NULL, coarsen_worker, &jobs[t]) == 0;
-    coarsen_worker(&jobs[0]); /* a thread that did not start leaves its roots to this one */
-    for (int t = 1; t < t_count; t++)
-        if (jobs[t].started)
-            pthread_join(jobs[t].thread, NULL);
+    vdbgi_run_threads(t_count, coarsen_worker, jobs, sizeof(jobs[0]));
     for (int t = 0; t < t_count && r == VDBGI_OK; t++)
         r = jobs[t].result;
     /* Join the regions in root order. */
@@ -711,9 +692,7 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     builder b = {.ctx = ctx, .probes = probes};
     float eps = 0.0f;
     vdbgi_encoding encoding = VDBGI_ENCODING_RGBM;
-    bool darkest = false;
-    VDBGI_TRY(resolve_desc(ctx, desc, &eps, &b.sigmas, &b.max_level, &b.criterion, &encoding,
-                           &darkest));
+    VDBGI_TRY(resolve_desc(ctx, desc, &eps, &b.sigmas, &b.max_level, &b.criterion, &encoding));
     /*
      * A fixed Fibonacci set gives every probe the same directions: its error is a bias
      * shared by neighbours, not noise, and its standard error is no measure of it. The
@@ -759,8 +738,8 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
 
     int32_t *cells = NULL;
     size_t cell_count = 0;
-    vdbgi_fill_params fp = vdbgi_fill_params_default(probes->invalid_threshold);
-    fp.darkest = darkest;
+    const vdbgi_fill_params fp =
+        vdbgi_fill_params_default(probes->invalid_threshold, desc ? desc->fill : VDBGI_FILL_AUTO);
     vdbgi_result r = vdbgi_vdb_fill(ctx, probes, &fp, &v->filled, &cells, &cell_count,
                                     &info->unreached_count);
     if (r != VDBGI_OK)

@@ -3,6 +3,7 @@
 #include "internal.h"
 
 #include <errno.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -163,6 +164,24 @@ int vdbgi_core_count(void)
 {
     const long n = sysconf(_SC_NPROCESSORS_ONLN);
     return n > 0 ? (int)n : 1;
+}
+
+void vdbgi_run_threads(int n, void *(*fn)(void *), void *args, size_t stride)
+{
+    enum { MAX_THREADS = 64 };
+    pthread_t threads[MAX_THREADS];
+    bool started[MAX_THREADS] = {false};
+    n = n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : n;
+    char *const base = args;
+    for (int t = 1; t < n; t++)
+        started[t] = pthread_create(&threads[t], NULL, fn, base + (size_t)t * stride) == 0;
+    for (int t = 1; t < n; t++)
+        if (!started[t])
+            fn(base + (size_t)t * stride); /* no thread: do its share here */
+    fn(base);
+    for (int t = 1; t < n; t++)
+        if (started[t])
+            pthread_join(threads[t], NULL);
 }
 
 static vdbgi_result temp_create(vdbgi_context *ctx, const char *path, char **tmp_out)

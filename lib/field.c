@@ -93,13 +93,15 @@ bool vdbgi_field_get_cached(const vdbgi_field *f, const int32_t ijk[3], float rg
     return true;
 }
 
-vdbgi_fill_params vdbgi_fill_params_default(float invalid_threshold)
+vdbgi_fill_params vdbgi_fill_params_default(float invalid_threshold, vdbgi_fill fill)
 {
-    /* Level-0 cells of 4 probes, the one-cell margin, a rim of one point for the aprons, and
-       inverse-squared-distance weights for face, edge and corner neighbours. */
+    /* Level-0 cells of 4 probes, the one-cell margin, a rim of one point for the aprons,
+       inverse-squared-distance weights for face, edge and corner neighbours, and the
+       darkest fill unless the mean is asked for (docs/stability.md). */
     const vdbgi_fill_params fp = {.invalid_threshold = invalid_threshold, .cell_size = 4,
                                   .margin_cells = 1, .rim = 1,
-                                  .weights = {1.0f, 0.5f, 1.0f / 3.0f}, .max_iterations = 1024};
+                                  .weights = {1.0f, 0.5f, 1.0f / 3.0f}, .max_iterations = 1024,
+                                  .darkest = fill != VDBGI_FILL_MEAN};
     return fp;
 }
 

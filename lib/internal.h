@@ -57,6 +57,12 @@ char *vdbgi_strdup(vdbgi_context *ctx, const char *s);
 double vdbgi_now(void);
 /* Online cores, at least 1. */
 int vdbgi_core_count(void);
+/*
+ * Run fn(args + t * stride) for t in 0..n-1 (n <= 64): t > 0 on threads of
+ * their own, t == 0 on this one, which also runs any whose thread did not
+ * start. Returns when all are done.
+ */
+void vdbgi_run_threads(int n, void *(*fn)(void *), void *args, size_t stride);
 
 /*
  * Write an output the safe way: write(ctx, tmp, user) fills a temporary
@@ -270,8 +276,8 @@ typedef struct vdbgi_fill_params {
                                 mean: a probe inside a wall then leaks no light to the dark side */
 } vdbgi_fill_params;
 
-/* The converter's fill: what bricks.c and bevy.c both use. */
-vdbgi_fill_params vdbgi_fill_params_default(float invalid_threshold);
+/* The converter's fill for a (checked) vdbgi_fill choice: what bricks.c and bevy.c both use. */
+vdbgi_fill_params vdbgi_fill_params_default(float invalid_threshold, vdbgi_fill fill);
 
 /*
  * The field at fine position pos (lattice units, may be fractional):
