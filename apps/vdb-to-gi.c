@@ -52,6 +52,8 @@ static void usage(void)
            "      --box X0,Y0,Z0,X1,Y1,Z1  world box of the Bevy volume (the baked bounds)\n"
            "      --res N|X,Y,Z     Bevy voxels per axis (from --voxel)\n"
            "      --voxel M         Bevy voxel size in metres (4 x the probe spacing)\n"
+           "      --threads N       worker threads; the output does not depend on it (all\n"
+           "                        cores)\n"
            "  -q, --quiet           no statistics, errors only\n"
            "  -v, --verbose         more detail on stderr (-vv: timings of each step)\n"
            "  -h, --help            print this help and exit\n"
@@ -82,6 +84,7 @@ enum {
     OPT_BOX,
     OPT_RES,
     OPT_VOXEL,
+    OPT_THREADS,
     OPT_VERSION
 };
 
@@ -114,6 +117,7 @@ static int parse_args(int argc, char **argv, options *o)
                                           {"box", required_argument, NULL, OPT_BOX},
                                           {"res", required_argument, NULL, OPT_RES},
                                           {"voxel", required_argument, NULL, OPT_VOXEL},
+                                          {"threads", required_argument, NULL, OPT_THREADS},
                                           {"quiet", no_argument, NULL, 'q'},
                                           {"verbose", no_argument, NULL, 'v'},
                                           {"help", no_argument, NULL, 'h'},
@@ -223,6 +227,12 @@ static int parse_args(int argc, char **argv, options *o)
             if (!cli_parse_double(optarg, &d) || !(d > 0.0) || !isfinite(d))
                 return cli_usage_error("--voxel must be a number > 0 (got '%s')", optarg);
             o->bevy_desc.voxel_size = d;
+            break;
+        case OPT_THREADS:
+            if (!cli_parse_int(optarg, &i) || i < 1 || i > 1024)
+                return cli_usage_error("--threads must be an integer in 1..1024 (got '%s')",
+                                       optarg);
+            o->convert.threads = o->bevy_desc.threads = (int)i;
             break;
         case 'q': cli_verbosity = 1; break;
         case 'v': cli_verbosity++; break;

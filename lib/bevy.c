@@ -7,7 +7,8 @@
 #include "encode.h"
 #include "image_shim.h"
 #include "ktx2.h"
-#include "vdb_shim.h"
+#include "field.h"
+#include "probes.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -107,57 +108,6 @@ void vdbgi_bevy_get_info(const vdbgi_bevy *b, vdbgi_bevy_info *info)
 
 /* ---- resampling ---------------------------------------------------------------- */
 
-/*
- * Voxels with no filled point around them (the box reaches beyond the baked
- * shell) take the weighted mean of their valued neighbours, ring by ring, as
- * the fill does on the fine lattice.
- */
-static vdbgi_result fill_holes(vdbgi_bevy *b, unsigned char *valued)
-{
-    const int *const r = b->res;
-    const size_t n = voxel_count(r);
-    unsigned char *const next = vdbgi_alloc(b->ctx, n);
-    if (!next)
-        return VDBGI_ERR_OUT_OF_MEMORY;
-    static const float weights[4] = {0.0f, 1.0f, 0.5f, 1.0f / 3.0f};
-    for (bool grew = true; grew;) {
-        grew = false;
-        memcpy(next, valued, n);
-        for (int z = 0; z < r[2]; z++)
-            for (int y = 0; y < r[1]; y++)
-                for (int x = 0; x < r[0]; x++) {
-                    const size_t i = ((size_t)z * r[1] + y) * r[0] + x;
-                    if (valued[i])
-                        continue;
-                    double acc[18] = {0}, wsum = 0.0;
-                    for (int dz = -1; dz <= 1; dz++)
-                        for (int dy = -1; dy <= 1; dy++)
-                            for (int dx = -1; dx <= 1; dx++) {
-                                const int nx = x + dx, ny = y + dy, nz = z + dz;
-                                if (nx < 0 || ny < 0 || nz < 0 || nx >= r[0] || ny >= r[1] ||
-                                    nz >= r[2])
-                                    continue;
-                                const size_t j = ((size_t)nz * r[1] + ny) * r[0] + nx;
-                                if (!valued[j])
-                                    continue;
-                                const float w = weights[abs(dx) + abs(dy) + abs(dz)];
-                                for (int c = 0; c < 18; c++)
-                                    acc[c] += w * b->cube[18 * j + c];
-                                wsum += w;
-                            }
-                    if (wsum > 0.0) {
-                        for (int c = 0; c < 18; c++)
-                            b->cube[18 * i + c] = (float)(acc[c] / wsum);
-                        next[i] = 1;
-                        grew = true;
-                    }
-                }
-        memcpy(valued, next, n);
-    }
-    vdbgi_free(b->ctx, next);
-    return VDBGI_OK;
-}
-
 vdbgi_result vdbgi_bevy_build(vdbgi_context *ctx, const vdbgi_probes *p,
                               const vdbgi_bevy_desc *desc, vdbgi_bevy **out)
 {
@@ -166,11 +116,13 @@ vdbgi_result vdbgi_bevy_build(vdbgi_context *ctx, const vdbgi_probes *p,
     VDBGI_FAIL_IF(ctx, !p->cube, VDBGI_ERR_INVALID_ARG,
                   "the probes have no ambient cubes: bake with --basis ambient-cube");
     VDBGI_FAIL_IF(ctx, p->count == 0, VDBGI_ERR_FORMAT, "the grid holds no probes");
-    const vdbgi_bevy_desc none = {{0, 0, 0}, 0.0, {0, 0, 0}, {0, 0, 0}, 0, VDBGI_FILL_AUTO};
+    const vdbgi_bevy_desc none = {0};
     if (!desc)
         desc = &none;
     VDBGI_FAIL_IF(ctx, desc->fill < VDBGI_FILL_AUTO || desc->fill > VDBGI_FILL_DARKEST,
                   VDBGI_ERR_INVALID_ARG, "unknown fill %d", (int)desc->fill);
+    VDBGI_FAIL_IF(ctx, desc->threads < 0, VDBGI_ERR_INVALID_ARG,
+                  "thread count must be >= 0 (got %d)", desc->threads);
 
     /* The baked bounds: the probes' box and half a spacing around it. */
     vdbgi_probes_info pi;
@@ -199,50 +151,43 @@ vdbgi_result vdbgi_bevy_build(vdbgi_context *ctx, const vdbgi_probes *p,
     vdbgi_bevy *b = NULL;
     VDBGI_TRY(bevy_alloc(ctx, res, lo, hi, &b));
 
-    /* Each side: the converter's fill from valid probes, then trilinear at voxel centres. */
+    /*
+     * The converter's fill from valid probes, all six sides at once (one choice of
+     * neighbour a probe), then trilinear at voxel centres. Voxels with no filled point
+     * around them (the box reaches past the baked shell) take the same rings on the
+     * voxel grid.
+     */
     const size_t n = voxel_count(res);
-    float *const side_rgb = vdbgi_calloc(ctx, p->count, 3 * sizeof(float));
     unsigned char *const valued = vdbgi_calloc(ctx, n, 1);
-    vdbgi_result r = side_rgb && valued ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
-    const vdbgi_fill_params fp = vdbgi_fill_params_default(p->invalid_threshold, desc->fill);
-    for (int side = 0; side < 6 && r == VDBGI_OK; side++) {
-        for (size_t i = 0; i < p->count; i++)
-            memcpy(&side_rgb[3 * i], &p->cube[18 * i + 3 * side], 3 * sizeof(float));
-        vdbgi_probes view = *p; /* the same probes, this side's colours */
-        view.rgb = side_rgb;
-        vdbgi_field field;
-        int32_t *cells = NULL;
-        size_t cell_count = 0, unreached = 0;
-        r = vdbgi_vdb_fill(ctx, &view, &fp, &field, &cells, &cell_count, &unreached);
-        if (r != VDBGI_OK)
-            break;
-        const vdbgi_leaf *cache = NULL;
-        for (int z = 0; z < res[2]; z++)
-            for (int y = 0; y < res[1]; y++)
-                for (int x = 0; x < res[0]; x++) {
-                    const int v[3] = {x, y, z};
-                    double pos[3];
-                    for (int k = 0; k < 3; k++) {
-                        const double world = lo[k] + (v[k] + 0.5) * (hi[k] - lo[k]) / res[k];
-                        pos[k] = (world - p->origin[k]) / p->spacing;
-                    }
-                    /* Every side fills the same topology (the same valid probes), so a voxel
-                       is valued on all sides or on none. */
-                    const size_t i = ((size_t)z * res[1] + y) * res[0] + x;
-                    if (vdbgi_field_trilinear(&field, pos, &b->cube[18 * i + 3 * side], &cache))
-                        valued[i] = 1;
+    vdbgi_result r = valued ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
+    const vdbgi_fill_params fp =
+        vdbgi_fill_params_default(p->invalid_threshold, desc->fill, desc->threads);
+    const vdbgi_fill_input in = {p->count, p->ijk, p->cube, p->backface, 6};
+    vdbgi_field field = {0};
+    int32_t *cells = NULL;
+    size_t cell_count = 0, unreached = 0;
+    if (r == VDBGI_OK)
+        r = vdbgi_field_fill(ctx, &in, &fp, &field, &cells, &cell_count, &unreached);
+    size_t any = 0;
+    const vdbgi_leaf *cache = NULL;
+    for (int z = 0; z < res[2] && r == VDBGI_OK; z++)
+        for (int y = 0; y < res[1]; y++)
+            for (int x = 0; x < res[0]; x++) {
+                const int v[3] = {x, y, z};
+                double pos[3];
+                for (int k = 0; k < 3; k++) {
+                    const double world = lo[k] + (v[k] + 0.5) * (hi[k] - lo[k]) / res[k];
+                    pos[k] = (world - p->origin[k]) / p->spacing;
                 }
-        vdbgi_free(ctx, cells);
-        vdbgi_field_free(&field);
-    }
-    if (r == VDBGI_OK) {
-        size_t any = 0;
-        for (size_t i = 0; i < n; i++)
-            any += valued[i];
-        r = any ? fill_holes(b, valued)
+                const size_t i = ((size_t)z * res[1] + y) * res[0] + x;
+                valued[i] = vdbgi_field_trilinear(&field, pos, &b->cube[18 * i], &cache);
+                any += valued[i];
+            }
+    vdbgi_free(ctx, cells);
+    vdbgi_field_free(&field);
+    if (r == VDBGI_OK)
+        r = any ? vdbgi_fill_dense(ctx, res, 6, b->cube, valued, &fp)
                 : vdbgi_fail(ctx, VDBGI_ERR_INVALID_ARG, "no baked probe lies inside the box");
-    }
-    vdbgi_free(ctx, side_rgb);
     vdbgi_free(ctx, valued);
     if (r != VDBGI_OK) {
         vdbgi_bevy_destroy(b);

@@ -5,7 +5,6 @@
  */
 #include "bricks.h"
 #include "encode.h"
-#include "vdb_shim.h"
 
 #include <math.h>
 #include <stdatomic.h>
@@ -133,6 +132,7 @@ typedef struct builder {
     vdbgi_criterion criterion;
     kept_brick *kept;
     size_t kept_count, kept_capacity;
+    int threads;
 } builder;
 
 /*
@@ -220,8 +220,9 @@ static bool interpolation_fits(builder *b, const int32_t key[3], int level, floa
                                          vdbgi_floor_div(p[2], VDBGI_BRICK)};
                 if (map_find(cells, cell) < 0)
                     continue; /* no brick there: nothing is drawn */
-                float want[3], got[3];
-                if (!vdbgi_field_get_cached(&b->vol->filled, p, want, &cache))
+                float got[3];
+                const float *const want = vdbgi_field_at(&b->vol->filled, p, &cache);
+                if (!want)
                     continue;
                 brick_interpolate(s, key, level, p, got);
                 for (int k = 0; k < 3; k++)
@@ -313,7 +314,7 @@ static vdbgi_result build_pyramid(builder *b, const int32_t *cells, size_t cell_
                         const unsigned n = (unsigned)(x << 6 | y << 3 | z);
                         if (!(leaf->mask[n >> 6] >> (n & 63) & 1))
                             continue;
-                        const float *const v = leaf->rgb[n];
+                        const float *const v = leaf->values + 3 * n;
                         for (int k = 0; k < 3; k++) {
                             st->lo[k] = fminf(st->lo[k], v[k]);
                             st->hi[k] = fmaxf(st->hi[k], v[k]);
@@ -351,7 +352,7 @@ static vdbgi_result build_pyramid(builder *b, const int32_t *cells, size_t cell_
 
 static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *desc, float *eps,
                                  float *sigmas, int *max_level, vdbgi_criterion *criterion,
-                                 vdbgi_encoding *encoding)
+                                 vdbgi_encoding *encoding, int *threads)
 {
     const vdbgi_convert_desc none = {0};
     if (!desc)
@@ -376,6 +377,9 @@ static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *d
     *encoding = desc->encoding;
     VDBGI_FAIL_IF(ctx, desc->fill < VDBGI_FILL_AUTO || desc->fill > VDBGI_FILL_DARKEST,
                   VDBGI_ERR_INVALID_ARG, "unknown fill %d", (int)desc->fill);
+    VDBGI_FAIL_IF(ctx, desc->threads < 0, VDBGI_ERR_INVALID_ARG,
+                  "thread count must be >= 0 (got %d)", desc->threads);
+    *threads = desc->threads ? desc->threads : vdbgi_core_count();
     return VDBGI_OK;
 }
 
@@ -580,7 +584,7 @@ static vdbgi_result fill_atlas(builder *b)
 {
     enum { MAX_JOBS = 64 };
     atlas_job jobs[MAX_JOBS];
-    int n = vdbgi_core_count();
+    int n = b->threads;
     n = n > MAX_JOBS ? MAX_JOBS : n;
     memset(jobs, 0, sizeof(jobs));
     for (int t = 0; t < n; t++) {
@@ -656,7 +660,7 @@ static vdbgi_result coarsen(builder *b)
     enum { MAX_JOBS = 64 };
     coarsen_job jobs[MAX_JOBS];
     atomic_size_t next = 0;
-    int t_count = vdbgi_core_count();
+    int t_count = b->threads;
     t_count = t_count > MAX_JOBS ? MAX_JOBS : t_count;
     for (int t = 0; t < t_count; t++)
         jobs[t] = (coarsen_job){.b = b, .roots = (const int32_t(*)[3])roots, .parts = parts,
@@ -692,7 +696,8 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     builder b = {.ctx = ctx, .probes = probes};
     float eps = 0.0f;
     vdbgi_encoding encoding = VDBGI_ENCODING_RGBM;
-    VDBGI_TRY(resolve_desc(ctx, desc, &eps, &b.sigmas, &b.max_level, &b.criterion, &encoding));
+    VDBGI_TRY(resolve_desc(ctx, desc, &eps, &b.sigmas, &b.max_level, &b.criterion, &encoding,
+                         &b.threads));
     /*
      * A fixed Fibonacci set gives every probe the same directions: its error is a bias
      * shared by neighbours, not noise, and its standard error is no measure of it. The
@@ -739,9 +744,11 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     int32_t *cells = NULL;
     size_t cell_count = 0;
     const vdbgi_fill_params fp =
-        vdbgi_fill_params_default(probes->invalid_threshold, desc ? desc->fill : VDBGI_FILL_AUTO);
-    vdbgi_result r = vdbgi_vdb_fill(ctx, probes, &fp, &v->filled, &cells, &cell_count,
-                                    &info->unreached_count);
+        vdbgi_fill_params_default(probes->invalid_threshold, desc ? desc->fill : VDBGI_FILL_AUTO,
+                                  b.threads);
+    const vdbgi_fill_input in = {probes->count, probes->ijk, probes->rgb, probes->backface, 1};
+    vdbgi_result r = vdbgi_field_fill(ctx, &in, &fp, &v->filled, &cells, &cell_count,
+                                      &info->unreached_count);
     if (r != VDBGI_OK)
         goto fail;
     for (size_t li = 0; li < v->filled.leaf_count; li++)

@@ -84,13 +84,14 @@ vdbgi_result vdbgi_volume_write_slices(const vdbgi_volume *v, const vdbgi_probes
         for (int iu = u0; iu < u0 + w; iu++) {
             int32_t ijk[3];
             ijk[axis] = plane, ijk[ua] = iu, ijk[va] = iv;
-            float pos[3], got[3], want[3];
+            float pos[3], got[3];
             for (int k = 0; k < 3; k++)
                 pos[k] = (float)(v->lattice_origin[k] + probes->spacing * ijk[k]);
             vdbgi_sampler_sample(&view, pos, got);
             const ptrdiff_t p = PIXEL(iu, iv);
             memcpy(&bricks[3 * p], got, sizeof(got));
-            if (vdbgi_field_get(&v->filled, ijk, want))
+            const float *const want = vdbgi_field_at(&v->filled, ijk, NULL);
+            if (want)
                 for (int k = 0; k < 3; k++)
                     diff[3 * p + k] = fabsf(got[k] - want[k]);
             size_t cell[3];

@@ -491,6 +491,8 @@ typedef enum vdbgi_fill {
  *               error is a shared bias, not noise; VDBGI_NONE for none.
  *   fill:       see vdbgi_fill.
  *   progress:   as vdbgi_bake_desc's; may be NULL.
+ *   threads:    worker threads, 0 == every online core. The bytes do not
+ *               depend on it.
  */
 typedef struct vdbgi_convert_desc {
     float eps;
@@ -501,6 +503,7 @@ typedef struct vdbgi_convert_desc {
     vdbgi_fill fill;
     int (*progress)(void *user, float done);
     void *progress_user;
+    int threads;
 } vdbgi_convert_desc;
 
 /* The RGBM range: colours up to this are encoded, brighter ones clamp. */
@@ -605,6 +608,9 @@ typedef enum vdbgi_bevy_format {
  *   box_min/max: world box the volume covers, inside the baked bounds.
  *                Ignored unless box_is_set; the default is the baked bounds
  *                (the probes' box plus half a spacing on every side).
+ *   fill:        as vdbgi_convert_desc's; one choice of neighbour a probe,
+ *                the darkest by the sum over all six sides, for every side.
+ *   threads:     worker threads, 0 == every online core (same bytes).
  * Texture limits: layout 1 is (Rx, 2Ry, 3Rz) texels, each at most 2048;
  * layout 2 is 3Rx x 2RyRz texels, each at most 8192.
  */
@@ -613,12 +619,13 @@ typedef struct vdbgi_bevy_desc {
     double voxel_size;
     double box_min[3], box_max[3];
     int box_is_set;
-    vdbgi_fill fill; /* as vdbgi_convert_desc's, for every side */
+    vdbgi_fill fill;
+    int threads;
 } vdbgi_bevy_desc;
 
 /*
- * Resample baked ambient cubes onto the dense grid: each side is filled from
- * valid probes as the converter fills (docs/converter.md), read trilinearly
+ * Resample baked ambient cubes onto the dense grid: the six sides are filled
+ * from valid probes as the converter fills (docs/converter.md), read trilinearly
  * at every voxel centre, and voxels with no filled point around them take
  * the mean of their valued grid neighbours, ring by ring. Fails with
  * VDBGI_ERR_INVALID_ARG for probes without ambient cubes, a box outside the

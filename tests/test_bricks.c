@@ -229,7 +229,7 @@ static void invalid_probes_never_leak_their_value(void)
         for (size_t l = 0; l < v->filled.leaf_count; l++)
             for (int n = 0; n < 512; n++)
                 if (v->filled.leaves[l].mask[n >> 6] >> (n & 63) & 1)
-                    CHECK(v->filled.leaves[l].rgb[n][2] <= 0.5f + 1e-6f);
+                    CHECK(v->filled.leaves[l].values[3 * n + 2] <= 0.5f + 1e-6f);
         vdbgi_volume_info info;
         vdbgi_volume_get_info(v, &info);
         CHECK(info.valid_count == p->count / 2 && info.unreached_count == 0);

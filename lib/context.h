@@ -1,0 +1,86 @@
+/* context.h: the context (allocator, log, last error), failure macros, threads, atomic writes. */
+#ifndef VDBGI_CONTEXT_H
+#define VDBGI_CONTEXT_H
+
+#include "vdbgi.h"
+
+#include <stdarg.h>
+#include <stdbool.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(__GNUC__)
+#define VDBGI_PRINTF(f, a) __attribute__((format(printf, f, a)))
+#else
+#define VDBGI_PRINTF(f, a)
+#endif
+
+struct vdbgi_context {
+    void *(*alloc)(void *user, size_t size);
+    void (*free)(void *user, void *ptr);
+    void (*log)(void *user, vdbgi_log_level level, const char *message);
+    void *user;
+    char error[512];
+};
+
+/* Record a failure message on ctx and return code (for one-line returns). */
+vdbgi_result vdbgi_fail(vdbgi_context *ctx, vdbgi_result code, const char *fmt, ...)
+    VDBGI_PRINTF(3, 4);
+void vdbgi_log(vdbgi_context *ctx, vdbgi_log_level level, const char *fmt, ...)
+    VDBGI_PRINTF(3, 4);
+
+/* Return error code with a message if cond holds (zstd's RETURN_ERROR_IF). */
+#define VDBGI_FAIL_IF(ctx, cond, code, ...)                                                        \
+    do {                                                                                           \
+        if (cond)                                                                                  \
+            return vdbgi_fail((ctx), (code), __VA_ARGS__);                                         \
+    } while (0)
+
+/* Forward a failure of call; the message is already on the context. */
+#define VDBGI_TRY(call)                                                                            \
+    do {                                                                                           \
+        const vdbgi_result vdbgi_try_r_ = (call);                                                  \
+        if (vdbgi_try_r_ != VDBGI_OK)                                                              \
+            return vdbgi_try_r_;                                                                   \
+    } while (0)
+
+/* Allocation through the context's hooks. NULL on failure, message recorded. */
+void *vdbgi_alloc(vdbgi_context *ctx, size_t size);
+/* count * size bytes, zeroed; refuses (NULL) when the product would wrap. */
+void *vdbgi_calloc(vdbgi_context *ctx, size_t count, size_t size);
+void vdbgi_free(vdbgi_context *ctx, void *ptr);
+char *vdbgi_strdup(vdbgi_context *ctx, const char *s);
+
+/* Wall clock, seconds, monotonic. */
+double vdbgi_now(void);
+/* Online cores, at least 1. */
+int vdbgi_core_count(void);
+/*
+ * Run fn(args + t * stride) for t in 0..n-1 (n <= 64): t > 0 on threads of
+ * their own, t == 0 on this one, which also runs any whose thread did not
+ * start. Returns when all are done.
+ */
+void vdbgi_run_threads(int n, void *(*fn)(void *), void *args, size_t stride);
+
+/*
+ * Write an output the safe way: write(ctx, tmp, user) fills a temporary
+ * file "path.tmp-XXXXXX" made beside path, which is renamed over path if it
+ * succeeds and removed if it fails. A failed write never leaves a partial
+ * file nor touches an existing one. VDBGI_ERR_IO if the directory refuses.
+ */
+typedef vdbgi_result (*vdbgi_writer)(vdbgi_context *ctx, const char *tmp, const void *user);
+vdbgi_result vdbgi_write_atomic(vdbgi_context *ctx, const char *path, vdbgi_writer write,
+                                const void *user);
+
+static inline int32_t vdbgi_floor_div(int32_t a, int32_t b) /* b > 0 */
+{
+    return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* VDBGI_CONTEXT_H */

@@ -1,0 +1,528 @@
+/*
+ * fill.c: invalid and absent probes take values from valid neighbours, ring
+ * by ring, over a sparse grid of 8^3 leaves; for 1 colour or 6 cube sides.
+ */
+#include "field.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* A leaf of the grid being filled: which points are to be filled, which are. */
+typedef struct grid_leaf {
+    int32_t origin[3];
+    uint64_t target[8];  /* points the fill should reach */
+    uint64_t filled[8];  /* points holding a value */
+    uint64_t invalid[8]; /* invalid probes (for the darkest choice) */
+    uint64_t pending[8]; /* found for the ring being computed */
+    int32_t nb[27];      /* the 3^3 leaves around this one, -1 where none */
+} grid_leaf;
+
+typedef struct grid {
+    vdbgi_context *ctx;
+    int channels;
+    vdbgi_map map; /* origin -> leaf */
+    grid_leaf *leaves;
+    size_t leaf_capacity;
+    float *values; /* 512 * 3 * channels a leaf, allocated once the leaves are known */
+} grid;
+
+/* A point of the grid: leaf index and point number. */
+typedef struct point_ref {
+    uint32_t leaf, n;
+} point_ref;
+
+static bool bit(const uint64_t m[8], unsigned n)
+{
+    return m[n >> 6] >> (n & 63) & 1;
+}
+
+static void set_bit(uint64_t m[8], unsigned n)
+{
+    m[n >> 6] |= 1ull << (n & 63);
+}
+
+static size_t popcount512(const uint64_t m[8])
+{
+    size_t c = 0;
+    for (int w = 0; w < 8; w++)
+        c += (size_t)__builtin_popcountll(m[w]);
+    return c;
+}
+
+static unsigned point_number(const int32_t ijk[3])
+{
+    return (unsigned)((ijk[0] & 7) << 6 | (ijk[1] & 7) << 3 | (ijk[2] & 7));
+}
+
+static void grid_free(grid *g)
+{
+    vdbgi_map_free(&g->map);
+    vdbgi_free(g->ctx, g->leaves);
+    vdbgi_free(g->ctx, g->values);
+    memset(g, 0, sizeof(*g));
+}
+
+/* The leaf holding ijk, created (all masks clear) if new. */
+static vdbgi_result grid_touch(grid *g, const int32_t ijk[3], uint32_t *leaf)
+{
+    const int32_t o[3] = {ijk[0] & ~7, ijk[1] & ~7, ijk[2] & ~7};
+    size_t i;
+    bool added;
+    VDBGI_TRY(vdbgi_map_insert(&g->map, o, &i, &added));
+    if (added) {
+        if (i == g->leaf_capacity) {
+            const size_t capacity = g->leaf_capacity ? 2 * g->leaf_capacity : 64;
+            grid_leaf *const leaves = vdbgi_calloc(g->ctx, capacity, sizeof(*leaves));
+            if (!leaves)
+                return VDBGI_ERR_OUT_OF_MEMORY;
+            if (g->leaves)
+                memcpy(leaves, g->leaves, i * sizeof(*leaves));
+            vdbgi_free(g->ctx, g->leaves);
+            g->leaves = leaves;
+            g->leaf_capacity = capacity;
+        }
+        memset(&g->leaves[i], 0, sizeof(g->leaves[i]));
+        memcpy(g->leaves[i].origin, o, sizeof(o));
+    }
+    *leaf = (uint32_t)i;
+    return VDBGI_OK;
+}
+
+static long grid_find(const grid *g, const int32_t ijk[3])
+{
+    const int32_t o[3] = {ijk[0] & ~7, ijk[1] & ~7, ijk[2] & ~7};
+    return vdbgi_map_find(&g->map, o);
+}
+
+static float *grid_value(const grid *g, size_t leaf, unsigned n)
+{
+    return g->values + ((size_t)leaf * VDBGI_LEAF_VOXELS + n) * 3 * (size_t)g->channels;
+}
+
+/* Once the target is complete: neighbour tables and the value block. */
+static vdbgi_result grid_finish_target(grid *g)
+{
+    const size_t count = g->map.count;
+    for (size_t l = 0; l < count; l++) {
+        grid_leaf *const leaf = &g->leaves[l];
+        for (int i = 0; i < 27; i++) {
+            const int32_t o[3] = {leaf->origin[0] + (i % 3 - 1) * 8,
+                                  leaf->origin[1] + (i / 3 % 3 - 1) * 8,
+                                  leaf->origin[2] + (i / 9 - 1) * 8};
+            leaf->nb[i] = (int32_t)vdbgi_map_find(&g->map, o);
+        }
+    }
+    g->values = vdbgi_calloc(g->ctx, count ? count * VDBGI_LEAF_VOXELS : 1,
+                             3 * (size_t)g->channels * sizeof(float));
+    return g->values ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
+}
+
+/* ---- one ring -------------------------------------------------------------- */
+
+typedef struct ring_job {
+    const grid *g;
+    const vdbgi_fill_params *fp;
+    const point_ref *points;
+    size_t begin, end;
+} ring_job;
+
+/*
+ * The value of one point from its neighbours valued before this ring: the
+ * weighted mean, or for an invalid probe between two valued face neighbours
+ * its darkest neighbour. Sums in double, in a fixed neighbour order, so the
+ * result does not depend on how the ring is split over threads.
+ */
+static void fill_point(const grid *g, const vdbgi_fill_params *fp, point_ref p)
+{
+    const grid_leaf *const leaf = &g->leaves[p.leaf];
+    const int ch3 = 3 * g->channels;
+    const int x = (int)(p.n >> 6), y = (int)(p.n >> 3 & 7), z = (int)(p.n & 7);
+    const float w[4] = {0.0f, fp->weights[0], fp->weights[1], fp->weights[2]};
+    const bool invalid_probe = bit(leaf->invalid, p.n);
+    double sum[3 * VDBGI_FIELD_MAX_CHANNELS] = {0.0}, wsum = 0.0;
+    const float *dark = NULL;
+    float best = INFINITY;
+    uint32_t valued = 0; /* bit (dx+1) + 3(dy+1) + 9(dz+1) */
+    for (int dz = -1; dz <= 1; dz++)
+        for (int dy = -1; dy <= 1; dy++)
+            for (int dx = -1; dx <= 1; dx++) {
+                const int k = abs(dx) + abs(dy) + abs(dz);
+                const int nx = x + dx + 8, ny = y + dy + 8, nz = z + dz + 8;
+                const int32_t l = leaf->nb[nx / 8 + 3 * (ny / 8) + 9 * (nz / 8)];
+                const unsigned n = (unsigned)((nx & 7) << 6 | (ny & 7) << 3 | (nz & 7));
+                if (!k || l < 0 || !bit(g->leaves[l].filled, n))
+                    continue;
+                const float *const c = grid_value(g, (size_t)l, n);
+                for (int i = 0; i < ch3; i++)
+                    sum[i] += (double)c[i] * w[k];
+                wsum += w[k];
+                if (invalid_probe) {
+                    valued |= 1u << ((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1));
+                    /* Darkest by the sum of every channel's r + g + b; the first of
+                       equals, in this fixed order. */
+                    float s = 0.0f;
+                    for (int i = 0; i < ch3; i += 3)
+                        s += c[i] + c[i + 1] + c[i + 2];
+                    if (s < best) {
+                        best = s;
+                        dark = c;
+                    }
+                }
+            }
+    /*
+     * A probe inside a thin wall is shared by the cells on both sides of it: when
+     * two of its face neighbours on one axis are both valued, its darkest neighbour
+     * keeps light from crossing (docs/stability.md). A probe under a floor, valued
+     * from one side only, takes the weighted mean, and so does one inside a convex
+     * corner, whose valued neighbours are diagonal. Face pairs: -x/+x are bits
+     * 12/14, -y/+y 10/16, -z/+z 4/22.
+     */
+    const bool across = ((valued >> 12 & valued >> 14) | (valued >> 10 & valued >> 16) |
+                         (valued >> 4 & valued >> 22)) & 1u;
+    float *const out = grid_value(g, p.leaf, p.n);
+    for (int i = 0; i < ch3; i++)
+        out[i] = fp->darkest && across ? dark[i] : (float)(sum[i] / wsum);
+}
+
+static void *ring_worker(void *arg)
+{
+    const ring_job *const job = arg;
+    for (size_t i = job->begin; i < job->end; i++)
+        fill_point(job->g, job->fp, job->points[i]);
+    return NULL;
+}
+
+/* Values for every point of a ring, over threads: each writes only its own points. */
+static void fill_ring(const grid *g, const vdbgi_fill_params *fp, const point_ref *points,
+                      size_t count)
+{
+    enum { MAX_JOBS = 64 };
+    ring_job jobs[MAX_JOBS];
+    int n = fp->threads > 0 ? fp->threads : vdbgi_core_count();
+    n = n > MAX_JOBS ? MAX_JOBS : n;
+    /* A thread start costs about what a few thousand points do. */
+    if ((size_t)n > count / 4096 + 1)
+        n = (int)(count / 4096 + 1);
+    for (int t = 0; t < n; t++)
+        jobs[t] = (ring_job){g, fp, points, count * (size_t)t / (size_t)n,
+                             count * (size_t)(t + 1) / (size_t)n};
+    vdbgi_run_threads(n, ring_worker, jobs, sizeof(jobs[0]));
+}
+
+/*
+ * Spread ring by ring from the filled points until every target point holds
+ * a value, a ring finds nothing, or fp->max_iterations rings have run. Each
+ * ring costs in proportion to its own size, not the grid's.
+ */
+static vdbgi_result spread(grid *g, const vdbgi_fill_params *fp, size_t *unreached)
+{
+    vdbgi_context *const ctx = g->ctx;
+    const size_t leaf_count = g->map.count;
+    size_t remaining = 0, filled = 0;
+    for (size_t l = 0; l < leaf_count; l++) {
+        remaining += popcount512(g->leaves[l].target);
+        filled += popcount512(g->leaves[l].filled);
+    }
+    remaining -= filled; /* every filled point is a target point */
+    /* A ring holds each point once, so two lists of all points always suffice. */
+    const size_t capacity = remaining > filled ? remaining : filled;
+    point_ref *front = vdbgi_calloc(ctx, capacity ? capacity : 1, sizeof(*front));
+    point_ref *next = vdbgi_calloc(ctx, remaining ? remaining : 1, sizeof(*next));
+    if (!front || !next) {
+        vdbgi_free(ctx, front);
+        vdbgi_free(ctx, next);
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    }
+    size_t front_count = 0;
+    for (size_t l = 0; l < leaf_count; l++)
+        for (unsigned n = 0; n < VDBGI_LEAF_VOXELS; n++)
+            if (bit(g->leaves[l].filled, n))
+                front[front_count++] = (point_ref){(uint32_t)l, n};
+
+    for (int iter = 0; iter < fp->max_iterations && remaining > 0; iter++) {
+        size_t next_count = 0;
+        for (size_t i = 0; i < front_count; i++) {
+            const grid_leaf *const leaf = &g->leaves[front[i].leaf];
+            const unsigned n = front[i].n;
+            const int x = (int)(n >> 6), y = (int)(n >> 3 & 7), z = (int)(n & 7);
+            for (int dz = -1; dz <= 1; dz++)
+                for (int dy = -1; dy <= 1; dy++)
+                    for (int dx = -1; dx <= 1; dx++) {
+                        const int nx = x + dx + 8, ny = y + dy + 8, nz = z + dz + 8;
+                        const int32_t l = leaf->nb[nx / 8 + 3 * (ny / 8) + 9 * (nz / 8)];
+                        if (l < 0)
+                            continue;
+                        grid_leaf *const nl = &g->leaves[l];
+                        const unsigned m = (unsigned)((nx & 7) << 6 | (ny & 7) << 3 | (nz & 7));
+                        if (!bit(nl->target, m) || bit(nl->filled, m) || bit(nl->pending, m))
+                            continue;
+                        set_bit(nl->pending, m);
+                        next[next_count++] = (point_ref){(uint32_t)l, m};
+                    }
+        }
+        if (next_count == 0)
+            break; /* what is left cannot be reached from any source */
+        fill_ring(g, fp, next, next_count);
+        for (size_t i = 0; i < next_count; i++) {
+            grid_leaf *const nl = &g->leaves[next[i].leaf];
+            set_bit(nl->filled, next[i].n);
+            nl->pending[next[i].n >> 6] &= ~(1ull << (next[i].n & 63));
+        }
+        remaining -= next_count;
+        point_ref *const t = front;
+        front = next;
+        next = t;
+        front_count = next_count;
+    }
+    vdbgi_free(ctx, front);
+    vdbgi_free(ctx, next);
+    *unreached = remaining;
+    return VDBGI_OK;
+}
+
+/* ---- from probes to the field ---------------------------------------------- */
+
+int vdbgi_tree_order(const int32_t a[3], const int32_t b[3])
+{
+    /* Root keys, the two internal levels, leaves (OpenVDB's 5-4-3 tree), then points. */
+    static const int32_t blocks[4] = {4096, 128, 8, 1};
+    for (int level = 0; level < 4; level++)
+        for (int k = 0; k < 3; k++) {
+            const int32_t x = vdbgi_floor_div(a[k], blocks[level]);
+            const int32_t y = vdbgi_floor_div(b[k], blocks[level]);
+            if (x != y)
+                return x < y ? -1 : 1;
+        }
+    return 0;
+}
+
+static int compare_triples(const void *a, const void *b)
+{
+    return vdbgi_tree_order(a, b);
+}
+
+/* A leaf to sort: its origin first, so compare_triples orders it. */
+typedef struct leaf_order {
+    int32_t origin[3];
+    uint32_t leaf;
+} leaf_order;
+
+/*
+ * The filled points as a field, leaves in tree order (the order sums over it
+ * add in). The field takes over the grid's block of values.
+ */
+static vdbgi_result export_field(grid *g, vdbgi_field *f)
+{
+    vdbgi_context *const ctx = g->ctx;
+    memset(f, 0, sizeof(*f));
+    f->ctx = ctx;
+    f->channels = g->channels;
+    size_t count = 0;
+    for (size_t l = 0; l < g->map.count; l++)
+        count += popcount512(g->leaves[l].filled) > 0;
+    leaf_order *const order = vdbgi_calloc(ctx, count ? count : 1, sizeof(leaf_order));
+    vdbgi_result r = order ? vdbgi_map_init(ctx, &f->index, count) : VDBGI_ERR_OUT_OF_MEMORY;
+    if (r == VDBGI_OK && !(f->leaves = vdbgi_calloc(ctx, count ? count : 1, sizeof(vdbgi_leaf))))
+        r = VDBGI_ERR_OUT_OF_MEMORY;
+    if (r != VDBGI_OK) {
+        vdbgi_free(ctx, order);
+        vdbgi_field_free(f);
+        return r;
+    }
+    f->values = g->values;
+    g->values = NULL;
+    size_t n = 0;
+    for (size_t l = 0; l < g->map.count; l++)
+        if (popcount512(g->leaves[l].filled) > 0) {
+            memcpy(order[n].origin, g->leaves[l].origin, sizeof(order[n].origin));
+            order[n++].leaf = (uint32_t)l;
+        }
+    qsort(order, count, sizeof(leaf_order), compare_triples);
+    const size_t leaf_floats = VDBGI_LEAF_VOXELS * 3 * (size_t)g->channels;
+    for (size_t i = 0; i < count && r == VDBGI_OK; i++) {
+        const grid_leaf *const src = &g->leaves[order[i].leaf];
+        vdbgi_leaf *const dst = &f->leaves[i];
+        memcpy(dst->origin, src->origin, sizeof(dst->origin));
+        memcpy(dst->mask, src->filled, sizeof(dst->mask));
+        dst->values = f->values + order[i].leaf * leaf_floats;
+        size_t index;
+        r = vdbgi_map_insert(&f->index, dst->origin, &index, NULL);
+    }
+    f->leaf_count = count;
+    vdbgi_free(ctx, order);
+    if (r != VDBGI_OK)
+        vdbgi_field_free(f);
+    return r;
+}
+
+/* Every fine point of the cells, each dilated by rim points, as target. */
+static vdbgi_result mark_target(grid *g, const vdbgi_map *cells, int cell_size, int rim)
+{
+    uint32_t leaf = 0;
+    int32_t leaf_origin[3] = {1, 1, 1}; /* no leaf has an odd origin */
+    for (size_t c = 0; c < cells->count; c++) {
+        const int32_t *const key = cells->keys[c];
+        for (int32_t x = key[0] * cell_size - rim; x < (key[0] + 1) * cell_size + rim; x++)
+            for (int32_t y = key[1] * cell_size - rim; y < (key[1] + 1) * cell_size + rim; y++)
+                for (int32_t z = key[2] * cell_size - rim; z < (key[2] + 1) * cell_size + rim;
+                     z++) {
+                    const int32_t p[3] = {x, y, z};
+                    if ((x & ~7) != leaf_origin[0] || (y & ~7) != leaf_origin[1] ||
+                        (z & ~7) != leaf_origin[2]) {
+                        VDBGI_TRY(grid_touch(g, p, &leaf));
+                        memcpy(leaf_origin, g->leaves[leaf].origin, sizeof(leaf_origin));
+                    }
+                    set_bit(g->leaves[leaf].target, point_number(p));
+                }
+    }
+    return VDBGI_OK;
+}
+
+/* The cells holding a source, dilated by margin cells (a Chebyshev ball: 26-neighbour steps). */
+static vdbgi_result occupied_cells(vdbgi_context *ctx, const vdbgi_fill_input *in,
+                                   const vdbgi_fill_params *fp, vdbgi_map *cells, size_t *sources)
+{
+    vdbgi_map seeds;
+    VDBGI_TRY(vdbgi_map_init(ctx, &seeds, 1024));
+    vdbgi_result r = VDBGI_OK;
+    *sources = 0;
+    for (size_t n = 0; n < in->count && r == VDBGI_OK; n++) {
+        if (in->backface[n] > fp->invalid_threshold)
+            continue;
+        const int32_t *const p = &in->ijk[3 * n];
+        const int32_t cell[3] = {vdbgi_floor_div(p[0], fp->cell_size),
+                                 vdbgi_floor_div(p[1], fp->cell_size),
+                                 vdbgi_floor_div(p[2], fp->cell_size)};
+        size_t index;
+        r = vdbgi_map_insert(&seeds, cell, &index, NULL);
+        (*sources)++;
+    }
+    if (r == VDBGI_OK)
+        r = vdbgi_map_init(ctx, cells, 2 * seeds.count);
+    const int m = fp->margin_cells;
+    for (size_t c = 0; c < seeds.count && r == VDBGI_OK; c++)
+        for (int dx = -m; dx <= m && r == VDBGI_OK; dx++)
+            for (int dy = -m; dy <= m && r == VDBGI_OK; dy++)
+                for (int dz = -m; dz <= m && r == VDBGI_OK; dz++) {
+                    const int32_t *const s = seeds.keys[c];
+                    const int32_t cell[3] = {s[0] + dx, s[1] + dy, s[2] + dz};
+                    size_t index;
+                    r = vdbgi_map_insert(cells, cell, &index, NULL);
+                }
+    vdbgi_map_free(&seeds);
+    return r;
+}
+
+vdbgi_result vdbgi_field_fill(vdbgi_context *ctx, const vdbgi_fill_input *in,
+                              const vdbgi_fill_params *fp, vdbgi_field *field, int32_t **cells_out,
+                              size_t *cell_count, size_t *unreached)
+{
+    memset(field, 0, sizeof(*field));
+    *cells_out = NULL;
+    *cell_count = 0;
+    *unreached = 0;
+    VDBGI_FAIL_IF(ctx, in->channels < 1 || in->channels > VDBGI_FIELD_MAX_CHANNELS,
+                  VDBGI_ERR_INVALID_ARG, "a field holds 1 to %d colours a point (got %d)",
+                  VDBGI_FIELD_MAX_CHANNELS, in->channels);
+    vdbgi_map cells = {0};
+    size_t sources = 0;
+    grid g = {.ctx = ctx, .channels = in->channels};
+    int32_t *out = NULL;
+    vdbgi_result r = occupied_cells(ctx, in, fp, &cells, &sources);
+    if (r != VDBGI_OK)
+        goto done;
+    if (sources == 0) {
+        r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                       "no valid probe to fill from (%zu probes, all invalid or none)", in->count);
+        goto done;
+    }
+    if ((r = vdbgi_map_init(ctx, &g.map, 4 * cells.count / 8 + 64)) != VDBGI_OK ||
+        (r = mark_target(&g, &cells, fp->cell_size, fp->rim)) != VDBGI_OK ||
+        (r = grid_finish_target(&g)) != VDBGI_OK)
+        goto done;
+    const size_t ch3 = 3 * (size_t)in->channels;
+    for (size_t n = 0; n < in->count; n++) {
+        const int32_t *const p = &in->ijk[3 * n];
+        const long l = grid_find(&g, p);
+        const unsigned pn = point_number(p);
+        if (in->backface[n] <= fp->invalid_threshold) {
+            /* Every source lies in a target cell, so its leaf exists. */
+            set_bit(g.leaves[l].filled, pn);
+            memcpy(grid_value(&g, (size_t)l, pn), &in->values[ch3 * n], ch3 * sizeof(float));
+        } else if (fp->darkest && l >= 0) {
+            set_bit(g.leaves[l].invalid, pn);
+        }
+    }
+    if ((r = spread(&g, fp, unreached)) != VDBGI_OK)
+        goto done;
+    out = vdbgi_calloc(ctx, cells.count ? cells.count : 1, 3 * sizeof(int32_t));
+    if (!out) {
+        r = VDBGI_ERR_OUT_OF_MEMORY;
+        goto done;
+    }
+    memcpy(out, cells.keys, cells.count * 3 * sizeof(int32_t));
+    qsort(out, cells.count, 3 * sizeof(int32_t), compare_triples);
+    if ((r = export_field(&g, field)) != VDBGI_OK)
+        goto done;
+    *cells_out = out;
+    *cell_count = cells.count;
+    out = NULL;
+done:
+    vdbgi_free(ctx, out);
+    vdbgi_map_free(&cells);
+    grid_free(&g);
+    return r;
+}
+
+vdbgi_result vdbgi_fill_dense(vdbgi_context *ctx, const int res[3], int channels, float *values,
+                              unsigned char *valued, const vdbgi_fill_params *fp)
+{
+    VDBGI_FAIL_IF(ctx, channels < 1 || channels > VDBGI_FIELD_MAX_CHANNELS, VDBGI_ERR_INVALID_ARG,
+                  "a field holds 1 to %d colours a point (got %d)", VDBGI_FIELD_MAX_CHANNELS,
+                  channels);
+    grid g = {.ctx = ctx, .channels = channels};
+    const size_t ch3 = 3 * (size_t)channels;
+    vdbgi_fill_params dense = *fp;
+    dense.darkest = false;
+    vdbgi_result r = vdbgi_map_init(ctx, &g.map, 64);
+    for (int z = 0; z < res[2] && r == VDBGI_OK; z++)
+        for (int y = 0; y < res[1] && r == VDBGI_OK; y++)
+            for (int x = 0; x < res[0] && r == VDBGI_OK; x++) {
+                const int32_t p[3] = {x, y, z};
+                uint32_t l;
+                if ((r = grid_touch(&g, p, &l)) == VDBGI_OK)
+                    set_bit(g.leaves[l].target, point_number(p));
+            }
+    if (r == VDBGI_OK)
+        r = grid_finish_target(&g);
+    for (int z = 0; z < res[2] && r == VDBGI_OK; z++)
+        for (int y = 0; y < res[1]; y++)
+            for (int x = 0; x < res[0]; x++) {
+                const size_t i = ((size_t)z * (size_t)res[1] + (size_t)y) * (size_t)res[0] + (size_t)x;
+                if (!valued[i])
+                    continue;
+                const int32_t p[3] = {x, y, z};
+                const long l = grid_find(&g, p);
+                set_bit(g.leaves[l].filled, point_number(p));
+                memcpy(grid_value(&g, (size_t)l, point_number(p)), &values[ch3 * i],
+                       ch3 * sizeof(float));
+            }
+    size_t unreached = 0;
+    if (r == VDBGI_OK)
+        r = spread(&g, &dense, &unreached);
+    for (int z = 0; z < res[2] && r == VDBGI_OK; z++)
+        for (int y = 0; y < res[1]; y++)
+            for (int x = 0; x < res[0]; x++) {
+                const size_t i = ((size_t)z * (size_t)res[1] + (size_t)y) * (size_t)res[0] + (size_t)x;
+                const int32_t p[3] = {x, y, z};
+                const long l = grid_find(&g, p);
+                if (valued[i] || !bit(g.leaves[l].filled, point_number(p)))
+                    continue;
+                memcpy(&values[ch3 * i], grid_value(&g, (size_t)l, point_number(p)),
+                       ch3 * sizeof(float));
+                valued[i] = 1;
+            }
+    grid_free(&g);
+    return r;
+}
