@@ -1,5 +1,6 @@
 /* bake.c: seed 000's irradiance estimator per probe, validity, threads, progress. */
 #include "internal.h"
+#include "util.h"
 
 #include <math.h>
 #include <pthread.h>
@@ -147,32 +148,19 @@ static void bit_reverse_order(float *dirs, int n)
     }
 }
 
-static uint64_t splitmix64(uint64_t *state)
-{
-    uint64_t z = (*state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
 /* A probe's random stream depends on its lattice point and the seed only. */
 static uint64_t probe_stream(int32_t i, int32_t j, int32_t k, uint64_t seed)
 {
     uint64_t s = seed ^ ((uint64_t)(uint32_t)i * 0x8CB92BA72F3D8DD7ull) ^
                  ((uint64_t)(uint32_t)j * 0xAB8F3B2A1F7C5D93ull) ^
                  ((uint64_t)(uint32_t)k * 0xD1B54A32D192ED03ull);
-    return splitmix64(&s);
-}
-
-static double uniform01(uint64_t *state)
-{
-    return (double)(splitmix64(state) >> 11) * (1.0 / 9007199254740992.0);
+    return vdbgi_splitmix64(&s);
 }
 
 /* Uniformly random rotation (Shoemake's quaternion from three uniforms). */
 static void random_rotation(uint64_t stream, float m[9])
 {
-    const double u1 = uniform01(&stream), u2 = uniform01(&stream), u3 = uniform01(&stream);
+    const double u1 = vdbgi_uniform01(&stream), u2 = vdbgi_uniform01(&stream), u3 = vdbgi_uniform01(&stream);
     const double a = sqrt(1.0 - u1), b = sqrt(u1);
     const double x = a * sin(2.0 * PI_F * u2), y = a * cos(2.0 * PI_F * u2);
     const double z = b * sin(2.0 * PI_F * u3), w = b * cos(2.0 * PI_F * u3);

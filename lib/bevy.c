@@ -9,6 +9,7 @@
 #include "ktx2.h"
 #include "field.h"
 #include "probes.h"
+#include "util.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -210,22 +211,6 @@ static bool side_positive(int side)
     return side % 2 == 0;
 }
 
-typedef struct bytes_job {
-    const uint8_t *bytes;
-    size_t size;
-    const char *path;
-} bytes_job;
-
-static vdbgi_result write_bytes(vdbgi_context *ctx, const char *tmp, const void *user)
-{
-    const bytes_job *const job = user;
-    FILE *const f = fopen(tmp, "wb");
-    const bool ok = f && fwrite(job->bytes, 1, job->size, f) == job->size;
-    const bool closed = f && fclose(f) == 0;
-    VDBGI_FAIL_IF(ctx, !ok || !closed, VDBGI_ERR_IO, "%s: cannot write", job->path);
-    return VDBGI_OK;
-}
-
 vdbgi_result vdbgi_bevy_write_ktx2(vdbgi_bevy *b, const char *path, vdbgi_bevy_format format)
 {
     vdbgi_context *const ctx = b->ctx;
@@ -252,8 +237,7 @@ vdbgi_result vdbgi_bevy_write_ktx2(vdbgi_bevy *b, const char *path, vdbgi_bevy_f
                     if (format == VDBGI_BEVY_RGB9E5) {
                         uint32_t v;
                         b->clamped_count += vdbgi_rgb9e5_encode(c, &v);
-                        out[0] = (uint8_t)v, out[1] = (uint8_t)(v >> 8);
-                        out[2] = (uint8_t)(v >> 16), out[3] = (uint8_t)(v >> 24);
+                        vdbgi_put_u32(out, v);
                     } else {
                         const float rgba[4] = {c[0], c[1], c[2], 1.0f};
                         for (int k = 0; k < 4; k++) {
@@ -262,7 +246,7 @@ vdbgi_result vdbgi_bevy_write_ktx2(vdbgi_bevy *b, const char *path, vdbgi_bevy_f
                             b->clamped_count += k < 3 && f > 65504.0f;
                             f = f > 65504.0f ? 65504.0f : f;
                             const uint16_t hbits = vdbgi_half_from_float(f);
-                            out[2 * k] = (uint8_t)hbits, out[2 * k + 1] = (uint8_t)(hbits >> 8);
+                            vdbgi_put_u16(out + 2 * k, hbits);
                         }
                     }
                 }
@@ -275,8 +259,7 @@ vdbgi_result vdbgi_bevy_write_ktx2(vdbgi_bevy *b, const char *path, vdbgi_bevy_f
                                          w, h, d, texels, &file, &size);
     vdbgi_free(ctx, texels);
     if (res == VDBGI_OK) {
-        const bytes_job job = {file, size, path};
-        res = vdbgi_write_atomic(ctx, path, write_bytes, &job);
+        res = vdbgi_write_bytes_atomic(ctx, path, file, size);
     }
     vdbgi_free(ctx, file);
     return res;
@@ -318,21 +301,6 @@ typedef struct json_job {
     const char *path, *texture, *layout;
 } json_job;
 
-static void json_text(FILE *f, const char *s)
-{
-    fputc('"', f);
-    for (; *s; s++) {
-        const unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            fprintf(f, "\\%c", c);
-        else if (c < 0x20)
-            fprintf(f, "\\u%04x", c);
-        else
-            fputc(c, f);
-    }
-    fputc('"', f);
-}
-
 static vdbgi_result write_json(vdbgi_context *ctx, const char *tmp, const void *user)
 {
     const json_job *const job = user;
@@ -341,9 +309,9 @@ static vdbgi_result write_json(vdbgi_context *ctx, const char *tmp, const void *
     FILE *const f = fopen(tmp, "w");
     VDBGI_FAIL_IF(ctx, !f, VDBGI_ERR_IO, "%s: cannot write", job->path);
     fputs("{\n  \"texture\": ", f);
-    json_text(f, job->texture);
+    vdbgi_json_string(f, job->texture);
     fputs(",\n  \"layout\": ", f);
-    json_text(f, job->layout);
+    vdbgi_json_string(f, job->layout);
     fprintf(f,
             ",\n  \"resolution\": [%d, %d, %d],\n"
             "  \"box_min\": [%.9g, %.9g, %.9g],\n  \"box_max\": [%.9g, %.9g, %.9g],\n"

@@ -238,6 +238,31 @@ vdbgi_result vdbgi_output_check(vdbgi_context *ctx, const char *path)
     return VDBGI_OK;
 }
 
+typedef struct bytes_job {
+    const void *bytes;
+    size_t size;
+    const char *path; /* for messages: the name the user gave */
+} bytes_job;
+
+static vdbgi_result write_bytes(vdbgi_context *ctx, const char *tmp, const void *user)
+{
+    const bytes_job *const job = user;
+    FILE *const f = fopen(tmp, "wb");
+    const bool ok = f && fwrite(job->bytes, 1, job->size, f) == job->size;
+    const int err = errno;
+    const bool closed = f && fclose(f) == 0;
+    VDBGI_FAIL_IF(ctx, !ok || !closed, VDBGI_ERR_IO, "%s: cannot write: %s", job->path,
+                  strerror(ok ? errno : err));
+    return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_write_bytes_atomic(vdbgi_context *ctx, const char *path, const void *bytes,
+                                      size_t size)
+{
+    const bytes_job job = {bytes, size, path};
+    return vdbgi_write_atomic(ctx, path, write_bytes, &job);
+}
+
 vdbgi_result vdbgi_write_atomic(vdbgi_context *ctx, const char *path, vdbgi_writer write,
                                 const void *user)
 {

@@ -73,6 +73,9 @@ void vdbgi_run_threads(int n, void *(*fn)(void *), void *args, size_t stride);
 typedef vdbgi_result (*vdbgi_writer)(vdbgi_context *ctx, const char *tmp, const void *user);
 vdbgi_result vdbgi_write_atomic(vdbgi_context *ctx, const char *path, vdbgi_writer write,
                                 const void *user);
+/* The same for a block of bytes already in memory. */
+vdbgi_result vdbgi_write_bytes_atomic(vdbgi_context *ctx, const char *path, const void *bytes,
+                                      size_t size);
 
 static inline int32_t vdbgi_floor_div(int32_t a, int32_t b) /* b > 0 */
 {

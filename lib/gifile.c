@@ -1,6 +1,7 @@
 /* gifile.c: the .gi container (docs/format.md): header, indirection, atlas, gzip. */
 #define _POSIX_C_SOURCE 200809L
-#include "bricks.h"
+#include "gifile.h"
+#include "util.h"
 
 #include <errno.h>
 #include <math.h>
@@ -12,51 +13,26 @@
 
 static const char gi_magic[8] = {'v', 'd', 'b', 'g', 'i', '.', 'g', 'i'};
 
-static void put_u32(uint8_t *p, uint32_t v)
-{
-    p[0] = (uint8_t)v, p[1] = (uint8_t)(v >> 8), p[2] = (uint8_t)(v >> 16), p[3] = (uint8_t)(v >> 24);
-}
-
-static void put_f32(uint8_t *p, float f)
-{
-    uint32_t v;
-    memcpy(&v, &f, 4);
-    put_u32(p, v);
-}
-
-static uint32_t get_u32(const uint8_t *p)
-{
-    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
-
-static float get_f32(const uint8_t *p)
-{
-    const uint32_t v = get_u32(p);
-    float f;
-    memcpy(&f, &v, 4);
-    return f;
-}
-
 static void write_header(const vdbgi_volume_info *in, uint8_t h[VDBGI_GI_HEADER_SIZE])
 {
     memset(h, 0, VDBGI_GI_HEADER_SIZE);
     memcpy(h, gi_magic, 8);
-    put_u32(h + 8, VDBGI_GI_VERSION);
-    put_u32(h + 12, VDBGI_GI_HEADER_SIZE);
-    put_u32(h + 16, (uint32_t)in->encoding);
-    put_f32(h + 20, in->rgbm_range);
+    vdbgi_put_u32(h + 8, VDBGI_GI_VERSION);
+    vdbgi_put_u32(h + 12, VDBGI_GI_HEADER_SIZE);
+    vdbgi_put_u32(h + 16, (uint32_t)in->encoding);
+    vdbgi_put_f32(h + 20, in->rgbm_range);
     for (int k = 0; k < 3; k++) {
-        put_u32(h + 24 + 4 * k, in->indirection_dims[k]);
-        put_u32(h + 36 + 4 * k, in->atlas_dims[k]);
-        put_f32(h + 48 + 4 * k, in->box_min[k]);
-        put_f32(h + 60 + 4 * k, in->box_max[k]);
+        vdbgi_put_u32(h + 24 + 4 * k, in->indirection_dims[k]);
+        vdbgi_put_u32(h + 36 + 4 * k, in->atlas_dims[k]);
+        vdbgi_put_f32(h + 48 + 4 * k, in->box_min[k]);
+        vdbgi_put_f32(h + 60 + 4 * k, in->box_max[k]);
     }
-    put_f32(h + 72, in->spacing);
-    put_u32(h + 76, in->max_level);
+    vdbgi_put_f32(h + 72, in->spacing);
+    vdbgi_put_u32(h + 76, in->max_level);
     for (int l = 0; l < 4; l++)
-        put_u32(h + 80 + 4 * l, in->bricks[l]);
-    put_u32(h + 96, (uint32_t)in->indirection_size);
-    put_u32(h + 100, (uint32_t)in->atlas_size);
+        vdbgi_put_u32(h + 80 + 4 * l, in->bricks[l]);
+    vdbgi_put_u32(h + 96, (uint32_t)in->indirection_size);
+    vdbgi_put_u32(h + 100, (uint32_t)in->atlas_size);
 }
 
 vdbgi_result vdbgi_gifile_alloc(vdbgi_volume *v)
@@ -96,29 +72,10 @@ vdbgi_result vdbgi_gifile_encode(vdbgi_volume *v)
     return VDBGI_OK;
 }
 
-typedef struct file_job {
-    const vdbgi_volume *v;
-    const char *path; /* for messages: the name the user gave */
-} file_job;
-
-static vdbgi_result write_file(vdbgi_context *ctx, const char *tmp, const void *user)
-{
-    const file_job *const job = user;
-    FILE *const f = fopen(tmp, "wb");
-    const size_t n = job->v->info.file_size;
-    const bool ok = f && fwrite(job->v->file, 1, n, f) == n;
-    const int err = errno;
-    const bool closed = f && fclose(f) == 0;
-    VDBGI_FAIL_IF(ctx, !ok || !closed, VDBGI_ERR_IO, "%s: cannot write: %s", job->path,
-                  strerror(err));
-    return VDBGI_OK;
-}
-
 vdbgi_result vdbgi_volume_write(const vdbgi_volume *v, const char *path)
 {
     VDBGI_FAIL_IF(v->ctx, !v->file, VDBGI_ERR_INVALID_ARG, "volume has no encoded file");
-    const file_job job = {v, path};
-    return vdbgi_write_atomic(v->ctx, path, write_file, &job);
+    return vdbgi_write_bytes_atomic(v->ctx, path, v->file, v->info.file_size);
 }
 
 /* ---- reading ---------------------------------------------------------------- */
@@ -128,25 +85,25 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
 {
     VDBGI_FAIL_IF(ctx, memcmp(h, gi_magic, 8) != 0, VDBGI_ERR_FORMAT,
                   "%s: not a .gi file (bad magic)", path);
-    const uint32_t version = get_u32(h + 8);
+    const uint32_t version = vdbgi_get_u32(h + 8);
     VDBGI_FAIL_IF(ctx, version != VDBGI_GI_VERSION, VDBGI_ERR_FORMAT,
                   "%s: .gi version %u, this reader knows %d", path, version, VDBGI_GI_VERSION);
-    *header_size = get_u32(h + 12);
+    *header_size = vdbgi_get_u32(h + 12);
     VDBGI_FAIL_IF(ctx, *header_size < VDBGI_GI_HEADER_SIZE || *header_size > 65536,
                   VDBGI_ERR_FORMAT, "%s: bad header size %zu", path, *header_size);
     memset(info, 0, sizeof(*info));
-    const uint32_t enc = get_u32(h + 16);
+    const uint32_t enc = vdbgi_get_u32(h + 16);
     VDBGI_FAIL_IF(ctx, enc > 1, VDBGI_ERR_FORMAT, "%s: unknown encoding %u", path, enc);
     info->encoding = (vdbgi_encoding)enc;
-    info->rgbm_range = get_f32(h + 20);
+    info->rgbm_range = vdbgi_get_f32(h + 20);
     VDBGI_FAIL_IF(ctx, !(info->rgbm_range > 0.0f) || !isfinite(info->rgbm_range),
                   VDBGI_ERR_FORMAT, "%s: bad RGBM range", path);
     size_t ind = 4, atlas = 4;
     for (int k = 0; k < 3; k++) {
-        info->indirection_dims[k] = get_u32(h + 24 + 4 * k);
-        info->atlas_dims[k] = get_u32(h + 36 + 4 * k);
-        info->box_min[k] = get_f32(h + 48 + 4 * k);
-        info->box_max[k] = get_f32(h + 60 + 4 * k);
+        info->indirection_dims[k] = vdbgi_get_u32(h + 24 + 4 * k);
+        info->atlas_dims[k] = vdbgi_get_u32(h + 36 + 4 * k);
+        info->box_min[k] = vdbgi_get_f32(h + 48 + 4 * k);
+        info->box_max[k] = vdbgi_get_f32(h + 60 + 4 * k);
         VDBGI_FAIL_IF(ctx, info->indirection_dims[k] < 1 ||
                                info->indirection_dims[k] > VDBGI_MAX_TEXTURE_DIM,
                       VDBGI_ERR_FORMAT, "%s: bad indirection size", path);
@@ -160,15 +117,15 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
         ind *= info->indirection_dims[k];
         atlas *= info->atlas_dims[k];
     }
-    info->spacing = get_f32(h + 72);
-    info->max_level = get_u32(h + 76);
+    info->spacing = vdbgi_get_f32(h + 72);
+    info->max_level = vdbgi_get_u32(h + 76);
     VDBGI_FAIL_IF(ctx, info->max_level > 3, VDBGI_ERR_FORMAT, "%s: bad max level", path);
     for (int l = 0; l < 4; l++) {
-        info->bricks[l] = get_u32(h + 80 + 4 * l);
+        info->bricks[l] = vdbgi_get_u32(h + 80 + 4 * l);
         info->brick_count += info->bricks[l];
     }
-    info->indirection_size = get_u32(h + 96);
-    info->atlas_size = get_u32(h + 100);
+    info->indirection_size = vdbgi_get_u32(h + 96);
+    info->atlas_size = vdbgi_get_u32(h + 100);
     VDBGI_FAIL_IF(ctx, info->indirection_size != ind || info->atlas_size != atlas,
                   VDBGI_ERR_FORMAT, "%s: texture sizes disagree with their dimensions", path);
     return VDBGI_OK;

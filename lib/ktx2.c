@@ -6,6 +6,7 @@
  * texel size, the level. Tested against the npm package ktx-parse.
  */
 #include "ktx2.h"
+#include "util.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -13,32 +14,16 @@
 static const uint8_t ktx2_identifier[12] = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB,
                                             '\r', '\n', 0x1A, '\n'};
 
-static void put32(uint8_t *p, uint32_t v)
-{
-    p[0] = (uint8_t)v, p[1] = (uint8_t)(v >> 8), p[2] = (uint8_t)(v >> 16), p[3] = (uint8_t)(v >> 24);
-}
-
-static void put64(uint8_t *p, uint64_t v)
-{
-    put32(p, (uint32_t)v);
-    put32(p + 4, (uint32_t)(v >> 32));
-}
-
-static void put16(uint8_t *p, uint16_t v)
-{
-    p[0] = (uint8_t)v, p[1] = (uint8_t)(v >> 8);
-}
-
 /* One sample of a Basic Data Format Descriptor block (16 bytes). */
 static void put_sample(uint8_t *p, uint16_t bit_offset, uint8_t bit_length, uint8_t channel,
                        uint32_t lower, uint32_t upper)
 {
-    put16(p, bit_offset);
+    vdbgi_put_u16(p, bit_offset);
     p[2] = (uint8_t)(bit_length - 1); /* stored as length - 1 */
     p[3] = channel;                   /* channel id | qualifier bits */
-    put32(p + 4, 0);                  /* sample position 0,0,0,0 */
-    put32(p + 8, lower);
-    put32(p + 12, upper);
+    vdbgi_put_u32(p + 4, 0);                  /* sample position 0,0,0,0 */
+    vdbgi_put_u32(p + 8, lower);
+    vdbgi_put_u32(p + 12, upper);
 }
 
 /* Khronos Data Format constants used below. */
@@ -61,16 +46,16 @@ static uint32_t write_dfd(uint8_t *p, uint32_t vk_format)
     const bool rgb9e5 = vk_format == VDBGI_VK_FORMAT_E5B9G9R9_UFLOAT_PACK32;
     const uint32_t samples = rgb9e5 ? 6 : 4;
     const uint32_t block = 24 + 16 * samples;
-    put32(p, 4 + block);
+    vdbgi_put_u32(p, 4 + block);
     uint8_t *const b = p + 4;
-    put32(b, 0);                          /* vendor 0 (Khronos), descriptor type 0 (basic) */
-    put16(b + 4, 2);                      /* version 2 (KDF 1.3) */
-    put16(b + 6, (uint16_t)block);
+    vdbgi_put_u32(b, 0);                          /* vendor 0 (Khronos), descriptor type 0 (basic) */
+    vdbgi_put_u16(b + 4, 2);                      /* version 2 (KDF 1.3) */
+    vdbgi_put_u16(b + 6, (uint16_t)block);
     b[8] = DF_MODEL_RGBSDA;
     b[9] = DF_PRIMARIES_BT709;
     b[10] = DF_TRANSFER_LINEAR;
     b[11] = 0;                            /* alpha straight */
-    put32(b + 12, 0);                     /* texel block 1 x 1 x 1 x 1 */
+    vdbgi_put_u32(b + 12, 0);                     /* texel block 1 x 1 x 1 x 1 */
     memset(b + 16, 0, 8);
     b[16] = rgb9e5 ? 4 : 8;               /* bytes of plane 0: one texel */
     uint8_t *s = b + 24;
@@ -131,26 +116,26 @@ vdbgi_result vdbgi_ktx2_encode(vdbgi_context *ctx, uint32_t vk_format, uint32_t 
         return VDBGI_ERR_OUT_OF_MEMORY;
 
     memcpy(f, ktx2_identifier, 12);
-    put32(f + 12, vk_format);
-    put32(f + 16, texel_size == 4 ? 4 : 2); /* typeSize: bytes of the format's data type */
-    put32(f + 20, width);
-    put32(f + 24, height);
-    put32(f + 28, depth == 1 ? 0 : depth);  /* 0 marks a 2D texture */
-    put32(f + 32, 0);                       /* layerCount: not an array */
-    put32(f + 36, 1);                       /* faceCount */
-    put32(f + 40, 1);                       /* levelCount */
-    put32(f + 44, 0);                       /* supercompressionScheme: none */
-    put32(f + 48, (uint32_t)dfd_offset);
-    put32(f + 52, (uint32_t)dfd_size);
-    put32(f + 56, (uint32_t)kvd_offset);
-    put32(f + 60, (uint32_t)kvd_size);
-    put64(f + 64, 0);                       /* no supercompression global data */
-    put64(f + 72, 0);
-    put64(f + 80, level_offset);
-    put64(f + 88, level_size);
-    put64(f + 96, level_size);              /* uncompressed length */
+    vdbgi_put_u32(f + 12, vk_format);
+    vdbgi_put_u32(f + 16, texel_size == 4 ? 4 : 2); /* typeSize: bytes of the format's data type */
+    vdbgi_put_u32(f + 20, width);
+    vdbgi_put_u32(f + 24, height);
+    vdbgi_put_u32(f + 28, depth == 1 ? 0 : depth);  /* 0 marks a 2D texture */
+    vdbgi_put_u32(f + 32, 0);                       /* layerCount: not an array */
+    vdbgi_put_u32(f + 36, 1);                       /* faceCount */
+    vdbgi_put_u32(f + 40, 1);                       /* levelCount */
+    vdbgi_put_u32(f + 44, 0);                       /* supercompressionScheme: none */
+    vdbgi_put_u32(f + 48, (uint32_t)dfd_offset);
+    vdbgi_put_u32(f + 52, (uint32_t)dfd_size);
+    vdbgi_put_u32(f + 56, (uint32_t)kvd_offset);
+    vdbgi_put_u32(f + 60, (uint32_t)kvd_size);
+    vdbgi_put_u64(f + 64, 0);                       /* no supercompression global data */
+    vdbgi_put_u64(f + 72, 0);
+    vdbgi_put_u64(f + 80, level_offset);
+    vdbgi_put_u64(f + 88, level_size);
+    vdbgi_put_u64(f + 96, level_size);              /* uncompressed length */
     write_dfd(f + dfd_offset, vk_format);
-    put32(f + kvd_offset, kv_length);
+    vdbgi_put_u32(f + kvd_offset, kv_length);
     memcpy(f + kvd_offset + 4, kv_key, sizeof(kv_key));
     memcpy(f + kvd_offset + 4 + sizeof(kv_key), kv_value, strlen(kv_value) + 1);
     memcpy(f + level_offset, texels, level_size);

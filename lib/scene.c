@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "image_shim.h"
 #include "internal.h"
+#include "util.h"
 
 #include <assimp/cimport.h>
 #include <assimp/material.h>
@@ -521,14 +522,6 @@ void vdbgi_scene_albedo(const vdbgi_scene *scene, uint32_t prim, float u, float 
 
 /* ---- receivers ------------------------------------------------------------ */
 
-static double next_uniform(uint64_t *state)
-{
-    uint64_t z = (*state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return (double)((z ^ (z >> 31)) >> 11) * (1.0 / 9007199254740992.0);
-}
-
 double vdbgi_scene_triangle_area(const vdbgi_scene *scene, size_t t)
 {
     const float *const p0 = &scene->positions[3 * scene->indices[3 * t]];
@@ -558,7 +551,7 @@ vdbgi_result vdbgi_scene_sample_surface(const vdbgi_scene *scene, size_t point_c
     }
     uint64_t state = seed;
     for (size_t i = 0; i < point_count; i++) {
-        const double target = next_uniform(&state) * total;
+        const double target = vdbgi_uniform01(&state) * total;
         size_t lo = 0, hi = scene->triangle_count - 1;
         while (lo < hi) {
             const size_t mid = lo + (hi - lo) / 2;
@@ -568,7 +561,7 @@ vdbgi_result vdbgi_scene_sample_surface(const vdbgi_scene *scene, size_t point_c
                 hi = mid;
         }
         /* Uniform on the triangle: fold the unit square's upper half back. */
-        double u = next_uniform(&state), v = next_uniform(&state);
+        double u = vdbgi_uniform01(&state), v = vdbgi_uniform01(&state);
         if (u + v > 1.0)
             u = 1.0 - u, v = 1.0 - v;
         const uint32_t *const idx = &scene->indices[3 * lo];

@@ -1,6 +1,6 @@
 /* slices.c: images of a plane through the baked, filled and bricked fields, and the atlas. */
 #define _POSIX_C_SOURCE 200809L
-#include "bricks.h"
+#include "volume.h"
 #include "encode.h"
 #include "image_shim.h"
 

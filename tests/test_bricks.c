@@ -8,7 +8,7 @@
  * reported cleanly.
  */
 #define _POSIX_C_SOURCE 200809L
-#include "bricks.h"
+#include "gifile.h"
 #include "test_slab.h"
 #include "test_util.h"
 

@@ -2,7 +2,8 @@
 #ifndef VDBGI_TEST_SLAB_H
 #define VDBGI_TEST_SLAB_H
 
-#include "bricks.h"
+#include "probes.h"
+#include "volume.h"
 #include "check.h"
 
 typedef float (*field_fn)(double x, double y, double z, int channel);

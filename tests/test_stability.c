@@ -5,7 +5,7 @@
  * longer. Every measured figure is printed as "# case,metric,value".
  */
 #define _POSIX_C_SOURCE 200809L
-#include "bricks.h"
+#include "gifile.h"
 #include "encode.h"
 #include "sampler.h"
 #include "test_slab.h"

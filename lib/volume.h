@@ -1,8 +1,8 @@
-/* bricks.h: the volume object shared by bricks.c, gifile.c and slices.c. */
-#ifndef VDBGI_BRICKS_H
-#define VDBGI_BRICKS_H
+/* volume.h: the volume object: its textures, its file bytes, and what its build kept. */
+#ifndef VDBGI_VOLUME_H
+#define VDBGI_VOLUME_H
 
-#include "internal.h"
+#include "field.h"
 #include "sampler.h"
 
 struct vdbgi_volume {
@@ -22,12 +22,4 @@ struct vdbgi_volume {
 /* The textures and uniforms of a volume, as the sampler takes them. */
 vdbgi_volume_view vdbgi_volume_view_of(const vdbgi_volume *v);
 
-/* gifile.c: allocate v->raw for info's texture sizes and point indirection and atlas into it. */
-vdbgi_result vdbgi_gifile_alloc(vdbgi_volume *v);
-/* gifile.c: write the header into v->raw and gzip the whole into v->file. */
-vdbgi_result vdbgi_gifile_encode(vdbgi_volume *v);
-
-#define VDBGI_GI_HEADER_SIZE 112
-#define VDBGI_GI_VERSION 1
-
-#endif /* VDBGI_BRICKS_H */
+#endif /* VDBGI_VOLUME_H */

@@ -1,0 +1,115 @@
+/* atlas.c: bricks into atlas slots with their aprons, encoded, and the indirection to them. */
+#include "atlas.h"
+#include "encode.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Atlas slots per axis: near-cubic, each at most 256 (a slot coordinate is one byte). */
+vdbgi_result vdbgi_atlas_dims(vdbgi_context *ctx, size_t slots, uint32_t dims[3])
+{
+    uint32_t sx = (uint32_t)ceil(cbrt((double)slots));
+    sx = sx > 256 ? 256 : sx;
+    uint32_t sy = (uint32_t)ceil(sqrt((double)slots / sx));
+    sy = sy > 256 ? 256 : sy;
+    const uint64_t sz = (slots + (uint64_t)sx * sy - 1) / ((uint64_t)sx * sy);
+    VDBGI_FAIL_IF(ctx, sz > 256, VDBGI_ERR_OUT_OF_MEMORY,
+                  "%zu bricks do not fit an atlas of 256^3 slots (%d texels a side): raise eps or "
+                  "the probe spacing",
+                  slots, 256 * VDBGI_BRICK_PADDED);
+    dims[0] = sx * VDBGI_BRICK_PADDED;
+    dims[1] = sy * VDBGI_BRICK_PADDED;
+    dims[2] = (uint32_t)sz * VDBGI_BRICK_PADDED;
+    return VDBGI_OK;
+}
+
+/* Encode a brick into its atlas slot; returns how many texels clamped. */
+static size_t encode_brick(const vdbgi_volume *v, float s[6][6][6][3], uint32_t slot)
+{
+    size_t clamped_count = 0;
+    const uint32_t *const d = v->info.atlas_dims;
+    const uint32_t sx = d[0] / VDBGI_BRICK_PADDED, sy = d[1] / VDBGI_BRICK_PADDED;
+    const uint32_t base[3] = {(slot % sx) * VDBGI_BRICK_PADDED,
+                              (slot / sx % sy) * VDBGI_BRICK_PADDED,
+                              (slot / (sx * sy)) * VDBGI_BRICK_PADDED};
+    for (uint32_t z = 0; z < 6; z++)
+        for (uint32_t y = 0; y < 6; y++)
+            for (uint32_t x = 0; x < 6; x++) {
+                const size_t t = ((size_t)(base[2] + z) * d[1] + base[1] + y) * d[0] + base[0] + x;
+                uint8_t *const out = &v->atlas[4 * t];
+                bool clamped;
+                if (v->info.encoding == VDBGI_ENCODING_RGB9E5) {
+                    uint32_t w;
+                    clamped = vdbgi_rgb9e5_encode(s[z][y][x], &w);
+                    out[0] = (uint8_t)w, out[1] = (uint8_t)(w >> 8);
+                    out[2] = (uint8_t)(w >> 16), out[3] = (uint8_t)(w >> 24);
+                } else {
+                    clamped = vdbgi_rgbm_encode(s[z][y][x], v->info.rgbm_range, out);
+                }
+                clamped_count += clamped;
+            }
+    return clamped_count;
+}
+
+/* Point every level-0 cell a brick covers at that brick's slot and level. */
+static void mark_indirection(const vdbgi_volume *v, const vdbgi_brick *k, uint32_t slot)
+{
+    const uint32_t *const d = v->info.indirection_dims;
+    const uint32_t sx = v->info.atlas_dims[0] / VDBGI_BRICK_PADDED;
+    const uint32_t sy = v->info.atlas_dims[1] / VDBGI_BRICK_PADDED;
+    const uint8_t texel[4] = {(uint8_t)(slot % sx), (uint8_t)(slot / sx % sy),
+                              (uint8_t)(slot / (sx * sy)), (uint8_t)(k->level + 1)};
+    const int32_t span = 1 << k->level;
+    int32_t lo[3], hi[3];
+    for (int a = 0; a < 3; a++) {
+        lo[a] = k->key[a] * span - v->origin_cell[a];
+        hi[a] = lo[a] + span;
+        lo[a] = lo[a] < 0 ? 0 : lo[a];
+        hi[a] = hi[a] > (int32_t)d[a] ? (int32_t)d[a] : hi[a];
+    }
+    for (int32_t z = lo[2]; z < hi[2]; z++)
+        for (int32_t y = lo[1]; y < hi[1]; y++)
+            for (int32_t x = lo[0]; x < hi[0]; x++)
+                memcpy(&v->indirection[4 * (((size_t)z * d[1] + (size_t)y) * d[0] + (size_t)x)],
+                       texel, 4);
+}
+
+typedef struct atlas_job {
+    vdbgi_volume *v;
+    const vdbgi_brick *bricks;
+    size_t begin, end; /* kept bricks [begin, end) */
+    size_t fallbacks, clamped;
+} atlas_job;
+
+static void *atlas_worker(void *arg)
+{
+    atlas_job *const job = arg;
+    for (size_t i = job->begin; i < job->end; i++) {
+        const vdbgi_brick *const k = &job->bricks[i];
+        float s[6][6][6][3];
+        job->fallbacks += vdbgi_brick_samples(&job->v->filled, k->key, k->level, k->mean, s);
+        job->clamped += encode_brick(job->v, s, (uint32_t)i + 1);
+        mark_indirection(job->v, k, (uint32_t)i + 1);
+    }
+    return NULL;
+}
+
+void vdbgi_atlas_fill(vdbgi_volume *v, const vdbgi_brick *bricks, size_t count, int threads)
+{
+    enum { MAX_JOBS = 64 };
+    atlas_job jobs[MAX_JOBS];
+    int n = threads;
+    n = n > MAX_JOBS ? MAX_JOBS : n;
+    memset(jobs, 0, sizeof(jobs));
+    for (int t = 0; t < n; t++) {
+        jobs[t].v = v;
+        jobs[t].bricks = bricks;
+        jobs[t].begin = count * (size_t)t / (size_t)n;
+        jobs[t].end = count * (size_t)(t + 1) / (size_t)n;
+    }
+    vdbgi_run_threads(n, atlas_worker, jobs, sizeof(jobs[0]));
+    for (int t = 0; t < n; t++) {
+        v->info.fallback_count += jobs[t].fallbacks;
+        v->info.clamped_count += jobs[t].clamped;
+    }
+}

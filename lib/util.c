@@ -1,0 +1,100 @@
+/* util.c: random numbers, little-endian bytes, JSON text and quantiles for the rest of lib/. */
+#include "util.h"
+
+#include <string.h>
+
+uint64_t vdbgi_splitmix64(uint64_t *state)
+{
+    uint64_t z = (*state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+double vdbgi_uniform01(uint64_t *state)
+{
+    return (double)(vdbgi_splitmix64(state) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+void vdbgi_put_u16(uint8_t *p, uint16_t v)
+{
+    p[0] = (uint8_t)v, p[1] = (uint8_t)(v >> 8);
+}
+
+void vdbgi_put_u32(uint8_t *p, uint32_t v)
+{
+    p[0] = (uint8_t)v, p[1] = (uint8_t)(v >> 8), p[2] = (uint8_t)(v >> 16), p[3] = (uint8_t)(v >> 24);
+}
+
+void vdbgi_put_u64(uint8_t *p, uint64_t v)
+{
+    vdbgi_put_u32(p, (uint32_t)v);
+    vdbgi_put_u32(p + 4, (uint32_t)(v >> 32));
+}
+
+void vdbgi_put_f32(uint8_t *p, float f)
+{
+    uint32_t v;
+    memcpy(&v, &f, 4);
+    vdbgi_put_u32(p, v);
+}
+
+uint32_t vdbgi_get_u32(const uint8_t *p)
+{
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+float vdbgi_get_f32(const uint8_t *p)
+{
+    const uint32_t v = vdbgi_get_u32(p);
+    float f;
+    memcpy(&f, &v, 4);
+    return f;
+}
+
+void vdbgi_json_string(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s; s++) {
+        const unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\')
+            fprintf(f, "\\%c", c);
+        else if (c < 0x20)
+            fprintf(f, "\\u%04x", c);
+        else
+            fputc(c, f);
+    }
+    fputc('"', f);
+}
+
+/* Hoare-partition quickselect with the middle element as pivot: deterministic. */
+double vdbgi_quantile(double *a, size_t n, double q)
+{
+    const size_t k = (size_t)(q * (double)(n - 1));
+    size_t lo = 0, hi = n - 1;
+    while (lo < hi) {
+        const double pivot = a[lo + (hi - lo) / 2];
+        size_t i = lo, j = hi;
+        while (i <= j) {
+            while (a[i] < pivot)
+                i++;
+            while (a[j] > pivot)
+                j--;
+            if (i <= j) {
+                const double t = a[i];
+                a[i] = a[j], a[j] = t;
+                i++;
+                if (j == 0)
+                    break;
+                j--;
+            }
+        }
+        if (k <= j)
+            hi = j;
+        else if (k >= i)
+            lo = i;
+        else
+            break;
+    }
+    return a[k];
+}

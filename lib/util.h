@@ -1,0 +1,28 @@
+/* util.h: small helpers lib/ shares: random numbers, little-endian bytes, JSON text, quantiles. */
+#ifndef VDBGI_UTIL_H
+#define VDBGI_UTIL_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+/* SplitMix64: the next number of the stream *state (Steele, Lea and Flood 2014). */
+uint64_t vdbgi_splitmix64(uint64_t *state);
+/* A double in [0, 1) from the top 53 bits of the next splitmix64. */
+double vdbgi_uniform01(uint64_t *state);
+
+/* Little-endian stores and loads (file formats are little-endian whatever the host). */
+void vdbgi_put_u16(uint8_t *p, uint16_t v);
+void vdbgi_put_u32(uint8_t *p, uint32_t v);
+void vdbgi_put_u64(uint8_t *p, uint64_t v);
+void vdbgi_put_f32(uint8_t *p, float f);
+uint32_t vdbgi_get_u32(const uint8_t *p);
+float vdbgi_get_f32(const uint8_t *p);
+
+/* s as a JSON string, quotes included: quotes, backslashes and control characters escaped. */
+void vdbgi_json_string(FILE *f, const char *s);
+
+/* The q-quantile (0..1) of a[0..n-1], n >= 1, as the element at floor(q (n - 1)); reorders a. */
+double vdbgi_quantile(double *a, size_t n, double q);
+
+#endif /* VDBGI_UTIL_H */

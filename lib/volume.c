@@ -1,0 +1,286 @@
+/*
+ * volume.c: baked probes to seed 000's bricked volume, stage by stage (fill,
+ * coarsen, atlas, container), and the error of the result.
+ */
+#include "atlas.h"
+#include "gifile.h"
+#include "util.h"
+
+#include <math.h>
+#include <string.h>
+
+static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *desc, float *eps,
+                                 float *sigmas, int *max_level, vdbgi_criterion *criterion,
+                                 vdbgi_encoding *encoding, int *threads)
+{
+    const vdbgi_convert_desc none = {0};
+    if (!desc)
+        desc = &none;
+    *eps = desc->eps == 0.0f ? 0.1f : desc->eps == VDBGI_NONE ? 0.0f : desc->eps;
+    VDBGI_FAIL_IF(ctx, !(*eps >= 0.0f) || !isfinite(*eps), VDBGI_ERR_INVALID_ARG,
+                  "eps must be >= 0 and finite (got %g)", (double)desc->eps);
+    *sigmas = desc->noise_sigmas == 0.0f ? 1.0f
+              : desc->noise_sigmas == VDBGI_NONE ? 0.0f
+                                                 : desc->noise_sigmas;
+    VDBGI_FAIL_IF(ctx, !(*sigmas >= 0.0f) || !isfinite(*sigmas), VDBGI_ERR_INVALID_ARG,
+                  "noise allowance must be >= 0 standard errors (got %g)", (double)desc->noise_sigmas);
+    const int levels = desc->levels ? desc->levels : 4;
+    VDBGI_FAIL_IF(ctx, levels < 1 || levels > 4, VDBGI_ERR_INVALID_ARG,
+                  "max level must be in 0..3 (got %d)", levels - 1);
+    *max_level = levels - 1;
+    VDBGI_FAIL_IF(ctx, desc->criterion < VDBGI_CRITERION_AUTO || desc->criterion > VDBGI_CRITERION_INTERP,
+                  VDBGI_ERR_INVALID_ARG, "unknown criterion %d", (int)desc->criterion);
+    *criterion = desc->criterion == VDBGI_CRITERION_AUTO ? VDBGI_CRITERION_INTERP : desc->criterion;
+    VDBGI_FAIL_IF(ctx, desc->encoding != VDBGI_ENCODING_RGBM && desc->encoding != VDBGI_ENCODING_RGB9E5,
+                  VDBGI_ERR_INVALID_ARG, "unknown encoding %d", (int)desc->encoding);
+    *encoding = desc->encoding;
+    VDBGI_FAIL_IF(ctx, desc->fill < VDBGI_FILL_AUTO || desc->fill > VDBGI_FILL_DARKEST,
+                  VDBGI_ERR_INVALID_ARG, "unknown fill %d", (int)desc->fill);
+    VDBGI_FAIL_IF(ctx, desc->threads < 0, VDBGI_ERR_INVALID_ARG,
+                  "thread count must be >= 0 (got %d)", desc->threads);
+    *threads = desc->threads ? desc->threads : vdbgi_core_count();
+    return VDBGI_OK;
+}
+
+vdbgi_volume_view vdbgi_volume_view_of(const vdbgi_volume *v)
+{
+    vdbgi_volume_view view;
+    memset(&view, 0, sizeof(view));
+    view.encoding = (uint32_t)v->info.encoding;
+    view.rgbm_range = v->info.rgbm_range;
+    for (int k = 0; k < 3; k++) {
+        view.box_min[k] = v->info.box_min[k];
+        view.box_max[k] = v->info.box_max[k];
+        view.ind_dims[k] = v->info.indirection_dims[k];
+        view.atlas_dims[k] = v->info.atlas_dims[k];
+    }
+    view.indirection = v->indirection;
+    view.atlas = v->atlas;
+    return view;
+}
+
+void vdbgi_volume_sample(const vdbgi_volume *v, const float pos[3], float rgb[3])
+{
+    const vdbgi_volume_view view = vdbgi_volume_view_of(v);
+    vdbgi_sampler_sample(&view, pos, rgb);
+}
+
+void vdbgi_volume_get_info(const vdbgi_volume *v, vdbgi_volume_info *info)
+{
+    *info = v->info;
+}
+
+void vdbgi_volume_destroy(vdbgi_volume *v)
+{
+    if (!v)
+        return;
+    vdbgi_context *const ctx = v->ctx;
+    vdbgi_free(ctx, v->raw);
+    vdbgi_free(ctx, v->file);
+    vdbgi_field_free(&v->filled);
+    vdbgi_free(ctx, v);
+}
+
+/* The shader's view of every valid probe against its value (which the fill kept). */
+static vdbgi_result measure_error(vdbgi_volume *v, const vdbgi_probes *p)
+{
+    vdbgi_volume_info *const info = &v->info;
+    double *const err = vdbgi_calloc(v->ctx, info->valid_count ? info->valid_count : 1,
+                                     sizeof(double));
+    if (!err)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    const vdbgi_volume_view view = vdbgi_volume_view_of(v);
+    double sq = 0.0, worst = 0.0;
+    size_t n = 0;
+    for (size_t i = 0; i < p->count; i++) {
+        if (p->backface[i] > p->invalid_threshold)
+            continue;
+        float pos[3], got[3];
+        for (int k = 0; k < 3; k++)
+            pos[k] = (float)(v->lattice_origin[k] + p->spacing * p->ijk[3 * i + k]);
+        vdbgi_sampler_sample(&view, pos, got);
+        double e = 0.0;
+        for (int k = 0; k < 3; k++) {
+            const double d = (double)got[k] - (double)p->rgb[3 * i + k];
+            sq += d * d;
+            e = fmax(e, fabs(d));
+        }
+        err[n++] = e;
+        worst = fmax(worst, e);
+    }
+    info->rmse = n ? sqrt(sq / (3.0 * (double)n)) : 0.0;
+    info->max_error = worst;
+    info->p99 = n ? vdbgi_quantile(err, n, 0.99) : 0.0;
+    vdbgi_free(v->ctx, err);
+    return VDBGI_OK;
+}
+
+static int report(const vdbgi_convert_desc *desc, float done)
+{
+    return desc && desc->progress ? desc->progress(desc->progress_user, done) : 0;
+}
+
+vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
+                                const vdbgi_convert_desc *desc, vdbgi_volume **out)
+{
+    VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
+    *out = NULL;
+    VDBGI_FAIL_IF(ctx, !probes, VDBGI_ERR_INVALID_ARG, "no probes given");
+    const double t0 = vdbgi_now();
+    vdbgi_coarsen_params cp = {0};
+    float eps = 0.0f;
+    vdbgi_encoding encoding = VDBGI_ENCODING_RGBM;
+    VDBGI_TRY(resolve_desc(ctx, desc, &eps, &cp.sigmas, &cp.max_level, &cp.criterion, &encoding,
+                         &cp.threads));
+    /*
+     * A fixed Fibonacci set gives every probe the same directions: its error is a bias
+     * shared by neighbours, not noise, and its standard error is no measure of it. The
+     * default allowance applies to random and adaptive bakes only.
+     */
+    const vdbgi_meta *const sampling = vdbgi_meta_find(probes, "sampling");
+    const vdbgi_meta *const rays_meta = vdbgi_meta_find(probes, "rays");
+    const bool fixed_set = sampling && sampling->type == VDBGI_META_STRING &&
+                           strcmp(sampling->text, "fibonacci") == 0 &&
+                           !(rays_meta && rays_meta->type == VDBGI_META_INT &&
+                             rays_meta->i == VDBGI_RAYS_AUTO);
+    if (fixed_set && (!desc || desc->noise_sigmas == 0.0f))
+        cp.sigmas = 0.0f;
+    VDBGI_FAIL_IF(ctx, !probes->rgb, VDBGI_ERR_FORMAT, "probes have no values: bake them first");
+    VDBGI_FAIL_IF(ctx, probes->count == 0, VDBGI_ERR_FORMAT, "the grid holds no probes");
+
+    vdbgi_volume *const v = vdbgi_calloc(ctx, 1, sizeof(*v));
+    if (!v)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    v->ctx = ctx;
+    vdbgi_volume_info *const info = &v->info;
+    info->encoding = encoding;
+    info->rgbm_range = VDBGI_RGBM_RANGE;
+    info->spacing = (float)probes->spacing;
+    info->max_level = (uint32_t)cp.max_level;
+    info->probe_count = probes->count;
+    memcpy(v->lattice_origin, probes->origin, sizeof(v->lattice_origin));
+
+    /* Mean irradiance of the valid probes: the scale of eps and of the error figures. */
+    double sum[3] = {0.0, 0.0, 0.0};
+    for (size_t i = 0; i < probes->count; i++) {
+        if (probes->backface[i] > probes->invalid_threshold)
+            continue;
+        info->valid_count++;
+        for (int k = 0; k < 3; k++)
+            sum[k] += probes->rgb[3 * i + k];
+    }
+    for (int k = 0; k < 3; k++)
+        v->mean_rgb[k] = info->valid_count ? (float)(sum[k] / (double)info->valid_count) : 0.0f;
+    info->mean_irradiance = (v->mean_rgb[0] + v->mean_rgb[1] + v->mean_rgb[2]) / 3.0;
+    cp.tolerance = eps * (float)info->mean_irradiance;
+    memcpy(cp.fallback, v->mean_rgb, sizeof(cp.fallback));
+
+    int32_t *cells = NULL;
+    size_t cell_count = 0;
+    vdbgi_brick *bricks = NULL;
+    size_t brick_count = 0;
+    const vdbgi_fill_params fp =
+        vdbgi_fill_params_default(probes->invalid_threshold, desc ? desc->fill : VDBGI_FILL_AUTO,
+                                  cp.threads);
+    const vdbgi_fill_input in = {probes->count, probes->ijk, probes->rgb, probes->backface, 1};
+    vdbgi_result r = vdbgi_field_fill(ctx, &in, &fp, &v->filled, &cells, &cell_count,
+                                      &info->unreached_count);
+    if (r != VDBGI_OK)
+        goto fail;
+    for (size_t li = 0; li < v->filled.leaf_count; li++)
+        for (int w = 0; w < 8; w++)
+            info->filled_count += (size_t)__builtin_popcountll(v->filled.leaves[li].mask[w]);
+    double t1 = vdbgi_now();
+    vdbgi_log(ctx, VDBGI_LOG_DEBUG, "fill: %zu points in %.3f s", info->filled_count, t1 - t0);
+    if (report(desc, 0.3f)) {
+        r = vdbgi_fail(ctx, VDBGI_ERR_CANCELLED, "conversion cancelled");
+        goto fail;
+    }
+
+    /* The indirection covers the occupied cells from a corner aligned to level-3 blocks. */
+    int32_t lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, hi[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
+    for (size_t c = 0; c < cell_count; c++)
+        for (int k = 0; k < 3; k++) {
+            lo[k] = cells[3 * c + k] < lo[k] ? cells[3 * c + k] : lo[k];
+            hi[k] = cells[3 * c + k] > hi[k] ? cells[3 * c + k] : hi[k];
+        }
+    for (int k = 0; k < 3; k++) {
+        v->origin_cell[k] = vdbgi_floor_div(lo[k], 8) * 8;
+        const int64_t dim = (int64_t)hi[k] - v->origin_cell[k] + 1;
+        if (dim > VDBGI_MAX_TEXTURE_DIM) {
+            r = vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY,
+                           "the indirection texture would be %lld cells along %c, above the "
+                           "%d-texel limit of 3D textures: raise the probe spacing",
+                           (long long)dim, "xyz"[k], VDBGI_MAX_TEXTURE_DIM);
+            goto fail;
+        }
+        info->indirection_dims[k] = (uint32_t)dim;
+        info->box_min[k] = (float)(v->lattice_origin[k] +
+                                   probes->spacing * ((double)v->origin_cell[k] * VDBGI_BRICK - 0.5));
+        info->box_max[k] = (float)(info->box_min[k] + probes->spacing * (double)dim * VDBGI_BRICK);
+    }
+
+    if ((r = vdbgi_coarsen(ctx, &v->filled, probes, cells, cell_count, &cp, &bricks,
+                           &brick_count)) != VDBGI_OK)
+        goto fail;
+    vdbgi_log(ctx, VDBGI_LOG_DEBUG, "pyramid and coarsening: %zu bricks in %.3f s", brick_count,
+              vdbgi_now() - t1);
+    t1 = vdbgi_now();
+    if (report(desc, 0.6f)) {
+        r = vdbgi_fail(ctx, VDBGI_ERR_CANCELLED, "conversion cancelled");
+        goto fail;
+    }
+
+    /* Slot 0 is an all-zero brick: an empty cell (indirection 0,0,0,0) reads black from it. */
+    const size_t slots = brick_count + 1;
+    if ((r = vdbgi_atlas_dims(ctx, slots, info->atlas_dims)) != VDBGI_OK)
+        goto fail;
+    info->brick_count = (uint32_t)brick_count;
+    info->indirection_size = 4 * (size_t)info->indirection_dims[0] * info->indirection_dims[1] *
+                             info->indirection_dims[2];
+    info->atlas_size =
+        4 * (size_t)info->atlas_dims[0] * info->atlas_dims[1] * info->atlas_dims[2];
+    if ((r = vdbgi_gifile_alloc(v)) != VDBGI_OK)
+        goto fail;
+    vdbgi_atlas_fill(v, bricks, brick_count, cp.threads);
+    for (size_t i = 0; i < brick_count; i++)
+        info->bricks[bricks[i].level]++;
+    vdbgi_log(ctx, VDBGI_LOG_DEBUG, "sampling and encoding: %.3f s", vdbgi_now() - t1);
+    t1 = vdbgi_now();
+    if (report(desc, 0.8f)) {
+        r = vdbgi_fail(ctx, VDBGI_ERR_CANCELLED, "conversion cancelled");
+        goto fail;
+    }
+
+    /* A dense RGBA8 grid over the probes' box at the same spacing, for comparison. */
+    {
+        int32_t pmin[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, pmax[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
+        for (size_t i = 0; i < probes->count; i++)
+            for (int k = 0; k < 3; k++) {
+                const int32_t c = probes->ijk[3 * i + k];
+                pmin[k] = c < pmin[k] ? c : pmin[k];
+                pmax[k] = c > pmax[k] ? c : pmax[k];
+            }
+        info->dense_rgba8_size = 4;
+        for (int k = 0; k < 3; k++)
+            info->dense_rgba8_size *= (size_t)(pmax[k] - pmin[k] + 1);
+    }
+    if ((r = measure_error(v, probes)) != VDBGI_OK)
+        goto fail;
+    vdbgi_log(ctx, VDBGI_LOG_DEBUG, "error measurement: %.3f s", vdbgi_now() - t1);
+    t1 = vdbgi_now();
+    if ((r = vdbgi_gifile_encode(v)) != VDBGI_OK)
+        goto fail;
+    vdbgi_log(ctx, VDBGI_LOG_DEBUG, "gzip: %zu bytes in %.3f s", info->file_size, vdbgi_now() - t1);
+    info->seconds = vdbgi_now() - t0;
+    report(desc, 1.0f);
+fail:
+    vdbgi_free(ctx, cells);
+    vdbgi_free(ctx, bricks);
+    if (r != VDBGI_OK) {
+        vdbgi_volume_destroy(v);
+        return r;
+    }
+    *out = v;
+    return VDBGI_OK;
+}
