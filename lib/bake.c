@@ -1,200 +1,32 @@
-/* bake.c: seed 000's irradiance estimator per probe, validity, threads, progress. */
-#include "internal.h"
-#include "util.h"
+/*
+ * bake.c: the driver: sample points (lattice probes or given points) handed
+ * out over threads in chunks, each through the estimator, with progress.
+ */
+#include "estimate.h"
+#include "probes.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdatomic.h>
-#include <stdio.h>
 #include <string.h>
 
-#define PI_F 3.14159265358979f
-
-/* The query shape VDBGI_TRACE_AUTO picks: the fastest in docs/performance.md. */
-#define VDBGI_TRACE_BEST VDBGI_TRACE_PACKET16
-
-/* Rays per batch of an adaptive bake: one spherical Fibonacci set, rotated anew each batch. */
-#define ADAPTIVE_BATCH 32
-
-/* Probes handed to a thread at a time: small enough to balance, big enough to amortise. */
+/* Points handed to a thread at a time: small enough to balance, big enough to amortise. */
 #define CHUNK 32
 
-static bool is_zero3(const float v[3])
-{
-    return v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f;
-}
-
-static bool nonneg_finite3(const float v[3])
-{
-    for (int k = 0; k < 3; k++)
-        if (!(v[k] >= 0.0f) || !isfinite(v[k]))
-            return false;
-    return true;
-}
-
-vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc *desc,
-                                       vdbgi_bake_params *bp)
-{
-    const vdbgi_bake_desc none = {0};
-    if (!desc)
-        desc = &none;
-    memset(bp, 0, sizeof(*bp));
-    bp->adaptive = desc->rays == VDBGI_RAYS_AUTO;
-    bp->rays = desc->rays == 0 || bp->adaptive ? 128 : desc->rays;
-    VDBGI_FAIL_IF(ctx, bp->rays < 1 || bp->rays > 1000000, VDBGI_ERR_INVALID_ARG,
-                  "rays per probe must be in 1..1000000 (got %d)", desc->rays);
-    bp->noise = desc->noise != 0.0f ? desc->noise : 0.02f;
-    VDBGI_FAIL_IF(ctx, !(bp->noise > 0.0f) || !isfinite(bp->noise), VDBGI_ERR_INVALID_ARG,
-                  "noise target must be > 0 (got %g)", (double)desc->noise);
-    bp->max_rays = desc->max_rays ? desc->max_rays : 1024;
-    VDBGI_FAIL_IF(ctx, bp->max_rays < 2 * ADAPTIVE_BATCH || bp->max_rays > (1 << 20) ||
-                           (bp->max_rays & (bp->max_rays - 1)),
-                  VDBGI_ERR_INVALID_ARG, "max rays must be a power of two in %d..%d (got %d)",
-                  2 * ADAPTIVE_BATCH, 1 << 20, desc->max_rays);
-    bp->ray_dist = desc->ray_dist != 0.0f ? desc->ray_dist : 40.0f;
-    VDBGI_FAIL_IF(ctx, !(bp->ray_dist > 0.0f) || !isfinite(bp->ray_dist), VDBGI_ERR_INVALID_ARG,
-                  "ray distance must be > 0 and finite (got %g)", (double)desc->ray_dist);
-    bp->ambient = desc->ambient == 0.0f          ? 0.15f
-                  : desc->ambient == VDBGI_NONE ? 0.0f
-                                                : desc->ambient;
-    VDBGI_FAIL_IF(ctx, !(bp->ambient >= 0.0f) || !isfinite(bp->ambient), VDBGI_ERR_INVALID_ARG,
-                  "ambient must be >= 0 and finite (got %g)", (double)desc->ambient);
-
-    static const float default_sun[3] = {0.4f, 0.8f, 0.3f};
-    const float *const sd = is_zero3(desc->sun_dir) ? default_sun : desc->sun_dir;
-    const float len = sqrtf(sd[0] * sd[0] + sd[1] * sd[1] + sd[2] * sd[2]);
-    VDBGI_FAIL_IF(ctx, !(len > 0.0f) || !isfinite(len), VDBGI_ERR_INVALID_ARG,
-                  "sun direction must be finite and non-zero (got %g,%g,%g)", (double)sd[0],
-                  (double)sd[1], (double)sd[2]);
-    for (int k = 0; k < 3; k++)
-        bp->sun_dir[k] = sd[k] / len;
-
-    bp->sun_on = desc->sun_color[0] != VDBGI_NONE;
-    for (int k = 0; k < 3; k++)
-        bp->sun_color[k] = !bp->sun_on ? 0.0f : is_zero3(desc->sun_color) ? 1.0f : desc->sun_color[k];
-    VDBGI_FAIL_IF(ctx, !nonneg_finite3(bp->sun_color), VDBGI_ERR_INVALID_ARG,
-                  "sun colour must be >= 0 and finite (got %g,%g,%g)", (double)desc->sun_color[0],
-                  (double)desc->sun_color[1], (double)desc->sun_color[2]);
-    bp->sun_on = bp->sun_on && !is_zero3(bp->sun_color);
-
-    bp->falloff = desc->falloff != 0.0f ? desc->falloff : 4.0f;
-    VDBGI_FAIL_IF(ctx, !(bp->falloff > 0.0f), VDBGI_ERR_INVALID_ARG,
-                  "falloff must be > 0 or inf (got %g)", (double)desc->falloff);
-    memcpy(bp->sky, desc->sky, sizeof(bp->sky));
-    VDBGI_FAIL_IF(ctx, !nonneg_finite3(bp->sky), VDBGI_ERR_INVALID_ARG,
-                  "sky colour must be >= 0 and finite (got %g,%g,%g)", (double)desc->sky[0],
-                  (double)desc->sky[1], (double)desc->sky[2]);
-    VDBGI_FAIL_IF(ctx,
-                  desc->sampling != VDBGI_SAMPLING_FIBONACCI &&
-                      desc->sampling != VDBGI_SAMPLING_RANDOM,
-                  VDBGI_ERR_INVALID_ARG, "unknown sampling method %d", (int)desc->sampling);
-    bp->sampling = desc->sampling;
-    bp->seed = desc->seed;
-    VDBGI_FAIL_IF(ctx, desc->threads < 0 || desc->threads > 1024, VDBGI_ERR_INVALID_ARG,
-                  "threads must be in 0..1024 (got %d)", desc->threads);
-    bp->threads = desc->threads ? desc->threads : vdbgi_core_count();
-    bp->invalid_threshold = desc->invalid_threshold != 0.0f ? desc->invalid_threshold : 0.25f;
-    VDBGI_FAIL_IF(ctx, !(bp->invalid_threshold > 0.0f && bp->invalid_threshold <= 1.0f),
-                  VDBGI_ERR_INVALID_ARG, "invalid threshold must be in (0, 1] (got %g)",
-                  (double)desc->invalid_threshold);
-    VDBGI_FAIL_IF(ctx, desc->trace_method < VDBGI_TRACE_AUTO || desc->trace_method > VDBGI_TRACE_STREAM,
-                  VDBGI_ERR_INVALID_ARG, "unknown trace method %d", (int)desc->trace_method);
-    bp->method = desc->trace_method == VDBGI_TRACE_AUTO ? VDBGI_TRACE_BEST : desc->trace_method;
-    VDBGI_FAIL_IF(ctx, desc->basis != VDBGI_BASIS_SCALAR && desc->basis != VDBGI_BASIS_AMBIENT_CUBE,
-                  VDBGI_ERR_INVALID_ARG, "unknown basis %d", (int)desc->basis);
-    bp->basis = desc->basis;
-    return VDBGI_OK;
-}
-
-/* ---- directions ------------------------------------------------------------ */
-
-/*
- * Spherical Fibonacci set: z evenly spaced in (-1, 1), azimuth advancing by
- * the golden angle, so every direction stands for the same solid angle.
- */
-static void fibonacci_directions(int n, float *dirs)
-{
-    const double golden = PI_F * (3.0 - sqrt(5.0));
-    for (int i = 0; i < n; i++) {
-        const double z = 1.0 - (2.0 * i + 1.0) / n;
-        const double r = sqrt(1.0 - z * z);
-        const double phi = golden * i;
-        dirs[3 * i + 0] = (float)(r * cos(phi));
-        dirs[3 * i + 1] = (float)z;
-        dirs[3 * i + 2] = (float)(r * sin(phi));
-    }
-}
-
-/*
- * Reorder a set of n (a power of two) directions so that entry k holds the
- * one at the bit-reversed index: the first 2^j entries are every (n/2^j)-th
- * direction of the set, so any prefix of whole batches covers the sphere
- * about as evenly as a set of its own size.
- */
-static void bit_reverse_order(float *dirs, int n)
-{
-    int bits = 0;
-    while ((1 << bits) < n)
-        bits++;
-    for (int k = 0; k < n; k++) {
-        int r = 0;
-        for (int b = 0; b < bits; b++)
-            r |= (k >> b & 1) << (bits - 1 - b);
-        if (r > k)
-            for (int c = 0; c < 3; c++) {
-                const float t = dirs[3 * k + c];
-                dirs[3 * k + c] = dirs[3 * r + c], dirs[3 * r + c] = t;
-            }
-    }
-}
-
-/* A probe's random stream depends on its lattice point and the seed only. */
-static uint64_t probe_stream(int32_t i, int32_t j, int32_t k, uint64_t seed)
-{
-    uint64_t s = seed ^ ((uint64_t)(uint32_t)i * 0x8CB92BA72F3D8DD7ull) ^
-                 ((uint64_t)(uint32_t)j * 0xAB8F3B2A1F7C5D93ull) ^
-                 ((uint64_t)(uint32_t)k * 0xD1B54A32D192ED03ull);
-    return vdbgi_splitmix64(&s);
-}
-
-/* Uniformly random rotation (Shoemake's quaternion from three uniforms). */
-static void random_rotation(uint64_t stream, float m[9])
-{
-    const double u1 = vdbgi_uniform01(&stream), u2 = vdbgi_uniform01(&stream), u3 = vdbgi_uniform01(&stream);
-    const double a = sqrt(1.0 - u1), b = sqrt(u1);
-    const double x = a * sin(2.0 * PI_F * u2), y = a * cos(2.0 * PI_F * u2);
-    const double z = b * sin(2.0 * PI_F * u3), w = b * cos(2.0 * PI_F * u3);
-    m[0] = (float)(1 - 2 * (y * y + z * z)), m[1] = (float)(2 * (x * y - z * w));
-    m[2] = (float)(2 * (x * z + y * w)), m[3] = (float)(2 * (x * y + z * w));
-    m[4] = (float)(1 - 2 * (x * x + z * z)), m[5] = (float)(2 * (y * z - x * w));
-    m[6] = (float)(2 * (x * z - y * w)), m[7] = (float)(2 * (y * z + x * w));
-    m[8] = (float)(1 - 2 * (x * x + y * y));
-}
-
-/* ---- one probe ------------------------------------------------------------- */
-
-/* What a probe's rays add up to, batch after batch. */
-typedef struct probe_sums {
-    double sum[3];   /* radiance, per channel */
-    double sum_sq;   /* squares of the per-ray mean over channels, for the standard error */
-    double cube[6][3], cube_w[6];
-    size_t rays, hits, back, shadow;
-} probe_sums;
-
 typedef struct bake_shared {
-    const vdbgi_scene *scene;
+    vdbgi_context *ctx;
     const vdbgi_bake_params *bp;
-    const float *base_dirs; /* rays (or ADAPTIVE_BATCH) * 3 */
-    bool shade;             /* false: the bare benchmark loop */
+    vdbgi_estimator proto; /* scene, tracer, direction set: what every thread reads */
     /* Either a lattice (ijk + origin + spacing) or explicit points. */
     const int32_t *ijk;
     const float *points;
     double origin[3], spacing;
     size_t count;
     float *rgb, *backface;
-    float *stderr_;   /* per probe, or NULL */
-    uint32_t *rays;   /* per probe, or NULL */
-    float *cube;      /* 18 per probe, or NULL for the scalar basis */
+    float *stderr_; /* per probe, or NULL */
+    uint32_t *rays; /* per probe, or NULL */
+    float *cube;    /* 18 per probe, or NULL for the scalar basis */
+    int (*progress)(void *user, float done);
+    void *progress_user;
     /* Work distribution. */
     atomic_size_t next;
     atomic_size_t done;
@@ -203,260 +35,86 @@ typedef struct bake_shared {
 
 typedef struct bake_thread {
     bake_shared *sh;
-    float *dir, *sorg;
-    float *sun_weight; /* per shadow ray: albedo x falloff x n.sun, RGB */
-    float *radiance;   /* per ray, RGB: what the ray brings back */
-    uint32_t *shadow_ray; /* per shadow ray: the primary ray it continues */
-    vdbgi_hit *hits;
-    unsigned char *occluded;
-    void *scratch;
+    vdbgi_estimator est;
+    bool reports; /* the caller's thread: it calls progress */
     uint64_t primary, shadow, hits_count, invalid;
-    pthread_t thread;
-    bool started;
 } bake_thread;
 
-/*
- * Trace n rays from pos along dirs and add what they bring back to *sums:
- * seed 000's sum, the squares for the standard error, the ambient-cube sides
- * (each side weights a ray by its cosine to the side's normal and keeps the sum
- * of weights, so uniform radiance gives itself exactly) and the counts.
- * Without shading (the bare loop) only the rays and the counts.
- */
-static void trace_batch(bake_thread *th, const float pos[3], const float *dirs, int n,
-                        probe_sums *sums)
+static void bake_point(bake_thread *th, size_t index)
 {
     const bake_shared *const sh = th->sh;
-    const vdbgi_bake_params *const bp = sh->bp;
-    const vdbgi_scene *const scene = sh->scene;
-    const vdbgi_ray_batch primary = {pos, dirs, 0, 3, 0.0f, bp->ray_dist, (size_t)n};
-    vdbgi_tracer_intersect(scene->tracer, bp->method, &primary, th->hits, th->scratch);
-
-    size_t shadow_count = 0;
-    const float off = scene->ray_offset;
-    for (int i = 0; i < n; i++) {
-        const vdbgi_hit *const h = &th->hits[i];
-        float *const L = &th->radiance[3 * i];
-        if (!(h->t < INFINITY)) {
-            memcpy(L, bp->sky, 3 * sizeof(float));
-            continue;
-        }
-        sums->hits++;
-        const float *const d = &dirs[3 * i];
-        const vdbgi_tri *const tri = &scene->tris[h->prim];
-        const float *const tn = tri->normal;
-        const float facing = tn[0] * d[0] + tn[1] * d[1] + tn[2] * d[2];
-        /* The ray arrives from the side the normal points away from: a back face. */
-        const float flip = facing > 0.0f ? -1.0f : 1.0f;
-        if (facing > 0.0f && !(tri->flags & VDBGI_TRI_DOUBLE_SIDED))
-            sums->back++;
-        const float nf[3] = {tn[0] * flip, tn[1] * flip, tn[2] * flip};
-        const float ndotl = nf[0] * bp->sun_dir[0] + nf[1] * bp->sun_dir[1] + nf[2] * bp->sun_dir[2];
-        float albedo_w[3] = {0.0f, 0.0f, 0.0f};
-        if (sh->shade) {
-            float albedo[3];
-            vdbgi_scene_albedo(scene, h->prim, h->u, h->v, albedo);
-            const float q = h->t / bp->falloff;
-            const float w = 1.0f / (1.0f + q * q); /* q = 0 when falloff is infinite */
-            for (int k = 0; k < 3; k++) {
-                albedo_w[k] = albedo[k] * w;
-                L[k] = albedo_w[k] * bp->ambient;
-            }
-        }
-        if (bp->sun_on && ndotl > 0.0f) {
-            float *const so = &th->sorg[3 * shadow_count];
-            for (int k = 0; k < 3; k++) {
-                so[k] = pos[k] + h->t * d[k] + off * nf[k];
-                th->sun_weight[3 * shadow_count + k] = albedo_w[k] * ndotl * bp->sun_color[k];
-            }
-            th->shadow_ray[shadow_count] = (uint32_t)i;
-            shadow_count++;
-        }
-    }
-    if (shadow_count) {
-        const vdbgi_ray_batch shadow = {th->sorg, bp->sun_dir, 3, 0, 0.0f, INFINITY, shadow_count};
-        vdbgi_tracer_occluded(scene->tracer, bp->method, &shadow, th->occluded, th->scratch);
-        if (sh->shade)
-            for (size_t s = 0; s < shadow_count; s++)
-                if (!th->occluded[s])
-                    for (int k = 0; k < 3; k++)
-                        th->radiance[3 * th->shadow_ray[s] + k] += th->sun_weight[3 * s + k];
-    }
-    sums->rays += (size_t)n;
-    sums->shadow += shadow_count;
-    if (!sh->shade)
-        return;
-    for (int i = 0; i < n; i++) {
-        const float *const L = &th->radiance[3 * i];
-        for (int k = 0; k < 3; k++)
-            sums->sum[k] += L[k];
-        const double l = ((double)L[0] + L[1] + L[2]) / 3.0;
-        sums->sum_sq += l * l;
-    }
-    if (sh->cube)
-        for (int i = 0; i < n; i++) {
-            const float *const d = &dirs[3 * i];
-            const float *const L = &th->radiance[3 * i];
-            /* Misses under a black sky carry nothing: only their weight counts. */
-            const bool dark = L[0] == 0.0f && L[1] == 0.0f && L[2] == 0.0f;
-            for (int a = 0; a < 3; a++) {
-                const int side = 2 * a + (d[a] < 0.0f); /* +a is even, -a odd */
-                const double w = fabs((double)d[a]);
-                sums->cube_w[side] += w;
-                if (!dark)
-                    for (int k = 0; k < 3; k++)
-                        sums->cube[side][k] += w * (double)L[k];
-            }
-        }
-}
-
-/* Standard error of a probe's value (the mean over channels), from its sums. */
-static double standard_error(const probe_sums *s)
-{
-    if (s->rays < 2)
-        return 0.0;
-    const double n = (double)s->rays;
-    const double mean = (s->sum[0] + s->sum[1] + s->sum[2]) / 3.0 / n;
-    const double var = (s->sum_sq - n * mean * mean) / (n - 1.0);
-    return var > 0.0 ? sqrt(var / n) : 0.0;
-}
-
-static void rotate_dirs(uint64_t stream, const float *base, int n, float *out)
-{
-    float m[9];
-    random_rotation(stream, m);
-    for (int i = 0; i < n; i++) {
-        const float *const d = &base[3 * i];
-        for (int r = 0; r < 3; r++)
-            out[3 * i + r] = m[3 * r] * d[0] + m[3 * r + 1] * d[1] + m[3 * r + 2] * d[2];
-    }
-}
-
-static void bake_probe(bake_thread *th, size_t index)
-{
-    const bake_shared *const sh = th->sh;
-    const vdbgi_bake_params *const bp = sh->bp;
     float pos[3];
     uint64_t stream;
     if (sh->ijk) {
         const int32_t *const c = &sh->ijk[3 * index];
         for (int k = 0; k < 3; k++)
             pos[k] = (float)(sh->origin[k] + sh->spacing * c[k]);
-        stream = probe_stream(c[0], c[1], c[2], bp->seed);
+        stream = vdbgi_point_stream(c[0], c[1], c[2], sh->bp->seed);
     } else {
         memcpy(pos, &sh->points[3 * index], sizeof(pos));
-        stream = probe_stream((int32_t)index, 0, 0, bp->seed);
+        stream = vdbgi_point_stream((int32_t)index, 0, 0, sh->bp->seed);
     }
-    probe_sums sums;
-    memset(&sums, 0, sizeof(sums));
-    if (bp->adaptive) {
-        /*
-         * One Fibonacci set of max_rays directions under a random rotation, traced in
-         * batches in bit-reversed order (every prefix is itself evenly spread), until
-         * the standard error falls below the target (relative to the probe's value,
-         * with a floor for dark probes) or the set is used up.
-         */
-        rotate_dirs(stream, sh->base_dirs, bp->max_rays, th->dir);
-        for (;;) {
-            trace_batch(th, pos, &th->dir[3 * sums.rays], ADAPTIVE_BATCH, &sums);
-            if (sums.rays + ADAPTIVE_BATCH > (size_t)bp->max_rays)
-                break;
-            if (sums.rays >= 2 * ADAPTIVE_BATCH) {
-                const double mean = (sums.sum[0] + sums.sum[1] + sums.sum[2]) / 3.0 / (double)sums.rays;
-                if (standard_error(&sums) <= bp->noise * fmax(mean, 1e-3))
-                    break;
-            }
-        }
-    } else if (bp->sampling == VDBGI_SAMPLING_RANDOM) {
-        rotate_dirs(stream, sh->base_dirs, bp->rays, th->dir);
-        trace_batch(th, pos, th->dir, bp->rays, &sums);
-    } else {
-        trace_batch(th, pos, sh->base_dirs, bp->rays, &sums);
-    }
-    th->primary += sums.rays;
-    th->shadow += sums.shadow;
-    th->hits_count += sums.hits;
-    const float bf = sums.hits ? (float)sums.back / (float)sums.hits : 0.0f;
-    th->invalid += bf > bp->invalid_threshold;
-    if (!sh->shade)
+    vdbgi_estimate e;
+    vdbgi_estimate_point(&th->est, pos, stream, &e);
+    th->primary += e.rays;
+    th->shadow += e.shadow;
+    th->hits_count += e.hits;
+    th->invalid += e.backface > sh->bp->invalid_threshold;
+    if (!th->est.shade)
         return;
-    for (int k = 0; k < 3; k++)
-        sh->rgb[3 * index + k] = (float)(sums.sum[k] / (double)sums.rays);
-    sh->backface[index] = bf;
+    memcpy(&sh->rgb[3 * index], e.rgb, sizeof(e.rgb));
+    sh->backface[index] = e.backface;
     if (sh->stderr_)
-        sh->stderr_[index] = (float)standard_error(&sums);
+        sh->stderr_[index] = e.stderr_;
     if (sh->rays)
-        sh->rays[index] = (uint32_t)sums.rays;
+        sh->rays[index] = e.rays;
     if (sh->cube)
-        for (int side = 0; side < 6; side++)
-            for (int k = 0; k < 3; k++)
-                sh->cube[18 * index + 3 * side + k] =
-                    sums.cube_w[side] > 0.0 ? (float)(sums.cube[side][k] / sums.cube_w[side])
-                                            : 0.0f;
+        memcpy(&sh->cube[18 * index], e.cube, sizeof(e.cube));
 }
 
 /* Take chunks until none are left; returns after the last one or on cancel. */
-static void run_chunks(bake_thread *th, bool is_caller,
-                       int (*progress)(void *, float), void *progress_user)
+static void *run_chunks(void *arg)
 {
+    bake_thread *const th = arg;
     bake_shared *const sh = th->sh;
     size_t reported = 0; /* percent */
     for (;;) {
         if (atomic_load(&sh->cancel))
-            return;
+            return NULL;
         const size_t begin = atomic_fetch_add(&sh->next, CHUNK);
         if (begin >= sh->count)
-            return;
+            return NULL;
         const size_t end = begin + CHUNK < sh->count ? begin + CHUNK : sh->count;
         for (size_t i = begin; i < end; i++)
-            bake_probe(th, i);
+            bake_point(th, i);
         const size_t done = atomic_fetch_add(&sh->done, end - begin) + (end - begin);
-        if (is_caller && progress) {
+        if (th->reports && sh->progress) {
             const size_t percent = done * 100 / sh->count;
             if (percent > reported) {
                 reported = percent;
-                if (progress(progress_user, (float)done / (float)sh->count))
+                if (sh->progress(sh->progress_user, (float)done / (float)sh->count))
                     atomic_store(&sh->cancel, 1);
             }
         }
     }
 }
 
-static void *worker_main(void *arg)
-{
-    run_chunks(arg, false, NULL, NULL);
-    return NULL;
-}
-
-static void threads_free(vdbgi_context *ctx, bake_thread *ths, int n)
-{
-    for (int t = 0; ths && t < n; t++) {
-        vdbgi_free(ctx, ths[t].dir);
-        vdbgi_free(ctx, ths[t].sorg);
-        vdbgi_free(ctx, ths[t].sun_weight);
-        vdbgi_free(ctx, ths[t].radiance);
-        vdbgi_free(ctx, ths[t].shadow_ray);
-        vdbgi_free(ctx, ths[t].hits);
-        vdbgi_free(ctx, ths[t].occluded);
-        vdbgi_free(ctx, ths[t].scratch);
-    }
-    vdbgi_free(ctx, ths);
-}
-
 /* Run sh over bp->threads threads (the caller's included) and sum the counters. */
-static vdbgi_result bake_run(vdbgi_context *ctx, bake_shared *sh, const vdbgi_bake_desc *desc,
+static vdbgi_result bake_run(bake_shared *sh, const vdbgi_scene *scene, bool shade,
                              vdbgi_bake_stats *stats)
 {
+    vdbgi_context *const ctx = sh->ctx;
     const vdbgi_bake_params *const bp = sh->bp;
+    /* Loading a scene builds no BVH: a bake builds its own, outside its timing. */
+    vdbgi_tracer *tracer = NULL;
+    VDBGI_TRY(vdbgi_tracer_create(ctx, scene->positions, scene->vertex_count, scene->indices,
+                                  scene->triangle_count, &tracer));
     const double t0 = vdbgi_now();
-    /* The direction set: all the rays of a probe, or the adaptive cap in bit-reversed order. */
-    const int set = bp->adaptive ? bp->max_rays : bp->rays;
-    float *const base_dirs = vdbgi_calloc(ctx, (size_t)set, 3 * sizeof(float));
-    if (!base_dirs)
-        return VDBGI_ERR_OUT_OF_MEMORY;
-    fibonacci_directions(set, base_dirs);
-    if (bp->adaptive)
-        bit_reverse_order(base_dirs, set);
-    sh->base_dirs = base_dirs;
+    float *base_dirs = NULL;
+    int set = 0;
+    vdbgi_result r = vdbgi_estimator_directions(ctx, bp, &base_dirs, &set);
+    sh->proto = (vdbgi_estimator){.scene = scene, .tracer = tracer, .bp = bp,
+                                  .base_dirs = base_dirs, .shade = shade, .cube = sh->cube};
     atomic_init(&sh->next, 0);
     atomic_init(&sh->done, 0);
     atomic_init(&sh->cancel, 0);
@@ -464,37 +122,23 @@ static vdbgi_result bake_run(vdbgi_context *ctx, bake_shared *sh, const vdbgi_ba
     /* No more threads than chunks: idle threads would only cost their scratch. */
     const size_t chunks = (sh->count + CHUNK - 1) / CHUNK;
     const int nth = (size_t)bp->threads < chunks ? bp->threads : (chunks ? (int)chunks : 1);
-    bake_thread *const ths = vdbgi_calloc(ctx, (size_t)nth, sizeof(*ths));
-    vdbgi_result r = ths ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
-    const size_t n = (size_t)set; /* per-thread buffers: a whole set (adaptive: the cap) */
+    bake_thread *const ths = r == VDBGI_OK ? vdbgi_calloc(ctx, (size_t)nth, sizeof(*ths)) : NULL;
+    if (r == VDBGI_OK && !ths)
+        r = VDBGI_ERR_OUT_OF_MEMORY;
     for (int t = 0; r == VDBGI_OK && t < nth; t++) {
-        bake_thread *const th = &ths[t];
-        th->sh = sh;
-        th->dir = vdbgi_calloc(ctx, n, 3 * sizeof(float));
-        th->sorg = vdbgi_calloc(ctx, n, 3 * sizeof(float));
-        th->sun_weight = vdbgi_calloc(ctx, n, 3 * sizeof(float));
-        th->shadow_ray = vdbgi_calloc(ctx, n, sizeof(uint32_t));
-        th->radiance = vdbgi_calloc(ctx, n, 3 * sizeof(float));
-        th->hits = vdbgi_calloc(ctx, n, sizeof(vdbgi_hit));
-        th->occluded = vdbgi_calloc(ctx, n, 1);
-        th->scratch = vdbgi_alloc(ctx, vdbgi_tracer_scratch_size(n));
-        if (!th->dir || !th->sorg || !th->sun_weight || !th->shadow_ray || !th->radiance ||
-            !th->hits ||
-            !th->occluded || !th->scratch)
-            r = VDBGI_ERR_OUT_OF_MEMORY;
+        ths[t].sh = sh;
+        ths[t].est = sh->proto;
+        ths[t].reports = t == 0;
+        r = vdbgi_estimator_init(ctx, &ths[t].est, set);
     }
+    int ran = 0;
     if (r == VDBGI_OK) {
-        for (int t = 1; t < nth; t++)
-            ths[t].started = pthread_create(&ths[t].thread, NULL, worker_main, &ths[t]) == 0;
-        run_chunks(&ths[0], true, desc ? desc->progress : NULL, desc ? desc->progress_user : NULL);
-        for (int t = 1; t < nth; t++)
-            if (ths[t].started)
-                pthread_join(ths[t].thread, NULL);
+        ran = vdbgi_run_threads(nth, run_chunks, ths, sizeof(*ths));
         if (atomic_load(&sh->cancel))
             r = vdbgi_fail(ctx, VDBGI_ERR_CANCELLED, "bake cancelled after %zu of %zu probes",
                            (size_t)atomic_load(&sh->done), sh->count);
         else
-            r = vdbgi_tracer_check(sh->scene->tracer);
+            r = vdbgi_tracer_check(tracer);
     }
     if (r == VDBGI_OK && stats) {
         memset(stats, 0, sizeof(*stats));
@@ -504,12 +148,15 @@ static vdbgi_result bake_run(vdbgi_context *ctx, bake_shared *sh, const vdbgi_ba
             stats->shadow_ray_count += ths[t].shadow;
             stats->hit_count += ths[t].hits_count;
             stats->invalid_probe_count += ths[t].invalid;
-            stats->threads += t == 0 || ths[t].started;
         }
+        stats->threads = ran;
         stats->seconds = vdbgi_now() - t0;
     }
-    threads_free(ctx, ths, nth);
+    for (int t = 0; ths && t < nth; t++)
+        vdbgi_estimator_free(ctx, &ths[t].est);
+    vdbgi_free(ctx, ths);
     vdbgi_free(ctx, base_dirs);
+    vdbgi_tracer_destroy(tracer);
     return r;
 }
 
@@ -523,31 +170,31 @@ static void record_settings(vdbgi_probes *p, const vdbgi_scene *scene,
                             const vdbgi_bake_params *bp, const vdbgi_bake_stats *st)
 {
     const float origin[3] = {(float)p->origin[0], (float)p->origin[1], (float)p->origin[2]};
-    vdbgi_meta_set_string(p, "vdbgi_version", vdbgi_version_string());
-    vdbgi_meta_set_string(p, "scene", scene->name);
-    vdbgi_meta_set_int(p, "triangles", (int64_t)scene->triangle_count);
-    vdbgi_meta_set_int(p, "probes", (int64_t)p->count);
-    vdbgi_meta_set_int(p, "invalid_probes", (int64_t)p->invalid_count);
-    vdbgi_meta_set_double(p, "bake_seconds", st->seconds);
-    vdbgi_meta_set_double(p, "spacing", p->spacing);
-    vdbgi_meta_set_double(p, "margin", p->margin);
-    vdbgi_meta_set_vec3(p, "origin", origin);
-    vdbgi_meta_set_int(p, "rays", bp->adaptive ? VDBGI_RAYS_AUTO : bp->rays);
+    vdbgi_meta_set_string(&p->meta, "vdbgi_version", vdbgi_version_string());
+    vdbgi_meta_set_string(&p->meta, "scene", scene->name);
+    vdbgi_meta_set_int(&p->meta, "triangles", (int64_t)scene->triangle_count);
+    vdbgi_meta_set_int(&p->meta, "probes", (int64_t)p->count);
+    vdbgi_meta_set_int(&p->meta, "invalid_probes", (int64_t)p->invalid_count);
+    vdbgi_meta_set_double(&p->meta, "bake_seconds", st->seconds);
+    vdbgi_meta_set_double(&p->meta, "spacing", p->spacing);
+    vdbgi_meta_set_double(&p->meta, "margin", p->margin);
+    vdbgi_meta_set_vec3(&p->meta, "origin", origin);
+    vdbgi_meta_set_int(&p->meta, "rays", bp->adaptive ? VDBGI_RAYS_AUTO : bp->rays);
     if (bp->adaptive) {
-        vdbgi_meta_set_double(p, "noise", bp->noise);
-        vdbgi_meta_set_int(p, "max_rays", bp->max_rays);
+        vdbgi_meta_set_double(&p->meta, "noise", bp->noise);
+        vdbgi_meta_set_int(&p->meta, "max_rays", bp->max_rays);
     }
-    vdbgi_meta_set_double(p, "ray_dist", bp->ray_dist);
-    vdbgi_meta_set_double(p, "ambient", bp->ambient);
-    vdbgi_meta_set_vec3(p, "sun_dir", bp->sun_dir);
-    vdbgi_meta_set_vec3(p, "sun_color", bp->sun_color);
-    vdbgi_meta_set_double(p, "falloff", bp->falloff);
-    vdbgi_meta_set_vec3(p, "sky", bp->sky);
-    vdbgi_meta_set_string(p, "sampling", sampling_name(bp->sampling));
-    vdbgi_meta_set_int(p, "seed", (int64_t)bp->seed);
-    vdbgi_meta_set_double(p, "invalid_threshold", bp->invalid_threshold);
-    vdbgi_meta_set_double(p, "ray_offset", scene->ray_offset);
-    vdbgi_meta_set_string(p, "basis", bp->basis == VDBGI_BASIS_AMBIENT_CUBE ? "ambient-cube" : "scalar");
+    vdbgi_meta_set_double(&p->meta, "ray_dist", bp->ray_dist);
+    vdbgi_meta_set_double(&p->meta, "ambient", bp->ambient);
+    vdbgi_meta_set_vec3(&p->meta, "sun_dir", bp->sun_dir);
+    vdbgi_meta_set_vec3(&p->meta, "sun_color", bp->sun_color);
+    vdbgi_meta_set_double(&p->meta, "falloff", bp->falloff);
+    vdbgi_meta_set_vec3(&p->meta, "sky", bp->sky);
+    vdbgi_meta_set_string(&p->meta, "sampling", sampling_name(bp->sampling));
+    vdbgi_meta_set_int(&p->meta, "seed", (int64_t)bp->seed);
+    vdbgi_meta_set_double(&p->meta, "invalid_threshold", bp->invalid_threshold);
+    vdbgi_meta_set_double(&p->meta, "ray_offset", scene->ray_offset);
+    vdbgi_meta_set_string(&p->meta, "basis", bp->basis == VDBGI_BASIS_AMBIENT_CUBE ? "ambient-cube" : "scalar");
 }
 
 vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
@@ -573,12 +220,13 @@ vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
         vdbgi_free(ctx, rays);
         return VDBGI_ERR_OUT_OF_MEMORY;
     }
-    bake_shared sh = {.scene = scene, .bp = &bp, .shade = true, .ijk = p->ijk,
-                      .spacing = p->spacing, .count = p->count, .rgb = rgb,
-                      .backface = backface, .stderr_ = stderr_, .rays = rays, .cube = cube};
+    bake_shared sh = {.ctx = ctx, .bp = &bp, .ijk = p->ijk, .spacing = p->spacing,
+                      .count = p->count, .rgb = rgb, .backface = backface, .stderr_ = stderr_,
+                      .rays = rays, .cube = cube, .progress = desc ? desc->progress : NULL,
+                      .progress_user = desc ? desc->progress_user : NULL};
     memcpy(sh.origin, p->origin, sizeof(sh.origin));
     vdbgi_bake_stats st;
-    const vdbgi_result r = bake_run(ctx, &sh, desc, &st);
+    const vdbgi_result r = bake_run(&sh, scene, true, &st);
     if (r != VDBGI_OK) {
         vdbgi_free(ctx, rgb);
         vdbgi_free(ctx, backface);
@@ -615,10 +263,11 @@ vdbgi_result vdbgi_probes_trace_bare(const vdbgi_probes *p, const vdbgi_scene *s
     VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, &bp));
     VDBGI_FAIL_IF(ctx, bp.adaptive, VDBGI_ERR_INVALID_ARG,
                   "the bare loop needs a fixed ray count: an adaptive one depends on shading");
-    bake_shared sh = {.scene = scene, .bp = &bp, .shade = false, .ijk = p->ijk,
-                      .spacing = p->spacing, .count = p->count};
+    bake_shared sh = {.ctx = ctx, .bp = &bp, .ijk = p->ijk, .spacing = p->spacing,
+                      .count = p->count, .progress = desc ? desc->progress : NULL,
+                      .progress_user = desc ? desc->progress_user : NULL};
     memcpy(sh.origin, p->origin, sizeof(sh.origin));
-    return bake_run(ctx, &sh, desc, stats);
+    return bake_run(&sh, scene, false, stats);
 }
 
 vdbgi_result vdbgi_bake_points(vdbgi_context *ctx, const vdbgi_scene *scene,
@@ -635,9 +284,10 @@ vdbgi_result vdbgi_bake_points(vdbgi_context *ctx, const vdbgi_scene *scene,
     float *bf = backface;
     if (!bf && !(bf = vdbgi_calloc(ctx, point_count ? point_count : 1, sizeof(float))))
         return VDBGI_ERR_OUT_OF_MEMORY;
-    bake_shared sh = {.scene = scene, .bp = &bp, .shade = true, .points = points,
-                      .count = point_count, .rgb = rgb, .backface = bf};
-    const vdbgi_result r = bake_run(ctx, &sh, desc, NULL);
+    bake_shared sh = {.ctx = ctx, .bp = &bp, .points = points, .count = point_count,
+                      .rgb = rgb, .backface = bf, .progress = desc ? desc->progress : NULL,
+                      .progress_user = desc ? desc->progress_user : NULL};
+    const vdbgi_result r = bake_run(&sh, scene, true, NULL);
     if (bf != backface)
         vdbgi_free(ctx, bf);
     return r;

@@ -109,6 +109,36 @@ void vdbgi_bevy_get_info(const vdbgi_bevy *b, vdbgi_bevy_info *info)
 
 /* ---- resampling ---------------------------------------------------------------- */
 
+/* The volume's box (inside the baked bounds) and resolution, from desc's defaults. */
+static vdbgi_result resolve_grid(vdbgi_context *ctx, const vdbgi_probes *p,
+                                 const vdbgi_bevy_desc *desc, double lo[3], double hi[3],
+                                 int res[3])
+{
+    /* The baked bounds: the probes' box and half a spacing around it. */
+    vdbgi_probes_info pi;
+    vdbgi_probes_get_info(p, &pi);
+    for (int k = 0; k < 3; k++) {
+        const double blo = p->origin[k] + p->spacing * (pi.ijk_min[k] - 0.5);
+        const double bhi = p->origin[k] + p->spacing * (pi.ijk_max[k] + 0.5);
+        lo[k] = desc->box_is_set ? desc->box_min[k] : blo;
+        hi[k] = desc->box_is_set ? desc->box_max[k] : bhi;
+        const double slack = 1e-6 * (bhi - blo);
+        VDBGI_FAIL_IF(ctx, lo[k] < blo - slack || hi[k] > bhi + slack, VDBGI_ERR_INVALID_ARG,
+                      "volume box %g..%g on %c reaches outside the baked bounds %g..%g", lo[k],
+                      hi[k], "xyz"[k], blo, bhi);
+    }
+    const bool res_given = desc->resolution[0] || desc->resolution[1] || desc->resolution[2];
+    const double voxel = desc->voxel_size != 0.0 ? desc->voxel_size : 4.0 * p->spacing;
+    VDBGI_FAIL_IF(ctx, !res_given && (!(voxel > 0.0) || !isfinite(voxel)), VDBGI_ERR_INVALID_ARG,
+                  "voxel size must be > 0 (got %g)", desc->voxel_size);
+    for (int k = 0; k < 3; k++) {
+        const double cells = res_given ? desc->resolution[k] : ceil((hi[k] - lo[k]) / voxel);
+        res[k] = cells > 1e6 ? 1000000 : (int)cells;
+        res[k] = !res_given && res[k] < 1 ? 1 : res[k];
+    }
+    return VDBGI_OK;
+}
+
 vdbgi_result vdbgi_bevy_build(vdbgi_context *ctx, const vdbgi_probes *p,
                               const vdbgi_bevy_desc *desc, vdbgi_bevy **out)
 {
@@ -125,30 +155,9 @@ vdbgi_result vdbgi_bevy_build(vdbgi_context *ctx, const vdbgi_probes *p,
     VDBGI_FAIL_IF(ctx, desc->threads < 0, VDBGI_ERR_INVALID_ARG,
                   "thread count must be >= 0 (got %d)", desc->threads);
 
-    /* The baked bounds: the probes' box and half a spacing around it. */
-    vdbgi_probes_info pi;
-    vdbgi_probes_get_info(p, &pi);
     double lo[3], hi[3];
-    for (int k = 0; k < 3; k++) {
-        const double blo = p->origin[k] + p->spacing * (pi.ijk_min[k] - 0.5);
-        const double bhi = p->origin[k] + p->spacing * (pi.ijk_max[k] + 0.5);
-        lo[k] = desc->box_is_set ? desc->box_min[k] : blo;
-        hi[k] = desc->box_is_set ? desc->box_max[k] : bhi;
-        const double slack = 1e-6 * (bhi - blo);
-        VDBGI_FAIL_IF(ctx, lo[k] < blo - slack || hi[k] > bhi + slack, VDBGI_ERR_INVALID_ARG,
-                      "volume box %g..%g on %c reaches outside the baked bounds %g..%g", lo[k],
-                      hi[k], "xyz"[k], blo, bhi);
-    }
     int res[3];
-    const bool res_given = desc->resolution[0] || desc->resolution[1] || desc->resolution[2];
-    const double voxel = desc->voxel_size != 0.0 ? desc->voxel_size : 4.0 * p->spacing;
-    VDBGI_FAIL_IF(ctx, !res_given && (!(voxel > 0.0) || !isfinite(voxel)), VDBGI_ERR_INVALID_ARG,
-                  "voxel size must be > 0 (got %g)", desc->voxel_size);
-    for (int k = 0; k < 3; k++) {
-        const double cells = res_given ? desc->resolution[k] : ceil((hi[k] - lo[k]) / voxel);
-        res[k] = cells > 1e6 ? 1000000 : (int)cells;
-        res[k] = !res_given && res[k] < 1 ? 1 : res[k];
-    }
+    VDBGI_TRY(resolve_grid(ctx, p, desc, lo, hi, res));
     vdbgi_bevy *b = NULL;
     VDBGI_TRY(bevy_alloc(ctx, res, lo, hi, &b));
 

@@ -1,6 +1,6 @@
 /* context.c: the context (allocator, log, last error) and small shared helpers. */
 #define _POSIX_C_SOURCE 200809L
-#include "internal.h"
+#include "context.h"
 
 #include <errno.h>
 #include <pthread.h>
@@ -166,7 +166,7 @@ int vdbgi_core_count(void)
     return n > 0 ? (int)n : 1;
 }
 
-void vdbgi_run_threads(int n, void *(*fn)(void *), void *args, size_t stride)
+int vdbgi_run_threads(int n, void *(*fn)(void *), void *args, size_t stride)
 {
     enum { MAX_THREADS = 64 };
     pthread_t threads[MAX_THREADS];
@@ -179,9 +179,13 @@ void vdbgi_run_threads(int n, void *(*fn)(void *), void *args, size_t stride)
         if (!started[t])
             fn(base + (size_t)t * stride); /* no thread: do its share here */
     fn(base);
+    int ran = 1;
     for (int t = 1; t < n; t++)
-        if (started[t])
+        if (started[t]) {
             pthread_join(threads[t], NULL);
+            ran++;
+        }
+    return ran;
 }
 
 static vdbgi_result temp_create(vdbgi_context *ctx, const char *path, char **tmp_out)

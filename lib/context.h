@@ -60,9 +60,10 @@ int vdbgi_core_count(void);
 /*
  * Run fn(args + t * stride) for t in 0..n-1 (n <= 64): t > 0 on threads of
  * their own, t == 0 on this one, which also runs any whose thread did not
- * start. Returns when all are done.
+ * start. Returns when all are done, with how many threads ran them (this
+ * one included).
  */
-void vdbgi_run_threads(int n, void *(*fn)(void *), void *args, size_t stride);
+int vdbgi_run_threads(int n, void *(*fn)(void *), void *args, size_t stride);
 
 /*
  * Write an output the safe way: write(ctx, tmp, user) fills a temporary

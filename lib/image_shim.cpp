@@ -14,7 +14,7 @@ using namespace OIIO;
 
 extern "C" vdbgi_result vdbgi_image_decode(vdbgi_context *ctx, const char *path, const void *data,
                                            size_t data_size, const char *format_hint,
-                                           vdbgi_texture *out)
+                                           vdbgi_image *out)
 {
     VDBGI_SHIM_BEGIN
     out->width = out->height = 0;

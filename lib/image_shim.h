@@ -2,11 +2,17 @@
 #ifndef VDBGI_IMAGE_SHIM_H
 #define VDBGI_IMAGE_SHIM_H
 
-#include "internal.h"
+#include "context.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* A decoded image: width x height pixels of 4 floats, row 0 at the top. */
+typedef struct vdbgi_image {
+    int width, height;
+    float *rgba;
+} vdbgi_image;
 
 /*
  * Decode an image into out->rgba (4 floats per pixel, values as stored,
@@ -16,7 +22,7 @@ extern "C" {
  * replicated to RGB; missing alpha is 1.
  */
 vdbgi_result vdbgi_image_decode(vdbgi_context *ctx, const char *path, const void *data,
-                                size_t data_size, const char *format_hint, vdbgi_texture *out);
+                                size_t data_size, const char *format_hint, vdbgi_image *out);
 
 /*
  * Write a width x height image of `channels` floats per pixel (row 0 at the

@@ -2,7 +2,7 @@
 #ifndef VDBGI_KTX2_H
 #define VDBGI_KTX2_H
 
-#include "internal.h"
+#include "context.h"
 
 /* The two formats vdbgi writes (VkFormat values). */
 #define VDBGI_VK_FORMAT_R16G16B16A16_SFLOAT 97

@@ -2,30 +2,11 @@
 #ifndef VDBGI_PROBES_H
 #define VDBGI_PROBES_H
 
-#include "context.h"
+#include "meta.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-typedef enum vdbgi_meta_type {
-    VDBGI_META_STRING,
-    VDBGI_META_INT,    /* int64 */
-    VDBGI_META_DOUBLE, /* double, may be inf */
-    VDBGI_META_VEC3    /* 3 floats */
-} vdbgi_meta_type;
-
-typedef struct vdbgi_meta {
-    char name[48];
-    vdbgi_meta_type type;
-    char text[208]; /* VDBGI_META_STRING */
-    int64_t i;
-    double d;
-    float v[3];
-    char line[256]; /* "name=value", kept current by the setters */
-} vdbgi_meta;
-
-#define VDBGI_META_CAPACITY 40
 
 struct vdbgi_probes {
     vdbgi_context *ctx;
@@ -39,36 +20,13 @@ struct vdbgi_probes {
     uint32_t *rays;   /* per probe: rays traced, or NULL (every probe had desc->rays) */
     float invalid_threshold;
     size_t invalid_count;
-    vdbgi_meta meta[VDBGI_META_CAPACITY];
-    size_t meta_count;
+    vdbgi_meta_store meta;
 };
 
 vdbgi_result vdbgi_probes_alloc(vdbgi_context *ctx, size_t count, bool with_values,
                                 vdbgi_probes **out);
-void vdbgi_meta_set_string(vdbgi_probes *probes, const char *name, const char *value);
-void vdbgi_meta_set_int(vdbgi_probes *probes, const char *name, int64_t value);
-void vdbgi_meta_set_double(vdbgi_probes *probes, const char *name, double value);
-void vdbgi_meta_set_vec3(vdbgi_probes *probes, const char *name, const float value[3]);
-const vdbgi_meta *vdbgi_meta_find(const vdbgi_probes *probes, const char *name);
 
-/* Resolved estimator settings (defaults applied, sun normalised). */
-typedef struct vdbgi_bake_params {
-    int rays;
-    bool adaptive;   /* rays in batches until the noise target or max_rays */
-    float noise;
-    int max_rays;
-    float ray_dist, ambient, falloff, invalid_threshold;
-    float sun_dir[3], sun_color[3], sky[3];
-    bool sun_on;
-    vdbgi_sampling sampling;
-    uint64_t seed;
-    int threads;
-    vdbgi_trace_method method;
-    vdbgi_basis basis;
-} vdbgi_bake_params;
 
-vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc *desc,
-                                       vdbgi_bake_params *out);
 
 #ifdef __cplusplus
 }

@@ -1,15 +1,7 @@
-/* scene.c: any assimp format into one triangle soup, and albedo at a hit. */
-#define _POSIX_C_SOURCE 200809L
-#include "image_shim.h"
-#include "internal.h"
+/* scene.c: the triangle soup: building it, albedo at a hit, points on its surfaces. */
+#include "scene.h"
 #include "util.h"
 
-#include <assimp/cimport.h>
-#include <assimp/material.h>
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
-
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -34,15 +26,13 @@ void vdbgi_scene_destroy(vdbgi_scene *scene)
 {
     if (!scene)
         return;
-    vdbgi_tracer_destroy(scene->tracer);
     scene_free_arrays(scene);
     vdbgi_free(scene->ctx, scene);
 }
 
-/* Allocate a scene with room for the given counts; triangle_count starts at 0. */
-static vdbgi_result scene_alloc(vdbgi_context *ctx, const char *name, size_t vertex_count,
-                                size_t triangle_capacity, size_t material_count,
-                                size_t texture_count, vdbgi_scene **out)
+vdbgi_result vdbgi_scene_alloc(vdbgi_context *ctx, const char *name, size_t vertex_count,
+                               size_t triangle_capacity, size_t material_count,
+                               size_t texture_count, vdbgi_scene **out)
 {
     *out = NULL;
     vdbgi_scene *const s = vdbgi_calloc(ctx, 1, sizeof(*s));
@@ -72,18 +62,16 @@ static vdbgi_result scene_alloc(vdbgi_context *ctx, const char *name, size_t ver
     return VDBGI_OK;
 }
 
-typedef enum { TRI_KEPT, TRI_NONFINITE, TRI_DEGENERATE } tri_status;
-
 /* Append triangle (a, b, c) if it is finite and has area; returns what happened. */
-static tri_status scene_add_triangle(vdbgi_scene *s, uint32_t a, uint32_t b, uint32_t c,
-                                     uint32_t material)
+vdbgi_tri_status vdbgi_scene_add_triangle(vdbgi_scene *s, uint32_t a, uint32_t b, uint32_t c,
+                                          uint32_t material)
 {
     const float *const p0 = &s->positions[3 * a];
     const float *const p1 = &s->positions[3 * b];
     const float *const p2 = &s->positions[3 * c];
     for (int k = 0; k < 3; k++) {
         if (!isfinite(p0[k]) || !isfinite(p1[k]) || !isfinite(p2[k]))
-            return TRI_NONFINITE;
+            return VDBGI_TRI_NONFINITE;
     }
     const float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
     const float e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
@@ -91,7 +79,7 @@ static tri_status scene_add_triangle(vdbgi_scene *s, uint32_t a, uint32_t b, uin
                         e1[0] * e2[1] - e1[1] * e2[0]};
     const float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     if (!(len > 0.0f) || !isfinite(len))
-        return TRI_DEGENERATE;
+        return VDBGI_TRI_DEGENERATE;
     const size_t t = s->triangle_count++;
     s->indices[3 * t + 0] = a;
     s->indices[3 * t + 1] = b;
@@ -99,7 +87,7 @@ static tri_status scene_add_triangle(vdbgi_scene *s, uint32_t a, uint32_t b, uin
     for (int k = 0; k < 3; k++)
         s->tris[t].normal[k] = n[k] / len;
     s->tris[t].material = material;
-    return TRI_KEPT;
+    return VDBGI_TRI_KEPT;
 }
 
 /*
@@ -123,8 +111,7 @@ static void classify_triangles(vdbgi_scene *s)
     }
 }
 
-/* Bounds, ray offset, BVH: what every scene needs once its triangles are in. */
-static vdbgi_result scene_finish(vdbgi_scene *s, size_t nonfinite_count)
+vdbgi_result vdbgi_scene_finish(vdbgi_scene *s, size_t nonfinite_count)
 {
     vdbgi_context *const ctx = s->ctx;
     if (nonfinite_count)
@@ -159,8 +146,7 @@ static vdbgi_result scene_finish(vdbgi_scene *s, size_t nonfinite_count)
      */
     s->ray_offset = 1e-5f * fmaxf(max_abs, sqrtf(diag2));
     classify_triangles(s);
-    return vdbgi_tracer_create(ctx, s->positions, s->vertex_count, s->indices, s->triangle_count,
-                               &s->tracer);
+    return VDBGI_OK;
 }
 
 vdbgi_result vdbgi_scene_create(vdbgi_context *ctx, const vdbgi_mesh_desc *meshes,
@@ -188,7 +174,7 @@ vdbgi_result vdbgi_scene_create(vdbgi_context *ctx, const vdbgi_mesh_desc *meshe
     VDBGI_FAIL_IF(ctx, vertex_count > UINT32_MAX, VDBGI_ERR_INVALID_ARG,
                   "%zu vertices is more than one scene can hold", vertex_count);
     vdbgi_scene *s = NULL;
-    VDBGI_TRY(scene_alloc(ctx, "memory", vertex_count, triangle_count, mesh_count, 0, &s));
+    VDBGI_TRY(vdbgi_scene_alloc(ctx, "memory", vertex_count, triangle_count, mesh_count, 0, &s));
     size_t base = 0, nonfinite = 0;
     for (size_t m = 0; m < mesh_count; m++) {
         const vdbgi_mesh_desc *const d = &meshes[m];
@@ -199,15 +185,15 @@ vdbgi_result vdbgi_scene_create(vdbgi_context *ctx, const vdbgi_mesh_desc *meshe
         mat->double_sided = d->double_sided != 0;
         for (size_t t = 0; t < d->triangle_count; t++) {
             const uint32_t *const i = &d->indices[3 * t];
-            const tri_status st = scene_add_triangle(s, (uint32_t)base + i[0],
+            const vdbgi_tri_status st = vdbgi_scene_add_triangle(s, (uint32_t)base + i[0],
                                                      (uint32_t)base + i[1], (uint32_t)base + i[2],
                                                      (uint32_t)m);
-            nonfinite += st == TRI_NONFINITE;
-            s->skipped_count += st != TRI_KEPT;
+            nonfinite += st == VDBGI_TRI_NONFINITE;
+            s->skipped_count += st != VDBGI_TRI_KEPT;
         }
         base += d->vertex_count;
     }
-    const vdbgi_result r = scene_finish(s, nonfinite);
+    const vdbgi_result r = vdbgi_scene_finish(s, nonfinite);
     if (r != VDBGI_OK) {
         vdbgi_scene_destroy(s);
         return r;
@@ -217,243 +203,6 @@ vdbgi_result vdbgi_scene_create(vdbgi_context *ctx, const vdbgi_mesh_desc *meshe
 }
 
 /* ---- assimp ------------------------------------------------------------- */
-
-static float srgb_to_linear(float c)
-{
-    return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
-}
-
-/*
- * Base-colour textures are sRGB (glTF 2.0 spec 3.9.2); alpha stays linear.
- * Values are clamped to [0, 1] first: float images can hold anything.
- */
-static void texture_to_linear(vdbgi_texture *t)
-{
-    for (size_t i = 0; i < (size_t)t->width * (size_t)t->height; i++)
-        for (int k = 0; k < 3; k++) {
-            const float c = t->rgba[4 * i + k];
-            t->rgba[4 * i + k] = srgb_to_linear(c >= 0.0f ? fminf(c, 1.0f) : 0.0f);
-        }
-}
-
-/* Decode an embedded assimp texture: compressed bytes, or raw BGRA8 texels. */
-static vdbgi_result load_embedded(vdbgi_context *ctx, const struct aiTexture *at,
-                                  vdbgi_texture *out)
-{
-    if (at->mHeight == 0)
-        return vdbgi_image_decode(ctx, NULL, at->pcData, at->mWidth, at->achFormatHint, out);
-    const size_t n = (size_t)at->mWidth * at->mHeight;
-    out->rgba = vdbgi_calloc(ctx, n, 4 * sizeof(float));
-    if (!out->rgba)
-        return VDBGI_ERR_OUT_OF_MEMORY;
-    out->width = (int)at->mWidth;
-    out->height = (int)at->mHeight;
-    for (size_t i = 0; i < n; i++) {
-        const struct aiTexel *const px = &at->pcData[i];
-        out->rgba[4 * i + 0] = px->r / 255.0f;
-        out->rgba[4 * i + 1] = px->g / 255.0f;
-        out->rgba[4 * i + 2] = px->b / 255.0f;
-        out->rgba[4 * i + 3] = px->a / 255.0f;
-    }
-    return VDBGI_OK;
-}
-
-/* Find the base-colour texture of a material and decode it into slot t. */
-static void load_material_texture(vdbgi_scene *s, const struct aiScene *as,
-                                  const struct aiMaterial *am, const char *dir, size_t m)
-{
-    vdbgi_context *const ctx = s->ctx;
-    struct aiString tex_path;
-    if (aiGetMaterialTexture(am, aiTextureType_BASE_COLOR, 0, &tex_path, NULL, NULL, NULL, NULL,
-                             NULL, NULL) != aiReturn_SUCCESS &&
-        aiGetMaterialTexture(am, aiTextureType_DIFFUSE, 0, &tex_path, NULL, NULL, NULL, NULL, NULL,
-                             NULL) != aiReturn_SUCCESS)
-        return;
-    const char *const p = tex_path.data;
-    const struct aiTexture *embedded = NULL;
-    if (p[0] == '*') {
-        const long i = strtol(p + 1, NULL, 10);
-        if (i >= 0 && (unsigned long)i < as->mNumTextures)
-            embedded = as->mTextures[i];
-    } else {
-        for (unsigned i = 0; i < as->mNumTextures; i++)
-            if (strcmp(as->mTextures[i]->mFilename.data, p) == 0)
-                embedded = as->mTextures[i];
-    }
-    vdbgi_texture *const tex = &s->textures[m];
-    char error_copy[sizeof(ctx->error)];
-    memcpy(error_copy, ctx->error, sizeof(error_copy));
-    vdbgi_result r;
-    if (embedded) {
-        r = load_embedded(ctx, embedded, tex);
-    } else {
-        /* Relative texture paths are relative to the scene file. */
-        const size_t dir_len = p[0] == '/' ? 0 : strlen(dir);
-        char *const full = vdbgi_alloc(ctx, dir_len + strlen(p) + 1);
-        if (!full)
-            return; /* the scene allocation that follows will fail the same way */
-        memcpy(full, dir, dir_len);
-        strcpy(full + dir_len, p);
-        r = vdbgi_image_decode(ctx, full, NULL, 0, NULL, tex);
-        vdbgi_free(ctx, full);
-    }
-    if (r != VDBGI_OK) {
-        /* A missing texture should not sink a bake: warn, keep the base colour. */
-        vdbgi_log(ctx, VDBGI_LOG_WARNING, "%s: texture '%s' ignored: %s", s->name, p, ctx->error);
-        memcpy(ctx->error, error_copy, sizeof(error_copy));
-        return;
-    }
-    texture_to_linear(tex);
-    s->materials[m].texture = (int)m;
-}
-
-static void load_materials(vdbgi_scene *s, const struct aiScene *as, const char *dir)
-{
-    for (size_t m = 0; m < as->mNumMaterials; m++) {
-        const struct aiMaterial *const am = as->mMaterials[m];
-        vdbgi_material *const mat = &s->materials[m];
-        struct aiColor4D c;
-        if (aiGetMaterialColor(am, AI_MATKEY_BASE_COLOR, &c) != aiReturn_SUCCESS &&
-            aiGetMaterialColor(am, AI_MATKEY_COLOR_DIFFUSE, &c) != aiReturn_SUCCESS)
-            c.r = c.g = c.b = 1.0f; /* glTF's default base colour */
-        const float rgb[3] = {c.r, c.g, c.b};
-        for (int k = 0; k < 3; k++)
-            mat->base[k] = isfinite(rgb[k]) ? fminf(fmaxf(rgb[k], 0.0f), 1.0f) : 0.0f;
-        int two_sided = 0;
-        unsigned int max = 1;
-        if (aiGetMaterialIntegerArray(am, AI_MATKEY_TWOSIDED, &two_sided, &max) ==
-            aiReturn_SUCCESS)
-            mat->double_sided = two_sided != 0;
-        mat->texture = -1;
-        load_material_texture(s, as, am, dir, m);
-    }
-}
-
-typedef struct walk_state {
-    vdbgi_scene *s;
-    const struct aiScene *as;
-    size_t vertex_count, triangle_count, nonfinite;
-    bool fill;
-} walk_state;
-
-/* Visit every mesh instance with its world transform; count, or fill when w->fill. */
-static void walk_nodes(walk_state *w, const struct aiNode *node, const struct aiMatrix4x4 *parent)
-{
-    struct aiMatrix4x4 xf = *parent;
-    aiMultiplyMatrix4(&xf, &node->mTransformation);
-    for (unsigned n = 0; n < node->mNumMeshes; n++) {
-        const struct aiMesh *const mesh = w->as->mMeshes[node->mMeshes[n]];
-        if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE))
-            continue;
-        const size_t base = w->vertex_count;
-        w->vertex_count += mesh->mNumVertices;
-        if (!w->fill) {
-            w->triangle_count += mesh->mNumFaces;
-            continue;
-        }
-        vdbgi_scene *const s = w->s;
-        for (unsigned v = 0; v < mesh->mNumVertices; v++) {
-            struct aiVector3D p = mesh->mVertices[v];
-            aiTransformVecByMatrix4(&p, &xf);
-            float *const dst = &s->positions[3 * (base + v)];
-            dst[0] = p.x, dst[1] = p.y, dst[2] = p.z;
-            if (mesh->mTextureCoords[0]) {
-                s->uvs[2 * (base + v) + 0] = mesh->mTextureCoords[0][v].x;
-                s->uvs[2 * (base + v) + 1] = mesh->mTextureCoords[0][v].y;
-            }
-            if (mesh->mColors[0]) {
-                const struct aiColor4D c = mesh->mColors[0][v];
-                const float rgb[3] = {c.r, c.g, c.b};
-                for (int k = 0; k < 3; k++)
-                    s->colors[3 * (base + v) + k] =
-                        isfinite(rgb[k]) ? fminf(fmaxf(rgb[k], 0.0f), 1.0f) : 0.0f;
-            }
-        }
-        for (unsigned f = 0; f < mesh->mNumFaces; f++) {
-            const struct aiFace *const face = &mesh->mFaces[f];
-            if (face->mNumIndices != 3)
-                continue; /* points and lines share meshes with triangles in some files */
-            const tri_status st = scene_add_triangle(s, (uint32_t)base + face->mIndices[0],
-                                                     (uint32_t)base + face->mIndices[1],
-                                                     (uint32_t)base + face->mIndices[2],
-                                                     mesh->mMaterialIndex);
-            w->nonfinite += st == TRI_NONFINITE;
-            s->skipped_count += st != TRI_KEPT;
-        }
-    }
-    for (unsigned c = 0; c < node->mNumChildren; c++)
-        walk_nodes(w, node->mChildren[c], &xf);
-}
-
-static const char *base_name(const char *path)
-{
-    const char *const slash = strrchr(path, '/');
-    return slash ? slash + 1 : path;
-}
-
-vdbgi_result vdbgi_scene_load(vdbgi_context *ctx, const char *path, vdbgi_scene **out)
-{
-    VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
-    *out = NULL;
-    VDBGI_FAIL_IF(ctx, !path || !*path, VDBGI_ERR_INVALID_ARG, "no scene path given");
-    FILE *const probe = fopen(path, "rb");
-    VDBGI_FAIL_IF(ctx, !probe, VDBGI_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    fclose(probe);
-
-    const struct aiScene *const as =
-        aiImportFile(path, aiProcess_Triangulate | aiProcess_SortByPType |
-                               aiProcess_ValidateDataStructure);
-    if (!as || !as->mRootNode) {
-        const char *const why = aiGetErrorString();
-        vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: cannot import scene: %s", path,
-                   why && *why ? why : "unknown format");
-        aiReleaseImport(as);
-        return VDBGI_ERR_FORMAT;
-    }
-    struct aiMatrix4x4 identity;
-    aiIdentityMatrix4(&identity);
-    walk_state w = {.as = as};
-    walk_nodes(&w, as->mRootNode, &identity);
-    if (w.triangle_count == 0 || w.vertex_count > UINT32_MAX) {
-        vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %s", path,
-                   w.triangle_count ? "too many vertices" : "no triangles to trace");
-        aiReleaseImport(as);
-        return VDBGI_ERR_FORMAT;
-    }
-    vdbgi_scene *s = NULL;
-    vdbgi_result r = scene_alloc(ctx, base_name(path), w.vertex_count, w.triangle_count,
-                                 as->mNumMaterials ? as->mNumMaterials : 1,
-                                 as->mNumMaterials ? as->mNumMaterials : 1, &s);
-    if (r != VDBGI_OK) {
-        aiReleaseImport(as);
-        return r;
-    }
-    const size_t dir_len = (size_t)(base_name(path) - path);
-    char *const dir = vdbgi_alloc(ctx, dir_len + 1);
-    if (!dir) {
-        vdbgi_scene_destroy(s);
-        aiReleaseImport(as);
-        return VDBGI_ERR_OUT_OF_MEMORY;
-    }
-    memcpy(dir, path, dir_len);
-    dir[dir_len] = '\0';
-    for (size_t m = 0; m < s->material_count; m++) {
-        s->materials[m].base[0] = s->materials[m].base[1] = s->materials[m].base[2] = 1.0f;
-        s->materials[m].texture = -1;
-    }
-    load_materials(s, as, dir);
-    vdbgi_free(ctx, dir);
-    w = (walk_state){.s = s, .as = as, .fill = true};
-    walk_nodes(&w, as->mRootNode, &identity);
-    aiReleaseImport(as);
-    r = scene_finish(s, w.nonfinite);
-    if (r != VDBGI_OK) {
-        vdbgi_scene_destroy(s);
-        return r;
-    }
-    *out = s;
-    return VDBGI_OK;
-}
 
 void vdbgi_scene_get_info(const vdbgi_scene *scene, vdbgi_scene_info *info)
 {

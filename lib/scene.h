@@ -3,15 +3,14 @@
 #define VDBGI_SCENE_H
 
 #include "context.h"
+#include "image_shim.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-typedef struct vdbgi_texture {
-    int width, height;
-    float *rgba; /* linear, row 0 at the top (v = 1) */
-} vdbgi_texture;
+/* A material's texture, decoded and turned into linear values when loaded. */
+typedef vdbgi_image vdbgi_texture;
 
 typedef struct vdbgi_material {
     float base[3];  /* linear */
@@ -30,8 +29,6 @@ typedef struct vdbgi_tri {
 #define VDBGI_TRI_DOUBLE_SIDED 1u
 #define VDBGI_TRI_VARIES 2u /* textured, or vertex colours differ: interpolate per hit */
 
-struct vdbgi_tracer;
-
 struct vdbgi_scene {
     vdbgi_context *ctx;
     size_t vertex_count, triangle_count, skipped_count;
@@ -47,8 +44,20 @@ struct vdbgi_scene {
     float bounds_min[3], bounds_max[3];
     float ray_offset;
     char *name;
-    struct vdbgi_tracer *tracer;
 };
+
+/*
+ * Building a scene (scene.c), for vdbgi_scene_create and the assimp import:
+ * allocate the arrays (every vertex white, no texture), add triangles over
+ * the vertices filled in, then finish (bounds, ray offset, triangle records).
+ */
+vdbgi_result vdbgi_scene_alloc(vdbgi_context *ctx, const char *name, size_t vertex_count,
+                               size_t triangle_capacity, size_t material_count,
+                               size_t texture_count, vdbgi_scene **out);
+typedef enum { VDBGI_TRI_KEPT, VDBGI_TRI_NONFINITE, VDBGI_TRI_DEGENERATE } vdbgi_tri_status;
+vdbgi_tri_status vdbgi_scene_add_triangle(vdbgi_scene *s, uint32_t a, uint32_t b, uint32_t c,
+                                          uint32_t material);
+vdbgi_result vdbgi_scene_finish(vdbgi_scene *s, size_t nonfinite_count);
 
 /* Albedo of triangle prim at barycentrics (u, v) (Embree's: p = (1-u-v) v0 + u v1 + v v2). */
 void vdbgi_scene_albedo(const vdbgi_scene *scene, uint32_t prim, float u, float v, float rgb[3]);

@@ -2,7 +2,7 @@
 #ifndef VDBGI_SHIM_H
 #define VDBGI_SHIM_H
 
-#include "internal.h"
+#include "context.h"
 
 #include <exception>
 #include <new>

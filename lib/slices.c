@@ -1,5 +1,7 @@
 /* slices.c: images of a plane through the baked, filled and bricked fields, and the atlas. */
 #define _POSIX_C_SOURCE 200809L
+#include "probes.h"
+#include "util.h"
 #include "volume.h"
 #include "encode.h"
 #include "image_shim.h"
@@ -31,6 +33,34 @@ static vdbgi_result write_pair(vdbgi_context *ctx, const char *dir, const char *
         rgb[i] = linear_to_srgb(rgb[i] * gain);
     snprintf(path, sizeof(path), "%s/%s.png", dir, name);
     return vdbgi_image_write(ctx, path, w, h, 3, rgb, false);
+}
+
+/* The atlas: its z layers in a grid, decoded. */
+static vdbgi_result write_atlas(const vdbgi_volume *v, const char *dir, float exposure)
+{
+    vdbgi_context *const ctx = v->ctx;
+    const uint32_t *const ad = v->info.atlas_dims;
+    const uint32_t cols = (uint32_t)ceil(sqrt((double)ad[2]));
+    const uint32_t rows = (ad[2] + cols - 1) / cols;
+    const int aw = (int)(cols * ad[0]), ah = (int)(rows * ad[1]);
+    float *const atlas = vdbgi_calloc(ctx, (size_t)aw * (size_t)ah, 3 * sizeof(float));
+    if (!atlas)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    for (uint32_t z = 0; z < ad[2]; z++)
+        for (uint32_t y = 0; y < ad[1]; y++)
+            for (uint32_t x = 0; x < ad[0]; x++) {
+                const uint8_t *const t = &v->atlas[4 * (((size_t)z * ad[1] + y) * ad[0] + x)];
+                float rgb[3];
+                if (v->info.encoding == VDBGI_ENCODING_RGB9E5)
+                    vdbgi_rgb9e5_decode(vdbgi_get_u32(t), rgb);
+                else
+                    vdbgi_rgbm_decode(t, v->info.rgbm_range, rgb);
+                const size_t ox = (z % cols) * ad[0] + x, oy = (z / cols) * ad[1] + y;
+                memcpy(&atlas[3 * (oy * (size_t)aw + ox)], rgb, sizeof(rgb));
+            }
+    const vdbgi_result r = write_pair(ctx, dir, "atlas", aw, ah, atlas, 1.0f, exposure);
+    vdbgi_free(ctx, atlas);
+    return r;
 }
 
 vdbgi_result vdbgi_volume_write_slices(const vdbgi_volume *v, const vdbgi_probes *probes,
@@ -122,29 +152,5 @@ vdbgi_result vdbgi_volume_write_slices(const vdbgi_volume *v, const vdbgi_probes
     vdbgi_free(ctx, levels);
     VDBGI_TRY(r);
 
-    /* The atlas: its z layers in a grid, decoded. */
-    const uint32_t *const ad = v->info.atlas_dims;
-    const uint32_t cols = (uint32_t)ceil(sqrt((double)ad[2]));
-    const uint32_t rows = (ad[2] + cols - 1) / cols;
-    const int aw = (int)(cols * ad[0]), ah = (int)(rows * ad[1]);
-    float *const atlas = vdbgi_calloc(ctx, (size_t)aw * (size_t)ah, 3 * sizeof(float));
-    if (!atlas)
-        return VDBGI_ERR_OUT_OF_MEMORY;
-    for (uint32_t z = 0; z < ad[2]; z++)
-        for (uint32_t y = 0; y < ad[1]; y++)
-            for (uint32_t x = 0; x < ad[0]; x++) {
-                const uint8_t *const t = &v->atlas[4 * (((size_t)z * ad[1] + y) * ad[0] + x)];
-                float rgb[3];
-                if (v->info.encoding == VDBGI_ENCODING_RGB9E5)
-                    vdbgi_rgb9e5_decode((uint32_t)t[0] | (uint32_t)t[1] << 8 |
-                                            (uint32_t)t[2] << 16 | (uint32_t)t[3] << 24,
-                                        rgb);
-                else
-                    vdbgi_rgbm_decode(t, v->info.rgbm_range, rgb);
-                const size_t ox = (z % cols) * ad[0] + x, oy = (z / cols) * ad[1] + y;
-                memcpy(&atlas[3 * (oy * (size_t)aw + ox)], rgb, sizeof(rgb));
-            }
-    r = write_pair(ctx, dir, "atlas", aw, ah, atlas, 1.0f, exposure);
-    vdbgi_free(ctx, atlas);
-    return r;
+    return write_atlas(v, dir, exposure);
 }

@@ -1,5 +1,5 @@
 /* tracer.c: the Embree device and BVH; first-hit and occlusion queries. */
-#include "internal.h"
+#include "tracer.h"
 
 #include <embree3/rtcore.h>
 

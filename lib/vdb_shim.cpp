@@ -45,21 +45,21 @@ void read_meta(const openvdb::GridBase &grid, vdbgi_probes *p)
     for (auto it = grid.beginMeta(); it != grid.endMeta(); ++it) {
         const std::string &name = it->first;
         const openvdb::Metadata &md = *it->second;
-        if (name.size() >= sizeof(p->meta[0].name))
+        if (name.size() >= sizeof(p->meta.items[0].name))
             continue;
         if (const auto *s = dynamic_cast<const openvdb::StringMetadata *>(&md)) {
-            vdbgi_meta_set_string(p, name.c_str(), s->value().c_str());
+            vdbgi_meta_set_string(&p->meta, name.c_str(), s->value().c_str());
         } else if (const auto *i64 = dynamic_cast<const openvdb::Int64Metadata *>(&md)) {
-            vdbgi_meta_set_int(p, name.c_str(), i64->value());
+            vdbgi_meta_set_int(&p->meta, name.c_str(), i64->value());
         } else if (const auto *i32 = dynamic_cast<const openvdb::Int32Metadata *>(&md)) {
-            vdbgi_meta_set_int(p, name.c_str(), i32->value());
+            vdbgi_meta_set_int(&p->meta, name.c_str(), i32->value());
         } else if (const auto *d = dynamic_cast<const openvdb::DoubleMetadata *>(&md)) {
-            vdbgi_meta_set_double(p, name.c_str(), d->value());
+            vdbgi_meta_set_double(&p->meta, name.c_str(), d->value());
         } else if (const auto *f = dynamic_cast<const openvdb::FloatMetadata *>(&md)) {
-            vdbgi_meta_set_double(p, name.c_str(), f->value());
+            vdbgi_meta_set_double(&p->meta, name.c_str(), f->value());
         } else if (const auto *v = dynamic_cast<const openvdb::Vec3SMetadata *>(&md)) {
             const float xyz[3] = {v->value().x(), v->value().y(), v->value().z()};
-            vdbgi_meta_set_vec3(p, name.c_str(), xyz);
+            vdbgi_meta_set_vec3(&p->meta, name.c_str(), xyz);
         }
     }
 }
@@ -184,8 +184,8 @@ extern "C" vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path,
         }
     }
     for (auto &g : grids)
-        for (size_t m = 0; m < p->meta_count; m++)
-            add_meta(*g, p->meta[m]);
+        for (size_t m = 0; m < p->meta.count; m++)
+            add_meta(*g, p->meta.items[m]);
     openvdb::io::File file(path);
     file.write(grids);
     file.close();
@@ -224,6 +224,40 @@ struct GridLayout : openvdb::io::Archive {
         return bool(is);
     }
 };
+
+namespace {
+
+/* The per-probe extras beside the irradiance: noise, rays and cube sides, at p's n probes. */
+void copy_extras(vdbgi_probes *p, size_t n, const openvdb::FloatGrid::Ptr &se,
+                 const openvdb::Int32Grid::Ptr &rays, const openvdb::Vec3SGrid::Ptr side_grids[6],
+                 bool has_cube)
+{
+    if (se || rays) {
+        // Grids of another type under these names are not ours: left as absent.
+        openvdb::FloatGrid::Ptr se_or_empty = se ? se : openvdb::FloatGrid::create();
+        openvdb::Int32Grid::Ptr rays_or_empty = rays ? rays : openvdb::Int32Grid::create();
+        const auto sa = se_or_empty->getConstAccessor();
+        const auto ra = rays_or_empty->getConstAccessor();
+        for (size_t i = 0; i < n; i++) {
+            const openvdb::Coord c(p->ijk[3 * i], p->ijk[3 * i + 1], p->ijk[3 * i + 2]);
+            if (se)
+                p->stderr_[i] = sa.getValue(c);
+            if (rays)
+                p->rays[i] = uint32_t(std::max(0, ra.getValue(c)));
+        }
+    }
+    for (int side = 0; has_cube && side < 6; side++) {
+        const auto a = side_grids[side]->getConstAccessor();
+        for (size_t i = 0; i < n; i++) {
+            const openvdb::Vec3s v =
+                a.getValue(openvdb::Coord(p->ijk[3 * i], p->ijk[3 * i + 1], p->ijk[3 * i + 2]));
+            float *const c = &p->cube[18 * i + 3 * side];
+            c[0] = v.x(), c[1] = v.y(), c[2] = v.z();
+        }
+    }
+}
+
+} // namespace
 
 extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_probes **out)
 {
@@ -314,29 +348,7 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
         p->rgb[3 * n] = v.x(), p->rgb[3 * n + 1] = v.y(), p->rgb[3 * n + 2] = v.z();
         p->backface[n] = va ? va->getValue(c) : 0.0f;
     }
-    if (se || rays) {
-        // Grids of another type under these names are not ours: left as absent.
-        openvdb::FloatGrid::Ptr se_or_empty = se ? se : openvdb::FloatGrid::create();
-        openvdb::Int32Grid::Ptr rays_or_empty = rays ? rays : openvdb::Int32Grid::create();
-        const auto sa = se_or_empty->getConstAccessor();
-        const auto ra = rays_or_empty->getConstAccessor();
-        for (size_t i = 0; i < n; i++) {
-            const openvdb::Coord c(p->ijk[3 * i], p->ijk[3 * i + 1], p->ijk[3 * i + 2]);
-            if (se)
-                p->stderr_[i] = sa.getValue(c);
-            if (rays)
-                p->rays[i] = uint32_t(std::max(0, ra.getValue(c)));
-        }
-    }
-    for (int side = 0; has_cube && side < 6; side++) {
-        const auto a = side_grids[side]->getConstAccessor();
-        for (size_t i = 0; i < n; i++) {
-            const openvdb::Vec3s v =
-                a.getValue(openvdb::Coord(p->ijk[3 * i], p->ijk[3 * i + 1], p->ijk[3 * i + 2]));
-            float *const c = &p->cube[18 * i + 3 * side];
-            c[0] = v.x(), c[1] = v.y(), c[2] = v.z();
-        }
-    }
+    copy_extras(p, n, se, rays, side_grids, has_cube);
     p->count = n;
     *out = guard.release();
     return VDBGI_OK;

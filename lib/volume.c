@@ -120,47 +120,36 @@ static int report(const vdbgi_convert_desc *desc, float done)
     return desc && desc->progress ? desc->progress(desc->progress_user, done) : 0;
 }
 
-vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
-                                const vdbgi_convert_desc *desc, vdbgi_volume **out)
+/*
+ * A fixed Fibonacci set gives every probe the same directions: its error is a bias
+ * shared by neighbours, not noise, and its standard error is no measure of it. The
+ * default allowance applies to random and adaptive bakes only.
+ */
+static bool fixed_direction_set(const vdbgi_probes *probes)
 {
-    VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
-    *out = NULL;
-    VDBGI_FAIL_IF(ctx, !probes, VDBGI_ERR_INVALID_ARG, "no probes given");
-    const double t0 = vdbgi_now();
-    vdbgi_coarsen_params cp = {0};
-    float eps = 0.0f;
-    vdbgi_encoding encoding = VDBGI_ENCODING_RGBM;
-    VDBGI_TRY(resolve_desc(ctx, desc, &eps, &cp.sigmas, &cp.max_level, &cp.criterion, &encoding,
-                         &cp.threads));
-    /*
-     * A fixed Fibonacci set gives every probe the same directions: its error is a bias
-     * shared by neighbours, not noise, and its standard error is no measure of it. The
-     * default allowance applies to random and adaptive bakes only.
-     */
-    const vdbgi_meta *const sampling = vdbgi_meta_find(probes, "sampling");
-    const vdbgi_meta *const rays_meta = vdbgi_meta_find(probes, "rays");
-    const bool fixed_set = sampling && sampling->type == VDBGI_META_STRING &&
-                           strcmp(sampling->text, "fibonacci") == 0 &&
-                           !(rays_meta && rays_meta->type == VDBGI_META_INT &&
-                             rays_meta->i == VDBGI_RAYS_AUTO);
-    if (fixed_set && (!desc || desc->noise_sigmas == 0.0f))
-        cp.sigmas = 0.0f;
-    VDBGI_FAIL_IF(ctx, !probes->rgb, VDBGI_ERR_FORMAT, "probes have no values: bake them first");
-    VDBGI_FAIL_IF(ctx, probes->count == 0, VDBGI_ERR_FORMAT, "the grid holds no probes");
+    const vdbgi_meta *const sampling = vdbgi_meta_find(&probes->meta, "sampling");
+    const vdbgi_meta *const rays_meta = vdbgi_meta_find(&probes->meta, "rays");
+    return sampling && sampling->type == VDBGI_META_STRING &&
+           strcmp(sampling->text, "fibonacci") == 0 &&
+           !(rays_meta && rays_meta->type == VDBGI_META_INT && rays_meta->i == VDBGI_RAYS_AUTO);
+}
 
+/* The volume's settings, and the mean irradiance of the valid probes: the scale of eps
+   and of the error figures. */
+static vdbgi_volume *volume_start(vdbgi_context *ctx, const vdbgi_probes *probes,
+                                  vdbgi_encoding encoding, int max_level)
+{
     vdbgi_volume *const v = vdbgi_calloc(ctx, 1, sizeof(*v));
     if (!v)
-        return VDBGI_ERR_OUT_OF_MEMORY;
+        return NULL;
     v->ctx = ctx;
     vdbgi_volume_info *const info = &v->info;
     info->encoding = encoding;
     info->rgbm_range = VDBGI_RGBM_RANGE;
     info->spacing = (float)probes->spacing;
-    info->max_level = (uint32_t)cp.max_level;
+    info->max_level = (uint32_t)max_level;
     info->probe_count = probes->count;
     memcpy(v->lattice_origin, probes->origin, sizeof(v->lattice_origin));
-
-    /* Mean irradiance of the valid probes: the scale of eps and of the error figures. */
     double sum[3] = {0.0, 0.0, 0.0};
     for (size_t i = 0; i < probes->count; i++) {
         if (probes->backface[i] > probes->invalid_threshold)
@@ -172,32 +161,25 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     for (int k = 0; k < 3; k++)
         v->mean_rgb[k] = info->valid_count ? (float)(sum[k] / (double)info->valid_count) : 0.0f;
     info->mean_irradiance = (v->mean_rgb[0] + v->mean_rgb[1] + v->mean_rgb[2]) / 3.0;
-    cp.tolerance = eps * (float)info->mean_irradiance;
-    memcpy(cp.fallback, v->mean_rgb, sizeof(cp.fallback));
+    /* A dense RGBA8 grid over the probes' box at the same spacing, for comparison. */
+    int32_t pmin[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, pmax[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
+    for (size_t i = 0; i < probes->count; i++)
+        for (int k = 0; k < 3; k++) {
+            const int32_t c = probes->ijk[3 * i + k];
+            pmin[k] = c < pmin[k] ? c : pmin[k];
+            pmax[k] = c > pmax[k] ? c : pmax[k];
+        }
+    info->dense_rgba8_size = 4;
+    for (int k = 0; k < 3; k++)
+        info->dense_rgba8_size *= (size_t)(pmax[k] - pmin[k] + 1);
+    return v;
+}
 
-    int32_t *cells = NULL;
-    size_t cell_count = 0;
-    vdbgi_brick *bricks = NULL;
-    size_t brick_count = 0;
-    const vdbgi_fill_params fp =
-        vdbgi_fill_params_default(probes->invalid_threshold, desc ? desc->fill : VDBGI_FILL_AUTO,
-                                  cp.threads);
-    const vdbgi_fill_input in = {probes->count, probes->ijk, probes->rgb, probes->backface, 1};
-    vdbgi_result r = vdbgi_field_fill(ctx, &in, &fp, &v->filled, &cells, &cell_count,
-                                      &info->unreached_count);
-    if (r != VDBGI_OK)
-        goto fail;
-    for (size_t li = 0; li < v->filled.leaf_count; li++)
-        for (int w = 0; w < 8; w++)
-            info->filled_count += (size_t)__builtin_popcountll(v->filled.leaves[li].mask[w]);
-    double t1 = vdbgi_now();
-    vdbgi_log(ctx, VDBGI_LOG_DEBUG, "fill: %zu points in %.3f s", info->filled_count, t1 - t0);
-    if (report(desc, 0.3f)) {
-        r = vdbgi_fail(ctx, VDBGI_ERR_CANCELLED, "conversion cancelled");
-        goto fail;
-    }
-
-    /* The indirection covers the occupied cells from a corner aligned to level-3 blocks. */
+/* The indirection covers the occupied cells from a corner aligned to level-3 blocks. */
+static vdbgi_result place_indirection(vdbgi_volume *v, const int32_t *cells, size_t cell_count,
+                                      double spacing)
+{
+    vdbgi_volume_info *const info = &v->info;
     int32_t lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, hi[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
     for (size_t c = 0; c < cell_count; c++)
         for (int k = 0; k < 3; k++) {
@@ -207,71 +189,95 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     for (int k = 0; k < 3; k++) {
         v->origin_cell[k] = vdbgi_floor_div(lo[k], 8) * 8;
         const int64_t dim = (int64_t)hi[k] - v->origin_cell[k] + 1;
-        if (dim > VDBGI_MAX_TEXTURE_DIM) {
-            r = vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY,
-                           "the indirection texture would be %lld cells along %c, above the "
-                           "%d-texel limit of 3D textures: raise the probe spacing",
-                           (long long)dim, "xyz"[k], VDBGI_MAX_TEXTURE_DIM);
-            goto fail;
-        }
+        VDBGI_FAIL_IF(v->ctx, dim > VDBGI_MAX_TEXTURE_DIM, VDBGI_ERR_OUT_OF_MEMORY,
+                      "the indirection texture would be %lld cells along %c, above the "
+                      "%d-texel limit of 3D textures: raise the probe spacing",
+                      (long long)dim, "xyz"[k], VDBGI_MAX_TEXTURE_DIM);
         info->indirection_dims[k] = (uint32_t)dim;
         info->box_min[k] = (float)(v->lattice_origin[k] +
-                                   probes->spacing * ((double)v->origin_cell[k] * VDBGI_BRICK - 0.5));
-        info->box_max[k] = (float)(info->box_min[k] + probes->spacing * (double)dim * VDBGI_BRICK);
+                                   spacing * ((double)v->origin_cell[k] * VDBGI_BRICK - 0.5));
+        info->box_max[k] = (float)(info->box_min[k] + spacing * (double)dim * VDBGI_BRICK);
     }
-
-    if ((r = vdbgi_coarsen(ctx, &v->filled, probes, cells, cell_count, &cp, &bricks,
-                           &brick_count)) != VDBGI_OK)
-        goto fail;
-    vdbgi_log(ctx, VDBGI_LOG_DEBUG, "pyramid and coarsening: %zu bricks in %.3f s", brick_count,
-              vdbgi_now() - t1);
-    t1 = vdbgi_now();
-    if (report(desc, 0.6f)) {
-        r = vdbgi_fail(ctx, VDBGI_ERR_CANCELLED, "conversion cancelled");
-        goto fail;
-    }
-
-    /* Slot 0 is an all-zero brick: an empty cell (indirection 0,0,0,0) reads black from it. */
-    const size_t slots = brick_count + 1;
-    if ((r = vdbgi_atlas_dims(ctx, slots, info->atlas_dims)) != VDBGI_OK)
-        goto fail;
-    info->brick_count = (uint32_t)brick_count;
     info->indirection_size = 4 * (size_t)info->indirection_dims[0] * info->indirection_dims[1] *
                              info->indirection_dims[2];
-    info->atlas_size =
-        4 * (size_t)info->atlas_dims[0] * info->atlas_dims[1] * info->atlas_dims[2];
-    if ((r = vdbgi_gifile_alloc(v)) != VDBGI_OK)
-        goto fail;
-    vdbgi_atlas_fill(v, bricks, brick_count, cp.threads);
+    return VDBGI_OK;
+}
+
+/* Slot 0 is an all-zero brick: an empty cell (indirection 0,0,0,0) reads black from it. */
+static vdbgi_result lay_out(vdbgi_volume *v, const vdbgi_brick *bricks, size_t brick_count,
+                            int threads)
+{
+    vdbgi_volume_info *const info = &v->info;
+    VDBGI_TRY(vdbgi_atlas_dims(v->ctx, brick_count + 1, info->atlas_dims));
+    info->brick_count = (uint32_t)brick_count;
+    info->atlas_size = 4 * (size_t)info->atlas_dims[0] * info->atlas_dims[1] * info->atlas_dims[2];
+    VDBGI_TRY(vdbgi_gifile_alloc(v));
+    vdbgi_atlas_fill(v, bricks, brick_count, threads);
     for (size_t i = 0; i < brick_count; i++)
         info->bricks[bricks[i].level]++;
-    vdbgi_log(ctx, VDBGI_LOG_DEBUG, "sampling and encoding: %.3f s", vdbgi_now() - t1);
-    t1 = vdbgi_now();
-    if (report(desc, 0.8f)) {
-        r = vdbgi_fail(ctx, VDBGI_ERR_CANCELLED, "conversion cancelled");
-        goto fail;
-    }
+    return VDBGI_OK;
+}
 
-    /* A dense RGBA8 grid over the probes' box at the same spacing, for comparison. */
-    {
-        int32_t pmin[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, pmax[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
-        for (size_t i = 0; i < probes->count; i++)
-            for (int k = 0; k < 3; k++) {
-                const int32_t c = probes->ijk[3 * i + k];
-                pmin[k] = c < pmin[k] ? c : pmin[k];
-                pmax[k] = c > pmax[k] ? c : pmax[k];
-            }
-        info->dense_rgba8_size = 4;
-        for (int k = 0; k < 3; k++)
-            info->dense_rgba8_size *= (size_t)(pmax[k] - pmin[k] + 1);
-    }
-    if ((r = measure_error(v, probes)) != VDBGI_OK)
+/* Log a step's time and report progress; VDBGI_ERR_CANCELLED if the caller asks to stop. */
+static vdbgi_result step_done(vdbgi_context *ctx, const vdbgi_convert_desc *desc, float done,
+                              double *t, const char *what)
+{
+    const double now = vdbgi_now();
+    vdbgi_log(ctx, VDBGI_LOG_DEBUG, "%s in %.3f s", what, now - *t);
+    *t = now;
+    VDBGI_FAIL_IF(ctx, report(desc, done), VDBGI_ERR_CANCELLED, "conversion cancelled");
+    return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
+                                const vdbgi_convert_desc *desc, vdbgi_volume **out)
+{
+    VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
+    *out = NULL;
+    VDBGI_FAIL_IF(ctx, !probes, VDBGI_ERR_INVALID_ARG, "no probes given");
+    const double t0 = vdbgi_now();
+    double t = t0;
+    vdbgi_coarsen_params cp = {0};
+    float eps = 0.0f;
+    vdbgi_encoding encoding = VDBGI_ENCODING_RGBM;
+    VDBGI_TRY(resolve_desc(ctx, desc, &eps, &cp.sigmas, &cp.max_level, &cp.criterion, &encoding,
+                           &cp.threads));
+    if (fixed_direction_set(probes) && (!desc || desc->noise_sigmas == 0.0f))
+        cp.sigmas = 0.0f;
+    VDBGI_FAIL_IF(ctx, !probes->rgb, VDBGI_ERR_FORMAT, "probes have no values: bake them first");
+    VDBGI_FAIL_IF(ctx, probes->count == 0, VDBGI_ERR_FORMAT, "the grid holds no probes");
+    vdbgi_volume *const v = volume_start(ctx, probes, encoding, cp.max_level);
+    if (!v)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    vdbgi_volume_info *const info = &v->info;
+    cp.tolerance = eps * (float)info->mean_irradiance;
+    memcpy(cp.fallback, v->mean_rgb, sizeof(cp.fallback));
+
+    int32_t *cells = NULL;
+    size_t cell_count = 0, brick_count = 0;
+    vdbgi_brick *bricks = NULL;
+    const vdbgi_fill_params fp = vdbgi_fill_params_default(
+        probes->invalid_threshold, desc ? desc->fill : VDBGI_FILL_AUTO, cp.threads);
+    const vdbgi_fill_input in = {probes->count, probes->ijk, probes->rgb, probes->backface, 1};
+    vdbgi_result r = vdbgi_field_fill(ctx, &in, &fp, &v->filled, &cells, &cell_count,
+                                      &info->unreached_count);
+    if (r != VDBGI_OK)
         goto fail;
-    vdbgi_log(ctx, VDBGI_LOG_DEBUG, "error measurement: %.3f s", vdbgi_now() - t1);
-    t1 = vdbgi_now();
-    if ((r = vdbgi_gifile_encode(v)) != VDBGI_OK)
+    for (size_t li = 0; li < v->filled.leaf_count; li++)
+        for (int w = 0; w < 8; w++)
+            info->filled_count += (size_t)__builtin_popcountll(v->filled.leaves[li].mask[w]);
+    if ((r = step_done(ctx, desc, 0.3f, &t, "fill")) != VDBGI_OK ||
+        (r = place_indirection(v, cells, cell_count, probes->spacing)) != VDBGI_OK ||
+        (r = vdbgi_coarsen(ctx, &v->filled, probes, cells, cell_count, &cp, &bricks,
+                           &brick_count)) != VDBGI_OK ||
+        (r = step_done(ctx, desc, 0.6f, &t, "pyramid and coarsening")) != VDBGI_OK ||
+        (r = lay_out(v, bricks, brick_count, cp.threads)) != VDBGI_OK ||
+        (r = step_done(ctx, desc, 0.8f, &t, "sampling and encoding")) != VDBGI_OK ||
+        (r = measure_error(v, probes)) != VDBGI_OK ||
+        (r = step_done(ctx, desc, 0.9f, &t, "error measurement")) != VDBGI_OK ||
+        (r = vdbgi_gifile_encode(v)) != VDBGI_OK)
         goto fail;
-    vdbgi_log(ctx, VDBGI_LOG_DEBUG, "gzip: %zu bytes in %.3f s", info->file_size, vdbgi_now() - t1);
+    vdbgi_log(ctx, VDBGI_LOG_DEBUG, "gzip: %zu bytes in %.3f s", info->file_size, vdbgi_now() - t);
     info->seconds = vdbgi_now() - t0;
     report(desc, 1.0f);
 fail:

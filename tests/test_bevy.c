@@ -7,7 +7,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "encode.h"
 #include "image_shim.h"
-#include "internal.h"
+#include "field.h"
+#include "probes.h"
 #include "test_util.h"
 
 #include <unistd.h>
@@ -118,7 +119,7 @@ static void baked_gi_layout_follows_seed_002(void)
     vdbgi_bevy *b = synthetic(ctx);
     if (b)
         CHECK_RESULT(ctx, vdbgi_bevy_write_baked_gi(b, tmp_path("v.png")), VDBGI_OK);
-    vdbgi_texture img = {0, 0, NULL};
+    vdbgi_image img = {0, 0, NULL};
     CHECK_RESULT(ctx, vdbgi_image_decode(ctx, tmp_path("v.png"), NULL, 0, NULL, &img), VDBGI_OK);
     CHECK(img.width == 3 * 3 && img.height == 2 * 5 * 7);
     int wrong = 0;

@@ -6,7 +6,8 @@
  * documented.
  */
 #define _POSIX_C_SOURCE 200809L
-#include "internal.h"
+#include "scene.h"
+#include "tracer.h"
 #include "test_util.h"
 
 #include <math.h>
@@ -41,7 +42,12 @@ static int hit_below(const vdbgi_scene *s, float x, float z, vdbgi_hit *h)
     const float org[3] = {x, 10.0f, z}, dir[3] = {0.0f, -1.0f, 0.0f};
     const vdbgi_ray_batch b = {org, dir, 3, 3, 0.0f, 100.0f, 1};
     unsigned char scratch[512];
-    vdbgi_tracer_intersect(s->tracer, VDBGI_TRACE_SINGLE, &b, h, scratch);
+    vdbgi_tracer *t = NULL;
+    if (vdbgi_tracer_create(s->ctx, s->positions, s->vertex_count, s->indices, s->triangle_count,
+                            &t) != VDBGI_OK)
+        return 0;
+    vdbgi_tracer_intersect(t, VDBGI_TRACE_SINGLE, &b, h, scratch);
+    vdbgi_tracer_destroy(t);
     return h->t < INFINITY;
 }
 

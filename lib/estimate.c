@@ -1,0 +1,391 @@
+/*
+ * estimate.c: seed 000's irradiance estimator for one sample point: its
+ * direction set, the rays, the sun's shadow rays, validity (the back-face
+ * fraction), the standard error and the ambient-cube sides.
+ */
+#include "estimate.h"
+#include "util.h"
+
+#include <math.h>
+#include <string.h>
+
+#define PI_F 3.14159265358979f
+
+/* The query shape VDBGI_TRACE_AUTO picks: the fastest in docs/performance.md. */
+#define VDBGI_TRACE_BEST VDBGI_TRACE_PACKET16
+
+static bool is_zero3(const float v[3])
+{
+    return v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f;
+}
+
+static bool nonneg_finite3(const float v[3])
+{
+    for (int k = 0; k < 3; k++)
+        if (!(v[k] >= 0.0f) || !isfinite(v[k]))
+            return false;
+    return true;
+}
+
+vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc *desc,
+                                       vdbgi_bake_params *bp)
+{
+    const vdbgi_bake_desc none = {0};
+    if (!desc)
+        desc = &none;
+    memset(bp, 0, sizeof(*bp));
+    bp->adaptive = desc->rays == VDBGI_RAYS_AUTO;
+    bp->rays = desc->rays == 0 || bp->adaptive ? 128 : desc->rays;
+    VDBGI_FAIL_IF(ctx, bp->rays < 1 || bp->rays > 1000000, VDBGI_ERR_INVALID_ARG,
+                  "rays per probe must be in 1..1000000 (got %d)", desc->rays);
+    bp->noise = desc->noise != 0.0f ? desc->noise : 0.02f;
+    VDBGI_FAIL_IF(ctx, !(bp->noise > 0.0f) || !isfinite(bp->noise), VDBGI_ERR_INVALID_ARG,
+                  "noise target must be > 0 (got %g)", (double)desc->noise);
+    bp->max_rays = desc->max_rays ? desc->max_rays : 1024;
+    VDBGI_FAIL_IF(ctx, bp->max_rays < 2 * VDBGI_ADAPTIVE_BATCH || bp->max_rays > (1 << 20) ||
+                           (bp->max_rays & (bp->max_rays - 1)),
+                  VDBGI_ERR_INVALID_ARG, "max rays must be a power of two in %d..%d (got %d)",
+                  2 * VDBGI_ADAPTIVE_BATCH, 1 << 20, desc->max_rays);
+    bp->ray_dist = desc->ray_dist != 0.0f ? desc->ray_dist : 40.0f;
+    VDBGI_FAIL_IF(ctx, !(bp->ray_dist > 0.0f) || !isfinite(bp->ray_dist), VDBGI_ERR_INVALID_ARG,
+                  "ray distance must be > 0 and finite (got %g)", (double)desc->ray_dist);
+    bp->ambient = desc->ambient == 0.0f          ? 0.15f
+                  : desc->ambient == VDBGI_NONE ? 0.0f
+                                                : desc->ambient;
+    VDBGI_FAIL_IF(ctx, !(bp->ambient >= 0.0f) || !isfinite(bp->ambient), VDBGI_ERR_INVALID_ARG,
+                  "ambient must be >= 0 and finite (got %g)", (double)desc->ambient);
+
+    static const float default_sun[3] = {0.4f, 0.8f, 0.3f};
+    const float *const sd = is_zero3(desc->sun_dir) ? default_sun : desc->sun_dir;
+    const float len = sqrtf(sd[0] * sd[0] + sd[1] * sd[1] + sd[2] * sd[2]);
+    VDBGI_FAIL_IF(ctx, !(len > 0.0f) || !isfinite(len), VDBGI_ERR_INVALID_ARG,
+                  "sun direction must be finite and non-zero (got %g,%g,%g)", (double)sd[0],
+                  (double)sd[1], (double)sd[2]);
+    for (int k = 0; k < 3; k++)
+        bp->sun_dir[k] = sd[k] / len;
+
+    bp->sun_on = desc->sun_color[0] != VDBGI_NONE;
+    for (int k = 0; k < 3; k++)
+        bp->sun_color[k] = !bp->sun_on ? 0.0f : is_zero3(desc->sun_color) ? 1.0f : desc->sun_color[k];
+    VDBGI_FAIL_IF(ctx, !nonneg_finite3(bp->sun_color), VDBGI_ERR_INVALID_ARG,
+                  "sun colour must be >= 0 and finite (got %g,%g,%g)", (double)desc->sun_color[0],
+                  (double)desc->sun_color[1], (double)desc->sun_color[2]);
+    bp->sun_on = bp->sun_on && !is_zero3(bp->sun_color);
+
+    bp->falloff = desc->falloff != 0.0f ? desc->falloff : 4.0f;
+    VDBGI_FAIL_IF(ctx, !(bp->falloff > 0.0f), VDBGI_ERR_INVALID_ARG,
+                  "falloff must be > 0 or inf (got %g)", (double)desc->falloff);
+    memcpy(bp->sky, desc->sky, sizeof(bp->sky));
+    VDBGI_FAIL_IF(ctx, !nonneg_finite3(bp->sky), VDBGI_ERR_INVALID_ARG,
+                  "sky colour must be >= 0 and finite (got %g,%g,%g)", (double)desc->sky[0],
+                  (double)desc->sky[1], (double)desc->sky[2]);
+    VDBGI_FAIL_IF(ctx,
+                  desc->sampling != VDBGI_SAMPLING_FIBONACCI &&
+                      desc->sampling != VDBGI_SAMPLING_RANDOM,
+                  VDBGI_ERR_INVALID_ARG, "unknown sampling method %d", (int)desc->sampling);
+    bp->sampling = desc->sampling;
+    bp->seed = desc->seed;
+    VDBGI_FAIL_IF(ctx, desc->threads < 0 || desc->threads > 1024, VDBGI_ERR_INVALID_ARG,
+                  "threads must be in 0..1024 (got %d)", desc->threads);
+    bp->threads = desc->threads ? desc->threads : vdbgi_core_count();
+    bp->invalid_threshold = desc->invalid_threshold != 0.0f ? desc->invalid_threshold : 0.25f;
+    VDBGI_FAIL_IF(ctx, !(bp->invalid_threshold > 0.0f && bp->invalid_threshold <= 1.0f),
+                  VDBGI_ERR_INVALID_ARG, "invalid threshold must be in (0, 1] (got %g)",
+                  (double)desc->invalid_threshold);
+    VDBGI_FAIL_IF(ctx, desc->trace_method < VDBGI_TRACE_AUTO || desc->trace_method > VDBGI_TRACE_STREAM,
+                  VDBGI_ERR_INVALID_ARG, "unknown trace method %d", (int)desc->trace_method);
+    bp->method = desc->trace_method == VDBGI_TRACE_AUTO ? VDBGI_TRACE_BEST : desc->trace_method;
+    VDBGI_FAIL_IF(ctx, desc->basis != VDBGI_BASIS_SCALAR && desc->basis != VDBGI_BASIS_AMBIENT_CUBE,
+                  VDBGI_ERR_INVALID_ARG, "unknown basis %d", (int)desc->basis);
+    bp->basis = desc->basis;
+    return VDBGI_OK;
+}
+
+/* ---- directions ------------------------------------------------------------ */
+
+/*
+ * Spherical Fibonacci set: z evenly spaced in (-1, 1), azimuth advancing by
+ * the golden angle, so every direction stands for the same solid angle.
+ */
+void vdbgi_fibonacci_directions(int n, float *dirs)
+{
+    const double golden = PI_F * (3.0 - sqrt(5.0));
+    for (int i = 0; i < n; i++) {
+        const double z = 1.0 - (2.0 * i + 1.0) / n;
+        const double r = sqrt(1.0 - z * z);
+        const double phi = golden * i;
+        dirs[3 * i + 0] = (float)(r * cos(phi));
+        dirs[3 * i + 1] = (float)z;
+        dirs[3 * i + 2] = (float)(r * sin(phi));
+    }
+}
+
+/*
+ * Reorder a set of n (a power of two) directions so that entry k holds the
+ * one at the bit-reversed index: the first 2^j entries are every (n/2^j)-th
+ * direction of the set, so any prefix of whole batches covers the sphere
+ * about as evenly as a set of its own size.
+ */
+static void bit_reverse_order(float *dirs, int n)
+{
+    int bits = 0;
+    while ((1 << bits) < n)
+        bits++;
+    for (int k = 0; k < n; k++) {
+        int r = 0;
+        for (int b = 0; b < bits; b++)
+            r |= (k >> b & 1) << (bits - 1 - b);
+        if (r > k)
+            for (int c = 0; c < 3; c++) {
+                const float t = dirs[3 * k + c];
+                dirs[3 * k + c] = dirs[3 * r + c], dirs[3 * r + c] = t;
+            }
+    }
+}
+
+uint64_t vdbgi_point_stream(int32_t i, int32_t j, int32_t k, uint64_t seed)
+{
+    uint64_t s = seed ^ ((uint64_t)(uint32_t)i * 0x8CB92BA72F3D8DD7ull) ^
+                 ((uint64_t)(uint32_t)j * 0xAB8F3B2A1F7C5D93ull) ^
+                 ((uint64_t)(uint32_t)k * 0xD1B54A32D192ED03ull);
+    return vdbgi_splitmix64(&s);
+}
+
+/* Uniformly random rotation (Shoemake's quaternion from three uniforms). */
+static void random_rotation(uint64_t stream, float m[9])
+{
+    const double u1 = vdbgi_uniform01(&stream), u2 = vdbgi_uniform01(&stream), u3 = vdbgi_uniform01(&stream);
+    const double a = sqrt(1.0 - u1), b = sqrt(u1);
+    const double x = a * sin(2.0 * PI_F * u2), y = a * cos(2.0 * PI_F * u2);
+    const double z = b * sin(2.0 * PI_F * u3), w = b * cos(2.0 * PI_F * u3);
+    m[0] = (float)(1 - 2 * (y * y + z * z)), m[1] = (float)(2 * (x * y - z * w));
+    m[2] = (float)(2 * (x * z + y * w)), m[3] = (float)(2 * (x * y + z * w));
+    m[4] = (float)(1 - 2 * (x * x + z * z)), m[5] = (float)(2 * (y * z - x * w));
+    m[6] = (float)(2 * (x * z - y * w)), m[7] = (float)(2 * (y * z + x * w));
+    m[8] = (float)(1 - 2 * (x * x + y * y));
+}
+
+/* What a probe's rays add up to, batch after batch. */
+typedef struct probe_sums {
+    double sum[3];   /* radiance, per channel */
+    double sum_sq;   /* squares of the per-ray mean over channels, for the standard error */
+    double cube[6][3], cube_w[6];
+    size_t rays, hits, back, shadow;
+} probe_sums;
+
+/*
+ * Trace n rays from pos along dirs and add what they bring back to *sums:
+ * seed 000's sum, the squares for the standard error, the ambient-cube sides
+ * (each side weights a ray by its cosine to the side's normal and keeps the sum
+ * of weights, so uniform radiance gives itself exactly) and the counts.
+ * Without shading (the bare loop) only the rays and the counts. Kept whole
+ * (about 80 lines): the three passes share the per-ray buffers in order.
+ */
+static void trace_batch(vdbgi_estimator *th, const float pos[3], const float *dirs, int n,
+                        probe_sums *sums)
+{
+    const vdbgi_bake_params *const bp = th->bp;
+    const vdbgi_scene *const scene = th->scene;
+    const vdbgi_ray_batch primary = {pos, dirs, 0, 3, 0.0f, bp->ray_dist, (size_t)n};
+    vdbgi_tracer_intersect(th->tracer, bp->method, &primary, th->hits, th->scratch);
+
+    size_t shadow_count = 0;
+    const float off = scene->ray_offset;
+    for (int i = 0; i < n; i++) {
+        const vdbgi_hit *const h = &th->hits[i];
+        float *const L = &th->radiance[3 * i];
+        if (!(h->t < INFINITY)) {
+            memcpy(L, bp->sky, 3 * sizeof(float));
+            continue;
+        }
+        sums->hits++;
+        const float *const d = &dirs[3 * i];
+        const vdbgi_tri *const tri = &scene->tris[h->prim];
+        const float *const tn = tri->normal;
+        const float facing = tn[0] * d[0] + tn[1] * d[1] + tn[2] * d[2];
+        /* The ray arrives from the side the normal points away from: a back face. */
+        const float flip = facing > 0.0f ? -1.0f : 1.0f;
+        if (facing > 0.0f && !(tri->flags & VDBGI_TRI_DOUBLE_SIDED))
+            sums->back++;
+        const float nf[3] = {tn[0] * flip, tn[1] * flip, tn[2] * flip};
+        const float ndotl = nf[0] * bp->sun_dir[0] + nf[1] * bp->sun_dir[1] + nf[2] * bp->sun_dir[2];
+        float albedo_w[3] = {0.0f, 0.0f, 0.0f};
+        if (th->shade) {
+            float albedo[3];
+            vdbgi_scene_albedo(scene, h->prim, h->u, h->v, albedo);
+            const float q = h->t / bp->falloff;
+            const float w = 1.0f / (1.0f + q * q); /* q = 0 when falloff is infinite */
+            for (int k = 0; k < 3; k++) {
+                albedo_w[k] = albedo[k] * w;
+                L[k] = albedo_w[k] * bp->ambient;
+            }
+        }
+        if (bp->sun_on && ndotl > 0.0f) {
+            float *const so = &th->sorg[3 * shadow_count];
+            for (int k = 0; k < 3; k++) {
+                so[k] = pos[k] + h->t * d[k] + off * nf[k];
+                th->sun_weight[3 * shadow_count + k] = albedo_w[k] * ndotl * bp->sun_color[k];
+            }
+            th->shadow_ray[shadow_count] = (uint32_t)i;
+            shadow_count++;
+        }
+    }
+    if (shadow_count) {
+        const vdbgi_ray_batch shadow = {th->sorg, bp->sun_dir, 3, 0, 0.0f, INFINITY, shadow_count};
+        vdbgi_tracer_occluded(th->tracer, bp->method, &shadow, th->occluded, th->scratch);
+        if (th->shade)
+            for (size_t s = 0; s < shadow_count; s++)
+                if (!th->occluded[s])
+                    for (int k = 0; k < 3; k++)
+                        th->radiance[3 * th->shadow_ray[s] + k] += th->sun_weight[3 * s + k];
+    }
+    sums->rays += (size_t)n;
+    sums->shadow += shadow_count;
+    if (!th->shade)
+        return;
+    for (int i = 0; i < n; i++) {
+        const float *const L = &th->radiance[3 * i];
+        for (int k = 0; k < 3; k++)
+            sums->sum[k] += L[k];
+        const double l = ((double)L[0] + L[1] + L[2]) / 3.0;
+        sums->sum_sq += l * l;
+    }
+    if (th->cube)
+        for (int i = 0; i < n; i++) {
+            const float *const d = &dirs[3 * i];
+            const float *const L = &th->radiance[3 * i];
+            /* Misses under a black sky carry nothing: only their weight counts. */
+            const bool dark = L[0] == 0.0f && L[1] == 0.0f && L[2] == 0.0f;
+            for (int a = 0; a < 3; a++) {
+                const int side = 2 * a + (d[a] < 0.0f); /* +a is even, -a odd */
+                const double w = fabs((double)d[a]);
+                sums->cube_w[side] += w;
+                if (!dark)
+                    for (int k = 0; k < 3; k++)
+                        sums->cube[side][k] += w * (double)L[k];
+            }
+        }
+}
+
+/* Standard error of a probe's value (the mean over channels), from its sums. */
+static double standard_error(const probe_sums *s)
+{
+    if (s->rays < 2)
+        return 0.0;
+    const double n = (double)s->rays;
+    const double mean = (s->sum[0] + s->sum[1] + s->sum[2]) / 3.0 / n;
+    const double var = (s->sum_sq - n * mean * mean) / (n - 1.0);
+    return var > 0.0 ? sqrt(var / n) : 0.0;
+}
+
+static void rotate_dirs(uint64_t stream, const float *base, int n, float *out)
+{
+    float m[9];
+    random_rotation(stream, m);
+    for (int i = 0; i < n; i++) {
+        const float *const d = &base[3 * i];
+        for (int r = 0; r < 3; r++)
+            out[3 * i + r] = m[3 * r] * d[0] + m[3 * r + 1] * d[1] + m[3 * r + 2] * d[2];
+    }
+}
+
+void vdbgi_estimate_point(vdbgi_estimator *th, const float pos[3], uint64_t stream,
+                          vdbgi_estimate *out)
+{
+    const vdbgi_bake_params *const bp = th->bp;
+    probe_sums sums;
+    memset(&sums, 0, sizeof(sums));
+    if (bp->adaptive) {
+        /*
+         * One Fibonacci set of max_rays directions under a random rotation, traced in
+         * batches in bit-reversed order (every prefix is itself evenly spread), until
+         * the standard error falls below the target (relative to the probe's value,
+         * with a floor for dark probes) or the set is used up.
+         */
+        rotate_dirs(stream, th->base_dirs, bp->max_rays, th->dir);
+        for (;;) {
+            trace_batch(th, pos, &th->dir[3 * sums.rays], VDBGI_ADAPTIVE_BATCH, &sums);
+            if (sums.rays + VDBGI_ADAPTIVE_BATCH > (size_t)bp->max_rays)
+                break;
+            if (sums.rays >= 2 * VDBGI_ADAPTIVE_BATCH) {
+                const double mean = (sums.sum[0] + sums.sum[1] + sums.sum[2]) / 3.0 / (double)sums.rays;
+                if (standard_error(&sums) <= bp->noise * fmax(mean, 1e-3))
+                    break;
+            }
+        }
+    } else if (bp->sampling == VDBGI_SAMPLING_RANDOM) {
+        rotate_dirs(stream, th->base_dirs, bp->rays, th->dir);
+        trace_batch(th, pos, th->dir, bp->rays, &sums);
+    } else {
+        trace_batch(th, pos, th->base_dirs, bp->rays, &sums);
+    }
+    memset(out, 0, sizeof(*out));
+    out->rays = (uint32_t)sums.rays;
+    out->shadow = sums.shadow;
+    out->hits = sums.hits;
+    out->backface = sums.hits ? (float)sums.back / (float)sums.hits : 0.0f;
+    if (!th->shade)
+        return;
+    for (int k = 0; k < 3; k++)
+        out->rgb[k] = (float)(sums.sum[k] / (double)sums.rays);
+    out->stderr_ = (float)standard_error(&sums);
+    if (th->cube)
+        for (int side = 0; side < 6; side++)
+            for (int k = 0; k < 3; k++)
+                out->cube[3 * side + k] =
+                    sums.cube_w[side] > 0.0 ? (float)(sums.cube[side][k] / sums.cube_w[side])
+                                            : 0.0f;
+}
+
+
+vdbgi_result vdbgi_estimator_directions(vdbgi_context *ctx, const vdbgi_bake_params *bp,
+                                        float **dirs, int *count)
+{
+    /* All the rays of a point, or the adaptive cap in bit-reversed order. */
+    const int set = bp->adaptive ? bp->max_rays : bp->rays;
+    float *const d = vdbgi_calloc(ctx, (size_t)set, 3 * sizeof(float));
+    if (!d)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    vdbgi_fibonacci_directions(set, d);
+    if (bp->adaptive)
+        bit_reverse_order(d, set);
+    *dirs = d;
+    *count = set;
+    return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_estimator_init(vdbgi_context *ctx, vdbgi_estimator *e, int set_count)
+{
+    const size_t n = (size_t)set_count; /* a whole set (adaptive: the cap) */
+    e->dir = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+    e->sorg = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+    e->sun_weight = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+    e->shadow_ray = vdbgi_calloc(ctx, n, sizeof(uint32_t));
+    e->radiance = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+    e->hits = vdbgi_calloc(ctx, n, sizeof(vdbgi_hit));
+    e->occluded = vdbgi_calloc(ctx, n, 1);
+    e->scratch = vdbgi_alloc(ctx, vdbgi_tracer_scratch_size(n));
+    if (!e->dir || !e->sorg || !e->sun_weight || !e->shadow_ray || !e->radiance || !e->hits ||
+        !e->occluded || !e->scratch) {
+        vdbgi_estimator_free(ctx, e);
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    }
+    return VDBGI_OK;
+}
+
+void vdbgi_estimator_free(vdbgi_context *ctx, vdbgi_estimator *e)
+{
+    vdbgi_free(ctx, e->dir);
+    vdbgi_free(ctx, e->sorg);
+    vdbgi_free(ctx, e->sun_weight);
+    vdbgi_free(ctx, e->radiance);
+    vdbgi_free(ctx, e->shadow_ray);
+    vdbgi_free(ctx, e->hits);
+    vdbgi_free(ctx, e->occluded);
+    vdbgi_free(ctx, e->scratch);
+    e->dir = e->sorg = e->sun_weight = e->radiance = NULL;
+    e->shadow_ray = NULL;
+    e->hits = NULL;
+    e->occluded = NULL;
+    e->scratch = NULL;
+}

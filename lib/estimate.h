@@ -1,0 +1,80 @@
+/* estimate.h: seed 000's estimator for one sample point and its directions (no threads, no files). */
+#ifndef VDBGI_ESTIMATE_H
+#define VDBGI_ESTIMATE_H
+
+#include "scene.h"
+#include "tracer.h"
+
+/* Rays per batch of an adaptive bake: one spherical Fibonacci set, rotated anew each batch. */
+#define VDBGI_ADAPTIVE_BATCH 32
+
+/* Resolved estimator settings (defaults applied, sun normalised). */
+typedef struct vdbgi_bake_params {
+    int rays;
+    bool adaptive;   /* rays in batches until the noise target or max_rays */
+    float noise;
+    int max_rays;
+    float ray_dist, ambient, falloff, invalid_threshold;
+    float sun_dir[3], sun_color[3], sky[3];
+    bool sun_on;
+    vdbgi_sampling sampling;
+    uint64_t seed;
+    int threads;
+    vdbgi_trace_method method;
+    vdbgi_basis basis;
+} vdbgi_bake_params;
+
+vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc *desc,
+                                       vdbgi_bake_params *out);
+
+/* Spherical Fibonacci set of n unit directions (3 floats each). */
+void vdbgi_fibonacci_directions(int n, float *dirs);
+/* A sample point's random stream: from its lattice point (or index) and the seed only. */
+uint64_t vdbgi_point_stream(int32_t i, int32_t j, int32_t k, uint64_t seed);
+/* The direction set bp's points share, allocated through ctx: *count directions. */
+vdbgi_result vdbgi_estimator_directions(vdbgi_context *ctx, const vdbgi_bake_params *bp,
+                                        float **dirs, int *count);
+
+/*
+ * One thread's estimator: what it reads (set by the caller) and its scratch
+ * for one point's rays (vdbgi_estimator_init, for a set of set_count
+ * directions). One estimator per thread; the scene and tracer are shared.
+ */
+typedef struct vdbgi_estimator {
+    const vdbgi_scene *scene;
+    const vdbgi_tracer *tracer;
+    const vdbgi_bake_params *bp;
+    const float *base_dirs; /* from vdbgi_estimator_directions */
+    bool shade;             /* false: rays and counts only (the bare benchmark loop) */
+    bool cube;              /* also the ambient-cube sides */
+    float *dir, *sorg;
+    float *sun_weight;     /* per shadow ray: albedo x falloff x n.sun, RGB */
+    float *radiance;       /* per ray, RGB: what the ray brings back */
+    uint32_t *shadow_ray;  /* per shadow ray: the primary ray it continues */
+    vdbgi_hit *hits;
+    unsigned char *occluded;
+    void *scratch;
+} vdbgi_estimator;
+
+vdbgi_result vdbgi_estimator_init(vdbgi_context *ctx, vdbgi_estimator *e, int set_count);
+void vdbgi_estimator_free(vdbgi_context *ctx, vdbgi_estimator *e);
+
+/* What one point's rays gave. */
+typedef struct vdbgi_estimate {
+    float rgb[3];      /* irradiance (seed 000's mean radiance over the sphere) */
+    float backface;    /* fraction of hits on back faces */
+    float stderr_;     /* standard error of the mean over channels */
+    float cube[18];    /* six sides x RGB, vdbgi_side order, when e->cube */
+    uint32_t rays;
+    uint64_t hits, shadow;
+} vdbgi_estimate;
+
+/*
+ * Estimate at world position pos over the whole sphere, with stream (from
+ * vdbgi_point_stream) choosing the point's rotation for random and adaptive
+ * sampling. Thread-safe for distinct estimators.
+ */
+void vdbgi_estimate_point(vdbgi_estimator *e, const float pos[3], uint64_t stream,
+                          vdbgi_estimate *out);
+
+#endif /* VDBGI_ESTIMATE_H */

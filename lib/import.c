@@ -1,0 +1,253 @@
+/* import.c: any assimp format into the triangle soup: meshes under their node transforms,
+   materials, embedded and external textures. */
+#define _POSIX_C_SOURCE 200809L
+#include "image_shim.h"
+#include "scene.h"
+
+#include <assimp/cimport.h>
+#include <assimp/material.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static float srgb_to_linear(float c)
+{
+    return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
+}
+
+/*
+ * Base-colour textures are sRGB (glTF 2.0 spec 3.9.2); alpha stays linear.
+ * Values are clamped to [0, 1] first: float images can hold anything.
+ */
+static void texture_to_linear(vdbgi_texture *t)
+{
+    for (size_t i = 0; i < (size_t)t->width * (size_t)t->height; i++)
+        for (int k = 0; k < 3; k++) {
+            const float c = t->rgba[4 * i + k];
+            t->rgba[4 * i + k] = srgb_to_linear(c >= 0.0f ? fminf(c, 1.0f) : 0.0f);
+        }
+}
+
+/* Decode an embedded assimp texture: compressed bytes, or raw BGRA8 texels. */
+static vdbgi_result load_embedded(vdbgi_context *ctx, const struct aiTexture *at,
+                                  vdbgi_texture *out)
+{
+    if (at->mHeight == 0)
+        return vdbgi_image_decode(ctx, NULL, at->pcData, at->mWidth, at->achFormatHint, out);
+    const size_t n = (size_t)at->mWidth * at->mHeight;
+    out->rgba = vdbgi_calloc(ctx, n, 4 * sizeof(float));
+    if (!out->rgba)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    out->width = (int)at->mWidth;
+    out->height = (int)at->mHeight;
+    for (size_t i = 0; i < n; i++) {
+        const struct aiTexel *const px = &at->pcData[i];
+        out->rgba[4 * i + 0] = px->r / 255.0f;
+        out->rgba[4 * i + 1] = px->g / 255.0f;
+        out->rgba[4 * i + 2] = px->b / 255.0f;
+        out->rgba[4 * i + 3] = px->a / 255.0f;
+    }
+    return VDBGI_OK;
+}
+
+/* Find the base-colour texture of a material and decode it into slot t. */
+static void load_material_texture(vdbgi_scene *s, const struct aiScene *as,
+                                  const struct aiMaterial *am, const char *dir, size_t m)
+{
+    vdbgi_context *const ctx = s->ctx;
+    struct aiString tex_path;
+    if (aiGetMaterialTexture(am, aiTextureType_BASE_COLOR, 0, &tex_path, NULL, NULL, NULL, NULL,
+                             NULL, NULL) != aiReturn_SUCCESS &&
+        aiGetMaterialTexture(am, aiTextureType_DIFFUSE, 0, &tex_path, NULL, NULL, NULL, NULL, NULL,
+                             NULL) != aiReturn_SUCCESS)
+        return;
+    const char *const p = tex_path.data;
+    const struct aiTexture *embedded = NULL;
+    if (p[0] == '*') {
+        const long i = strtol(p + 1, NULL, 10);
+        if (i >= 0 && (unsigned long)i < as->mNumTextures)
+            embedded = as->mTextures[i];
+    } else {
+        for (unsigned i = 0; i < as->mNumTextures; i++)
+            if (strcmp(as->mTextures[i]->mFilename.data, p) == 0)
+                embedded = as->mTextures[i];
+    }
+    vdbgi_texture *const tex = &s->textures[m];
+    char error_copy[sizeof(ctx->error)];
+    memcpy(error_copy, ctx->error, sizeof(error_copy));
+    vdbgi_result r;
+    if (embedded) {
+        r = load_embedded(ctx, embedded, tex);
+    } else {
+        /* Relative texture paths are relative to the scene file. */
+        const size_t dir_len = p[0] == '/' ? 0 : strlen(dir);
+        char *const full = vdbgi_alloc(ctx, dir_len + strlen(p) + 1);
+        if (!full)
+            return; /* the scene allocation that follows will fail the same way */
+        memcpy(full, dir, dir_len);
+        strcpy(full + dir_len, p);
+        r = vdbgi_image_decode(ctx, full, NULL, 0, NULL, tex);
+        vdbgi_free(ctx, full);
+    }
+    if (r != VDBGI_OK) {
+        /* A missing texture should not sink a bake: warn, keep the base colour. */
+        vdbgi_log(ctx, VDBGI_LOG_WARNING, "%s: texture '%s' ignored: %s", s->name, p, ctx->error);
+        memcpy(ctx->error, error_copy, sizeof(error_copy));
+        return;
+    }
+    texture_to_linear(tex);
+    s->materials[m].texture = (int)m;
+}
+
+static void load_materials(vdbgi_scene *s, const struct aiScene *as, const char *dir)
+{
+    for (size_t m = 0; m < as->mNumMaterials; m++) {
+        const struct aiMaterial *const am = as->mMaterials[m];
+        vdbgi_material *const mat = &s->materials[m];
+        struct aiColor4D c;
+        if (aiGetMaterialColor(am, AI_MATKEY_BASE_COLOR, &c) != aiReturn_SUCCESS &&
+            aiGetMaterialColor(am, AI_MATKEY_COLOR_DIFFUSE, &c) != aiReturn_SUCCESS)
+            c.r = c.g = c.b = 1.0f; /* glTF's default base colour */
+        const float rgb[3] = {c.r, c.g, c.b};
+        for (int k = 0; k < 3; k++)
+            mat->base[k] = isfinite(rgb[k]) ? fminf(fmaxf(rgb[k], 0.0f), 1.0f) : 0.0f;
+        int two_sided = 0;
+        unsigned int max = 1;
+        if (aiGetMaterialIntegerArray(am, AI_MATKEY_TWOSIDED, &two_sided, &max) ==
+            aiReturn_SUCCESS)
+            mat->double_sided = two_sided != 0;
+        mat->texture = -1;
+        load_material_texture(s, as, am, dir, m);
+    }
+}
+
+typedef struct walk_state {
+    vdbgi_scene *s;
+    const struct aiScene *as;
+    size_t vertex_count, triangle_count, nonfinite;
+    bool fill;
+} walk_state;
+
+/* Visit every mesh instance with its world transform; count, or fill when w->fill. */
+static void walk_nodes(walk_state *w, const struct aiNode *node, const struct aiMatrix4x4 *parent)
+{
+    struct aiMatrix4x4 xf = *parent;
+    aiMultiplyMatrix4(&xf, &node->mTransformation);
+    for (unsigned n = 0; n < node->mNumMeshes; n++) {
+        const struct aiMesh *const mesh = w->as->mMeshes[node->mMeshes[n]];
+        if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE))
+            continue;
+        const size_t base = w->vertex_count;
+        w->vertex_count += mesh->mNumVertices;
+        if (!w->fill) {
+            w->triangle_count += mesh->mNumFaces;
+            continue;
+        }
+        vdbgi_scene *const s = w->s;
+        for (unsigned v = 0; v < mesh->mNumVertices; v++) {
+            struct aiVector3D p = mesh->mVertices[v];
+            aiTransformVecByMatrix4(&p, &xf);
+            float *const dst = &s->positions[3 * (base + v)];
+            dst[0] = p.x, dst[1] = p.y, dst[2] = p.z;
+            if (mesh->mTextureCoords[0]) {
+                s->uvs[2 * (base + v) + 0] = mesh->mTextureCoords[0][v].x;
+                s->uvs[2 * (base + v) + 1] = mesh->mTextureCoords[0][v].y;
+            }
+            if (mesh->mColors[0]) {
+                const struct aiColor4D c = mesh->mColors[0][v];
+                const float rgb[3] = {c.r, c.g, c.b};
+                for (int k = 0; k < 3; k++)
+                    s->colors[3 * (base + v) + k] =
+                        isfinite(rgb[k]) ? fminf(fmaxf(rgb[k], 0.0f), 1.0f) : 0.0f;
+            }
+        }
+        for (unsigned f = 0; f < mesh->mNumFaces; f++) {
+            const struct aiFace *const face = &mesh->mFaces[f];
+            if (face->mNumIndices != 3)
+                continue; /* points and lines share meshes with triangles in some files */
+            const vdbgi_tri_status st = vdbgi_scene_add_triangle(s, (uint32_t)base + face->mIndices[0],
+                                                     (uint32_t)base + face->mIndices[1],
+                                                     (uint32_t)base + face->mIndices[2],
+                                                     mesh->mMaterialIndex);
+            w->nonfinite += st == VDBGI_TRI_NONFINITE;
+            s->skipped_count += st != VDBGI_TRI_KEPT;
+        }
+    }
+    for (unsigned c = 0; c < node->mNumChildren; c++)
+        walk_nodes(w, node->mChildren[c], &xf);
+}
+
+static const char *base_name(const char *path)
+{
+    const char *const slash = strrchr(path, '/');
+    return slash ? slash + 1 : path;
+}
+
+vdbgi_result vdbgi_scene_load(vdbgi_context *ctx, const char *path, vdbgi_scene **out)
+{
+    VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
+    *out = NULL;
+    VDBGI_FAIL_IF(ctx, !path || !*path, VDBGI_ERR_INVALID_ARG, "no scene path given");
+    FILE *const probe = fopen(path, "rb");
+    VDBGI_FAIL_IF(ctx, !probe, VDBGI_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    fclose(probe);
+
+    const struct aiScene *const as =
+        aiImportFile(path, aiProcess_Triangulate | aiProcess_SortByPType |
+                               aiProcess_ValidateDataStructure);
+    if (!as || !as->mRootNode) {
+        const char *const why = aiGetErrorString();
+        vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: cannot import scene: %s", path,
+                   why && *why ? why : "unknown format");
+        aiReleaseImport(as);
+        return VDBGI_ERR_FORMAT;
+    }
+    struct aiMatrix4x4 identity;
+    aiIdentityMatrix4(&identity);
+    walk_state w = {.as = as};
+    walk_nodes(&w, as->mRootNode, &identity);
+    if (w.triangle_count == 0 || w.vertex_count > UINT32_MAX) {
+        vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %s", path,
+                   w.triangle_count ? "too many vertices" : "no triangles to trace");
+        aiReleaseImport(as);
+        return VDBGI_ERR_FORMAT;
+    }
+    vdbgi_scene *s = NULL;
+    vdbgi_result r = vdbgi_scene_alloc(ctx, base_name(path), w.vertex_count, w.triangle_count,
+                                 as->mNumMaterials ? as->mNumMaterials : 1,
+                                 as->mNumMaterials ? as->mNumMaterials : 1, &s);
+    if (r != VDBGI_OK) {
+        aiReleaseImport(as);
+        return r;
+    }
+    const size_t dir_len = (size_t)(base_name(path) - path);
+    char *const dir = vdbgi_alloc(ctx, dir_len + 1);
+    if (!dir) {
+        vdbgi_scene_destroy(s);
+        aiReleaseImport(as);
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    }
+    memcpy(dir, path, dir_len);
+    dir[dir_len] = '\0';
+    for (size_t m = 0; m < s->material_count; m++) {
+        s->materials[m].base[0] = s->materials[m].base[1] = s->materials[m].base[2] = 1.0f;
+        s->materials[m].texture = -1;
+    }
+    load_materials(s, as, dir);
+    vdbgi_free(ctx, dir);
+    w = (walk_state){.s = s, .as = as, .fill = true};
+    walk_nodes(&w, as->mRootNode, &identity);
+    aiReleaseImport(as);
+    r = vdbgi_scene_finish(s, w.nonfinite);
+    if (r != VDBGI_OK) {
+        vdbgi_scene_destroy(s);
+        return r;
+    }
+    *out = s;
+    return VDBGI_OK;
+}

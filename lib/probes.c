@@ -1,0 +1,182 @@
+/* probes.c: the probe object: its arrays, its file, its lookups and its metadata lines. */
+#include "probes.h"
+#include "vdb_shim.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+vdbgi_result vdbgi_probes_alloc(vdbgi_context *ctx, size_t count, bool with_values,
+                                vdbgi_probes **out)
+{
+    *out = NULL;
+    vdbgi_probes *const p = vdbgi_calloc(ctx, 1, sizeof(*p));
+    if (!p)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    p->ctx = ctx;
+    p->count = count;
+    p->invalid_threshold = 0.25f;
+    if (with_values) {
+        p->ijk = vdbgi_calloc(ctx, count ? count : 1, 3 * sizeof(int32_t));
+        p->rgb = vdbgi_calloc(ctx, count ? count : 1, 3 * sizeof(float));
+        p->backface = vdbgi_calloc(ctx, count ? count : 1, sizeof(float));
+        if (!p->ijk || !p->rgb || !p->backface) {
+            vdbgi_probes_destroy(p);
+            return VDBGI_ERR_OUT_OF_MEMORY;
+        }
+    }
+    *out = p;
+    return VDBGI_OK;
+}
+
+void vdbgi_probes_destroy(vdbgi_probes *p)
+{
+    if (!p)
+        return;
+    vdbgi_free(p->ctx, p->ijk);
+    vdbgi_free(p->ctx, p->rgb);
+    vdbgi_free(p->ctx, p->backface);
+    vdbgi_free(p->ctx, p->cube);
+    vdbgi_free(p->ctx, p->stderr_);
+    vdbgi_free(p->ctx, p->rays);
+    vdbgi_free(p->ctx, p);
+}
+
+/* Upper bound on the probes within margin of the triangles: area x band / spacing^3. */
+static vdbgi_result write_vdb(vdbgi_context *ctx, const char *tmp, const void *probes)
+{
+    return vdbgi_vdb_write(ctx, tmp, probes);
+}
+
+vdbgi_result vdbgi_probes_write(const vdbgi_probes *p, const char *path)
+{
+    VDBGI_FAIL_IF(p->ctx, !p->rgb, VDBGI_ERR_INVALID_ARG, "probes have no values: bake them first");
+    return vdbgi_write_atomic(p->ctx, path, write_vdb, p);
+}
+
+vdbgi_result vdbgi_probes_read(vdbgi_context *ctx, const char *path, vdbgi_probes **out)
+{
+    VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
+    *out = NULL;
+    VDBGI_FAIL_IF(ctx, !path || !*path, VDBGI_ERR_INVALID_ARG, "no input path given");
+    FILE *const f = fopen(path, "rb");
+    VDBGI_FAIL_IF(ctx, !f, VDBGI_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    fclose(f);
+    vdbgi_probes *p = NULL;
+    VDBGI_TRY(vdbgi_vdb_read(ctx, path, &p));
+    if (p->count == 0) {
+        vdbgi_probes_destroy(p);
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid 'irradiance' holds no probes", path);
+    }
+    const vdbgi_meta *m = vdbgi_meta_find(&p->meta, "invalid_threshold");
+    if (m && m->type == VDBGI_META_DOUBLE)
+        p->invalid_threshold = (float)m->d;
+    m = vdbgi_meta_find(&p->meta, "margin");
+    if (m && m->type == VDBGI_META_DOUBLE)
+        p->margin = m->d;
+    for (size_t i = 0; i < p->count; i++)
+        p->invalid_count += p->backface[i] > p->invalid_threshold;
+    *out = p;
+    return VDBGI_OK;
+}
+
+void vdbgi_probes_get_info(const vdbgi_probes *p, vdbgi_probes_info *info)
+{
+    memset(info, 0, sizeof(*info));
+    info->probe_count = p->count;
+    info->invalid_count = p->invalid_count;
+    info->spacing = p->spacing;
+    info->margin = p->margin;
+    memcpy(info->origin, p->origin, sizeof(info->origin));
+    info->invalid_threshold = p->invalid_threshold;
+    info->baked = p->rgb != NULL;
+    info->basis = p->cube ? VDBGI_BASIS_AMBIENT_CUBE : VDBGI_BASIS_SCALAR;
+    for (int k = 0; k < 3; k++) {
+        info->ijk_min[k] = p->count ? INT32_MAX : 0;
+        info->ijk_max[k] = p->count ? INT32_MIN : 0;
+    }
+    for (size_t n = 0; n < p->count; n++)
+        for (int k = 0; k < 3; k++) {
+            const int32_t c = p->ijk[3 * n + k];
+            info->ijk_min[k] = c < info->ijk_min[k] ? c : info->ijk_min[k];
+            info->ijk_max[k] = c > info->ijk_max[k] ? c : info->ijk_max[k];
+        }
+}
+
+vdbgi_result vdbgi_probes_get(const vdbgi_probes *p, size_t index, int32_t ijk[3], float rgb[3],
+                              float *backface)
+{
+    VDBGI_FAIL_IF(p->ctx, index >= p->count, VDBGI_ERR_INVALID_ARG,
+                  "probe index %zu out of range (%zu probes)", index, p->count);
+    if (ijk)
+        memcpy(ijk, &p->ijk[3 * index], 3 * sizeof(int32_t));
+    if (rgb)
+        for (int k = 0; k < 3; k++)
+            rgb[k] = p->rgb ? p->rgb[3 * index + k] : 0.0f;
+    if (backface)
+        *backface = p->backface ? p->backface[index] : 0.0f;
+    return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_probes_get_noise(const vdbgi_probes *p, size_t index, float *stderr_out,
+                                    uint32_t *rays_out)
+{
+    VDBGI_FAIL_IF(p->ctx, index >= p->count, VDBGI_ERR_INVALID_ARG,
+                  "probe index %zu out of range (%zu probes)", index, p->count);
+    const vdbgi_meta *const m = vdbgi_meta_find(&p->meta, "rays");
+    if (stderr_out)
+        *stderr_out = p->stderr_ ? p->stderr_[index] : 0.0f;
+    if (rays_out)
+        *rays_out = p->rays ? p->rays[index]
+                            : (m && m->type == VDBGI_META_INT && m->i > 0 ? (uint32_t)m->i : 0);
+    return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_probes_get_cube(const vdbgi_probes *p, size_t index, float cube[6][3])
+{
+    VDBGI_FAIL_IF(p->ctx, index >= p->count, VDBGI_ERR_INVALID_ARG,
+                  "probe index %zu out of range (%zu probes)", index, p->count);
+    VDBGI_FAIL_IF(p->ctx, !p->cube, VDBGI_ERR_INVALID_ARG,
+                  "probes have no ambient cubes: bake with the ambient-cube basis");
+    memcpy(cube, &p->cube[18 * index], 18 * sizeof(float));
+    return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_probes_sample(const vdbgi_probes *p, const float pos[3], float rgb[3])
+{
+    rgb[0] = rgb[1] = rgb[2] = 0.0f;
+    VDBGI_FAIL_IF(p->ctx, !p->rgb, VDBGI_ERR_INVALID_ARG, "probes have no values");
+    double t[3], fr[3];
+    int32_t i0[3];
+    for (int k = 0; k < 3; k++) {
+        t[k] = ((double)pos[k] - p->origin[k]) / p->spacing;
+        VDBGI_FAIL_IF(p->ctx, !(fabs(t[k]) < 2e9), VDBGI_ERR_INVALID_ARG,
+                      "position is outside the lattice");
+        i0[k] = (int32_t)floor(t[k]);
+        fr[k] = t[k] - i0[k];
+    }
+    double acc[3] = {0.0, 0.0, 0.0}, wsum = 0.0;
+    for (size_t n = 0; n < p->count; n++) {
+        const int32_t *const c = &p->ijk[3 * n];
+        const int32_t d[3] = {c[0] - i0[0], c[1] - i0[1], c[2] - i0[2]};
+        if ((d[0] | d[1] | d[2]) & ~1 || p->backface[n] > p->invalid_threshold)
+            continue; /* not one of the eight corners, or not to be trusted */
+        const double w = (d[0] ? fr[0] : 1.0 - fr[0]) * (d[1] ? fr[1] : 1.0 - fr[1]) *
+                         (d[2] ? fr[2] : 1.0 - fr[2]);
+        for (int k = 0; k < 3; k++)
+            acc[k] += w * p->rgb[3 * n + k];
+        wsum += w;
+    }
+    VDBGI_FAIL_IF(p->ctx, !(wsum > 0.0), VDBGI_ERR_INVALID_ARG,
+                  "no valid probe around (%g, %g, %g)", (double)pos[0], (double)pos[1],
+                  (double)pos[2]);
+    for (int k = 0; k < 3; k++)
+        rgb[k] = (float)(acc[k] / wsum);
+    return VDBGI_OK;
+}
+
+const char *vdbgi_probes_metadata(const vdbgi_probes *p, size_t index)
+{
+    return index < p->meta.count ? p->meta.items[index].line : NULL;
+}
