@@ -49,10 +49,11 @@ OIIO_CFLAGS = $(call pkg_cflags,OpenImageIO)
 OIIO_LIBS = $(call pkg_libs,OpenImageIO)
 ASSIMP_CFLAGS = $(call pkg_cflags,assimp)
 ASSIMP_LIBS = $(call pkg_libs,assimp)
-DEP_LIBS = $(VDB_LIBS) $(EMBREE_LIBS) $(OIIO_LIBS) $(ASSIMP_LIBS) -ldeflate -lz -lpthread -lm
+# OpenImageIO is not among them: it lives in the image module, opened on first use.
+DEP_LIBS = $(VDB_LIBS) $(EMBREE_LIBS) $(ASSIMP_LIBS) -ldeflate -lz -ldl -lpthread -lm
 
 ALL_CFLAGS = -std=c11 $(WARN_C) $(OPT) -MMD -MP -fvisibility=hidden -DVDBGI_BUILDING \
-             $(ASSIMP_CFLAGS) $(CFLAGS)
+             -DVDBGI_MODULE_DIR='"$(PREFIX)/lib/vdbgi"' $(ASSIMP_CFLAGS) $(CFLAGS)
 # No -fvisibility=hidden for the C++ shims: OpenVDB's registries rely on its template
 # statics being shared with libopenvdb.so, and initialize() crashes when they are hidden.
 ALL_CXXFLAGS = -std=c++17 $(WARN_CXX) $(OPT) -MMD -MP -DVDBGI_BUILDING \
@@ -62,12 +63,17 @@ ALL_LDFLAGS = $(OPT) $(LDFLAGS)
 # ---- sources ----------------------------------------------------------------
 
 LIB_C := $(wildcard lib/*.c)
-LIB_CXX := $(wildcard lib/*.cpp)
+LIB_CXX := lib/vdb_shim.cpp
 LIB_OBJ := $(LIB_C:%.c=$(BUILD)/%.o) $(LIB_CXX:%.cpp=$(BUILD)/%.o)
 LIB_A := $(BUILD)/libvdbgi.a
+# The OpenImageIO shim as a module of its own (lib/image.c opens it).
+IMAGE_MODULE := $(BUILD)/lib/vdbgi/libvdbgi_image.so
+IMAGE_OBJ := $(BUILD)/lib/image_shim.pic.o
 
 APP_NAMES := gi-bake vdb-to-gi gi-inspect gi-bench
 APPS := $(APP_NAMES:%=$(BUILD)/bin/%)
+# gi-bench is for measuring vdbgi itself: built, never installed.
+INSTALL_APPS := $(filter-out %/gi-bench,$(APPS))
 CLI_OBJ := $(BUILD)/apps/cli.o
 
 TEST_SRC := $(wildcard tests/test_*.c)
@@ -75,7 +81,7 @@ TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 
 DEB_PACKAGES := gcc g++ make pkg-config libopenvdb-dev libboost-dev libimath-dev libtbb-dev \
                 libembree-dev libopenimageio-dev libassimp-dev zlib1g-dev libdeflate-dev libopenvdb-tools \
-                python3 python3-openvdb openimageio-tools gnuplot-nox
+                python3 python3-openvdb openimageio-tools gnuplot-nox clang-format
 
 # Keep object files of apps and tests (make would delete them as intermediates).
 .SECONDARY:
@@ -85,7 +91,7 @@ DEB_PACKAGES := gcc g++ make pkg-config libopenvdb-dev libboost-dev libimath-dev
 ## all: build the library and the apps (default)
 all: lib apps
 
-lib: $(LIB_A)
+lib: $(LIB_A) $(IMAGE_MODULE)
 apps: $(APPS)
 tests: $(TESTS)
 
@@ -99,6 +105,22 @@ $(BUILD)/lib/%.o: lib/%.cpp Makefile
 	@$(if $(Q),echo "  CXX     $<")
 	$(Q)$(CXX) $(ALL_CXXFLAGS) -c $< -o $@
 
+# The installed module directory is compiled into image.o: rebuild it when PREFIX changes.
+PREFIX_STAMP := $(BUILD)/prefix$(subst /,_,$(PREFIX)).stamp
+$(BUILD)/lib/image.o: $(PREFIX_STAMP)
+$(PREFIX_STAMP):
+	@mkdir -p $(@D) && rm -f $(BUILD)/prefix*.stamp && touch $@
+
+$(IMAGE_OBJ): lib/image_shim.cpp Makefile
+	@mkdir -p $(@D)
+	@$(if $(Q),echo "  CXX     $<")
+	$(Q)$(CXX) $(ALL_CXXFLAGS) -fPIC -c $< -o $@
+
+$(IMAGE_MODULE): $(IMAGE_OBJ)
+	@mkdir -p $(@D)
+	@$(if $(Q),echo "  LINK    $@")
+	$(Q)$(CXX) $(ALL_LDFLAGS) -shared $^ $(OIIO_LIBS) -o $@
+
 $(LIB_A): $(LIB_OBJ)
 	@$(if $(Q),echo "  AR      $@")
 	$(Q)rm -f $@ && ar rcs $@ $^
@@ -108,7 +130,7 @@ $(BUILD)/apps/%.o: apps/%.c
 	@$(if $(Q),echo "  CC      $<")
 	$(Q)$(CC) $(ALL_CFLAGS) -Ilib -c $< -o $@
 
-$(BUILD)/bin/%: $(BUILD)/apps/%.o $(CLI_OBJ) $(LIB_A)
+$(BUILD)/bin/%: $(BUILD)/apps/%.o $(CLI_OBJ) $(LIB_A) | $(IMAGE_MODULE)
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  LINK    $@")
 	$(Q)$(CXX) $(ALL_LDFLAGS) $^ $(DEP_LIBS) -o $@
@@ -118,11 +140,11 @@ $(BUILD)/tests/%.o: tests/%.c
 	@$(if $(Q),echo "  CC      $<")
 	$(Q)$(CC) $(ALL_CFLAGS) -Ilib -Itests -c $< -o $@
 
-$(BUILD)/tests/%: $(BUILD)/tests/%.o $(LIB_A)
+$(BUILD)/tests/%: $(BUILD)/tests/%.o $(LIB_A) | $(IMAGE_MODULE)
 	@$(if $(Q),echo "  LINK    $@")
 	$(Q)$(CXX) $(ALL_LDFLAGS) $^ $(DEP_LIBS) -o $@
 
--include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(APP_NAMES:%=$(BUILD)/apps/%.d) \
+-include $(LIB_OBJ:.o=.d) $(IMAGE_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(APP_NAMES:%=$(BUILD)/apps/%.d) \
          $(TEST_SRC:tests/%.c=$(BUILD)/tests/%.d)
 
 ## deps: install the Debian packages vdbgi needs (only those missing)
@@ -183,19 +205,23 @@ chart:
 	$(Q)$(MAKE) --no-print-directory all $(BUILD)/tests/test_stability
 	$(Q)BUILD=$(BUILD) sh tests/chart.sh
 
-## install: vdbgi.h, libvdbgi.a, vdbgi.pc and the apps under $(DESTDIR)$(PREFIX)
+## install: vdbgi.h, libvdbgi.a, the image module, vdbgi.pc and the apps under $(DESTDIR)$(PREFIX)
 install: all
-	install -d $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/bin
+	install -d $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/lib/pkgconfig \
+	    $(DESTDIR)$(PREFIX)/lib/vdbgi $(DESTDIR)$(PREFIX)/bin
 	install -m 644 lib/vdbgi.h $(DESTDIR)$(PREFIX)/include/
 	install -m 644 $(LIB_A) $(DESTDIR)$(PREFIX)/lib/
+	install -m 755 $(IMAGE_MODULE) $(DESTDIR)$(PREFIX)/lib/vdbgi/
 	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@VERSION@|$(shell sed -n 's/^#define VDBGI_VERSION_\(MAJOR\|MINOR\|PATCH\) //p' lib/vdbgi.h | paste -sd.)|' \
 	    lib/vdbgi.pc.in > $(DESTDIR)$(PREFIX)/lib/pkgconfig/vdbgi.pc
-	install -m 755 $(APPS) $(DESTDIR)$(PREFIX)/bin/
+	install -m 755 $(INSTALL_APPS) $(DESTDIR)$(PREFIX)/bin/
 
 ## uninstall: remove what install put there
 uninstall:
 	rm -f $(DESTDIR)$(PREFIX)/include/vdbgi.h $(DESTDIR)$(PREFIX)/lib/libvdbgi.a \
-	      $(DESTDIR)$(PREFIX)/lib/pkgconfig/vdbgi.pc $(APP_NAMES:%=$(DESTDIR)$(PREFIX)/bin/%)
+	      $(DESTDIR)$(PREFIX)/lib/vdbgi/libvdbgi_image.so \
+	      $(DESTDIR)$(PREFIX)/lib/pkgconfig/vdbgi.pc $(INSTALL_APPS:$(BUILD)/bin/%=$(DESTDIR)$(PREFIX)/bin/%)
+	-rmdir $(DESTDIR)$(PREFIX)/lib/vdbgi 2>/dev/null
 
 ## clean: remove build outputs
 clean:

@@ -86,8 +86,7 @@ void cli_log(void *user, vdbgi_log_level level, const char *message)
     (void)user;
     if ((int)level > cli_verbosity)
         return;
-    fprintf(stderr, "%s: %s%s\n", cli_prog, level == VDBGI_LOG_WARNING ? "warning: " : "",
-            message);
+    fprintf(stderr, "%s: %s%s\n", cli_prog, level == VDBGI_LOG_WARNING ? "warning: " : "", message);
 }
 
 bool cli_parse_int(const char *s, long long *out)
@@ -187,8 +186,8 @@ int cli_progress_update(void *user, float done)
     const double units = done * p->total;
     const double rate = units / elapsed;
     const double left = rate > 0.0 ? (p->total - units) / rate : 0.0;
-    fprintf(stderr, "\r%s: %s %3.0f%%  %.0f/%.0f %s  %.1fk %s/s  %.0f s left   ", cli_prog,
-            p->what, 100.0 * done, units, p->total, p->unit, rate / 1000.0, p->unit, left);
+    fprintf(stderr, "\r%s: %s %3.0f%%  %.0f/%.0f %s  %.1fk %s/s  %.0f s left   ", cli_prog, p->what,
+            100.0 * done, units, p->total, p->unit, rate / 1000.0, p->unit, left);
     fflush(stderr);
     p->shown = true;
     return 0;

@@ -56,10 +56,10 @@ bool cli_parse_doubles(const char *s, double *out, int n);
  * terminal, verbosity >= 2, and the work has run for more than a second.
  */
 typedef struct cli_progress {
-    const char *what;   /* "baking" */
-    const char *unit;   /* "probes" */
-    double total;       /* units in the whole job */
-    double start;       /* cli_now() when the job began */
+    const char *what; /* "baking" */
+    const char *unit; /* "probes" */
+    double total;     /* units in the whole job */
+    double start;     /* cli_now() when the job began */
     bool shown;
 } cli_progress;
 

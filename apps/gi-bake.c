@@ -155,8 +155,8 @@ static int parse_args(int argc, char **argv, options *o)
             break;
         case OPT_MAX_RAYS:
             if (!cli_parse_int(optarg, &i) || i < 64 || i > (1 << 20) || (i & (i - 1)))
-                return cli_usage_error("--max-rays must be a power of two in 64..1048576 (got '%s')",
-                                       optarg);
+                return cli_usage_error(
+                    "--max-rays must be a power of two in 64..1048576 (got '%s')", optarg);
             o->bake.max_rays = (int)i;
             break;
         case OPT_RAY_DIST:
@@ -184,8 +184,7 @@ static int parse_args(int argc, char **argv, options *o)
             break;
         case OPT_FALLOFF:
             if (!cli_parse_double(optarg, &d) || !(d > 0.0))
-                return cli_usage_error("--falloff must be a number > 0 or inf (got '%s')",
-                                       optarg);
+                return cli_usage_error("--falloff must be a number > 0 or inf (got '%s')", optarg);
             o->bake.falloff = (float)d;
             break;
         case OPT_SKY:
@@ -199,8 +198,7 @@ static int parse_args(int argc, char **argv, options *o)
             else if (strcmp(optarg, "random") == 0)
                 o->bake.sampling = VDBGI_SAMPLING_RANDOM;
             else
-                return cli_usage_error("--sampling must be fibonacci or random (got '%s')",
-                                       optarg);
+                return cli_usage_error("--sampling must be fibonacci or random (got '%s')", optarg);
             break;
         case OPT_SEED:
             if (!cli_parse_int(optarg, &i) || i < 0)
@@ -215,8 +213,7 @@ static int parse_args(int argc, char **argv, options *o)
             break;
         case OPT_INVALID:
             if (!cli_parse_double(optarg, &d) || !(d > 0.0 && d <= 1.0))
-                return cli_usage_error("--invalid-threshold must be in (0, 1] (got '%s')",
-                                       optarg);
+                return cli_usage_error("--invalid-threshold must be in (0, 1] (got '%s')", optarg);
             o->bake.invalid_threshold = (float)d;
             break;
         case OPT_TRACE: {
@@ -317,11 +314,10 @@ int main(int argc, char **argv)
         printf("rays     %llu primary + %llu shadow, %.1f Mrays/s on %d threads\n",
                (unsigned long long)st.primary_ray_count, (unsigned long long)st.shadow_ray_count,
                st.seconds > 0.0 ? rays / st.seconds * 1e-6 : 0.0, st.threads);
-        printf("time     %.2f s: load %.2f, place %.2f, bake %.2f, write %.2f\n", t4 - t0,
-               t1 - t0, t2 - t1, t3 - t2, t4 - t3);
+        printf("time     %.2f s: load %.2f, place %.2f, bake %.2f, write %.2f\n", t4 - t0, t1 - t0,
+               t2 - t1, t3 - t2, t4 - t3);
         printf("output   %s (%s)\n", o.output,
-               stat(o.output, &fs) == 0 ? cli_bytes((double)fs.st_size, size, sizeof(size))
-                                        : "?");
+               stat(o.output, &fs) == 0 ? cli_bytes((double)fs.st_size, size, sizeof(size)) : "?");
         code = CLI_OK;
     }
     vdbgi_probes_destroy(probes);

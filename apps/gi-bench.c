@@ -5,9 +5,9 @@
 
 #include <errno.h>
 #include <fcntl.h>
-#include <math.h>
 #include <getopt.h>
 #include <limits.h>
+#include <math.h>
 #include <spawn.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -199,8 +199,9 @@ static int bench_convert(const options *o)
                        (pi.ijk_max[1] - pi.ijk_min[1] + 1) * (pi.ijk_max[2] - pi.ijk_min[2] + 1);
     printf("### %s: %zu probes (%zu invalid) at %g m; reading it takes %.3f s\n\n", o->scene,
            pi.probe_count, pi.invalid_count, pi.spacing, read_seconds);
-    printf("Dense RGBA8 grid over the probes' box: %s (%.0f%% of its lattice points are probes).\n\n",
-           cli_bytes(4.0 * box, dense, sizeof(dense)), 100.0 * (double)pi.probe_count / box);
+    printf(
+        "Dense RGBA8 grid over the probes' box: %s (%.0f%% of its lattice points are probes).\n\n",
+        cli_bytes(4.0 * box, dense, sizeof(dense)), 100.0 * (double)pi.probe_count / box);
     printf("| criterion, eps, encoding | bricks L0 / L1 / L2 / L3 | raw MB | gzip MB | dense/raw "
            "| dense/gzip | RMSE %% | p99 %% | max %% | convert s | convert/read |\n");
     printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
@@ -211,8 +212,8 @@ static int bench_convert(const options *o)
         for (size_t e = 0; e < sizeof(eps) / sizeof(eps[0]) && code == CLI_OK; e++) {
             const vdbgi_convert_desc d = {.eps = eps[e], .criterion = (vdbgi_criterion)c};
             char label[64];
-            snprintf(label, sizeof(label), "%s, %s, rgbm", c == VDBGI_CRITERION_RANGE ? "range" : "interp",
-                     eps_text[e]);
+            snprintf(label, sizeof(label), "%s, %s, rgbm",
+                     c == VDBGI_CRITERION_RANGE ? "range" : "interp", eps_text[e]);
             code = convert_row(ctx, p, &d, label, read_seconds);
         }
     const vdbgi_convert_desc defaults = {0}, e9 = {.encoding = VDBGI_ENCODING_RGB9E5};
@@ -300,7 +301,8 @@ static int sweep_rays(sweep *w, const char *dir)
         valid[i] = bf <= pi.invalid_threshold;
         m += valid[i];
     }
-    FILE *const f = open_csv(dir, "rays.csv", "sampling,rays,noise_target,seconds,rmse_rel,p99_rel");
+    FILE *const f =
+        open_csv(dir, "rays.csv", "sampling,rays,noise_target,seconds,rmse_rel,p99_rel");
     static const int rays[] = {16, 32, 64, 128, 256, 512, 1024};
     static const float targets[] = {0.1f, 0.05f, 0.02f, 0.01f};
     for (int sampling = 0; r == VDBGI_OK && f && sampling < 3; sampling++) {
@@ -320,9 +322,11 @@ static int sweep_rays(sweep *w, const char *dir)
             double rmse, p99;
             compare(ref, got, m, &rmse, &p99);
             fprintf(f, "%s,%.1f,%g,%.4f,%.6f,%.6f\n",
-                    sampling == 0 ? "fibonacci" : sampling == 1 ? "random" : "adaptive",
-                    (double)st.primary_ray_count / (double)n, sampling == 2 ? (double)targets[k] : 0.0,
-                    st.seconds, rmse, p99);
+                    sampling == 0   ? "fibonacci"
+                    : sampling == 1 ? "random"
+                                    : "adaptive",
+                    (double)st.primary_ray_count / (double)n,
+                    sampling == 2 ? (double)targets[k] : 0.0, st.seconds, rmse, p99);
             fflush(f);
         }
     }
@@ -352,7 +356,8 @@ static int sweep_size(sweep *w, const char *dir)
         for (int e = 0; r == VDBGI_OK && e < 2; e++)
             for (int levels = 1; r == VDBGI_OK && levels <= 4; levels += 3)
                 for (size_t i = 0; r == VDBGI_OK && i < sizeof(eps) / sizeof(eps[0]); i++) {
-                    const vdbgi_convert_desc d = {.eps = eps[i], .levels = levels,
+                    const vdbgi_convert_desc d = {.eps = eps[i],
+                                                  .levels = levels,
                                                   .criterion = (vdbgi_criterion)c,
                                                   .encoding = (vdbgi_encoding)e};
                     vdbgi_volume *v = NULL;
@@ -362,9 +367,8 @@ static int sweep_size(sweep *w, const char *dir)
                     vdbgi_volume_get_info(v, &vi);
                     fprintf(f, "%s,%s,%d,%s,%zu,%zu,%zu,%.6f,%.6f\n",
                             c == VDBGI_CRITERION_RANGE ? "range" : "interp", eps_text[i],
-                            levels - 1, e ? "rgb9e5" : "rgbm",
-                            vi.indirection_size + vi.atlas_size, vi.file_size,
-                            vi.dense_rgba8_size, vi.rmse / vi.mean_irradiance,
+                            levels - 1, e ? "rgb9e5" : "rgbm", vi.indirection_size + vi.atlas_size,
+                            vi.file_size, vi.dense_rgba8_size, vi.rmse / vi.mean_irradiance,
                             vi.p99 / vi.mean_irradiance);
                     vdbgi_volume_destroy(v);
                 }
@@ -494,8 +498,8 @@ int main(int argc, char **argv)
         snprintf(gi_bake, sizeof(gi_bake), "%s", o.gi_bake);
     } else {
         const char *const slash = strrchr(argv[0], '/');
-        snprintf(gi_bake, sizeof(gi_bake), "%.*sgi-bake",
-                 slash ? (int)(slash - argv[0] + 1) : 0, argv[0]);
+        snprintf(gi_bake, sizeof(gi_bake), "%.*sgi-bake", slash ? (int)(slash - argv[0] + 1) : 0,
+                 argv[0]);
     }
     char out[PATH_MAX];
     snprintf(out, sizeof(out), "%s", o.out ? o.out : "/tmp/gi-bench-XXXXXX.vdb");
@@ -532,8 +536,8 @@ int main(int argc, char **argv)
     vdbgi_bake_stats st = {0};
     for (int rep = 0; rep < o.repeat; rep++) {
         for (int m = VDBGI_TRACE_SINGLE; m <= VDBGI_TRACE_STREAM; m++) {
-            const vdbgi_bake_desc bd = {.rays = o.rays, .threads = o.threads,
-                                        .trace_method = (vdbgi_trace_method)m};
+            const vdbgi_bake_desc bd = {
+                .rays = o.rays, .threads = o.threads, .trace_method = (vdbgi_trace_method)m};
             vdbgi_bake_stats s;
             if ((r = vdbgi_probes_trace_bare(probes, scene, &bd, &s)) != VDBGI_OK ||
                 (r = vdbgi_probes_bake(probes, scene, &bd, &st)) != VDBGI_OK) {
@@ -575,9 +579,10 @@ int main(int argc, char **argv)
     char scene_arg[PATH_MAX], o_flag[] = "-o", q_flag[] = "-q", spacing_flag[] = "--spacing",
                               rays_flag[] = "--rays", threads_flag[] = "--threads";
     snprintf(scene_arg, sizeof(scene_arg), "%s", o.scene);
-    char *const bake_argv[] = {gi_bake,      scene_arg, o_flag,     out,
-                               q_flag,       spacing_flag, spacing, rays_flag,
-                               rays,         o.threads ? threads_flag : NULL, threads, NULL};
+    char *const bake_argv[] = {
+        gi_bake,      scene_arg, o_flag,    out,  q_flag,
+        spacing_flag, spacing,   rays_flag, rays, o.threads ? threads_flag : NULL,
+        threads,      NULL};
     double process = -1.0;
     for (int rep = 0; rep < o.repeat; rep++) {
         const double t = time_process(bake_argv);
@@ -604,15 +609,15 @@ int main(int argc, char **argv)
     for (int m = VDBGI_TRACE_SINGLE; m <= VDBGI_TRACE_STREAM; m++)
         printf("| bake in-process, %s | %.3f | %.2f | %.0f | %.3f |\n", method_names[m], bake[m],
                nrays / bake[m] * 1e-6, (double)pi.probe_count / bake[m], bare[best] / bake[m]);
-    printf("| bake in-process, auto, scalar (paired with the next row) | %.3f | %.2f | %.0f | %.3f |\n",
+    printf("| bake in-process, auto, scalar (paired with the next row) | %.3f | %.2f | %.0f | %.3f "
+           "|\n",
            scalar_auto, nrays / scalar_auto * 1e-6, (double)pi.probe_count / scalar_auto,
            bare[best] / scalar_auto);
     printf("| bake in-process, auto, ambient cube | %.3f | %.2f | %.0f | %.3f |\n", cube_auto,
            nrays / cube_auto * 1e-6, (double)pi.probe_count / cube_auto, bare[best] / cube_auto);
     printf("| **gi-bake process** (load, topology, trace, write) | %.3f | %.2f | %.0f | **%.3f** "
            "|\n\n",
-           process, nrays / process * 1e-6, (double)pi.probe_count / process,
-           bare[best] / process);
+           process, nrays / process * 1e-6, (double)pi.probe_count / process, bare[best] / process);
     struct stat fs;
     printf("Fastest bare loop: %s. Ambient cubes cost %.1f%% of the scalar bake. gi-bake wrote "
            "a %s .vdb.\n\n",

@@ -65,9 +65,8 @@ static int inspect_vdb(vdbgi_context *ctx, const char *path, float (*at)[3], int
         if (r != VDBGI_OK)
             code = cli_fail(ctx, r);
         else
-            printf("at           %g,%g,%g -> %.6g %.6g %.6g\n", (double)at[i][0],
-                   (double)at[i][1], (double)at[i][2], (double)rgb[0], (double)rgb[1],
-                   (double)rgb[2]);
+            printf("at           %g,%g,%g -> %.6g %.6g %.6g\n", (double)at[i][0], (double)at[i][1],
+                   (double)at[i][2], (double)rgb[0], (double)rgb[1], (double)rgb[2]);
     }
     vdbgi_probes_destroy(p);
     return code;
@@ -94,8 +93,7 @@ static int inspect_gi(vdbgi_context *ctx, const char *path, float (*at)[3], int 
     printf("atlas        %ux%ux%u texels, %s\n", vi.atlas_dims[0], vi.atlas_dims[1],
            vi.atlas_dims[2], cli_bytes((double)vi.atlas_size, c, sizeof(c)));
     printf("bricks       %u (max level %u): level 0 %u, level 1 %u, level 2 %u, level 3 %u\n",
-           vi.brick_count, vi.max_level, vi.bricks[0], vi.bricks[1], vi.bricks[2],
-           vi.bricks[3]);
+           vi.brick_count, vi.max_level, vi.bricks[0], vi.bricks[1], vi.bricks[2], vi.bricks[3]);
     for (int i = 0; i < at_count; i++) {
         float rgb[3];
         vdbgi_volume_sample(v, at[i], rgb);
@@ -129,7 +127,10 @@ int main(int argc, char **argv)
             }
             at_count++;
             break;
-        case 'h': usage(); free(at); return CLI_OK;
+        case 'h':
+            usage();
+            free(at);
+            return CLI_OK;
         case OPT_VERSION:
             printf("gi-inspect %s\n", vdbgi_version_string());
             free(at);
@@ -147,8 +148,8 @@ int main(int argc, char **argv)
         free(at);
         return CLI_FAILED;
     }
-    const int code = is_vdb(path) ? inspect_vdb(ctx, path, at, at_count)
-                                  : inspect_gi(ctx, path, at, at_count);
+    const int code =
+        is_vdb(path) ? inspect_vdb(ctx, path, at, at_count) : inspect_gi(ctx, path, at, at_count);
     vdbgi_context_destroy(ctx);
     free(at);
     return code;

@@ -99,30 +99,31 @@ typedef struct options {
 
 static int parse_args(int argc, char **argv, options *o)
 {
-    static const struct option longs[] = {{"output", required_argument, NULL, 'o'},
-                                          {"eps", required_argument, NULL, OPT_EPS},
-                                          {"max-level", required_argument, NULL, OPT_MAX_LEVEL},
-                                          {"criterion", required_argument, NULL, OPT_CRITERION},
-                                          {"encoding", required_argument, NULL, OPT_ENCODING},
-                                          {"noise-sigmas", required_argument, NULL, OPT_NOISE_SIGMAS},
-                                          {"fill", required_argument, NULL, OPT_FILL},
-                                          {"slices", required_argument, NULL, OPT_SLICES},
-                                          {"slice-axis", required_argument, NULL, OPT_SLICE_AXIS},
-                                          {"slice-at", required_argument, NULL, OPT_SLICE_AT},
-                                          {"exposure", required_argument, NULL, OPT_EXPOSURE},
-                                          {"stats", required_argument, NULL, OPT_STATS},
-                                          {"bevy", required_argument, NULL, OPT_BEVY},
-                                          {"bevy-format", required_argument, NULL, OPT_BEVY_FORMAT},
-                                          {"bevy-baked-gi", required_argument, NULL, OPT_BEVY_BAKED_GI},
-                                          {"box", required_argument, NULL, OPT_BOX},
-                                          {"res", required_argument, NULL, OPT_RES},
-                                          {"voxel", required_argument, NULL, OPT_VOXEL},
-                                          {"threads", required_argument, NULL, OPT_THREADS},
-                                          {"quiet", no_argument, NULL, 'q'},
-                                          {"verbose", no_argument, NULL, 'v'},
-                                          {"help", no_argument, NULL, 'h'},
-                                          {"version", no_argument, NULL, OPT_VERSION},
-                                          {NULL, 0, NULL, 0}};
+    static const struct option longs[] = {
+        {"output", required_argument, NULL, 'o'},
+        {"eps", required_argument, NULL, OPT_EPS},
+        {"max-level", required_argument, NULL, OPT_MAX_LEVEL},
+        {"criterion", required_argument, NULL, OPT_CRITERION},
+        {"encoding", required_argument, NULL, OPT_ENCODING},
+        {"noise-sigmas", required_argument, NULL, OPT_NOISE_SIGMAS},
+        {"fill", required_argument, NULL, OPT_FILL},
+        {"slices", required_argument, NULL, OPT_SLICES},
+        {"slice-axis", required_argument, NULL, OPT_SLICE_AXIS},
+        {"slice-at", required_argument, NULL, OPT_SLICE_AT},
+        {"exposure", required_argument, NULL, OPT_EXPOSURE},
+        {"stats", required_argument, NULL, OPT_STATS},
+        {"bevy", required_argument, NULL, OPT_BEVY},
+        {"bevy-format", required_argument, NULL, OPT_BEVY_FORMAT},
+        {"bevy-baked-gi", required_argument, NULL, OPT_BEVY_BAKED_GI},
+        {"box", required_argument, NULL, OPT_BOX},
+        {"res", required_argument, NULL, OPT_RES},
+        {"voxel", required_argument, NULL, OPT_VOXEL},
+        {"threads", required_argument, NULL, OPT_THREADS},
+        {"quiet", no_argument, NULL, 'q'},
+        {"verbose", no_argument, NULL, 'v'},
+        {"help", no_argument, NULL, 'h'},
+        {"version", no_argument, NULL, OPT_VERSION},
+        {NULL, 0, NULL, 0}};
     opterr = 0;
     int c;
     while ((c = getopt_long(argc, argv, ":o:qvh", longs, NULL)) != -1) {
@@ -299,41 +300,41 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
         json_string(f, o->input);
         fputs(",\n  \"output\": ", f);
         json_string(f, o->output);
-        fprintf(f,
-                ",\n  \"probes\": %zu,\n"
-                "  \"valid_probes\": %zu,\n  \"filled_points\": %zu,\n  \"unreached_points\": %zu,\n"
-                "  \"fallback_texels\": %zu,\n  \"spacing\": %g,\n  \"max_level\": %u,\n"
-                "  \"encoding\": \"%s\",\n  \"bricks_per_level\": [%u, %u, %u, %u],\n"
-                "  \"bricks\": %u,\n  \"atlas_dims\": [%u, %u, %u],\n"
-                "  \"indirection_dims\": [%u, %u, %u],\n  \"atlas_bytes\": %zu,\n"
-                "  \"indirection_bytes\": %zu,\n  \"raw_bytes\": %.0f,\n  \"gzip_bytes\": %zu,\n"
-                "  \"dense_rgba8_bytes\": %zu,\n  \"dense_over_raw\": %.3f,\n"
-                "  \"dense_over_gzip\": %.3f,\n  \"clamped_texels\": %zu,\n"
-                "  \"mean_irradiance\": %.6g,\n  \"rmse\": %.6g,\n  \"p99\": %.6g,\n"
-                "  \"max_error\": %.6g,\n  \"rmse_relative\": %.6g,\n  \"p99_relative\": %.6g,\n"
-                "  \"max_relative\": %.6g,\n  \"read_seconds\": %.4f,\n"
-                "  \"convert_seconds\": %.4f,\n  \"convert_over_read\": %.3f\n}\n",
-                vi->probe_count, vi->valid_count, vi->filled_count,
-                vi->unreached_count, vi->fallback_count, (double)vi->spacing, vi->max_level,
-                vi->encoding == VDBGI_ENCODING_RGB9E5 ? "rgb9e5" : "rgbm", vi->bricks[0],
-                vi->bricks[1], vi->bricks[2], vi->bricks[3], vi->brick_count, vi->atlas_dims[0],
-                vi->atlas_dims[1], vi->atlas_dims[2], vi->indirection_dims[0],
-                vi->indirection_dims[1], vi->indirection_dims[2], vi->atlas_size,
-                vi->indirection_size, raw, vi->file_size, vi->dense_rgba8_size,
-                (double)vi->dense_rgba8_size / raw,
-                (double)vi->dense_rgba8_size / (double)vi->file_size, vi->clamped_count,
-                vi->mean_irradiance, vi->rmse, vi->p99, vi->max_error, vi->rmse / mean,
-                vi->p99 / mean, vi->max_error / mean, read_seconds, vi->seconds,
-                vi->seconds / read_seconds);
+        fprintf(
+            f,
+            ",\n  \"probes\": %zu,\n"
+            "  \"valid_probes\": %zu,\n  \"filled_points\": %zu,\n  \"unreached_points\": %zu,\n"
+            "  \"fallback_texels\": %zu,\n  \"spacing\": %g,\n  \"max_level\": %u,\n"
+            "  \"encoding\": \"%s\",\n  \"bricks_per_level\": [%u, %u, %u, %u],\n"
+            "  \"bricks\": %u,\n  \"atlas_dims\": [%u, %u, %u],\n"
+            "  \"indirection_dims\": [%u, %u, %u],\n  \"atlas_bytes\": %zu,\n"
+            "  \"indirection_bytes\": %zu,\n  \"raw_bytes\": %.0f,\n  \"gzip_bytes\": %zu,\n"
+            "  \"dense_rgba8_bytes\": %zu,\n  \"dense_over_raw\": %.3f,\n"
+            "  \"dense_over_gzip\": %.3f,\n  \"clamped_texels\": %zu,\n"
+            "  \"mean_irradiance\": %.6g,\n  \"rmse\": %.6g,\n  \"p99\": %.6g,\n"
+            "  \"max_error\": %.6g,\n  \"rmse_relative\": %.6g,\n  \"p99_relative\": %.6g,\n"
+            "  \"max_relative\": %.6g,\n  \"read_seconds\": %.4f,\n"
+            "  \"convert_seconds\": %.4f,\n  \"convert_over_read\": %.3f\n}\n",
+            vi->probe_count, vi->valid_count, vi->filled_count, vi->unreached_count,
+            vi->fallback_count, (double)vi->spacing, vi->max_level,
+            vi->encoding == VDBGI_ENCODING_RGB9E5 ? "rgb9e5" : "rgbm", vi->bricks[0], vi->bricks[1],
+            vi->bricks[2], vi->bricks[3], vi->brick_count, vi->atlas_dims[0], vi->atlas_dims[1],
+            vi->atlas_dims[2], vi->indirection_dims[0], vi->indirection_dims[1],
+            vi->indirection_dims[2], vi->atlas_size, vi->indirection_size, raw, vi->file_size,
+            vi->dense_rgba8_size, (double)vi->dense_rgba8_size / raw,
+            (double)vi->dense_rgba8_size / (double)vi->file_size, vi->clamped_count,
+            vi->mean_irradiance, vi->rmse, vi->p99, vi->max_error, vi->rmse / mean, vi->p99 / mean,
+            vi->max_error / mean, read_seconds, vi->seconds, vi->seconds / read_seconds);
         return;
     }
     char a[32], b[32], c[32], d[32];
     fprintf(f, "input        %s: %zu probes (%zu valid) at %g m\n", o->input, pi->probe_count,
             vi->valid_count, pi->spacing);
-    fprintf(f, "fill         %zu points hold a value (%zu unreached, %zu texels from block means)\n",
+    fprintf(f,
+            "fill         %zu points hold a value (%zu unreached, %zu texels from block means)\n",
             vi->filled_count, vi->unreached_count, vi->fallback_count);
-    fprintf(f, "bricks       %u: level 0 %u, level 1 %u, level 2 %u, level 3 %u\n",
-            vi->brick_count, vi->bricks[0], vi->bricks[1], vi->bricks[2], vi->bricks[3]);
+    fprintf(f, "bricks       %u: level 0 %u, level 1 %u, level 2 %u, level 3 %u\n", vi->brick_count,
+            vi->bricks[0], vi->bricks[1], vi->bricks[2], vi->bricks[3]);
     fprintf(f, "atlas        %ux%ux%u texels, %s\n", vi->atlas_dims[0], vi->atlas_dims[1],
             vi->atlas_dims[2], cli_bytes((double)vi->atlas_size, a, sizeof(a)));
     fprintf(f, "indirection  %ux%ux%u cells, %s\n", vi->indirection_dims[0],

@@ -113,8 +113,12 @@ static vdbgi_result bake_run(bake_shared *sh, const vdbgi_scene *scene, bool sha
     float *base_dirs = NULL;
     int set = 0;
     vdbgi_result r = vdbgi_estimator_directions(ctx, bp, &base_dirs, &set);
-    sh->proto = (vdbgi_estimator){.scene = scene, .tracer = tracer, .bp = bp,
-                                  .base_dirs = base_dirs, .shade = shade, .cube = sh->cube};
+    sh->proto = (vdbgi_estimator){.scene = scene,
+                                  .tracer = tracer,
+                                  .bp = bp,
+                                  .base_dirs = base_dirs,
+                                  .shade = shade,
+                                  .cube = sh->cube};
     atomic_init(&sh->next, 0);
     atomic_init(&sh->done, 0);
     atomic_init(&sh->cancel, 0);
@@ -166,8 +170,8 @@ static const char *sampling_name(vdbgi_sampling s)
 }
 
 /* Every setting that shaped the values, so a .vdb says how it was made. */
-static void record_settings(vdbgi_probes *p, const vdbgi_scene *scene,
-                            const vdbgi_bake_params *bp, const vdbgi_bake_stats *st)
+static void record_settings(vdbgi_probes *p, const vdbgi_scene *scene, const vdbgi_bake_params *bp,
+                            const vdbgi_bake_stats *st)
 {
     const float origin[3] = {(float)p->origin[0], (float)p->origin[1], (float)p->origin[2]};
     vdbgi_meta_set_string(&p->meta, "vdbgi_version", vdbgi_version_string());
@@ -194,7 +198,8 @@ static void record_settings(vdbgi_probes *p, const vdbgi_scene *scene,
     vdbgi_meta_set_int(&p->meta, "seed", (int64_t)bp->seed);
     vdbgi_meta_set_double(&p->meta, "invalid_threshold", bp->invalid_threshold);
     vdbgi_meta_set_double(&p->meta, "ray_offset", scene->ray_offset);
-    vdbgi_meta_set_string(&p->meta, "basis", bp->basis == VDBGI_BASIS_AMBIENT_CUBE ? "ambient-cube" : "scalar");
+    vdbgi_meta_set_string(&p->meta, "basis",
+                          bp->basis == VDBGI_BASIS_AMBIENT_CUBE ? "ambient-cube" : "scalar");
 }
 
 vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
@@ -220,9 +225,17 @@ vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
         vdbgi_free(ctx, rays);
         return VDBGI_ERR_OUT_OF_MEMORY;
     }
-    bake_shared sh = {.ctx = ctx, .bp = &bp, .ijk = p->ijk, .spacing = p->spacing,
-                      .count = p->count, .rgb = rgb, .backface = backface, .stderr_ = stderr_,
-                      .rays = rays, .cube = cube, .progress = desc ? desc->progress : NULL,
+    bake_shared sh = {.ctx = ctx,
+                      .bp = &bp,
+                      .ijk = p->ijk,
+                      .spacing = p->spacing,
+                      .count = p->count,
+                      .rgb = rgb,
+                      .backface = backface,
+                      .stderr_ = stderr_,
+                      .rays = rays,
+                      .cube = cube,
+                      .progress = desc ? desc->progress : NULL,
                       .progress_user = desc ? desc->progress_user : NULL};
     memcpy(sh.origin, p->origin, sizeof(sh.origin));
     vdbgi_bake_stats st;
@@ -263,29 +276,38 @@ vdbgi_result vdbgi_probes_trace_bare(const vdbgi_probes *p, const vdbgi_scene *s
     VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, &bp));
     VDBGI_FAIL_IF(ctx, bp.adaptive, VDBGI_ERR_INVALID_ARG,
                   "the bare loop needs a fixed ray count: an adaptive one depends on shading");
-    bake_shared sh = {.ctx = ctx, .bp = &bp, .ijk = p->ijk, .spacing = p->spacing,
-                      .count = p->count, .progress = desc ? desc->progress : NULL,
+    bake_shared sh = {.ctx = ctx,
+                      .bp = &bp,
+                      .ijk = p->ijk,
+                      .spacing = p->spacing,
+                      .count = p->count,
+                      .progress = desc ? desc->progress : NULL,
                       .progress_user = desc ? desc->progress_user : NULL};
     memcpy(sh.origin, p->origin, sizeof(sh.origin));
     return bake_run(&sh, scene, false, stats);
 }
 
 vdbgi_result vdbgi_bake_points(vdbgi_context *ctx, const vdbgi_scene *scene,
-                               const vdbgi_bake_desc *desc, const float *points,
-                               size_t point_count, float *rgb, float *backface)
+                               const vdbgi_bake_desc *desc, const float *points, size_t point_count,
+                               float *rgb, float *backface)
 {
     VDBGI_FAIL_IF(ctx, !scene || (point_count && (!points || !rgb)), VDBGI_ERR_INVALID_ARG,
                   "no scene, points or output given");
     for (size_t i = 0; i < point_count * 3; i++)
-        VDBGI_FAIL_IF(ctx, !isfinite(points[i]), VDBGI_ERR_INVALID_ARG,
-                      "point %zu is not finite", i / 3);
+        VDBGI_FAIL_IF(ctx, !isfinite(points[i]), VDBGI_ERR_INVALID_ARG, "point %zu is not finite",
+                      i / 3);
     vdbgi_bake_params bp;
     VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, &bp));
     float *bf = backface;
     if (!bf && !(bf = vdbgi_calloc(ctx, point_count ? point_count : 1, sizeof(float))))
         return VDBGI_ERR_OUT_OF_MEMORY;
-    bake_shared sh = {.ctx = ctx, .bp = &bp, .points = points, .count = point_count,
-                      .rgb = rgb, .backface = bf, .progress = desc ? desc->progress : NULL,
+    bake_shared sh = {.ctx = ctx,
+                      .bp = &bp,
+                      .points = points,
+                      .count = point_count,
+                      .rgb = rgb,
+                      .backface = bf,
+                      .progress = desc ? desc->progress : NULL,
                       .progress_user = desc ? desc->progress_user : NULL};
     const vdbgi_result r = bake_run(&sh, scene, true, NULL);
     if (bf != backface)

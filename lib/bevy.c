@@ -5,9 +5,9 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "encode.h"
+#include "field.h"
 #include "image_shim.h"
 #include "ktx2.h"
-#include "field.h"
 #include "probes.h"
 #include "util.h"
 
@@ -38,14 +38,15 @@ static vdbgi_result check_grid(vdbgi_context *ctx, const int res[3], const doubl
 {
     for (int k = 0; k < 3; k++) {
         VDBGI_FAIL_IF(ctx, res[k] < 1, VDBGI_ERR_INVALID_ARG,
-                      "volume resolution must be at least 1 on every axis (got %d,%d,%d)",
-                      res[0], res[1], res[2]);
+                      "volume resolution must be at least 1 on every axis (got %d,%d,%d)", res[0],
+                      res[1], res[2]);
         VDBGI_FAIL_IF(ctx, !isfinite(lo[k]) || !isfinite(hi[k]) || !(hi[k] > lo[k]),
                       VDBGI_ERR_INVALID_ARG, "volume box must have a positive size on every axis");
     }
     /* Seed 001's texture is (Rx, 2Ry, 3Rz); seed 002's is 3Rx x 2RyRz. */
-    VDBGI_FAIL_IF(ctx, res[0] > KTX2_MAX || 2 * res[1] > KTX2_MAX || 3 * res[2] > KTX2_MAX ||
-                           2 * (long long)res[1] * res[2] > PNG_MAX,
+    VDBGI_FAIL_IF(ctx,
+                  res[0] > KTX2_MAX || 2 * res[1] > KTX2_MAX || 3 * res[2] > KTX2_MAX ||
+                      2 * (long long)res[1] * res[2] > PNG_MAX,
                   VDBGI_ERR_INVALID_ARG,
                   "volume resolution %dx%dx%d needs textures of %dx%dx%d (3D, limit %d) and "
                   "%dx%lld (2D, limit %d) texels: lower it",
@@ -83,11 +84,10 @@ void vdbgi_bevy_destroy(vdbgi_bevy *b)
 }
 
 vdbgi_result vdbgi_bevy_create(vdbgi_context *ctx, const float *cube, const int resolution[3],
-                               const double box_min[3], const double box_max[3],
-                               vdbgi_bevy **out)
+                               const double box_min[3], const double box_max[3], vdbgi_bevy **out)
 {
-    VDBGI_FAIL_IF(ctx, !out || !cube || !resolution || !box_min || !box_max,
-                  VDBGI_ERR_INVALID_ARG, "missing volume data");
+    VDBGI_FAIL_IF(ctx, !out || !cube || !resolution || !box_min || !box_max, VDBGI_ERR_INVALID_ARG,
+                  "missing volume data");
     VDBGI_TRY(bevy_alloc(ctx, resolution, box_min, box_max, out));
     memcpy((*out)->cube, cube, voxel_count(resolution) * 18 * sizeof(float));
     return VDBGI_OK;
@@ -261,11 +261,11 @@ vdbgi_result vdbgi_bevy_write_ktx2(vdbgi_bevy *b, const char *path, vdbgi_bevy_f
                 }
     uint8_t *file = NULL;
     size_t size = 0;
-    vdbgi_result res = vdbgi_ktx2_encode(ctx,
-                                         format == VDBGI_BEVY_RGB9E5
-                                             ? VDBGI_VK_FORMAT_E5B9G9R9_UFLOAT_PACK32
-                                             : VDBGI_VK_FORMAT_R16G16B16A16_SFLOAT,
-                                         w, h, d, texels, &file, &size);
+    vdbgi_result res =
+        vdbgi_ktx2_encode(ctx,
+                          format == VDBGI_BEVY_RGB9E5 ? VDBGI_VK_FORMAT_E5B9G9R9_UFLOAT_PACK32
+                                                      : VDBGI_VK_FORMAT_R16G16B16A16_SFLOAT,
+                          w, h, d, texels, &file, &size);
     vdbgi_free(ctx, texels);
     if (res == VDBGI_OK) {
         res = vdbgi_write_bytes_atomic(ctx, path, file, size);
@@ -321,15 +321,15 @@ static vdbgi_result write_json(vdbgi_context *ctx, const char *tmp, const void *
     vdbgi_json_string(f, job->texture);
     fputs(",\n  \"layout\": ", f);
     vdbgi_json_string(f, job->layout);
-    fprintf(f,
-            ",\n  \"resolution\": [%d, %d, %d],\n"
-            "  \"box_min\": [%.9g, %.9g, %.9g],\n  \"box_max\": [%.9g, %.9g, %.9g],\n"
-            "  \"transform\": {\"translation\": [%.9g, %.9g, %.9g], \"scale\": [%.9g, %.9g, %.9g]}\n"
-            "}\n",
-            info.resolution[0], info.resolution[1], info.resolution[2], info.box_min[0],
-            info.box_min[1], info.box_min[2], info.box_max[0], info.box_max[1], info.box_max[2],
-            info.center[0], info.center[1], info.center[2], info.size[0], info.size[1],
-            info.size[2]);
+    fprintf(
+        f,
+        ",\n  \"resolution\": [%d, %d, %d],\n"
+        "  \"box_min\": [%.9g, %.9g, %.9g],\n  \"box_max\": [%.9g, %.9g, %.9g],\n"
+        "  \"transform\": {\"translation\": [%.9g, %.9g, %.9g], \"scale\": [%.9g, %.9g, %.9g]}\n"
+        "}\n",
+        info.resolution[0], info.resolution[1], info.resolution[2], info.box_min[0],
+        info.box_min[1], info.box_min[2], info.box_max[0], info.box_max[1], info.box_max[2],
+        info.center[0], info.center[1], info.center[2], info.size[0], info.size[1], info.size[2]);
     const bool ok = !ferror(f);
     VDBGI_FAIL_IF(ctx, (fclose(f) != 0) | !ok, VDBGI_ERR_IO, "%s: cannot write", job->path);
     return VDBGI_OK;

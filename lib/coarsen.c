@@ -295,7 +295,8 @@ static vdbgi_result build_pyramid(builder *b, const int32_t *cells, size_t cell_
     for (size_t n = 0; p->stderr_ && n < p->count; n++) {
         if (p->backface[n] > p->invalid_threshold)
             continue;
-        const int32_t ck[3] = {vdbgi_floor_div(p->ijk[3 * n], 4), vdbgi_floor_div(p->ijk[3 * n + 1], 4),
+        const int32_t ck[3] = {vdbgi_floor_div(p->ijk[3 * n], 4),
+                               vdbgi_floor_div(p->ijk[3 * n + 1], 4),
                                vdbgi_floor_div(p->ijk[3 * n + 2], 4)};
         const long ci = level_find(&b->levels[0], ck);
         if (ci >= 0)
@@ -378,8 +379,8 @@ static vdbgi_result coarsen(builder *b)
     int t_count = b->cp->threads;
     t_count = t_count > MAX_JOBS ? MAX_JOBS : t_count;
     for (int t = 0; t < t_count; t++)
-        jobs[t] = (coarsen_job){.b = b, .roots = (const int32_t(*)[3])roots, .parts = parts,
-                                .count = n, .next = &next};
+        jobs[t] = (coarsen_job){
+            .b = b, .roots = (const int32_t(*)[3])roots, .parts = parts, .count = n, .next = &next};
     vdbgi_run_threads(t_count, coarsen_worker, jobs, sizeof(jobs[0]));
     for (int t = 0; t < t_count && r == VDBGI_OK; t++)
         r = jobs[t].result;

@@ -14,12 +14,12 @@ typedef struct vdbgi_brick {
 } vdbgi_brick;
 
 typedef struct vdbgi_coarsen_params {
-    int max_level;            /* 0..3 */
-    float tolerance;          /* eps * mean irradiance: absolute, per channel */
-    float sigmas;             /* noise allowance: a probe may stray this many standard errors */
+    int max_level;             /* 0..3 */
+    float tolerance;           /* eps * mean irradiance: absolute, per channel */
+    float sigmas;              /* noise allowance: a probe may stray this many standard errors */
     vdbgi_criterion criterion; /* resolved: RANGE or INTERP */
-    float fallback[3];        /* mean of the valid probes: a block with no filled point */
-    int threads;              /* >= 1 */
+    float fallback[3];         /* mean of the valid probes: a block with no filled point */
+    int threads;               /* >= 1 */
 } vdbgi_coarsen_params;
 
 /*
@@ -38,8 +38,8 @@ vdbgi_result vdbgi_coarsen(vdbgi_context *ctx, const vdbgi_field *filled,
  * filled field; mean stands in where the field holds nothing near. Returns
  * how many texels took it.
  */
-size_t vdbgi_brick_samples(const vdbgi_field *filled, const int32_t key[3], int level,
-                           const float mean[3],
-                           float out[VDBGI_BRICK_PADDED][VDBGI_BRICK_PADDED][VDBGI_BRICK_PADDED][3]);
+size_t
+vdbgi_brick_samples(const vdbgi_field *filled, const int32_t key[3], int level, const float mean[3],
+                    float out[VDBGI_BRICK_PADDED][VDBGI_BRICK_PADDED][VDBGI_BRICK_PADDED][3]);
 
 #endif /* VDBGI_COARSEN_H */

@@ -28,8 +28,7 @@ struct vdbgi_context {
 /* Record a failure message on ctx and return code (for one-line returns). */
 vdbgi_result vdbgi_fail(vdbgi_context *ctx, vdbgi_result code, const char *fmt, ...)
     VDBGI_PRINTF(3, 4);
-void vdbgi_log(vdbgi_context *ctx, vdbgi_log_level level, const char *fmt, ...)
-    VDBGI_PRINTF(3, 4);
+void vdbgi_log(vdbgi_context *ctx, vdbgi_log_level level, const char *fmt, ...) VDBGI_PRINTF(3, 4);
 
 /* Return error code with a message if cond holds (zstd's RETURN_ERROR_IF). */
 #define VDBGI_FAIL_IF(ctx, cond, code, ...)                                                        \

@@ -116,7 +116,7 @@ uint16_t vdbgi_half_from_float(float f)
         return (uint16_t)(sign | 0x7E00u);
     if (abs >= 0x477FF000u) /* rounds to at least 65520: infinity */
         return (uint16_t)(sign | 0x7C00u);
-    if (abs < 0x38800000u) { /* below 2^-14: subnormal or zero */
+    if (abs < 0x38800000u) {                    /* below 2^-14: subnormal or zero */
         const float a = fabsf(f) * 16777216.0f; /* in units of 2^-24, rounded to even */
         return (uint16_t)(sign | (uint32_t)lrintf(a));
     }
@@ -142,7 +142,8 @@ float vdbgi_half_to_float(uint16_t h)
         memcpy(&f, &x, 4);
         return f;
     }
-    const uint32_t x = sign | (exp == 31 ? 0x7F800000u | mant << 13 : (exp + 112u) << 23 | mant << 13);
+    const uint32_t x =
+        sign | (exp == 31 ? 0x7F800000u | mant << 13 : (exp + 112u) << 23 | mant << 13);
     memcpy(&f, &x, 4);
     return f;
 }

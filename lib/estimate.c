@@ -42,14 +42,15 @@ vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc
     VDBGI_FAIL_IF(ctx, !(bp->noise > 0.0f) || !isfinite(bp->noise), VDBGI_ERR_INVALID_ARG,
                   "noise target must be > 0 (got %g)", (double)desc->noise);
     bp->max_rays = desc->max_rays ? desc->max_rays : 1024;
-    VDBGI_FAIL_IF(ctx, bp->max_rays < 2 * VDBGI_ADAPTIVE_BATCH || bp->max_rays > (1 << 20) ||
-                           (bp->max_rays & (bp->max_rays - 1)),
+    VDBGI_FAIL_IF(ctx,
+                  bp->max_rays < 2 * VDBGI_ADAPTIVE_BATCH || bp->max_rays > (1 << 20) ||
+                      (bp->max_rays & (bp->max_rays - 1)),
                   VDBGI_ERR_INVALID_ARG, "max rays must be a power of two in %d..%d (got %d)",
                   2 * VDBGI_ADAPTIVE_BATCH, 1 << 20, desc->max_rays);
     bp->ray_dist = desc->ray_dist != 0.0f ? desc->ray_dist : 40.0f;
     VDBGI_FAIL_IF(ctx, !(bp->ray_dist > 0.0f) || !isfinite(bp->ray_dist), VDBGI_ERR_INVALID_ARG,
                   "ray distance must be > 0 and finite (got %g)", (double)desc->ray_dist);
-    bp->ambient = desc->ambient == 0.0f          ? 0.15f
+    bp->ambient = desc->ambient == 0.0f         ? 0.15f
                   : desc->ambient == VDBGI_NONE ? 0.0f
                                                 : desc->ambient;
     VDBGI_FAIL_IF(ctx, !(bp->ambient >= 0.0f) || !isfinite(bp->ambient), VDBGI_ERR_INVALID_ARG,
@@ -66,7 +67,9 @@ vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc
 
     bp->sun_on = desc->sun_color[0] != VDBGI_NONE;
     for (int k = 0; k < 3; k++)
-        bp->sun_color[k] = !bp->sun_on ? 0.0f : is_zero3(desc->sun_color) ? 1.0f : desc->sun_color[k];
+        bp->sun_color[k] = !bp->sun_on                 ? 0.0f
+                           : is_zero3(desc->sun_color) ? 1.0f
+                                                       : desc->sun_color[k];
     VDBGI_FAIL_IF(ctx, !nonneg_finite3(bp->sun_color), VDBGI_ERR_INVALID_ARG,
                   "sun colour must be >= 0 and finite (got %g,%g,%g)", (double)desc->sun_color[0],
                   (double)desc->sun_color[1], (double)desc->sun_color[2]);
@@ -79,10 +82,9 @@ vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc
     VDBGI_FAIL_IF(ctx, !nonneg_finite3(bp->sky), VDBGI_ERR_INVALID_ARG,
                   "sky colour must be >= 0 and finite (got %g,%g,%g)", (double)desc->sky[0],
                   (double)desc->sky[1], (double)desc->sky[2]);
-    VDBGI_FAIL_IF(ctx,
-                  desc->sampling != VDBGI_SAMPLING_FIBONACCI &&
-                      desc->sampling != VDBGI_SAMPLING_RANDOM,
-                  VDBGI_ERR_INVALID_ARG, "unknown sampling method %d", (int)desc->sampling);
+    VDBGI_FAIL_IF(
+        ctx, desc->sampling != VDBGI_SAMPLING_FIBONACCI && desc->sampling != VDBGI_SAMPLING_RANDOM,
+        VDBGI_ERR_INVALID_ARG, "unknown sampling method %d", (int)desc->sampling);
     bp->sampling = desc->sampling;
     bp->seed = desc->seed;
     VDBGI_FAIL_IF(ctx, desc->threads < 0 || desc->threads > 1024, VDBGI_ERR_INVALID_ARG,
@@ -92,7 +94,8 @@ vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc
     VDBGI_FAIL_IF(ctx, !(bp->invalid_threshold > 0.0f && bp->invalid_threshold <= 1.0f),
                   VDBGI_ERR_INVALID_ARG, "invalid threshold must be in (0, 1] (got %g)",
                   (double)desc->invalid_threshold);
-    VDBGI_FAIL_IF(ctx, desc->trace_method < VDBGI_TRACE_AUTO || desc->trace_method > VDBGI_TRACE_STREAM,
+    VDBGI_FAIL_IF(ctx,
+                  desc->trace_method < VDBGI_TRACE_AUTO || desc->trace_method > VDBGI_TRACE_STREAM,
                   VDBGI_ERR_INVALID_ARG, "unknown trace method %d", (int)desc->trace_method);
     bp->method = desc->trace_method == VDBGI_TRACE_AUTO ? VDBGI_TRACE_BEST : desc->trace_method;
     VDBGI_FAIL_IF(ctx, desc->basis != VDBGI_BASIS_SCALAR && desc->basis != VDBGI_BASIS_AMBIENT_CUBE,
@@ -154,7 +157,8 @@ uint64_t vdbgi_point_stream(int32_t i, int32_t j, int32_t k, uint64_t seed)
 /* Uniformly random rotation (Shoemake's quaternion from three uniforms). */
 static void random_rotation(uint64_t stream, float m[9])
 {
-    const double u1 = vdbgi_uniform01(&stream), u2 = vdbgi_uniform01(&stream), u3 = vdbgi_uniform01(&stream);
+    const double u1 = vdbgi_uniform01(&stream), u2 = vdbgi_uniform01(&stream),
+                 u3 = vdbgi_uniform01(&stream);
     const double a = sqrt(1.0 - u1), b = sqrt(u1);
     const double x = a * sin(2.0 * PI_F * u2), y = a * cos(2.0 * PI_F * u2);
     const double z = b * sin(2.0 * PI_F * u3), w = b * cos(2.0 * PI_F * u3);
@@ -167,8 +171,8 @@ static void random_rotation(uint64_t stream, float m[9])
 
 /* What a probe's rays add up to, batch after batch. */
 typedef struct probe_sums {
-    double sum[3];   /* radiance, per channel */
-    double sum_sq;   /* squares of the per-ray mean over channels, for the standard error */
+    double sum[3]; /* radiance, per channel */
+    double sum_sq; /* squares of the per-ray mean over channels, for the standard error */
     double cube[6][3], cube_w[6];
     size_t rays, hits, back, shadow;
 } probe_sums;
@@ -208,7 +212,8 @@ static void trace_batch(vdbgi_estimator *th, const float pos[3], const float *di
         if (facing > 0.0f && !(tri->flags & VDBGI_TRI_DOUBLE_SIDED))
             sums->back++;
         const float nf[3] = {tn[0] * flip, tn[1] * flip, tn[2] * flip};
-        const float ndotl = nf[0] * bp->sun_dir[0] + nf[1] * bp->sun_dir[1] + nf[2] * bp->sun_dir[2];
+        const float ndotl =
+            nf[0] * bp->sun_dir[0] + nf[1] * bp->sun_dir[1] + nf[2] * bp->sun_dir[2];
         float albedo_w[3] = {0.0f, 0.0f, 0.0f};
         if (th->shade) {
             float albedo[3];
@@ -308,7 +313,8 @@ void vdbgi_estimate_point(vdbgi_estimator *th, const float pos[3], uint64_t stre
             if (sums.rays + VDBGI_ADAPTIVE_BATCH > (size_t)bp->max_rays)
                 break;
             if (sums.rays >= 2 * VDBGI_ADAPTIVE_BATCH) {
-                const double mean = (sums.sum[0] + sums.sum[1] + sums.sum[2]) / 3.0 / (double)sums.rays;
+                const double mean =
+                    (sums.sum[0] + sums.sum[1] + sums.sum[2]) / 3.0 / (double)sums.rays;
                 if (standard_error(&sums) <= bp->noise * fmax(mean, 1e-3))
                     break;
             }
@@ -332,11 +338,10 @@ void vdbgi_estimate_point(vdbgi_estimator *th, const float pos[3], uint64_t stre
     if (th->cube)
         for (int side = 0; side < 6; side++)
             for (int k = 0; k < 3; k++)
-                out->cube[3 * side + k] =
-                    sums.cube_w[side] > 0.0 ? (float)(sums.cube[side][k] / sums.cube_w[side])
-                                            : 0.0f;
+                out->cube[3 * side + k] = sums.cube_w[side] > 0.0
+                                              ? (float)(sums.cube[side][k] / sums.cube_w[side])
+                                              : 0.0f;
 }
-
 
 vdbgi_result vdbgi_estimator_directions(vdbgi_context *ctx, const vdbgi_bake_params *bp,
                                         float **dirs, int *count)

@@ -11,7 +11,7 @@
 /* Resolved estimator settings (defaults applied, sun normalised). */
 typedef struct vdbgi_bake_params {
     int rays;
-    bool adaptive;   /* rays in batches until the noise target or max_rays */
+    bool adaptive; /* rays in batches until the noise target or max_rays */
     float noise;
     int max_rays;
     float ray_dist, ambient, falloff, invalid_threshold;
@@ -48,9 +48,9 @@ typedef struct vdbgi_estimator {
     bool shade;             /* false: rays and counts only (the bare benchmark loop) */
     bool cube;              /* also the ambient-cube sides */
     float *dir, *sorg;
-    float *sun_weight;     /* per shadow ray: albedo x falloff x n.sun, RGB */
-    float *radiance;       /* per ray, RGB: what the ray brings back */
-    uint32_t *shadow_ray;  /* per shadow ray: the primary ray it continues */
+    float *sun_weight;    /* per shadow ray: albedo x falloff x n.sun, RGB */
+    float *radiance;      /* per ray, RGB: what the ray brings back */
+    uint32_t *shadow_ray; /* per shadow ray: the primary ray it continues */
     vdbgi_hit *hits;
     unsigned char *occluded;
     void *scratch;
@@ -61,10 +61,10 @@ void vdbgi_estimator_free(vdbgi_context *ctx, vdbgi_estimator *e);
 
 /* What one point's rays gave. */
 typedef struct vdbgi_estimate {
-    float rgb[3];      /* irradiance (seed 000's mean radiance over the sphere) */
-    float backface;    /* fraction of hits on back faces */
-    float stderr_;     /* standard error of the mean over channels */
-    float cube[18];    /* six sides x RGB, vdbgi_side order, when e->cube */
+    float rgb[3];   /* irradiance (seed 000's mean radiance over the sphere) */
+    float backface; /* fraction of hits on back faces */
+    float stderr_;  /* standard error of the mean over channels */
+    float cube[18]; /* six sides x RGB, vdbgi_side order, when e->cube */
     uint32_t rays;
     uint64_t hits, shadow;
 } vdbgi_estimate;

@@ -67,16 +67,15 @@ typedef struct vdbgi_fill_params {
 } vdbgi_fill_params;
 
 /* The converter's fill for a (checked) vdbgi_fill choice: what bricks and Bevy both use. */
-vdbgi_fill_params vdbgi_fill_params_default(float invalid_threshold, vdbgi_fill fill,
-                                            int threads);
+vdbgi_fill_params vdbgi_fill_params_default(float invalid_threshold, vdbgi_fill fill, int threads);
 
 /* Points to fill from: count lattice points with channels colours each. */
 typedef struct vdbgi_fill_input {
     size_t count;
-    const int32_t *ijk;     /* 3 per point */
-    const float *values;    /* 3 * channels per point */
-    const float *backface;  /* per point; a point above the threshold is no source */
-    int channels;           /* 1..VDBGI_FIELD_MAX_CHANNELS */
+    const int32_t *ijk;    /* 3 per point */
+    const float *values;   /* 3 * channels per point */
+    const float *backface; /* per point; a point above the threshold is no source */
+    int channels;          /* 1..VDBGI_FIELD_MAX_CHANNELS */
 } vdbgi_fill_input;
 
 /*

@@ -179,7 +179,8 @@ static void fill_point(const grid *g, const vdbgi_fill_params *fp, point_ref p)
      * 12/14, -y/+y 10/16, -z/+z 4/22.
      */
     const bool across = ((valued >> 12 & valued >> 14) | (valued >> 10 & valued >> 16) |
-                         (valued >> 4 & valued >> 22)) & 1u;
+                         (valued >> 4 & valued >> 22)) &
+                        1u;
     float *const out = grid_value(g, p.leaf, p.n);
     for (int i = 0; i < ch3; i++)
         out[i] = fp->darkest && across ? dark[i] : (float)(sum[i] / wsum);
@@ -499,7 +500,8 @@ vdbgi_result vdbgi_fill_dense(vdbgi_context *ctx, const int res[3], int channels
     for (int z = 0; z < res[2] && r == VDBGI_OK; z++)
         for (int y = 0; y < res[1]; y++)
             for (int x = 0; x < res[0]; x++) {
-                const size_t i = ((size_t)z * (size_t)res[1] + (size_t)y) * (size_t)res[0] + (size_t)x;
+                const size_t i =
+                    ((size_t)z * (size_t)res[1] + (size_t)y) * (size_t)res[0] + (size_t)x;
                 if (!valued[i])
                     continue;
                 const int32_t p[3] = {x, y, z};
@@ -514,7 +516,8 @@ vdbgi_result vdbgi_fill_dense(vdbgi_context *ctx, const int res[3], int channels
     for (int z = 0; z < res[2] && r == VDBGI_OK; z++)
         for (int y = 0; y < res[1]; y++)
             for (int x = 0; x < res[0]; x++) {
-                const size_t i = ((size_t)z * (size_t)res[1] + (size_t)y) * (size_t)res[0] + (size_t)x;
+                const size_t i =
+                    ((size_t)z * (size_t)res[1] + (size_t)y) * (size_t)res[0] + (size_t)x;
                 const int32_t p[3] = {x, y, z};
                 const long l = grid_find(&g, p);
                 if (valued[i] || !bit(g.leaves[l].filled, point_number(p)))

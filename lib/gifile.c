@@ -4,11 +4,11 @@
 #include "util.h"
 
 #include <errno.h>
+#include <libdeflate.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <libdeflate.h>
 #include <zlib.h>
 
 static const char gi_magic[8] = {'v', 'd', 'b', 'g', 'i', '.', 'g', 'i'};
@@ -96,23 +96,25 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
     VDBGI_FAIL_IF(ctx, enc > 1, VDBGI_ERR_FORMAT, "%s: unknown encoding %u", path, enc);
     info->encoding = (vdbgi_encoding)enc;
     info->rgbm_range = vdbgi_get_f32(h + 20);
-    VDBGI_FAIL_IF(ctx, !(info->rgbm_range > 0.0f) || !isfinite(info->rgbm_range),
-                  VDBGI_ERR_FORMAT, "%s: bad RGBM range", path);
+    VDBGI_FAIL_IF(ctx, !(info->rgbm_range > 0.0f) || !isfinite(info->rgbm_range), VDBGI_ERR_FORMAT,
+                  "%s: bad RGBM range", path);
     size_t ind = 4, atlas = 4;
     for (int k = 0; k < 3; k++) {
         info->indirection_dims[k] = vdbgi_get_u32(h + 24 + 4 * k);
         info->atlas_dims[k] = vdbgi_get_u32(h + 36 + 4 * k);
         info->box_min[k] = vdbgi_get_f32(h + 48 + 4 * k);
         info->box_max[k] = vdbgi_get_f32(h + 60 + 4 * k);
-        VDBGI_FAIL_IF(ctx, info->indirection_dims[k] < 1 ||
-                               info->indirection_dims[k] > VDBGI_MAX_TEXTURE_DIM,
-                      VDBGI_ERR_FORMAT, "%s: bad indirection size", path);
-        VDBGI_FAIL_IF(ctx, info->atlas_dims[k] < VDBGI_BRICK_PADDED ||
-                               info->atlas_dims[k] > 256 * VDBGI_BRICK_PADDED ||
-                               info->atlas_dims[k] % VDBGI_BRICK_PADDED,
+        VDBGI_FAIL_IF(
+            ctx, info->indirection_dims[k] < 1 || info->indirection_dims[k] > VDBGI_MAX_TEXTURE_DIM,
+            VDBGI_ERR_FORMAT, "%s: bad indirection size", path);
+        VDBGI_FAIL_IF(ctx,
+                      info->atlas_dims[k] < VDBGI_BRICK_PADDED ||
+                          info->atlas_dims[k] > 256 * VDBGI_BRICK_PADDED ||
+                          info->atlas_dims[k] % VDBGI_BRICK_PADDED,
                       VDBGI_ERR_FORMAT, "%s: bad atlas size", path);
-        VDBGI_FAIL_IF(ctx, !isfinite(info->box_min[k]) || !isfinite(info->box_max[k]) ||
-                               !(info->box_max[k] > info->box_min[k]),
+        VDBGI_FAIL_IF(ctx,
+                      !isfinite(info->box_min[k]) || !isfinite(info->box_max[k]) ||
+                          !(info->box_max[k] > info->box_min[k]),
                       VDBGI_ERR_FORMAT, "%s: bad volume box", path);
         ind *= info->indirection_dims[k];
         atlas *= info->atlas_dims[k];
@@ -126,8 +128,8 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
     }
     info->indirection_size = vdbgi_get_u32(h + 96);
     info->atlas_size = vdbgi_get_u32(h + 100);
-    VDBGI_FAIL_IF(ctx, info->indirection_size != ind || info->atlas_size != atlas,
-                  VDBGI_ERR_FORMAT, "%s: texture sizes disagree with their dimensions", path);
+    VDBGI_FAIL_IF(ctx, info->indirection_size != ind || info->atlas_size != atlas, VDBGI_ERR_FORMAT,
+                  "%s: texture sizes disagree with their dimensions", path);
     return VDBGI_OK;
 }
 
@@ -141,10 +143,10 @@ static vdbgi_result check_indirection(vdbgi_context *ctx, const char *path, cons
         const uint8_t *const t = &v->indirection[i];
         if (t[3] == 0)
             continue;
-        VDBGI_FAIL_IF(ctx, t[0] >= slots[0] || t[1] >= slots[1] || t[2] >= slots[2] ||
-                               t[3] > info->max_level + 1,
-                      VDBGI_ERR_FORMAT, "%s: indirection texel %zu points outside the atlas",
-                      path, i / 4);
+        VDBGI_FAIL_IF(
+            ctx,
+            t[0] >= slots[0] || t[1] >= slots[1] || t[2] >= slots[2] || t[3] > info->max_level + 1,
+            VDBGI_ERR_FORMAT, "%s: indirection texel %zu points outside the atlas", path, i / 4);
     }
     return VDBGI_OK;
 }
@@ -194,14 +196,15 @@ vdbgi_result vdbgi_volume_read(vdbgi_context *ctx, const char *path, vdbgi_volum
     for (int i = 0; i < 2; i++) {
         size_t done_bytes = 0;
         while (done_bytes < parts[i].n) {
-            const size_t chunk = parts[i].n - done_bytes > (1u << 30) ? (1u << 30) : parts[i].n - done_bytes;
+            const size_t chunk =
+                parts[i].n - done_bytes > (1u << 30) ? (1u << 30) : parts[i].n - done_bytes;
             const int n = gzread(gz, parts[i].p + done_bytes, (unsigned)chunk);
             if (n <= 0) {
                 int zerr = 0;
                 const char *const msg = gzerror(gz, &zerr);
                 r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %s ends early (%zu of %zu bytes)%s%s",
-                               path, parts[i].what, done_bytes, parts[i].n,
-                               n < 0 ? ": " : "", n < 0 ? msg : "");
+                               path, parts[i].what, done_bytes, parts[i].n, n < 0 ? ": " : "",
+                               n < 0 ? msg : "");
                 goto done;
             }
             done_bytes += (size_t)n;

@@ -1,5 +1,15 @@
-/* image_shim.cpp: OpenImageIO behind a C interface; translates, decides nothing. */
+/*
+ * image_shim.cpp: OpenImageIO behind a C interface; translates, decides
+ * nothing. Built as its own shared module (libvdbgi_image.so), which
+ * image.c opens the first time an image is read or written: Debian's
+ * OpenImageIO brings some 260 libraries, which no bake of an untextured
+ * scene and no --help should pay for. It reaches the library only through
+ * the host table it is given.
+ */
 #include "image_shim.h"
+
+static const vdbgi_image_host *host;
+#define VDBGI_SHIM_FAIL host->fail
 #include "shim.h"
 
 #include <OpenImageIO/filesystem.h>
@@ -12,9 +22,14 @@
 
 using namespace OIIO;
 
-extern "C" vdbgi_result vdbgi_image_decode(vdbgi_context *ctx, const char *path, const void *data,
-                                           size_t data_size, const char *format_hint,
-                                           vdbgi_image *out)
+extern "C" VDBGI_MODULE_API void vdbgi_image_module_init(const vdbgi_image_host *h)
+{
+    host = h;
+}
+
+extern "C" VDBGI_MODULE_API vdbgi_result
+vdbgi_image_module_decode(vdbgi_context *ctx, const char *path, const void *data, size_t data_size,
+                          const char *format_hint, vdbgi_image *out)
 {
     VDBGI_SHIM_BEGIN
     out->width = out->height = 0;
@@ -39,23 +54,23 @@ extern "C" vdbgi_result vdbgi_image_decode(vdbgi_context *ctx, const char *path,
     auto in = ImageInput::open(name, &config, mem.get());
     if (!in) {
         const std::string err = OIIO::geterror();
-        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: cannot read image: %s",
+        return host->fail(ctx, VDBGI_ERR_FORMAT, "%s: cannot read image: %s",
                           data ? "embedded texture" : path, err.c_str());
     }
     const ImageSpec &spec = in->spec();
     const int w = spec.width, h = spec.height, nc = spec.nchannels;
     if (w <= 0 || h <= 0 || nc <= 0 || w > 65536 || h > 65536) {
-        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: unusable image size %dx%dx%d",
+        return host->fail(ctx, VDBGI_ERR_FORMAT, "%s: unusable image size %dx%dx%d",
                           data ? "embedded texture" : path, w, h, nc);
     }
     std::vector<float> pixels((size_t)w * h * nc);
     if (!in->read_image(0, 0, 0, nc, TypeDesc::FLOAT, pixels.data())) {
         const std::string err = in->geterror();
-        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: cannot decode image: %s",
+        return host->fail(ctx, VDBGI_ERR_FORMAT, "%s: cannot decode image: %s",
                           data ? "embedded texture" : path, err.c_str());
     }
     in->close();
-    float *const rgba = (float *)vdbgi_calloc(ctx, (size_t)w * h, 4 * sizeof(float));
+    float *const rgba = (float *)host->calloc(ctx, (size_t)w * h, 4 * sizeof(float));
     if (!rgba)
         return VDBGI_ERR_OUT_OF_MEMORY;
     for (size_t i = 0; i < (size_t)w * h; i++) {
@@ -76,52 +91,29 @@ extern "C" vdbgi_result vdbgi_image_decode(vdbgi_context *ctx, const char *path,
     VDBGI_SHIM_END(ctx, "openimageio")
 }
 
-namespace {
-
-struct image_job {
-    const char *path, *ext;
-    int width, height, channels;
-    const float *pixels;
-    bool data;
-};
-
-} // namespace
-
-extern "C" {
-/* Writes one image to the temporary name vdbgi_write_atomic hands it. */
-static vdbgi_result write_image_tmp(vdbgi_context *ctx, const char *tmp, const void *user)
+extern "C" VDBGI_MODULE_API vdbgi_result vdbgi_image_module_write(vdbgi_context *ctx,
+                                                                  const char *tmp, const char *path,
+                                                                  const char *ext, int width,
+                                                                  int height, int channels,
+                                                                  const float *pixels, bool data)
 {
     VDBGI_SHIM_BEGIN
-    const image_job &job = *static_cast<const image_job *>(user);
-    const bool exr = std::strcmp(job.ext, "exr") == 0;
+    const bool exr = std::strcmp(ext, "exr") == 0;
     // The temporary name has no image extension, so name the format explicitly.
-    auto out = ImageOutput::create(job.ext);
+    auto out = ImageOutput::create(ext);
     if (!out)
-        return vdbgi_fail(ctx, VDBGI_ERR_BACKEND, "openimageio: no %s writer: %s", job.ext,
+        return host->fail(ctx, VDBGI_ERR_BACKEND, "openimageio: no %s writer: %s", ext,
                           OIIO::geterror().c_str());
-    ImageSpec spec(job.width, job.height, job.channels, exr ? TypeDesc::HALF : TypeDesc::UINT8);
+    ImageSpec spec(width, height, channels, exr ? TypeDesc::HALF : TypeDesc::UINT8);
     if (exr)
         spec.attribute("compression", "zip");
-    if (job.data)
+    if (data)
         spec.attribute("oiio:ColorSpace", "Linear");
     // Our alpha is data, not coverage: write RGB as given, never divided by it.
     spec.attribute("oiio:UnassociatedAlpha", 1);
-    if (!(out->open(tmp, spec) && out->write_image(TypeDesc::FLOAT, job.pixels) && out->close()))
-        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write image: %s", job.path,
+    if (!(out->open(tmp, spec) && out->write_image(TypeDesc::FLOAT, pixels) && out->close()))
+        return host->fail(ctx, VDBGI_ERR_IO, "%s: cannot write image: %s", path,
                           out->geterror().c_str());
     return VDBGI_OK;
     VDBGI_SHIM_END(ctx, "openimageio")
-}
-}
-
-extern "C" vdbgi_result vdbgi_image_write(vdbgi_context *ctx, const char *path, int width,
-                                          int height, int channels, const float *pixels,
-                                          bool data)
-{
-    const char *const dot = std::strrchr(path, '.');
-    const char *const ext = dot ? dot + 1 : "";
-    if (std::strcmp(ext, "exr") != 0 && std::strcmp(ext, "png") != 0)
-        return vdbgi_fail(ctx, VDBGI_ERR_INVALID_ARG, "%s: images are .png or .exr", path);
-    const image_job job = {path, ext, width, height, channels, pixels, data};
-    return vdbgi_write_atomic(ctx, path, write_image_tmp, &job);
 }

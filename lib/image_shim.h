@@ -1,4 +1,8 @@
-/* image_shim.h: C interface to the only code that includes OpenImageIO. */
+/*
+ * image_shim.h: C interface to the only code that includes OpenImageIO.
+ * vdbgi_image_decode and vdbgi_image_write (image.c) open the module
+ * libvdbgi_image.so (image_shim.cpp) on first use and call into it.
+ */
 #ifndef VDBGI_IMAGE_SHIM_H
 #define VDBGI_IMAGE_SHIM_H
 
@@ -33,6 +37,27 @@ vdbgi_result vdbgi_image_decode(vdbgi_context *ctx, const char *path, const void
  */
 vdbgi_result vdbgi_image_write(vdbgi_context *ctx, const char *path, int width, int height,
                                int channels, const float *pixels, bool data);
+
+/* What the module may call in the library: it links against none of it. */
+typedef struct vdbgi_image_host {
+    vdbgi_result (*fail)(vdbgi_context *ctx, vdbgi_result code, const char *fmt, ...)
+        VDBGI_PRINTF(3, 4);
+    void *(*calloc)(vdbgi_context *ctx, size_t count, size_t size);
+} vdbgi_image_host;
+
+#define VDBGI_MODULE_API __attribute__((visibility("default")))
+#define VDBGI_IMAGE_MODULE_NAME "libvdbgi_image.so"
+
+/* The module's entry points, looked up by these names. */
+typedef void vdbgi_image_module_init_fn(const vdbgi_image_host *host);
+typedef vdbgi_result vdbgi_image_module_decode_fn(vdbgi_context *ctx, const char *path,
+                                                  const void *data, size_t data_size,
+                                                  const char *format_hint, vdbgi_image *out);
+/* Write the image to tmp (path names it in messages) in the format ext ("png" or "exr"). */
+typedef vdbgi_result vdbgi_image_module_write_fn(vdbgi_context *ctx, const char *tmp,
+                                                 const char *path, const char *ext, int width,
+                                                 int height, int channels, const float *pixels,
+                                                 bool data);
 
 #ifdef __cplusplus
 }

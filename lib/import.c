@@ -118,8 +118,7 @@ static void load_materials(vdbgi_scene *s, const struct aiScene *as, const char 
             mat->base[k] = isfinite(rgb[k]) ? fminf(fmaxf(rgb[k], 0.0f), 1.0f) : 0.0f;
         int two_sided = 0;
         unsigned int max = 1;
-        if (aiGetMaterialIntegerArray(am, AI_MATKEY_TWOSIDED, &two_sided, &max) ==
-            aiReturn_SUCCESS)
+        if (aiGetMaterialIntegerArray(am, AI_MATKEY_TWOSIDED, &two_sided, &max) == aiReturn_SUCCESS)
             mat->double_sided = two_sided != 0;
         mat->texture = -1;
         load_material_texture(s, as, am, dir, m);
@@ -170,10 +169,9 @@ static void walk_nodes(walk_state *w, const struct aiNode *node, const struct ai
             const struct aiFace *const face = &mesh->mFaces[f];
             if (face->mNumIndices != 3)
                 continue; /* points and lines share meshes with triangles in some files */
-            const vdbgi_tri_status st = vdbgi_scene_add_triangle(s, (uint32_t)base + face->mIndices[0],
-                                                     (uint32_t)base + face->mIndices[1],
-                                                     (uint32_t)base + face->mIndices[2],
-                                                     mesh->mMaterialIndex);
+            const vdbgi_tri_status st = vdbgi_scene_add_triangle(
+                s, (uint32_t)base + face->mIndices[0], (uint32_t)base + face->mIndices[1],
+                (uint32_t)base + face->mIndices[2], mesh->mMaterialIndex);
             w->nonfinite += st == VDBGI_TRI_NONFINITE;
             s->skipped_count += st != VDBGI_TRI_KEPT;
         }
@@ -197,9 +195,8 @@ vdbgi_result vdbgi_scene_load(vdbgi_context *ctx, const char *path, vdbgi_scene 
     VDBGI_FAIL_IF(ctx, !probe, VDBGI_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     fclose(probe);
 
-    const struct aiScene *const as =
-        aiImportFile(path, aiProcess_Triangulate | aiProcess_SortByPType |
-                               aiProcess_ValidateDataStructure);
+    const struct aiScene *const as = aiImportFile(
+        path, aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_ValidateDataStructure);
     if (!as || !as->mRootNode) {
         const char *const why = aiGetErrorString();
         vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: cannot import scene: %s", path,
@@ -219,8 +216,8 @@ vdbgi_result vdbgi_scene_load(vdbgi_context *ctx, const char *path, vdbgi_scene 
     }
     vdbgi_scene *s = NULL;
     vdbgi_result r = vdbgi_scene_alloc(ctx, base_name(path), w.vertex_count, w.triangle_count,
-                                 as->mNumMaterials ? as->mNumMaterials : 1,
-                                 as->mNumMaterials ? as->mNumMaterials : 1, &s);
+                                       as->mNumMaterials ? as->mNumMaterials : 1,
+                                       as->mNumMaterials ? as->mNumMaterials : 1, &s);
     if (r != VDBGI_OK) {
         aiReleaseImport(as);
         return r;

@@ -11,8 +11,8 @@
 #include <stdio.h>
 #include <string.h>
 
-static const uint8_t ktx2_identifier[12] = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB,
-                                            '\r', '\n', 0x1A, '\n'};
+static const uint8_t ktx2_identifier[12] = {0xAB, 'K',  'T',  'X',  ' ',  '2',
+                                            '0',  0xBB, '\r', '\n', 0x1A, '\n'};
 
 /* One sample of a Basic Data Format Descriptor block (16 bytes). */
 static void put_sample(uint8_t *p, uint16_t bit_offset, uint8_t bit_length, uint8_t channel,
@@ -21,7 +21,7 @@ static void put_sample(uint8_t *p, uint16_t bit_offset, uint8_t bit_length, uint
     vdbgi_put_u16(p, bit_offset);
     p[2] = (uint8_t)(bit_length - 1); /* stored as length - 1 */
     p[3] = channel;                   /* channel id | qualifier bits */
-    vdbgi_put_u32(p + 4, 0);                  /* sample position 0,0,0,0 */
+    vdbgi_put_u32(p + 4, 0);          /* sample position 0,0,0,0 */
     vdbgi_put_u32(p + 8, lower);
     vdbgi_put_u32(p + 12, upper);
 }
@@ -48,16 +48,16 @@ static uint32_t write_dfd(uint8_t *p, uint32_t vk_format)
     const uint32_t block = 24 + 16 * samples;
     vdbgi_put_u32(p, 4 + block);
     uint8_t *const b = p + 4;
-    vdbgi_put_u32(b, 0);                          /* vendor 0 (Khronos), descriptor type 0 (basic) */
-    vdbgi_put_u16(b + 4, 2);                      /* version 2 (KDF 1.3) */
+    vdbgi_put_u32(b, 0);     /* vendor 0 (Khronos), descriptor type 0 (basic) */
+    vdbgi_put_u16(b + 4, 2); /* version 2 (KDF 1.3) */
     vdbgi_put_u16(b + 6, (uint16_t)block);
     b[8] = DF_MODEL_RGBSDA;
     b[9] = DF_PRIMARIES_BT709;
     b[10] = DF_TRANSFER_LINEAR;
-    b[11] = 0;                            /* alpha straight */
-    vdbgi_put_u32(b + 12, 0);                     /* texel block 1 x 1 x 1 x 1 */
+    b[11] = 0;                /* alpha straight */
+    vdbgi_put_u32(b + 12, 0); /* texel block 1 x 1 x 1 x 1 */
     memset(b + 16, 0, 8);
-    b[16] = rgb9e5 ? 4 : 8;               /* bytes of plane 0: one texel */
+    b[16] = rgb9e5 ? 4 : 8; /* bytes of plane 0: one texel */
     uint8_t *s = b + 24;
     if (rgb9e5) {
         /* Per channel a 9-bit mantissa (1.0 = 256 at exponent 15, upper 8448 as the
@@ -85,13 +85,14 @@ static size_t align_up(size_t v, size_t a)
 }
 
 vdbgi_result vdbgi_ktx2_encode(vdbgi_context *ctx, uint32_t vk_format, uint32_t width,
-                               uint32_t height, uint32_t depth, const void *texels,
-                               uint8_t **out, size_t *out_size)
+                               uint32_t height, uint32_t depth, const void *texels, uint8_t **out,
+                               size_t *out_size)
 {
     *out = NULL;
     *out_size = 0;
-    VDBGI_FAIL_IF(ctx, vk_format != VDBGI_VK_FORMAT_R16G16B16A16_SFLOAT &&
-                           vk_format != VDBGI_VK_FORMAT_E5B9G9R9_UFLOAT_PACK32,
+    VDBGI_FAIL_IF(ctx,
+                  vk_format != VDBGI_VK_FORMAT_R16G16B16A16_SFLOAT &&
+                      vk_format != VDBGI_VK_FORMAT_E5B9G9R9_UFLOAT_PACK32,
                   VDBGI_ERR_INVALID_ARG, "ktx2: unsupported VkFormat %u", vk_format);
     VDBGI_FAIL_IF(ctx, !width || !height || !depth, VDBGI_ERR_INVALID_ARG,
                   "ktx2: empty texture %ux%ux%u", width, height, depth);
@@ -120,20 +121,20 @@ vdbgi_result vdbgi_ktx2_encode(vdbgi_context *ctx, uint32_t vk_format, uint32_t 
     vdbgi_put_u32(f + 16, texel_size == 4 ? 4 : 2); /* typeSize: bytes of the format's data type */
     vdbgi_put_u32(f + 20, width);
     vdbgi_put_u32(f + 24, height);
-    vdbgi_put_u32(f + 28, depth == 1 ? 0 : depth);  /* 0 marks a 2D texture */
-    vdbgi_put_u32(f + 32, 0);                       /* layerCount: not an array */
-    vdbgi_put_u32(f + 36, 1);                       /* faceCount */
-    vdbgi_put_u32(f + 40, 1);                       /* levelCount */
-    vdbgi_put_u32(f + 44, 0);                       /* supercompressionScheme: none */
+    vdbgi_put_u32(f + 28, depth == 1 ? 0 : depth); /* 0 marks a 2D texture */
+    vdbgi_put_u32(f + 32, 0);                      /* layerCount: not an array */
+    vdbgi_put_u32(f + 36, 1);                      /* faceCount */
+    vdbgi_put_u32(f + 40, 1);                      /* levelCount */
+    vdbgi_put_u32(f + 44, 0);                      /* supercompressionScheme: none */
     vdbgi_put_u32(f + 48, (uint32_t)dfd_offset);
     vdbgi_put_u32(f + 52, (uint32_t)dfd_size);
     vdbgi_put_u32(f + 56, (uint32_t)kvd_offset);
     vdbgi_put_u32(f + 60, (uint32_t)kvd_size);
-    vdbgi_put_u64(f + 64, 0);                       /* no supercompression global data */
+    vdbgi_put_u64(f + 64, 0); /* no supercompression global data */
     vdbgi_put_u64(f + 72, 0);
     vdbgi_put_u64(f + 80, level_offset);
     vdbgi_put_u64(f + 88, level_size);
-    vdbgi_put_u64(f + 96, level_size);              /* uncompressed length */
+    vdbgi_put_u64(f + 96, level_size); /* uncompressed length */
     write_dfd(f + dfd_offset, vk_format);
     vdbgi_put_u32(f + kvd_offset, kv_length);
     memcpy(f + kvd_offset + 4, kv_key, sizeof(kv_key));

@@ -15,7 +15,7 @@
  * (KTXwriter) and the level. *out is allocated through ctx.
  */
 vdbgi_result vdbgi_ktx2_encode(vdbgi_context *ctx, uint32_t vk_format, uint32_t width,
-                               uint32_t height, uint32_t depth, const void *texels,
-                               uint8_t **out, size_t *out_size);
+                               uint32_t height, uint32_t depth, const void *texels, uint8_t **out,
+                               size_t *out_size);
 
 #endif /* VDBGI_KTX2_H */

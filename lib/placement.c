@@ -27,7 +27,7 @@ vdbgi_result vdbgi_probes_place(vdbgi_context *ctx, const vdbgi_scene *scene,
     const double spacing = desc->spacing == 0.0 ? 0.5 : desc->spacing;
     VDBGI_FAIL_IF(ctx, !(spacing > 0.0) || !isfinite(spacing), VDBGI_ERR_INVALID_ARG,
                   "probe spacing must be > 0 and finite (got %g)", spacing);
-    const double margin = desc->margin == 0.0 ? 4.0 * spacing
+    const double margin = desc->margin == 0.0                 ? 4.0 * spacing
                           : desc->margin == VDBGI_MARGIN_ZERO ? 0.0
                                                               : desc->margin;
     VDBGI_FAIL_IF(ctx, !(margin >= 0.0) || !isfinite(margin), VDBGI_ERR_INVALID_ARG,
@@ -62,10 +62,9 @@ vdbgi_result vdbgi_probes_place(vdbgi_context *ctx, const vdbgi_scene *scene,
     p->spacing = spacing;
     p->margin = margin;
     memcpy(p->origin, origin, sizeof(origin));
-    vdbgi_result r =
-        vdbgi_vdb_topology(ctx, scene->positions, scene->vertex_count, scene->indices,
-                           scene->triangle_count, origin, spacing, margin, max_probes, &p->ijk,
-                           &p->count);
+    vdbgi_result r = vdbgi_vdb_topology(ctx, scene->positions, scene->vertex_count, scene->indices,
+                                        scene->triangle_count, origin, spacing, margin, max_probes,
+                                        &p->ijk, &p->count);
     if (r == VDBGI_OK && p->count == 0)
         r = vdbgi_fail(ctx, VDBGI_ERR_INVALID_ARG,
                        "no lattice point lies within the %g m margin of a surface", margin);
@@ -76,4 +75,3 @@ vdbgi_result vdbgi_probes_place(vdbgi_context *ctx, const vdbgi_scene *scene,
     *out = p;
     return VDBGI_OK;
 }
-

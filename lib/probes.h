@@ -12,12 +12,12 @@ struct vdbgi_probes {
     vdbgi_context *ctx;
     double spacing, margin, origin[3];
     size_t count;
-    int32_t *ijk;     /* 3 per probe */
-    float *rgb;       /* 3 per probe, NULL until baked or read */
-    float *backface;  /* per probe */
-    float *cube;      /* 18 per probe (6 sides x RGB, vdbgi_side order), or NULL */
-    float *stderr_;   /* per probe: standard error of the value, or NULL (not baked) */
-    uint32_t *rays;   /* per probe: rays traced, or NULL (every probe had desc->rays) */
+    int32_t *ijk;    /* 3 per probe */
+    float *rgb;      /* 3 per probe, NULL until baked or read */
+    float *backface; /* per probe */
+    float *cube;     /* 18 per probe (6 sides x RGB, vdbgi_side order), or NULL */
+    float *stderr_;  /* per probe: standard error of the value, or NULL (not baked) */
+    uint32_t *rays;  /* per probe: rays traced, or NULL (every probe had desc->rays) */
     float invalid_threshold;
     size_t invalid_count;
     vdbgi_meta_store meta;
@@ -25,8 +25,6 @@ struct vdbgi_probes {
 
 vdbgi_result vdbgi_probes_alloc(vdbgi_context *ctx, size_t count, bool with_values,
                                 vdbgi_probes **out);
-
-
 
 #ifdef __cplusplus
 }

@@ -20,8 +20,8 @@ static void fetch(const vdbgi_volume_view *v, int x, int y, int z, float out[4])
     const uint8_t *const t = &v->atlas[4 * i];
     if (v->encoding == 1) {
         /* rgb9e5ufloat is decoded before filtering. */
-        const uint32_t w = (uint32_t)t[0] | (uint32_t)t[1] << 8 | (uint32_t)t[2] << 16 |
-                           (uint32_t)t[3] << 24;
+        const uint32_t w =
+            (uint32_t)t[0] | (uint32_t)t[1] << 8 | (uint32_t)t[2] << 16 | (uint32_t)t[3] << 24;
         const float scale = ldexpf(1.0f, (int)(w >> 27) - 15 - 9);
         for (int k = 0; k < 3; k++)
             out[k] = (float)((w >> (9 * k)) & 511u) * scale;
@@ -73,7 +73,8 @@ void vdbgi_sampler_sample(const vdbgi_volume_view *v, const float pos[3], float 
         const float u = (base[k] + 0.5f) / (float)v->ind_dims[k];
         it[k] = clampi((int)floorf(u * (float)v->ind_dims[k]), 0, (int)v->ind_dims[k] - 1);
     }
-    const size_t ii = ((size_t)it[2] * v->ind_dims[1] + (size_t)it[1]) * v->ind_dims[0] + (size_t)it[0];
+    const size_t ii =
+        ((size_t)it[2] * v->ind_dims[1] + (size_t)it[1]) * v->ind_dims[0] + (size_t)it[0];
     for (int k = 0; k < 4; k++)
         ind[k] = (float)v->indirection[4 * ii + k] / 255.0f;
     /* level = ind.a * 255 - 1 (max 0); span = 2^level; slot = ind.rgb * 255 */

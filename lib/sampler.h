@@ -6,12 +6,12 @@
 
 /* The two textures and the uniforms the shader is given. */
 typedef struct vdbgi_volume_view {
-    uint32_t encoding;         /* 0 RGBM (rgba8), 1 RGB9E5 (uint32 little-endian) */
+    uint32_t encoding; /* 0 RGBM (rgba8), 1 RGB9E5 (uint32 little-endian) */
     float rgbm_range;
     float box_min[3], box_max[3];
-    uint32_t ind_dims[3];      /* rgba8 texels, x fastest */
+    uint32_t ind_dims[3]; /* rgba8 texels, x fastest */
     const uint8_t *indirection;
-    uint32_t atlas_dims[3];    /* 4-byte texels, x fastest */
+    uint32_t atlas_dims[3]; /* 4-byte texels, x fastest */
     const uint8_t *atlas;
 } vdbgi_volume_view;
 

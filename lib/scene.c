@@ -51,8 +51,8 @@ vdbgi_result vdbgi_scene_alloc(vdbgi_context *ctx, const char *name, size_t vert
     s->materials = vdbgi_calloc(ctx, material_count, sizeof(vdbgi_material));
     s->textures = vdbgi_calloc(ctx, texture_count, sizeof(vdbgi_texture));
     s->name = vdbgi_strdup(ctx, name);
-    if (!s->positions || !s->uvs || !s->colors || !s->indices || !s->tris ||
-        !s->materials || !s->textures || !s->name) {
+    if (!s->positions || !s->uvs || !s->colors || !s->indices || !s->tris || !s->materials ||
+        !s->textures || !s->name) {
         vdbgi_scene_destroy(s);
         return VDBGI_ERR_OUT_OF_MEMORY;
     }
@@ -104,8 +104,8 @@ static void classify_triangles(vdbgi_scene *s)
         const float *const c2 = &s->colors[3 * s->indices[3 * t + 2]];
         const bool varies = mat->texture >= 0 || memcmp(c0, c1, 3 * sizeof(float)) != 0 ||
                             memcmp(c0, c2, 3 * sizeof(float)) != 0;
-        tri->flags = (mat->double_sided ? VDBGI_TRI_DOUBLE_SIDED : 0u) |
-                     (varies ? VDBGI_TRI_VARIES : 0u);
+        tri->flags =
+            (mat->double_sided ? VDBGI_TRI_DOUBLE_SIDED : 0u) | (varies ? VDBGI_TRI_VARIES : 0u);
         for (int k = 0; k < 3; k++)
             tri->albedo[k] = mat->base[k] * c0[k];
     }
@@ -121,8 +121,7 @@ vdbgi_result vdbgi_scene_finish(vdbgi_scene *s, size_t nonfinite_count)
                   "%s: no triangles to trace (%zu skipped as non-finite or zero-area)", s->name,
                   s->skipped_count);
     VDBGI_FAIL_IF(ctx, s->triangle_count > UINT32_MAX / 3, VDBGI_ERR_FORMAT,
-                  "%s: %zu triangles is more than one scene can hold", s->name,
-                  s->triangle_count);
+                  "%s: %zu triangles is more than one scene can hold", s->name, s->triangle_count);
     float max_abs = 0.0f;
     for (int k = 0; k < 3; k++) {
         s->bounds_min[k] = INFINITY;
@@ -185,9 +184,9 @@ vdbgi_result vdbgi_scene_create(vdbgi_context *ctx, const vdbgi_mesh_desc *meshe
         mat->double_sided = d->double_sided != 0;
         for (size_t t = 0; t < d->triangle_count; t++) {
             const uint32_t *const i = &d->indices[3 * t];
-            const vdbgi_tri_status st = vdbgi_scene_add_triangle(s, (uint32_t)base + i[0],
-                                                     (uint32_t)base + i[1], (uint32_t)base + i[2],
-                                                     (uint32_t)m);
+            const vdbgi_tri_status st =
+                vdbgi_scene_add_triangle(s, (uint32_t)base + i[0], (uint32_t)base + i[1],
+                                         (uint32_t)base + i[2], (uint32_t)m);
             nonfinite += st == VDBGI_TRI_NONFINITE;
             s->skipped_count += st != VDBGI_TRI_KEPT;
         }
@@ -283,8 +282,8 @@ double vdbgi_scene_triangle_area(const vdbgi_scene *scene, size_t t)
     return 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
 }
 
-vdbgi_result vdbgi_scene_sample_surface(const vdbgi_scene *scene, size_t point_count,
-                                        float offset, uint64_t seed, float *points)
+vdbgi_result vdbgi_scene_sample_surface(const vdbgi_scene *scene, size_t point_count, float offset,
+                                        uint64_t seed, float *points)
 {
     vdbgi_context *const ctx = scene->ctx;
     VDBGI_FAIL_IF(ctx, point_count && !points, VDBGI_ERR_INVALID_ARG, "no output given");

@@ -13,8 +13,8 @@ extern "C" {
 typedef vdbgi_image vdbgi_texture;
 
 typedef struct vdbgi_material {
-    float base[3];  /* linear */
-    int texture;    /* index into textures, -1 for none */
+    float base[3]; /* linear */
+    int texture;   /* index into textures, -1 for none */
     bool double_sided;
 } vdbgi_material;
 
@@ -32,10 +32,10 @@ typedef struct vdbgi_tri {
 struct vdbgi_scene {
     vdbgi_context *ctx;
     size_t vertex_count, triangle_count, skipped_count;
-    float *positions;   /* 3 per vertex */
-    float *uvs;         /* 2 per vertex (0 where the mesh has none) */
-    float *colors;      /* 3 per vertex (1 where the mesh has none) */
-    uint32_t *indices;  /* 3 per triangle */
+    float *positions;  /* 3 per vertex */
+    float *uvs;        /* 2 per vertex (0 where the mesh has none) */
+    float *colors;     /* 3 per vertex (1 where the mesh has none) */
+    uint32_t *indices; /* 3 per triangle */
     vdbgi_tri *tris;
     vdbgi_material *materials;
     size_t material_count;

@@ -12,17 +12,25 @@
  * exception crosses into C. An allocation failure is out of memory; anything
  * else is a backend error carrying what() behind the library's name.
  */
+/* How a shim records a failure: vdbgi_fail, unless it is a module with a host table. */
+#ifndef VDBGI_SHIM_FAIL
+#define VDBGI_SHIM_FAIL vdbgi_fail
+#endif
+
 #define VDBGI_SHIM_BEGIN try {
 #define VDBGI_SHIM_END(ctx, lib)                                                                   \
     }                                                                                              \
-    catch (const std::bad_alloc &) {                                                               \
-        return vdbgi_fail((ctx), VDBGI_ERR_OUT_OF_MEMORY, lib ": out of memory");                  \
+    catch (const std::bad_alloc &)                                                                 \
+    {                                                                                              \
+        return VDBGI_SHIM_FAIL((ctx), VDBGI_ERR_OUT_OF_MEMORY, lib ": out of memory");             \
     }                                                                                              \
-    catch (const std::exception &e) {                                                              \
-        return vdbgi_fail((ctx), VDBGI_ERR_BACKEND, lib ": %s", e.what());                         \
+    catch (const std::exception &e)                                                                \
+    {                                                                                              \
+        return VDBGI_SHIM_FAIL((ctx), VDBGI_ERR_BACKEND, lib ": %s", e.what());                    \
     }                                                                                              \
-    catch (...) {                                                                                  \
-        return vdbgi_fail((ctx), VDBGI_ERR_BACKEND, lib ": unknown exception");                    \
+    catch (...)                                                                                    \
+    {                                                                                              \
+        return VDBGI_SHIM_FAIL((ctx), VDBGI_ERR_BACKEND, lib ": unknown exception");               \
     }
 
 #endif /* VDBGI_SHIM_H */

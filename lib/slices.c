@@ -1,10 +1,10 @@
 /* slices.c: images of a plane through the baked, filled and bricked fields, and the atlas. */
 #define _POSIX_C_SOURCE 200809L
+#include "encode.h"
+#include "image_shim.h"
 #include "probes.h"
 #include "util.h"
 #include "volume.h"
-#include "encode.h"
-#include "image_shim.h"
 
 #include <errno.h>
 #include <math.h>
@@ -19,8 +19,8 @@ static float linear_to_srgb(float c)
 }
 
 /* Write name.exr (linear, scaled) and name.png (exposed, sRGB) from RGB pixels. */
-static vdbgi_result write_pair(vdbgi_context *ctx, const char *dir, const char *name, int w,
-                               int h, float *rgb, float scale, float exposure)
+static vdbgi_result write_pair(vdbgi_context *ctx, const char *dir, const char *name, int w, int h,
+                               float *rgb, float scale, float exposure)
 {
     char path[4096];
     const size_t n = (size_t)w * (size_t)h * 3;
@@ -64,15 +64,14 @@ static vdbgi_result write_atlas(const vdbgi_volume *v, const char *dir, float ex
 }
 
 vdbgi_result vdbgi_volume_write_slices(const vdbgi_volume *v, const vdbgi_probes *probes,
-                                       vdbgi_axis axis, double at, float exposure,
-                                       const char *dir)
+                                       vdbgi_axis axis, double at, float exposure, const char *dir)
 {
     vdbgi_context *const ctx = v->ctx;
     VDBGI_FAIL_IF(ctx, !v->filled.leaves || !probes || !probes->rgb, VDBGI_ERR_INVALID_ARG,
                   "slices need a volume built from baked probes");
-    VDBGI_FAIL_IF(ctx, axis < VDBGI_AXIS_X || axis > VDBGI_AXIS_Z || !isfinite(at) ||
-                           !isfinite(exposure),
-                  VDBGI_ERR_INVALID_ARG, "bad slice axis, position or exposure");
+    VDBGI_FAIL_IF(
+        ctx, axis < VDBGI_AXIS_X || axis > VDBGI_AXIS_Z || !isfinite(at) || !isfinite(exposure),
+        VDBGI_ERR_INVALID_ARG, "bad slice axis, position or exposure");
     VDBGI_FAIL_IF(ctx, !dir || !*dir, VDBGI_ERR_INVALID_ARG, "no slice directory given");
     VDBGI_FAIL_IF(ctx, mkdir(dir, 0777) != 0 && errno != EEXIST, VDBGI_ERR_IO,
                   "%s: cannot make directory: %s", dir, strerror(errno));
@@ -97,8 +96,8 @@ vdbgi_result vdbgi_volume_write_slices(const vdbgi_volume *v, const vdbgi_probes
 #define PIXEL(iu, iv)                                                                              \
     ((iu) < u0 || (iu) >= u0 + w || (iv) < v0 || (iv) >= v0 + h                                    \
          ? (ptrdiff_t)-1                                                                           \
-         : (ptrdiff_t)((flip_v ? (size_t)(h - 1 - ((iv) - v0)) : (size_t)((iv) - v0)) * (size_t)w + \
-                       (size_t)((iu) - u0)))
+         : (ptrdiff_t)((flip_v ? (size_t)(h - 1 - ((iv)-v0)) : (size_t)((iv)-v0)) * (size_t)w +    \
+                       (size_t)((iu)-u0)))
     for (size_t i = 0; r == VDBGI_OK && i < probes->count; i++) {
         const int32_t *const c = &probes->ijk[3 * i];
         if (c[axis] != plane)

@@ -30,8 +30,8 @@ vdbgi_result vdbgi_tracer_check(vdbgi_tracer *t)
     const int code = atomic_load(&t->error);
     if (code == RTC_ERROR_NONE)
         return VDBGI_OK;
-    return vdbgi_fail(t->ctx, code == RTC_ERROR_OUT_OF_MEMORY ? VDBGI_ERR_OUT_OF_MEMORY
-                                                              : VDBGI_ERR_BACKEND,
+    return vdbgi_fail(t->ctx,
+                      code == RTC_ERROR_OUT_OF_MEMORY ? VDBGI_ERR_OUT_OF_MEMORY : VDBGI_ERR_BACKEND,
                       "embree: error %d: %s", code, t->message);
 }
 
@@ -47,8 +47,7 @@ void vdbgi_tracer_destroy(vdbgi_tracer *t)
 }
 
 vdbgi_result vdbgi_tracer_create(vdbgi_context *ctx, const float *positions, size_t vertex_count,
-                                 const uint32_t *indices, size_t triangle_count,
-                                 vdbgi_tracer **out)
+                                 const uint32_t *indices, size_t triangle_count, vdbgi_tracer **out)
 {
     *out = NULL;
     vdbgi_tracer *const t = vdbgi_calloc(ctx, 1, sizeof(*t));

@@ -6,16 +6,17 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/MeshToVolume.h>
 
-#include <cmath>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <memory>
 #include <vector>
 
-namespace {
+namespace
+{
 
 const char *const side_grid_names[6] = {"irradiance_px", "irradiance_nx", "irradiance_py",
                                         "irradiance_ny", "irradiance_pz", "irradiance_nz"};
@@ -118,8 +119,7 @@ extern "C" vdbgi_result vdbgi_vdb_topology(vdbgi_context *ctx, const float *posi
     VDBGI_SHIM_END(ctx, "openvdb")
 }
 
-extern "C" vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path,
-                                        const vdbgi_probes *p)
+extern "C" vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, const vdbgi_probes *p)
 {
     VDBGI_SHIM_BEGIN
     openvdb::initialize();
@@ -225,7 +225,8 @@ struct GridLayout : openvdb::io::Archive {
     }
 };
 
-namespace {
+namespace
+{
 
 /* The per-probe extras beside the irradiance: noise, rays and cube sides, at p's n probes. */
 void copy_extras(vdbgi_probes *p, size_t n, const openvdb::FloatGrid::Ptr &se,
@@ -272,8 +273,8 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
         // not a VDB file at all: open() below says why
     }
     if (!fits)
-        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: truncated VDB file (a grid ends past its end)",
-                          path);
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                          "%s: truncated VDB file (a grid ends past its end)", path);
     openvdb::io::File file(path);
     try {
         file.open();

@@ -256,11 +256,11 @@ typedef enum vdbgi_side {
 } vdbgi_side;
 
 typedef enum vdbgi_trace_method {
-    VDBGI_TRACE_AUTO = 0,   /* the fastest measured on this build (see docs/performance.md) */
-    VDBGI_TRACE_SINGLE = 1, /* rtcIntersect1 / rtcOccluded1, one ray at a time */
-    VDBGI_TRACE_PACKET8 = 2, /* rtcIntersect8 / rtcOccluded8 */
+    VDBGI_TRACE_AUTO = 0,     /* the fastest measured on this build (see docs/performance.md) */
+    VDBGI_TRACE_SINGLE = 1,   /* rtcIntersect1 / rtcOccluded1, one ray at a time */
+    VDBGI_TRACE_PACKET8 = 2,  /* rtcIntersect8 / rtcOccluded8 */
     VDBGI_TRACE_PACKET16 = 3, /* rtcIntersect16 / rtcOccluded16 */
-    VDBGI_TRACE_STREAM = 4  /* rtcIntersect1M / rtcOccluded1M over a probe's rays */
+    VDBGI_TRACE_STREAM = 4    /* rtcIntersect1M / rtcOccluded1M over a probe's rays */
 } vdbgi_trace_method;
 
 /*
@@ -393,14 +393,14 @@ VDBGI_API void vdbgi_probes_destroy(vdbgi_probes *probes);
 
 typedef struct vdbgi_probes_info {
     size_t probe_count;
-    size_t invalid_count;    /* 0 until baked */
-    double spacing;          /* metres */
-    double margin;           /* metres */
-    double origin[3];        /* world position of ijk (0,0,0) */
+    size_t invalid_count;           /* 0 until baked */
+    double spacing;                 /* metres */
+    double margin;                  /* metres */
+    double origin[3];               /* world position of ijk (0,0,0) */
     int32_t ijk_min[3], ijk_max[3]; /* inclusive bounds of the probes */
-    float invalid_threshold; /* back-face fraction above which a probe is invalid */
-    int baked;               /* non-zero once values are present */
-    vdbgi_basis basis;       /* VDBGI_BASIS_AMBIENT_CUBE when cubes are present */
+    float invalid_threshold;        /* back-face fraction above which a probe is invalid */
+    int baked;                      /* non-zero once values are present */
+    vdbgi_basis basis;              /* VDBGI_BASIS_AMBIENT_CUBE when cubes are present */
 } vdbgi_probes_info;
 
 VDBGI_API void vdbgi_probes_get_info(const vdbgi_probes *probes, vdbgi_probes_info *info);
@@ -455,17 +455,17 @@ typedef enum vdbgi_encoding {
 } vdbgi_encoding;
 
 typedef enum vdbgi_criterion {
-    VDBGI_CRITERION_AUTO = 0,   /* the default: VDBGI_CRITERION_INTERP (see docs/converter.md) */
-    VDBGI_CRITERION_RANGE = 1,  /* keep a block coarse if its colour range <= eps (seed 000) */
-    VDBGI_CRITERION_INTERP = 2  /* ... or if its brick's trilinear interpolation reproduces
+    VDBGI_CRITERION_AUTO = 0,  /* the default: VDBGI_CRITERION_INTERP (see docs/converter.md) */
+    VDBGI_CRITERION_RANGE = 1, /* keep a block coarse if its colour range <= eps (seed 000) */
+    VDBGI_CRITERION_INTERP = 2 /* ... or if its brick's trilinear interpolation reproduces
                                    every fine probe it covers within eps (Unreal) */
 } vdbgi_criterion;
 
 typedef enum vdbgi_fill {
-    VDBGI_FILL_AUTO = 0,    /* the default: VDBGI_FILL_DARKEST */
-    VDBGI_FILL_MEAN = 1,    /* an invalid or absent probe takes the weighted mean of its
+    VDBGI_FILL_AUTO = 0,   /* the default: VDBGI_FILL_DARKEST */
+    VDBGI_FILL_MEAN = 1,   /* an invalid or absent probe takes the weighted mean of its
                                valued neighbours */
-    VDBGI_FILL_DARKEST = 2  /* ... except an invalid probe whose two face neighbours along
+    VDBGI_FILL_DARKEST = 2 /* ... except an invalid probe whose two face neighbours along
                                one axis both hold values (inside a wall thinner than the
                                spacing), which takes its darkest neighbour (least r+g+b):
                                a fraction of the light leaks into dark rooms, at no
@@ -535,31 +535,30 @@ VDBGI_API vdbgi_result vdbgi_volume_write(const vdbgi_volume *volume, const char
  * and the data; a truncated or corrupted file is VDBGI_ERR_FORMAT, and
  * nothing is read past the end of the data.
  */
-VDBGI_API vdbgi_result vdbgi_volume_read(vdbgi_context *ctx, const char *path,
-                                         vdbgi_volume **out);
+VDBGI_API vdbgi_result vdbgi_volume_read(vdbgi_context *ctx, const char *path, vdbgi_volume **out);
 
 VDBGI_API void vdbgi_volume_destroy(vdbgi_volume *volume);
 
 typedef struct vdbgi_volume_info {
     vdbgi_encoding encoding;
     float rgbm_range;
-    float spacing;                  /* finest probe spacing, metres */
-    float box_min[3], box_max[3];   /* world box the indirection covers, metres */
-    uint32_t indirection_dims[3];   /* level-0 cells */
-    uint32_t atlas_dims[3];         /* texels */
+    float spacing;                /* finest probe spacing, metres */
+    float box_min[3], box_max[3]; /* world box the indirection covers, metres */
+    uint32_t indirection_dims[3]; /* level-0 cells */
+    uint32_t atlas_dims[3];       /* texels */
     uint32_t max_level;
-    uint32_t bricks[4];             /* kept bricks per level */
+    uint32_t bricks[4]; /* kept bricks per level */
     uint32_t brick_count;
     size_t indirection_size, atlas_size; /* bytes, uncompressed */
-    size_t file_size;               /* bytes of the gzip'd file */
-    size_t dense_rgba8_size;        /* a dense RGBA8 grid over the probes' box */
+    size_t file_size;                    /* bytes of the gzip'd file */
+    size_t dense_rgba8_size;             /* a dense RGBA8 grid over the probes' box */
     /* Filled in by vdbgi_volume_build only (0 after vdbgi_volume_read): */
     size_t probe_count, valid_count, filled_count, unreached_count;
-    size_t fallback_count;          /* brick texels with no filled point near: block mean */
-    size_t clamped_count;           /* texels whose colour exceeded the RGBM range */
-    double mean_irradiance;         /* over valid probes and channels */
-    double rmse, p99, max_error;    /* sampled field vs filled field at valid probes, absolute */
-    double seconds;                 /* wall time of the build */
+    size_t fallback_count;       /* brick texels with no filled point near: block mean */
+    size_t clamped_count;        /* texels whose colour exceeded the RGBM range */
+    double mean_irradiance;      /* over valid probes and channels */
+    double rmse, p99, max_error; /* sampled field vs filled field at valid probes, absolute */
+    double seconds;              /* wall time of the build */
 } vdbgi_volume_info;
 
 VDBGI_API void vdbgi_volume_get_info(const vdbgi_volume *volume, vdbgi_volume_info *info);

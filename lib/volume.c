@@ -19,19 +19,22 @@ static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *d
     *eps = desc->eps == 0.0f ? 0.1f : desc->eps == VDBGI_NONE ? 0.0f : desc->eps;
     VDBGI_FAIL_IF(ctx, !(*eps >= 0.0f) || !isfinite(*eps), VDBGI_ERR_INVALID_ARG,
                   "eps must be >= 0 and finite (got %g)", (double)desc->eps);
-    *sigmas = desc->noise_sigmas == 0.0f ? 1.0f
+    *sigmas = desc->noise_sigmas == 0.0f         ? 1.0f
               : desc->noise_sigmas == VDBGI_NONE ? 0.0f
                                                  : desc->noise_sigmas;
     VDBGI_FAIL_IF(ctx, !(*sigmas >= 0.0f) || !isfinite(*sigmas), VDBGI_ERR_INVALID_ARG,
-                  "noise allowance must be >= 0 standard errors (got %g)", (double)desc->noise_sigmas);
+                  "noise allowance must be >= 0 standard errors (got %g)",
+                  (double)desc->noise_sigmas);
     const int levels = desc->levels ? desc->levels : 4;
     VDBGI_FAIL_IF(ctx, levels < 1 || levels > 4, VDBGI_ERR_INVALID_ARG,
                   "max level must be in 0..3 (got %d)", levels - 1);
     *max_level = levels - 1;
-    VDBGI_FAIL_IF(ctx, desc->criterion < VDBGI_CRITERION_AUTO || desc->criterion > VDBGI_CRITERION_INTERP,
-                  VDBGI_ERR_INVALID_ARG, "unknown criterion %d", (int)desc->criterion);
+    VDBGI_FAIL_IF(
+        ctx, desc->criterion < VDBGI_CRITERION_AUTO || desc->criterion > VDBGI_CRITERION_INTERP,
+        VDBGI_ERR_INVALID_ARG, "unknown criterion %d", (int)desc->criterion);
     *criterion = desc->criterion == VDBGI_CRITERION_AUTO ? VDBGI_CRITERION_INTERP : desc->criterion;
-    VDBGI_FAIL_IF(ctx, desc->encoding != VDBGI_ENCODING_RGBM && desc->encoding != VDBGI_ENCODING_RGB9E5,
+    VDBGI_FAIL_IF(ctx,
+                  desc->encoding != VDBGI_ENCODING_RGBM && desc->encoding != VDBGI_ENCODING_RGB9E5,
                   VDBGI_ERR_INVALID_ARG, "unknown encoding %d", (int)desc->encoding);
     *encoding = desc->encoding;
     VDBGI_FAIL_IF(ctx, desc->fill < VDBGI_FILL_AUTO || desc->fill > VDBGI_FILL_DARKEST,
@@ -85,8 +88,8 @@ void vdbgi_volume_destroy(vdbgi_volume *v)
 static vdbgi_result measure_error(vdbgi_volume *v, const vdbgi_probes *p)
 {
     vdbgi_volume_info *const info = &v->info;
-    double *const err = vdbgi_calloc(v->ctx, info->valid_count ? info->valid_count : 1,
-                                     sizeof(double));
+    double *const err =
+        vdbgi_calloc(v->ctx, info->valid_count ? info->valid_count : 1, sizeof(double));
     if (!err)
         return VDBGI_ERR_OUT_OF_MEMORY;
     const vdbgi_volume_view view = vdbgi_volume_view_of(v);
@@ -162,7 +165,8 @@ static vdbgi_volume *volume_start(vdbgi_context *ctx, const vdbgi_probes *probes
         v->mean_rgb[k] = info->valid_count ? (float)(sum[k] / (double)info->valid_count) : 0.0f;
     info->mean_irradiance = (v->mean_rgb[0] + v->mean_rgb[1] + v->mean_rgb[2]) / 3.0;
     /* A dense RGBA8 grid over the probes' box at the same spacing, for comparison. */
-    int32_t pmin[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, pmax[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
+    int32_t pmin[3] = {INT32_MAX, INT32_MAX, INT32_MAX},
+            pmax[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
     for (size_t i = 0; i < probes->count; i++)
         for (int k = 0; k < 3; k++) {
             const int32_t c = probes->ijk[3 * i + k];
@@ -259,8 +263,8 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     const vdbgi_fill_params fp = vdbgi_fill_params_default(
         probes->invalid_threshold, desc ? desc->fill : VDBGI_FILL_AUTO, cp.threads);
     const vdbgi_fill_input in = {probes->count, probes->ijk, probes->rgb, probes->backface, 1};
-    vdbgi_result r = vdbgi_field_fill(ctx, &in, &fp, &v->filled, &cells, &cell_count,
-                                      &info->unreached_count);
+    vdbgi_result r =
+        vdbgi_field_fill(ctx, &in, &fp, &v->filled, &cells, &cell_count, &info->unreached_count);
     if (r != VDBGI_OK)
         goto fail;
     for (size_t li = 0; li < v->filled.leaf_count; li++)

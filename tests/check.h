@@ -30,10 +30,10 @@ static int check_test_failures; /* in the running test */
 #define CHECK_RESULT(ctx, call, expected)                                                          \
     do {                                                                                           \
         const vdbgi_result check_r_ = (call);                                                      \
-        if (check_r_ != (expected)) {                                                          \
-            fprintf(stderr, "%s:%d: %s returned %d (%s: %s), expected %d\n", __FILE__, __LINE__,  \
-                    #call, (int)check_r_, vdbgi_result_string(check_r_),                           \
-                    vdbgi_context_error(ctx), (int)(expected));                                    \
+        if (check_r_ != (expected)) {                                                              \
+            fprintf(stderr, "%s:%d: %s returned %d (%s: %s), expected %d\n", __FILE__, __LINE__,   \
+                    #call, (int)check_r_, vdbgi_result_string(check_r_), vdbgi_context_error(ctx), \
+                    (int)(expected));                                                              \
             check_failures++, check_test_failures++;                                               \
         }                                                                                          \
     } while (0)

@@ -33,8 +33,11 @@ static vdbgi_scene *plane_scene(vdbgi_context *ctx, float size)
 
 static vdbgi_bake_desc plane_desc(int rays, float ray_dist, float falloff, vdbgi_sampling sampling)
 {
-    const vdbgi_bake_desc d = {.rays = rays, .ray_dist = ray_dist, .ambient = (float)ambient,
-                               .sun_dir = {0.0f, 1.0f, 0.0f}, .falloff = falloff,
+    const vdbgi_bake_desc d = {.rays = rays,
+                               .ray_dist = ray_dist,
+                               .ambient = (float)ambient,
+                               .sun_dir = {0.0f, 1.0f, 0.0f},
+                               .falloff = falloff,
                                .sampling = sampling};
     return d;
 }
@@ -140,12 +143,12 @@ static void closed_box_reads_albedo_times_ambient_at_any_scale(void)
         const vdbgi_mesh_desc md = test_mesh_desc(&m, (float)rho, 0);
         vdbgi_scene *s = NULL;
         CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &s), VDBGI_OK);
-        float pts[3 * 3] = {0.0f, 0.0f, 0.0f, 0.9f * r, -0.9f * r, 0.5f * r,
-                            -0.99f * r, 0.99f * r, -0.99f * r};
+        float pts[3 * 3] = {0.0f,     0.0f,       0.0f,      0.9f * r,  -0.9f * r,
+                            0.5f * r, -0.99f * r, 0.99f * r, -0.99f * r};
         float rgb[3 * 3], bf[3];
         for (int sun = 0; sun < 2; sun++) {
-            vdbgi_bake_desc d = {.rays = 512, .ray_dist = 4.0f * r, .ambient = (float)ambient,
-                                 .falloff = INFINITY};
+            vdbgi_bake_desc d = {
+                .rays = 512, .ray_dist = 4.0f * r, .ambient = (float)ambient, .falloff = INFINITY};
             if (!sun)
                 d.sun_color[0] = VDBGI_NONE;
             CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 3, rgb, bf), VDBGI_OK);
@@ -231,8 +234,7 @@ static vdbgi_scene *mixed_scene(vdbgi_context *ctx)
     test_mesh_box(&solid, lo1, hi1, 0);
     test_mesh_box(&open, lo2, hi2, 0);
     const vdbgi_mesh_desc md[3] = {test_mesh_desc(&ground, 0.3f, 0),
-                                   test_mesh_desc(&solid, 0.7f, 0),
-                                   test_mesh_desc(&open, 0.5f, 1)};
+                                   test_mesh_desc(&solid, 0.7f, 0), test_mesh_desc(&open, 0.5f, 1)};
     vdbgi_scene *s = NULL;
     CHECK_RESULT(ctx, vdbgi_scene_create(ctx, md, 3, &s), VDBGI_OK);
     return s;
@@ -250,8 +252,10 @@ static void results_do_not_depend_on_thread_count(void)
         for (int t = 0; t < 4; t++) {
             vdbgi_probes *p = NULL;
             CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
-            const vdbgi_bake_desc bd = {.rays = 64, .sampling = (vdbgi_sampling)sampling,
-                                        .seed = 42, .threads = threads[t]};
+            const vdbgi_bake_desc bd = {.rays = 64,
+                                        .sampling = (vdbgi_sampling)sampling,
+                                        .seed = 42,
+                                        .threads = threads[t]};
             CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &bd, NULL), VDBGI_OK);
             vdbgi_probes_info info;
             vdbgi_probes_get_info(p, &info);
@@ -384,12 +388,11 @@ static void bad_bake_parameters_are_refused(void)
         CHECK(strlen(vdbgi_context_error(ctx)) > 0);
     }
     const float nan_pt[3] = {0, NAN, 0};
-    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, NULL, nan_pt, 1, rgb, NULL),
-                 VDBGI_ERR_INVALID_ARG);
+    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, NULL, nan_pt, 1, rgb, NULL), VDBGI_ERR_INVALID_ARG);
 
     vdbgi_probes *p = (vdbgi_probes *)1;
-    const vdbgi_place_desc badp[4] = {{.spacing = -1.0}, {.spacing = NAN}, {.margin = -3.0},
-                                      {.spacing = 1e-9}};
+    const vdbgi_place_desc badp[4] = {
+        {.spacing = -1.0}, {.spacing = NAN}, {.margin = -3.0}, {.spacing = 1e-9}};
     for (int i = 0; i < 4; i++) {
         CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &badp[i], &p), VDBGI_ERR_INVALID_ARG);
         CHECK(p == NULL);
@@ -422,8 +425,8 @@ static void progress_is_reported_and_can_cancel(void)
     vdbgi_probes *p = NULL;
     CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, NULL, &p), VDBGI_OK);
     int calls = 0;
-    vdbgi_bake_desc d = {.rays = 16, .threads = 1, .progress = cancel_at_half,
-                         .progress_user = &calls};
+    vdbgi_bake_desc d = {
+        .rays = 16, .threads = 1, .progress = cancel_at_half, .progress_user = &calls};
     CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &d, NULL), VDBGI_ERR_CANCELLED);
     CHECK(calls >= 1 && calls <= 101);
     vdbgi_probes_info info;
@@ -580,7 +583,8 @@ static void adaptive_rays_stop_early_where_light_is_even(void)
     const float plo[3] = {1.0f, -3.0f, 1.0f}, phi[3] = {1.4f, 3.0f, 1.4f};
     test_mesh_box(&walls, lo, hi, 1);
     test_mesh_box(&pillar, plo, phi, 0);
-    const vdbgi_mesh_desc md[2] = {test_mesh_desc(&walls, 0.5f, 0), test_mesh_desc(&pillar, 0.9f, 0)};
+    const vdbgi_mesh_desc md[2] = {test_mesh_desc(&walls, 0.5f, 0),
+                                   test_mesh_desc(&pillar, 0.9f, 0)};
     vdbgi_scene *s = NULL;
     CHECK_RESULT(ctx, vdbgi_scene_create(ctx, md, 1, &s), VDBGI_OK);
     vdbgi_probes *p = NULL;

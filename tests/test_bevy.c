@@ -6,8 +6,8 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "encode.h"
-#include "image_shim.h"
 #include "field.h"
+#include "image_shim.h"
 #include "probes.h"
 #include "test_util.h"
 
@@ -74,12 +74,13 @@ static void ktx2_layout_follows_seed_001(void)
         CHECK(f && size > 104);
         if (!f || size <= 104)
             continue;
-        static const uint8_t id[12] = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, '\r', '\n', 0x1A, '\n'};
+        static const uint8_t id[12] = {0xAB, 'K',  'T',  'X',  ' ',  '2',
+                                       '0',  0xBB, '\r', '\n', 0x1A, '\n'};
         CHECK(memcmp(f, id, 12) == 0);
         CHECK(u32(f + 12) == (format ? 123u : 97u)); /* VkFormat */
         const uint32_t w = u32(f + 20), h = u32(f + 24), d = u32(f + 28);
-        CHECK(w == 3 && h == 2 * 5 && d == 3 * 7);    /* (Rx, 2Ry, 3Rz) */
-        CHECK(u32(f + 36) == 1 && u32(f + 40) == 1);   /* one face, one level */
+        CHECK(w == 3 && h == 2 * 5 && d == 3 * 7);   /* (Rx, 2Ry, 3Rz) */
+        CHECK(u32(f + 36) == 1 && u32(f + 40) == 1); /* one face, one level */
         const uint64_t offset = u32(f + 80), length = u32(f + 88);
         const size_t texel = format ? 4 : 8;
         CHECK(length == (uint64_t)w * h * d * texel && offset + length == size);
@@ -99,12 +100,14 @@ static void ktx2_layout_follows_seed_001(void)
                             vdbgi_rgb9e5_decode(u32(tx), got);
                         } else {
                             for (int k = 0; k < 3; k++)
-                                got[k] = vdbgi_half_to_float((uint16_t)(tx[2 * k] | tx[2 * k + 1] << 8));
+                                got[k] =
+                                    vdbgi_half_to_float((uint16_t)(tx[2 * k] | tx[2 * k + 1] << 8));
                             CHECK(vdbgi_half_to_float((uint16_t)(tx[6] | tx[7] << 8)) == 1.0f);
                         }
                         if (memcmp(got, want, sizeof(got)) != 0 && wrong++ < 3)
                             fprintf(stderr, "voxel %d,%d,%d side %s: got %g %g %g\n", x, y, z,
-                                    side_name[side], (double)got[0], (double)got[1], (double)got[2]);
+                                    side_name[side], (double)got[0], (double)got[1],
+                                    (double)got[2]);
                     }
         CHECK(wrong == 0);
         free(f);
@@ -173,8 +176,8 @@ static void baked_cubes_resample_onto_the_grid(void)
     vdbgi_scene *s = NULL;
     vdbgi_probes *p = baked_room(ctx, VDBGI_BASIS_AMBIENT_CUBE, &s);
     /* Inside the room only: every ray hits a wall of albedo 0.5 lit by ambient 0.15. */
-    const vdbgi_bevy_desc d = {.resolution = {6, 3, 4}, .box_min = {-3, 0, -2},
-                               .box_max = {3, 3, 2}, .box_is_set = 1};
+    const vdbgi_bevy_desc d = {
+        .resolution = {6, 3, 4}, .box_min = {-3, 0, -2}, .box_max = {3, 3, 2}, .box_is_set = 1};
     vdbgi_bevy *b = NULL;
     CHECK_RESULT(ctx, vdbgi_bevy_build(ctx, p, &d, &b), VDBGI_OK);
     if (b) {
@@ -228,9 +231,9 @@ static void bad_volumes_are_refused_without_files(void)
     const vdbgi_bevy_desc bad[] = {
         {.box_min = {-100, 0, 0}, .box_max = {1, 1, 1}, .box_is_set = 1}, /* outside */
         {.box_min = {0, 0, 0}, .box_max = {0, 1, 1}, .box_is_set = 1},    /* empty */
-        {.resolution = {4, 0, 4}},                                          /* zero */
-        {.resolution = {3000, 1, 1}},                                       /* > 2048 */
-        {.resolution = {4, 2000, 4}},                                       /* 2Ry > 2048 */
+        {.resolution = {4, 0, 4}},                                        /* zero */
+        {.resolution = {3000, 1, 1}},                                     /* > 2048 */
+        {.resolution = {4, 2000, 4}},                                     /* 2Ry > 2048 */
         {.fill = (vdbgi_fill)5},
         {.voxel_size = -1.0},
     };

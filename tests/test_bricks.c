@@ -57,8 +57,8 @@ static void exact_bricks_give_back_every_valid_probe(void)
     vdbgi_context *ctx = test_context();
     vdbgi_probes *p = test_slab(ctx, 20, 9, 13, smooth);
     for (int e = 0; e < 2; e++) {
-        const vdbgi_convert_desc d = {.eps = VDBGI_NONE, .levels = 1,
-                                      .encoding = (vdbgi_encoding)e};
+        const vdbgi_convert_desc d = {
+            .eps = VDBGI_NONE, .levels = 1, .encoding = (vdbgi_encoding)e};
         vdbgi_volume *v = NULL;
         CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
         if (!v)
@@ -178,8 +178,8 @@ static void linear_ramp_stays_coarse_under_interpolation(void)
     uint32_t bricks[2] = {0, 0}, fine[2] = {0, 0};
     double rmse[2] = {0, 0};
     for (int c = 0; c < 2; c++) {
-        const vdbgi_convert_desc d = {.eps = 0.05f,
-                                      .criterion = c ? VDBGI_CRITERION_INTERP : VDBGI_CRITERION_RANGE};
+        const vdbgi_convert_desc d = {
+            .eps = 0.05f, .criterion = c ? VDBGI_CRITERION_INTERP : VDBGI_CRITERION_RANGE};
         vdbgi_volume *v = NULL;
         CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
         if (!v)
@@ -311,9 +311,9 @@ static void damaged_files_are_refused(void)
         vdbgi_volume *r = NULL;
         const vdbgi_result res = vdbgi_volume_read(ctx, tmp_path("flip.gi.gz"), &r);
         CHECK(res == VDBGI_ERR_FORMAT ||
-              (res == VDBGI_OK && memcmp(r->raw, v->raw, VDBGI_GI_HEADER_SIZE +
-                                                             v->info.indirection_size +
-                                                             v->info.atlas_size) == 0));
+              (res == VDBGI_OK &&
+               memcmp(r->raw, v->raw,
+                      VDBGI_GI_HEADER_SIZE + v->info.indirection_size + v->info.atlas_size) == 0));
         vdbgi_volume_destroy(r);
     }
     /* Uncompressed, with a byte of trailing junk; and a lying header. */
@@ -355,9 +355,14 @@ static void bad_parameters_and_probes_are_refused(void)
     vdbgi_context *ctx = test_context();
     vdbgi_probes *p = test_slab(ctx, 8, 4, 8, flat);
     vdbgi_volume *v = (vdbgi_volume *)1;
-    const vdbgi_convert_desc bad[] = {{.eps = -1.0f}, {.eps = -0.5f}, {.eps = NAN}, {.levels = 5},
-                                      {.levels = -1}, {.criterion = (vdbgi_criterion)9},
-                                      {.encoding = (vdbgi_encoding)7}, {.fill = (vdbgi_fill)3}};
+    const vdbgi_convert_desc bad[] = {{.eps = -1.0f},
+                                      {.eps = -0.5f},
+                                      {.eps = NAN},
+                                      {.levels = 5},
+                                      {.levels = -1},
+                                      {.criterion = (vdbgi_criterion)9},
+                                      {.encoding = (vdbgi_encoding)7},
+                                      {.fill = (vdbgi_fill)3}};
     for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
         CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &bad[i], &v), VDBGI_ERR_INVALID_ARG);
         CHECK(v == NULL);
@@ -393,7 +398,8 @@ static void bad_parameters_and_probes_are_refused(void)
                  VDBGI_ERR_INVALID_ARG);
     CHECK_RESULT(ctx, vdbgi_volume_write_slices(v, p, VDBGI_AXIS_Y, 0.5, 0.0f, tmp_path("sl")),
                  VDBGI_OK);
-    CHECK(access(tmp_path("sl/levels.png"), R_OK) == 0 && access(tmp_path("sl/atlas.exr"), R_OK) == 0);
+    CHECK(access(tmp_path("sl/levels.png"), R_OK) == 0 &&
+          access(tmp_path("sl/atlas.exr"), R_OK) == 0);
     vdbgi_volume_destroy(r);
     vdbgi_volume_destroy(v);
     vdbgi_probes_destroy(p);

@@ -88,8 +88,11 @@ static void rgb9e5_is_within_its_precision(void)
 static void rgb9e5_is_exact_where_representable_and_clamps(void)
 {
     /* Values with <= 9 significant bits and a shared exponent round-trip exactly. */
-    const float exact[][3] = {{1.0f, 0.5f, 0.25f}, {0.0f, 0.0f, 0.0f}, {511.0f, 3.0f, 0.0f},
-                              {65408.0f, 128.0f, 256.0f}, {0.001953125f, 0.0f, 0.0009765625f}};
+    const float exact[][3] = {{1.0f, 0.5f, 0.25f},
+                              {0.0f, 0.0f, 0.0f},
+                              {511.0f, 3.0f, 0.0f},
+                              {65408.0f, 128.0f, 256.0f},
+                              {0.001953125f, 0.0f, 0.0009765625f}};
     for (size_t i = 0; i < sizeof(exact) / sizeof(exact[0]); i++) {
         uint32_t w;
         float d[3];
@@ -141,8 +144,8 @@ static void half_matches_the_compilers_float16(void)
         uint16_t bits;
         memcpy(&bits, &ref, 2);
         if (vdbgi_half_from_float(f) != bits) {
-            fprintf(stderr, "half(%a): got %04x, want %04x\n", (double)f,
-                    vdbgi_half_from_float(f), bits);
+            fprintf(stderr, "half(%a): got %04x, want %04x\n", (double)f, vdbgi_half_from_float(f),
+                    bits);
             CHECK(0);
             break;
         }

@@ -23,8 +23,8 @@ static vdbgi_result fill(vdbgi_context *ctx, const int32_t *ijk, const float *va
                          int threads, vdbgi_field *field, int32_t **cells, size_t *cell_count,
                          size_t *unreached)
 {
-    vdbgi_fill_params fp = vdbgi_fill_params_default(
-        0.25f, darkest ? VDBGI_FILL_DARKEST : VDBGI_FILL_MEAN, threads);
+    vdbgi_fill_params fp =
+        vdbgi_fill_params_default(0.25f, darkest ? VDBGI_FILL_DARKEST : VDBGI_FILL_MEAN, threads);
     const vdbgi_fill_input in = {count, ijk, values, backface, channels};
     return vdbgi_field_fill(ctx, &in, &fp, field, cells, cell_count, unreached);
 }
@@ -114,15 +114,14 @@ static void an_invalid_probe_in_a_wall_takes_one_neighbour_for_every_channel(voi
        dark side (+x) the other way round but darker over all. Per channel, darkest would
        mix the two; one choice takes the +x neighbour for both. */
     const int32_t ijk[9] = {-1, 0, 0, 1, 0, 0, 0, 0, 0};
-    const float values[18] = {0.1f, 0.1f, 0.1f, 9.0f, 9.0f, 9.0f,
-                              0.5f, 0.5f, 0.5f, 0.2f, 0.2f, 0.2f,
-                              7.0f, 7.0f, 7.0f, 7.0f, 7.0f, 7.0f};
+    const float values[18] = {0.1f, 0.1f, 0.1f, 9.0f, 9.0f, 9.0f, 0.5f, 0.5f, 0.5f,
+                              0.2f, 0.2f, 0.2f, 7.0f, 7.0f, 7.0f, 7.0f, 7.0f, 7.0f};
     const float bf[3] = {0.0f, 0.0f, 1.0f};
     vdbgi_field f;
     int32_t *cells = NULL;
     size_t cell_count = 0, unreached = 0;
-    CHECK_RESULT(ctx, fill(ctx, ijk, values, bf, 3, 2, true, 0, &f, &cells, &cell_count,
-                           &unreached),
+    CHECK_RESULT(ctx,
+                 fill(ctx, ijk, values, bf, 3, 2, true, 0, &f, &cells, &cell_count, &unreached),
                  VDBGI_OK);
     const int32_t wall[3] = {0, 0, 0};
     const float *const v = vdbgi_field_at(&f, wall, NULL);
@@ -133,8 +132,8 @@ static void an_invalid_probe_in_a_wall_takes_one_neighbour_for_every_channel(voi
     free(cells);
     vdbgi_field_free(&f);
     /* The mean fill ignores the wall: face weights 1 each. */
-    CHECK_RESULT(ctx, fill(ctx, ijk, values, bf, 3, 2, false, 0, &f, &cells, &cell_count,
-                           &unreached),
+    CHECK_RESULT(ctx,
+                 fill(ctx, ijk, values, bf, 3, 2, false, 0, &f, &cells, &cell_count, &unreached),
                  VDBGI_OK);
     const float *const m = vdbgi_field_at(&f, wall, NULL);
     CHECK(m != NULL);
@@ -198,8 +197,9 @@ static void the_field_does_not_depend_on_the_thread_count(void)
     size_t cell_count[3], unreached[3];
     const int threads[3] = {1, 2, 5};
     for (int t = 0; t < 3; t++)
-        CHECK_RESULT(ctx, fill(ctx, ijk, values, bf, N, 6, true, threads[t], &f[t], &cells[t],
-                               &cell_count[t], &unreached[t]),
+        CHECK_RESULT(ctx,
+                     fill(ctx, ijk, values, bf, N, 6, true, threads[t], &f[t], &cells[t],
+                          &cell_count[t], &unreached[t]),
                      VDBGI_OK);
     for (int t = 1; t < 3; t++) {
         CHECK(f[t].leaf_count == f[0].leaf_count && cell_count[t] == cell_count[0]);

@@ -7,8 +7,8 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "scene.h"
-#include "tracer.h"
 #include "test_util.h"
+#include "tracer.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -112,8 +112,9 @@ static size_t png_encode(const unsigned char (*rgb)[3], int w, int h, unsigned c
     static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
     memcpy(out, sig, 8);
     o = 8;
-#define PUT32(v) (out[o++] = (unsigned char)((v) >> 24), out[o++] = (unsigned char)((v) >> 16), \
-                  out[o++] = (unsigned char)((v) >> 8), out[o++] = (unsigned char)(v))
+#define PUT32(v)                                                                                   \
+    (out[o++] = (unsigned char)((v) >> 24), out[o++] = (unsigned char)((v) >> 16),                 \
+     out[o++] = (unsigned char)((v) >> 8), out[o++] = (unsigned char)(v))
     const unsigned char ihdr[13] = {0, 0, 0, (unsigned char)w, 0, 0, 0, (unsigned char)h, 8, 2};
     const struct {
         const char *tag;
@@ -181,9 +182,8 @@ static void write_glb(const char *name, int textured, int double_sided)
         "\"nodes\":[{\"children\":[1],\"translation\":[0,5,0]},"
         "{\"mesh\":0,\"translation\":[10,0,0],\"scale\":[2,2,2]}],"
         "\"scenes\":[{\"nodes\":[0]}],\"scene\":0}",
-        n, off[0], sizes[0], off[1], sizes[1], off[2], sizes[2], off[3], sizes[3], off[4],
-        sizes[4], double_sided ? "true" : "false",
-        textured ? ",\"baseColorTexture\":{\"index\":0}" : "");
+        n, off[0], sizes[0], off[1], sizes[1], off[2], sizes[2], off[3], sizes[3], off[4], sizes[4],
+        double_sided ? "true" : "false", textured ? ",\"baseColorTexture\":{\"index\":0}" : "");
     while (j % 4)
         json[j++] = ' ';
     unsigned char glb[8192];

@@ -2,9 +2,9 @@
 #ifndef VDBGI_TEST_SLAB_H
 #define VDBGI_TEST_SLAB_H
 
+#include "check.h"
 #include "probes.h"
 #include "volume.h"
-#include "check.h"
 
 typedef float (*field_fn)(double x, double y, double z, int channel);
 

@@ -5,8 +5,8 @@
  * longer. Every measured figure is printed as "# case,metric,value".
  */
 #define _POSIX_C_SOURCE 200809L
-#include "gifile.h"
 #include "encode.h"
+#include "gifile.h"
 #include "sampler.h"
 #include "test_slab.h"
 #include "test_util.h"
@@ -56,7 +56,8 @@ static void buf_append(mesh_buf *b, const test_mesh *m, int skip)
         const uint32_t base = (uint32_t)b->vertex_count;
         memcpy(&b->pos[3 * base], &m->pos[12 * q], 12 * sizeof(float));
         for (int i = 0; i < 6; i++)
-            b->idx[3 * b->triangle_count + (size_t)i] = base + m->idx[6 * q + (size_t)i] - 4 * (uint32_t)q;
+            b->idx[3 * b->triangle_count + (size_t)i] =
+                base + m->idx[6 * q + (size_t)i] - 4 * (uint32_t)q;
         b->vertex_count += 4, b->triangle_count += 2;
     }
 }
@@ -70,8 +71,8 @@ static void buf_box(mesh_buf *b, const float lo[3], const float hi[3], int inwar
 
 static vdbgi_mesh_desc buf_desc(const mesh_buf *b, float albedo)
 {
-    const vdbgi_mesh_desc d = {b->pos, b->vertex_count, b->idx, b->triangle_count,
-                               {albedo, albedo, albedo}, 0};
+    const vdbgi_mesh_desc d = {
+        b->pos, b->vertex_count, b->idx, b->triangle_count, {albedo, albedo, albedo}, 0};
     return d;
 }
 
@@ -115,7 +116,8 @@ static void noise_allowance_keeps_low_ray_bakes_coarse(void)
     size_t valid = 0;
     for (size_t i = 0; i < ref->count; i++)
         if (ref->backface[i] <= ref->invalid_threshold)
-            ref_mean += (ref->rgb[3 * i] + ref->rgb[3 * i + 1] + ref->rgb[3 * i + 2]) / 3.0, valid++;
+            ref_mean += (ref->rgb[3 * i] + ref->rgb[3 * i + 1] + ref->rgb[3 * i + 2]) / 3.0,
+                valid++;
     ref_mean /= (double)(valid ? valid : 1);
 
     static const int full_rays[] = {32, 64, 128, 256, 512, 1024}, short_rays[] = {32, 1024};
@@ -139,7 +141,8 @@ static void noise_allowance_keeps_low_ray_bakes_coarse(void)
             if (ref->backface[i] > ref->invalid_threshold)
                 continue;
             const double d = (p->rgb[3 * i] + p->rgb[3 * i + 1] + p->rgb[3 * i + 2] -
-                              ref->rgb[3 * i] - ref->rgb[3 * i + 1] - ref->rgb[3 * i + 2]) / 3.0;
+                              ref->rgb[3 * i] - ref->rgb[3 * i + 1] - ref->rgb[3 * i + 2]) /
+                             3.0;
             err2 += d * d;
             se2 += (double)p->stderr_[i] * p->stderr_[i];
         }
@@ -152,7 +155,8 @@ static void noise_allowance_keeps_low_ray_bakes_coarse(void)
         }
         for (int run = 0; run < 2 * neps && p; run++) {
             const int e = run / 2, allow = run % 2;
-            const vdbgi_convert_desc cd = {.eps = eps[e], .noise_sigmas = allow ? 0.0f : VDBGI_NONE};
+            const vdbgi_convert_desc cd = {.eps = eps[e],
+                                           .noise_sigmas = allow ? 0.0f : VDBGI_NONE};
             vdbgi_volume *v = NULL;
             CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
             if (!v)
@@ -257,7 +261,8 @@ static void fibonacci_error_is_structured_on_thin_geometry(void)
             double se = 0.0;
             for (int i = 0; i < N; i++) {
                 e[i] = (got[3 * i] + got[3 * i + 1] + got[3 * i + 2] - ref[3 * i] - ref[3 * i + 1] -
-                        ref[3 * i + 2]) / (3.0 * mean);
+                        ref[3 * i + 2]) /
+                       (3.0 * mean);
                 se += e[i] * e[i];
             }
             rho[sm] = autocorrelation(e, N);
@@ -326,15 +331,18 @@ static void leak_case(float t, double origin_x, double out[2][FILL_CASES + 1])
         CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &rd, pts[side], N, ref, NULL), VDBGI_OK);
         out[side][0] = luminance_mean(ref, N);
     }
-    const vdbgi_place_desc pd = {.spacing = 0.5, .origin = {origin_x, 0.25, 0.25}, .origin_is_set = 1};
+    const vdbgi_place_desc pd = {
+        .spacing = 0.5, .origin = {origin_x, 0.25, 0.25}, .origin_is_set = 1};
     for (int f = 0; f < FILL_CASES; f++) {
         vdbgi_probes *pr = NULL;
         CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &pr), VDBGI_OK);
         /* A threshold of 1 counts no probe invalid: the field as if validity did not exist. */
         const vdbgi_bake_desc bd = {.rays = 256, .invalid_threshold = f == FILL_NONE ? 1.0f : 0.0f};
         CHECK_RESULT(ctx, vdbgi_probes_bake(pr, s, &bd, NULL), VDBGI_OK);
-        const vdbgi_convert_desc cd = {.eps = VDBGI_NONE, .levels = 1,
-                                       .fill = f == FILL_DARKEST ? VDBGI_FILL_DARKEST : VDBGI_FILL_MEAN};
+        const vdbgi_convert_desc cd = {.eps = VDBGI_NONE,
+                                       .levels = 1,
+                                       .fill = f == FILL_DARKEST ? VDBGI_FILL_DARKEST
+                                                                 : VDBGI_FILL_MEAN};
         vdbgi_volume *v = NULL;
         CHECK_RESULT(ctx, vdbgi_volume_build(ctx, pr, &cd, &v), VDBGI_OK);
         for (int side = 0; side < 2; side++) {
@@ -365,7 +373,8 @@ static void thin_wall_leaks_fall_with_the_darkest_fill(void)
             leak_case(t[ti], in_wall ? 0.0 : 0.25, r);
             double leak[FILL_CASES], lit[FILL_CASES];
             char name[64];
-            snprintf(name, sizeof(name), "leak_t%.2f_%s", (double)t[ti], in_wall ? "probe_in_wall" : "wall_between");
+            snprintf(name, sizeof(name), "leak_t%.2f_%s", (double)t[ti],
+                     in_wall ? "probe_in_wall" : "wall_between");
             report(name, "dark_reference", r[0][0]);
             report(name, "lit_reference", r[1][0]);
             for (int f = 0; f < FILL_CASES; f++) {
@@ -421,7 +430,8 @@ static void rgbm_range_and_clamps(void)
                 for (int k = 0; k < 3; k++)
                     e = fmax(e, fabs(d[codec][k] - c[k]) / v);
                 if (v <= 8.0)
-                    worst[codec][decade < 4 ? decade : 4] = fmax(worst[codec][decade < 4 ? decade : 4], e);
+                    worst[codec][decade < 4 ? decade : 4] =
+                        fmax(worst[codec][decade < 4 ? decade : 4], e);
                 else if (codec == 0)
                     CHECK_NEAR(d[0][0], 8.0, 1e-6); /* clamps to the range */
                 else
@@ -453,8 +463,8 @@ static void rgbm_range_and_clamps(void)
     report("range_16", "rgbm_decoded", d[0][0]);
     report("range_16", "rgb9e5_decoded", d[1][0]);
     CHECK(rgbm_bound_violation <= 1.0 + 1e-4);
-    CHECK(worst[0][0] > 0.1);            /* the failure is real: 1e-4 is mostly rounding */
-    CHECK(worst[0][3] < 0.01);           /* and from 0.1 up RGBM is within 1 % */
+    CHECK(worst[0][0] > 0.1);  /* the failure is real: 1e-4 is mostly rounding */
+    CHECK(worst[0][3] < 0.01); /* and from 0.1 up RGBM is within 1 % */
     for (int dk = 0; dk < 5; dk++)
         CHECK(worst[1][dk] <= 1.0 / 512.0); /* RGB9E5 keeps 2^-9 over the whole range */
 }
@@ -485,14 +495,16 @@ static void level_seams_stay_within_eps(void)
         vdbgi_context_destroy(ctx);
         return;
     }
-    static const float full_eps[] = {0.01f, 0.02f, 0.05f, 0.1f, 0.2f, 0.4f}, short_eps[] = {0.05f, 0.2f};
+    static const float full_eps[] = {0.01f, 0.02f, 0.05f, 0.1f, 0.2f, 0.4f},
+                       short_eps[] = {0.05f, 0.2f};
     const float *eps = full ? full_eps : short_eps;
     const int neps = full ? 6 : 2;
     for (int run = 0; run < 4 * neps; run++) {
         const int e = run % neps, enc = run / neps % 2, range = run / neps / 2;
-        const vdbgi_convert_desc cd = {.eps = eps[e],
-                                       .criterion = range ? VDBGI_CRITERION_RANGE : VDBGI_CRITERION_INTERP,
-                                       .encoding = enc ? VDBGI_ENCODING_RGB9E5 : VDBGI_ENCODING_RGBM};
+        const vdbgi_convert_desc cd = {
+            .eps = eps[e],
+            .criterion = range ? VDBGI_CRITERION_RANGE : VDBGI_CRITERION_INTERP,
+            .encoding = enc ? VDBGI_ENCODING_RGB9E5 : VDBGI_ENCODING_RGBM};
         vdbgi_volume *v = NULL;
         CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
         if (!v)
@@ -511,8 +523,10 @@ static void level_seams_stay_within_eps(void)
                         uint32_t c1[3] = {x, y, z};
                         if (++c1[axis] >= d[axis])
                             continue;
-                        const uint8_t a0 = view.indirection[4 * ((c0[2] * d[1] + c0[1]) * d[0] + c0[0]) + 3];
-                        const uint8_t a1 = view.indirection[4 * ((c1[2] * d[1] + c1[1]) * d[0] + c1[0]) + 3];
+                        const uint8_t a0 =
+                            view.indirection[4 * ((c0[2] * d[1] + c0[1]) * d[0] + c0[0]) + 3];
+                        const uint8_t a1 =
+                            view.indirection[4 * ((c1[2] * d[1] + c1[1]) * d[0] + c1[0]) + 3];
                         if (!a0 || !a1)
                             continue;
                         seams += a0 != a1;
@@ -522,13 +536,15 @@ static void level_seams_stay_within_eps(void)
                                 float pos[2][3];
                                 for (int side = 0; side < 2; side++)
                                     for (int k = 0; k < 3; k++) {
-                                        const int other = k == axis ? 0 : (k == (axis + 1) % 3 ? u : w);
+                                        const int other =
+                                            k == axis ? 0 : (k == (axis + 1) % 3 ? u : w);
                                         double q = 4.0 * c0[k] + other + 0.3;
                                         if (k == axis)
                                             q = 4.0 * (c0[k] + 1) + (side ? 1e-4 : -1e-4);
-                                        pos[side][k] = (float)(view.box_min[k] +
-                                                               (q + 0.5) / (4.0 * d[k]) *
-                                                                   (view.box_max[k] - view.box_min[k]));
+                                        pos[side][k] =
+                                            (float)(view.box_min[k] +
+                                                    (q + 0.5) / (4.0 * d[k]) *
+                                                        (view.box_max[k] - view.box_min[k]));
                                     }
                                 /* Only inside the probes' slab, where receivers are. */
                                 bool inside = true;
@@ -669,8 +685,9 @@ static void a_kilometre_plane_is_refused_or_placed_within_memory(void)
  */
 enum { COINCIDENT_POINTS = 25 };
 
-static void coincident_bake(vdbgi_context *ctx, const vdbgi_mesh_desc *md, size_t count, int threads,
-                            float rgb[3 * COINCIDENT_POINTS], float backface[COINCIDENT_POINTS])
+static void coincident_bake(vdbgi_context *ctx, const vdbgi_mesh_desc *md, size_t count,
+                            int threads, float rgb[3 * COINCIDENT_POINTS],
+                            float backface[COINCIDENT_POINTS])
 {
     float pts[3 * COINCIDENT_POINTS];
     for (int i = 0; i < COINCIDENT_POINTS; i++) {
@@ -681,7 +698,8 @@ static void coincident_bake(vdbgi_context *ctx, const vdbgi_mesh_desc *md, size_
     vdbgi_scene *s = NULL;
     CHECK_RESULT(ctx, vdbgi_scene_create(ctx, md, count, &s), VDBGI_OK);
     const vdbgi_bake_desc bd = {.threads = threads, .sky = {0.5f, 0.5f, 0.5f}};
-    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &bd, pts, COINCIDENT_POINTS, rgb, backface), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &bd, pts, COINCIDENT_POINTS, rgb, backface),
+                 VDBGI_OK);
     vdbgi_scene_destroy(s);
 }
 
@@ -704,7 +722,7 @@ static void coincident_faces_stay_deterministic(void)
         alone[k] = luminance_mean(rgb[0], COINCIDENT_POINTS);
     }
     static const char *const names[4] = {"coincident_same", "coincident_same_swapped",
-                                          "coincident_opposite", "coincident_opposite_swapped"};
+                                         "coincident_opposite", "coincident_opposite_swapped"};
     for (int c = 0; c < 4; c++) {
         const int opposite = c >= 2, swapped = c & 1;
         const vdbgi_mesh_desc a = test_mesh_desc(&up, 0.2f, 0);
@@ -716,7 +734,8 @@ static void coincident_faces_stay_deterministic(void)
         size_t invalid = 0;
         for (int i = 0; i < COINCIDENT_POINTS; i++)
             invalid += bf[0][i] > 0.25f;
-        const double share = (luminance_mean(rgb[0], COINCIDENT_POINTS) - alone[0]) / (alone[1] - alone[0]);
+        const double share =
+            (luminance_mean(rgb[0], COINCIDENT_POINTS) - alone[0]) / (alone[1] - alone[0]);
         report(names[c], "share_of_second_albedo", share);
         report(names[c], "invalid_fraction", (double)invalid / COINCIDENT_POINTS);
         CHECK(share > -0.01 && share < 1.01); /* one floor or a mix, never anything else */

@@ -15,8 +15,8 @@ typedef struct test_mesh {
     size_t vertex_count, triangle_count;
 } test_mesh;
 
-static inline void test_mesh_quad(test_mesh *m, const float a[3], const float b[3], const float c[3],
-                           const float d[3])
+static inline void test_mesh_quad(test_mesh *m, const float a[3], const float b[3],
+                                  const float c[3], const float d[3])
 {
     const uint32_t base = (uint32_t)m->vertex_count;
     const float *const v[4] = {a, b, c, d};
@@ -55,8 +55,8 @@ static inline void test_mesh_box(test_mesh *m, const float lo[3], const float hi
 
 static inline vdbgi_mesh_desc test_mesh_desc(const test_mesh *m, float albedo, int double_sided)
 {
-    vdbgi_mesh_desc d = {m->pos, m->vertex_count, m->idx, m->triangle_count,
-                         {albedo, albedo, albedo}, double_sided};
+    vdbgi_mesh_desc d = {
+        m->pos, m->vertex_count, m->idx, m->triangle_count, {albedo, albedo, albedo}, double_sided};
     return d;
 }
 

@@ -24,8 +24,11 @@ static vdbgi_probes *baked_probes(vdbgi_context *ctx, vdbgi_scene **scene_out)
     vdbgi_probes *p = NULL;
     const vdbgi_place_desc pd = {.spacing = 0.4, .origin = {0.1, -0.2, 0.3}, .origin_is_set = 1};
     CHECK_RESULT(ctx, vdbgi_probes_place(ctx, *scene_out, &pd, &p), VDBGI_OK);
-    const vdbgi_bake_desc bd = {.rays = 32, .falloff = INFINITY, .sampling = VDBGI_SAMPLING_RANDOM,
-                                .seed = 9, .sky = {0.01f, 0.02f, 0.03f}};
+    const vdbgi_bake_desc bd = {.rays = 32,
+                                .falloff = INFINITY,
+                                .sampling = VDBGI_SAMPLING_RANDOM,
+                                .seed = 9,
+                                .sky = {0.01f, 0.02f, 0.03f}};
     CHECK_RESULT(ctx, vdbgi_probes_bake(p, *scene_out, &bd, NULL), VDBGI_OK);
     return p;
 }
