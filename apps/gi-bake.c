@@ -131,7 +131,7 @@ static int parse_args(int argc, char **argv, options *o)
         case OPT_MARGIN:
             if (!cli_parse_double(optarg, &d) || !(d >= 0.0) || !isfinite(d))
                 return cli_usage_error("--margin must be a number >= 0 (got '%s')", optarg);
-            o->place.margin = d == 0.0 ? VDBGI_MARGIN_ZERO : d;
+            o->place.margin = d == 0.0 ? VDBGI_ZERO : d;
             break;
         case OPT_MAX_PROBES:
             if (!cli_parse_int(optarg, &i) || i < 1)
@@ -167,7 +167,7 @@ static int parse_args(int argc, char **argv, options *o)
         case OPT_AMBIENT:
             if (!cli_parse_double(optarg, &d) || !(d >= 0.0) || !isfinite(d))
                 return cli_usage_error("--ambient must be a number >= 0 (got '%s')", optarg);
-            o->bake.ambient = d == 0.0 ? VDBGI_NONE : (float)d;
+            o->bake.ambient = d == 0.0 ? VDBGI_ZERO : (float)d;
             break;
         case OPT_SUN:
             if (!cli_parse_vec3(optarg, v) || (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f))
@@ -180,7 +180,7 @@ static int parse_args(int argc, char **argv, options *o)
                 return cli_usage_error("--sun-color must be r,g,b >= 0 (got '%s')", optarg);
             memcpy(o->bake.sun_color, v, sizeof(v));
             if (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f)
-                o->bake.sun_color[0] = VDBGI_NONE;
+                o->bake.sun_color[0] = o->bake.sun_color[1] = o->bake.sun_color[2] = VDBGI_ZERO;
             break;
         case OPT_FALLOFF:
             if (!cli_parse_double(optarg, &d) || !(d > 0.0))

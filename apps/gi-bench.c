@@ -1,5 +1,6 @@
 /* gi-bench: measure the bake against a bare Embree loop over the same rays. */
-#define _DEFAULT_SOURCE /* mkstemps */
+#define _DEFAULT_SOURCE     /* mkstemps */
+#define VDBGI_BENCHMARK_API /* vdbgi_probes_trace_bare */
 #include "cli.h"
 #include "vdbgi.h"
 
@@ -205,7 +206,7 @@ static int bench_convert(const options *o)
     printf("| criterion, eps, encoding | bricks L0 / L1 / L2 / L3 | raw MB | gzip MB | dense/raw "
            "| dense/gzip | RMSE %% | p99 %% | max %% | convert s | convert/read |\n");
     printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-    static const float eps[] = {VDBGI_NONE, 0.01f, 0.03f, 0.1f, 0.2f, 0.4f};
+    static const float eps[] = {VDBGI_ZERO, 0.01f, 0.03f, 0.1f, 0.2f, 0.4f};
     static const char *const eps_text[] = {"0", "0.01", "0.03", "0.1", "0.2", "0.4"};
     int code = CLI_OK;
     for (int c = VDBGI_CRITERION_RANGE; c <= VDBGI_CRITERION_INTERP && code == CLI_OK; c++)
@@ -350,14 +351,14 @@ static int sweep_size(sweep *w, const char *dir)
                                              "criterion,eps,max_level,encoding,raw_bytes,"
                                              "gzip_bytes,dense_bytes,rmse_rel,p99_rel")
                                   : NULL;
-    static const float eps[] = {VDBGI_NONE, 0.01f, 0.03f, 0.1f, 0.2f, 0.4f, 0.8f, 1.6f};
+    static const float eps[] = {VDBGI_ZERO, 0.01f, 0.03f, 0.1f, 0.2f, 0.4f, 0.8f, 1.6f};
     static const char *const eps_text[] = {"0", "0.01", "0.03", "0.1", "0.2", "0.4", "0.8", "1.6"};
     for (int c = VDBGI_CRITERION_RANGE; f && r == VDBGI_OK && c <= VDBGI_CRITERION_INTERP; c++)
         for (int e = 0; r == VDBGI_OK && e < 2; e++)
-            for (int levels = 1; r == VDBGI_OK && levels <= 4; levels += 3)
+            for (int max_level = 0; r == VDBGI_OK && max_level <= 3; max_level += 3)
                 for (size_t i = 0; r == VDBGI_OK && i < sizeof(eps) / sizeof(eps[0]); i++) {
                     const vdbgi_convert_desc d = {.eps = eps[i],
-                                                  .levels = levels,
+                                                  .max_level = max_level ? max_level : VDBGI_ZERO,
                                                   .criterion = (vdbgi_criterion)c,
                                                   .encoding = (vdbgi_encoding)e};
                     vdbgi_volume *v = NULL;
@@ -366,8 +367,8 @@ static int sweep_size(sweep *w, const char *dir)
                     vdbgi_volume_info vi;
                     vdbgi_volume_get_info(v, &vi);
                     fprintf(f, "%s,%s,%d,%s,%zu,%zu,%zu,%.6f,%.6f\n",
-                            c == VDBGI_CRITERION_RANGE ? "range" : "interp", eps_text[i],
-                            levels - 1, e ? "rgb9e5" : "rgbm", vi.indirection_size + vi.atlas_size,
+                            c == VDBGI_CRITERION_RANGE ? "range" : "interp", eps_text[i], max_level,
+                            e ? "rgb9e5" : "rgbm", vi.indirection_size + vi.atlas_size,
                             vi.file_size, vi.dense_rgba8_size, vi.rmse / vi.mean_irradiance,
                             vi.p99 / vi.mean_irradiance);
                     vdbgi_volume_destroy(v);
@@ -399,7 +400,7 @@ static int sweep_spacing(sweep *w, const char *dir)
     vdbgi_result r = vdbgi_scene_sample_surface(w->scene, RECEIVERS, 0.1f, 7, pts);
     const vdbgi_bake_desc rd = {.rays = 2048, .sampling = VDBGI_SAMPLING_RANDOM, .seed = 5};
     if (r == VDBGI_OK)
-        r = vdbgi_bake_points(ctx, w->scene, &rd, pts, RECEIVERS, ref, bf);
+        r = vdbgi_scene_bake_points(w->scene, &rd, pts, RECEIVERS, ref, bf);
     /* Faces nobody sees (under the ground, inside solids) are not receivers: drop them. */
     int kept = 0;
     for (int k = 0; r == VDBGI_OK && k < RECEIVERS; k++)

@@ -134,12 +134,12 @@ static int parse_args(int argc, char **argv, options *o)
         case OPT_EPS:
             if (!cli_parse_double(optarg, &d) || !(d >= 0.0) || !isfinite(d))
                 return cli_usage_error("--eps must be a number >= 0 (got '%s')", optarg);
-            o->convert.eps = d == 0.0 ? VDBGI_NONE : (float)d;
+            o->convert.eps = d == 0.0 ? VDBGI_ZERO : (float)d;
             break;
         case OPT_MAX_LEVEL:
             if (!cli_parse_int(optarg, &i) || i < 0 || i > 3)
                 return cli_usage_error("--max-level must be 0, 1, 2 or 3 (got '%s')", optarg);
-            o->convert.levels = (int)i + 1;
+            o->convert.max_level = i == 0 ? VDBGI_ZERO : (int)i;
             break;
         case OPT_CRITERION:
             if (strcmp(optarg, "range") == 0)
@@ -161,7 +161,7 @@ static int parse_args(int argc, char **argv, options *o)
             if (!cli_parse_double(optarg, &d) || !(d >= 0.0) || !isfinite(d) || d > 100.0)
                 return cli_usage_error("--noise-sigmas must be a number in 0..100 (got '%s')",
                                        optarg);
-            o->convert.noise_sigmas = d == 0.0 ? VDBGI_NONE : (float)d;
+            o->convert.noise_sigmas = d == 0.0 ? VDBGI_ZERO : (float)d;
             break;
         case OPT_FILL:
             if (strcmp(optarg, "mean") == 0)
@@ -435,11 +435,11 @@ int main(int argc, char **argv)
     if (r == VDBGI_OK && (o.bevy || o.bevy_baked_gi))
         r = vdbgi_bevy_build(ctx, probes, &o.bevy_desc, &bevy);
     if (r == VDBGI_OK && o.bevy)
-        r = vdbgi_bevy_write_ktx2(bevy, o.bevy, o.bevy_format);
+        r = vdbgi_bevy_write_ktx2(bevy, o.bevy, o.bevy_format, NULL);
     if (r == VDBGI_OK && o.bevy)
         r = vdbgi_bevy_write_json(bevy, json[0], base_name(o.bevy), "bevy-irradiance-volume-ktx2");
     if (r == VDBGI_OK && o.bevy_baked_gi)
-        r = vdbgi_bevy_write_baked_gi(bevy, o.bevy_baked_gi);
+        r = vdbgi_bevy_write_baked_gi(bevy, o.bevy_baked_gi, NULL);
     if (r == VDBGI_OK && o.bevy_baked_gi)
         r = vdbgi_bevy_write_json(bevy, json[1], base_name(o.bevy_baked_gi), "bevy-baked-gi-png");
     if (r == VDBGI_OK && bevy && cli_verbosity >= 2)

@@ -260,6 +260,8 @@ vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
     p->stderr_ = stderr_;
     p->rays = rays;
     p->invalid_threshold = bp.invalid_threshold;
+    p->sampling = bp.sampling;
+    p->adaptive = bp.adaptive;
     p->invalid_count = (size_t)st.invalid_probe_count;
     record_settings(p, scene, &bp, &st);
     if (stats)
@@ -287,12 +289,15 @@ vdbgi_result vdbgi_probes_trace_bare(const vdbgi_probes *p, const vdbgi_scene *s
     return bake_run(&sh, scene, false, stats);
 }
 
-vdbgi_result vdbgi_bake_points(vdbgi_context *ctx, const vdbgi_scene *scene,
-                               const vdbgi_bake_desc *desc, const float *points, size_t point_count,
-                               float *rgb, float *backface)
+vdbgi_result vdbgi_scene_bake_points(const vdbgi_scene *scene, const vdbgi_bake_desc *desc,
+                                     const float *points, size_t point_count, float *rgb,
+                                     float *backface)
 {
-    VDBGI_FAIL_IF(ctx, !scene || (point_count && (!points || !rgb)), VDBGI_ERR_INVALID_ARG,
-                  "no scene, points or output given");
+    if (!scene)
+        return VDBGI_ERR_INVALID_ARG;
+    vdbgi_context *const ctx = scene->ctx;
+    VDBGI_FAIL_IF(ctx, point_count && (!points || !rgb), VDBGI_ERR_INVALID_ARG,
+                  "no points or output given");
     for (size_t i = 0; i < point_count * 3; i++)
         VDBGI_FAIL_IF(ctx, !isfinite(points[i]), VDBGI_ERR_INVALID_ARG, "point %zu is not finite",
                       i / 3);

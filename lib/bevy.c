@@ -20,8 +20,7 @@ struct vdbgi_bevy {
     vdbgi_context *ctx;
     int res[3];
     double box_min[3], box_max[3];
-    float *cube;          /* 18 floats per voxel, vdbgi_side order */
-    size_t clamped_count; /* by the last write */
+    float *cube; /* 18 floats per voxel, vdbgi_side order */
 };
 
 /* Texture limits: WebGPU guarantees 2048 texels a side in 3D and 8192 in 2D. */
@@ -104,7 +103,6 @@ void vdbgi_bevy_get_info(const vdbgi_bevy *b, vdbgi_bevy_info *info)
         info->size[k] = b->box_max[k] - b->box_min[k];
     }
     info->ktx2_texels = voxel_count(b->res) * 6;
-    info->clamped_count = b->clamped_count;
 }
 
 /* ---- resampling ---------------------------------------------------------------- */
@@ -220,7 +218,8 @@ static bool side_positive(int side)
     return side % 2 == 0;
 }
 
-vdbgi_result vdbgi_bevy_write_ktx2(vdbgi_bevy *b, const char *path, vdbgi_bevy_format format)
+vdbgi_result vdbgi_bevy_write_ktx2(const vdbgi_bevy *b, const char *path, vdbgi_bevy_format format,
+                                   size_t *clamped_count_out)
 {
     vdbgi_context *const ctx = b->ctx;
     VDBGI_FAIL_IF(ctx, format != VDBGI_BEVY_RGBA16F && format != VDBGI_BEVY_RGB9E5,
@@ -231,7 +230,7 @@ vdbgi_result vdbgi_bevy_write_ktx2(vdbgi_bevy *b, const char *path, vdbgi_bevy_f
     uint8_t *const texels = vdbgi_calloc(ctx, (size_t)w * h * d, texel_size);
     if (!texels)
         return VDBGI_ERR_OUT_OF_MEMORY;
-    b->clamped_count = 0;
+    size_t clamped_count = 0;
     for (int z = 0; z < r[2]; z++)
         for (int y = 0; y < r[1]; y++)
             for (int x = 0; x < r[0]; x++)
@@ -245,14 +244,14 @@ vdbgi_result vdbgi_bevy_write_ktx2(vdbgi_bevy *b, const char *path, vdbgi_bevy_f
                     uint8_t *const out = &texels[((pz * h + t) * w + s) * texel_size];
                     if (format == VDBGI_BEVY_RGB9E5) {
                         uint32_t v;
-                        b->clamped_count += vdbgi_rgb9e5_encode(c, &v);
+                        clamped_count += vdbgi_rgb9e5_encode(c, &v);
                         vdbgi_put_u32(out, v);
                     } else {
                         const float rgba[4] = {c[0], c[1], c[2], 1.0f};
                         for (int k = 0; k < 4; k++) {
                             /* Half floats: NaN and negatives to 0, beyond 65504 clamped. */
                             float f = rgba[k] > 0.0f ? rgba[k] : 0.0f;
-                            b->clamped_count += k < 3 && f > 65504.0f;
+                            clamped_count += k < 3 && f > 65504.0f;
                             f = f > 65504.0f ? 65504.0f : f;
                             const uint16_t hbits = vdbgi_half_from_float(f);
                             vdbgi_put_u16(out + 2 * k, hbits);
@@ -267,14 +266,16 @@ vdbgi_result vdbgi_bevy_write_ktx2(vdbgi_bevy *b, const char *path, vdbgi_bevy_f
                                                       : VDBGI_VK_FORMAT_R16G16B16A16_SFLOAT,
                           w, h, d, texels, &file, &size);
     vdbgi_free(ctx, texels);
-    if (res == VDBGI_OK) {
+    if (res == VDBGI_OK)
         res = vdbgi_write_bytes_atomic(ctx, path, file, size);
-    }
     vdbgi_free(ctx, file);
+    if (res == VDBGI_OK && clamped_count_out)
+        *clamped_count_out = clamped_count;
     return res;
 }
 
-vdbgi_result vdbgi_bevy_write_baked_gi(vdbgi_bevy *b, const char *path)
+vdbgi_result vdbgi_bevy_write_baked_gi(const vdbgi_bevy *b, const char *path,
+                                       size_t *clamped_count_out)
 {
     vdbgi_context *const ctx = b->ctx;
     const int *const r = b->res;
@@ -283,7 +284,7 @@ vdbgi_result vdbgi_bevy_write_baked_gi(vdbgi_bevy *b, const char *path)
     float *const px = vdbgi_calloc(ctx, (size_t)w * (size_t)h, 4 * sizeof(float));
     if (!px)
         return VDBGI_ERR_OUT_OF_MEMORY;
-    b->clamped_count = 0;
+    size_t clamped_count = 0;
     for (int z = 0; z < r[2]; z++)
         for (int y = 0; y < r[1]; y++)
             for (int x = 0; x < r[0]; x++) {
@@ -292,7 +293,7 @@ vdbgi_result vdbgi_bevy_write_baked_gi(vdbgi_bevy *b, const char *path)
                 const size_t cx = 3 * (i % (size_t)r[0]), cy = 2 * (i / (size_t)r[0]);
                 for (int side = 0; side < 6; side++) {
                     uint8_t t[4];
-                    b->clamped_count += vdbgi_sharedexp8_encode(&b->cube[18 * i + 3 * side], t);
+                    clamped_count += vdbgi_sharedexp8_encode(&b->cube[18 * i + 3 * side], t);
                     const size_t tx = cx + (size_t)side_axis(side);
                     const size_t ty = cy + (side_positive(side) ? 0 : 1);
                     float *const o = &px[4 * (ty * (size_t)w + tx)];
@@ -302,6 +303,8 @@ vdbgi_result vdbgi_bevy_write_baked_gi(vdbgi_bevy *b, const char *path)
             }
     const vdbgi_result res = vdbgi_image_write(ctx, path, w, h, 4, px, true);
     vdbgi_free(ctx, px);
+    if (res == VDBGI_OK && clamped_count_out)
+        *clamped_count_out = clamped_count;
     return res;
 }
 

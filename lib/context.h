@@ -2,6 +2,8 @@
 #ifndef VDBGI_CONTEXT_H
 #define VDBGI_CONTEXT_H
 
+/* The library sees its benchmark calls too. */
+#define VDBGI_BENCHMARK_API
 #include "vdbgi.h"
 
 #include <stdarg.h>

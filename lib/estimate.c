@@ -51,7 +51,7 @@ vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc
     VDBGI_FAIL_IF(ctx, !(bp->ray_dist > 0.0f) || !isfinite(bp->ray_dist), VDBGI_ERR_INVALID_ARG,
                   "ray distance must be > 0 and finite (got %g)", (double)desc->ray_dist);
     bp->ambient = desc->ambient == 0.0f         ? 0.15f
-                  : desc->ambient == VDBGI_NONE ? 0.0f
+                  : desc->ambient == VDBGI_ZERO ? 0.0f
                                                 : desc->ambient;
     VDBGI_FAIL_IF(ctx, !(bp->ambient >= 0.0f) || !isfinite(bp->ambient), VDBGI_ERR_INVALID_ARG,
                   "ambient must be >= 0 and finite (got %g)", (double)desc->ambient);
@@ -65,7 +65,8 @@ vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc
     for (int k = 0; k < 3; k++)
         bp->sun_dir[k] = sd[k] / len;
 
-    bp->sun_on = desc->sun_color[0] != VDBGI_NONE;
+    bp->sun_on = !(desc->sun_color[0] == VDBGI_ZERO && desc->sun_color[1] == VDBGI_ZERO &&
+                   desc->sun_color[2] == VDBGI_ZERO);
     for (int k = 0; k < 3; k++)
         bp->sun_color[k] = !bp->sun_on                 ? 0.0f
                            : is_zero3(desc->sun_color) ? 1.0f

@@ -27,9 +27,9 @@ vdbgi_result vdbgi_probes_place(vdbgi_context *ctx, const vdbgi_scene *scene,
     const double spacing = desc->spacing == 0.0 ? 0.5 : desc->spacing;
     VDBGI_FAIL_IF(ctx, !(spacing > 0.0) || !isfinite(spacing), VDBGI_ERR_INVALID_ARG,
                   "probe spacing must be > 0 and finite (got %g)", spacing);
-    const double margin = desc->margin == 0.0                 ? 4.0 * spacing
-                          : desc->margin == VDBGI_MARGIN_ZERO ? 0.0
-                                                              : desc->margin;
+    const double margin = desc->margin == 0.0          ? 4.0 * spacing
+                          : desc->margin == VDBGI_ZERO ? 0.0
+                                                       : desc->margin;
     VDBGI_FAIL_IF(ctx, !(margin >= 0.0) || !isfinite(margin), VDBGI_ERR_INVALID_ARG,
                   "probe margin must be >= 0 and finite (got %g)", desc->margin);
     VDBGI_FAIL_IF(ctx, margin / spacing > 64.0, VDBGI_ERR_INVALID_ARG,

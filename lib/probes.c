@@ -75,6 +75,15 @@ vdbgi_result vdbgi_probes_read(vdbgi_context *ctx, const char *path, vdbgi_probe
     m = vdbgi_meta_find(&p->meta, "margin");
     if (m && m->type == VDBGI_META_DOUBLE)
         p->margin = m->d;
+    /* The settings are parsed here, once; nothing after compares their text. */
+    m = vdbgi_meta_find(&p->meta, "sampling");
+    p->sampling = m && m->type == VDBGI_META_STRING && strcmp(m->text, "random") == 0
+                      ? VDBGI_SAMPLING_RANDOM
+                      : VDBGI_SAMPLING_FIBONACCI;
+    m = vdbgi_meta_find(&p->meta, "rays");
+    p->adaptive = m && m->type == VDBGI_META_INT && m->i == VDBGI_RAYS_AUTO;
+    if (!vdbgi_meta_find(&p->meta, "sampling"))
+        p->sampling = VDBGI_SAMPLING_RANDOM; /* not ours: assume independent noise */
     for (size_t i = 0; i < p->count; i++)
         p->invalid_count += p->backface[i] > p->invalid_threshold;
     *out = p;
@@ -179,4 +188,20 @@ vdbgi_result vdbgi_probes_sample(const vdbgi_probes *p, const float pos[3], floa
 const char *vdbgi_probes_metadata(const vdbgi_probes *p, size_t index)
 {
     return index < p->meta.count ? p->meta.items[index].line : NULL;
+}
+
+size_t vdbgi_probes_copy(const vdbgi_probes *p, int32_t *ijk, float *rgb, float *backface,
+                         size_t capacity)
+{
+    if (!ijk && !rgb && !backface)
+        return p->count;
+    if (capacity < p->count || ((rgb || backface) && !p->rgb))
+        return 0;
+    if (ijk)
+        memcpy(ijk, p->ijk, p->count * 3 * sizeof(int32_t));
+    if (rgb)
+        memcpy(rgb, p->rgb, p->count * 3 * sizeof(float));
+    if (backface)
+        memcpy(backface, p->backface, p->count * sizeof(float));
+    return p->count;
 }

@@ -20,6 +20,8 @@ struct vdbgi_probes {
     uint32_t *rays;  /* per probe: rays traced, or NULL (every probe had desc->rays) */
     float invalid_threshold;
     size_t invalid_count;
+    vdbgi_sampling sampling; /* how the directions were chosen (read from the metadata) */
+    bool adaptive;           /* rays in batches until a noise target */
     vdbgi_meta_store meta;
 };
 

@@ -28,6 +28,23 @@
  * Units: world lengths are metres; colours are linear RGB; directions need
  * not be normalised unless stated. Names say units: _count is elements,
  * _size is bytes.
+ *
+ * Conventions
+ * -----------
+ * Names: vdbgi_<object>_<verb>, the object the first argument.
+ * Descs: an all-zero desc means the defaults. A field whose zero is also a
+ * value one may want (no ambient fill, no margin, no coarsening) takes
+ * VDBGI_ZERO to ask for zero; a vector field takes it in every component.
+ * A vector whose every value is meaningful (an origin, a box) is used only
+ * when its *_is_set flag is. A count may name one mode of its own
+ * (VDBGI_RAYS_AUTO).
+ * Objects: read-only calls (writers included) take const objects; their
+ * side figures come back through optional *_out pointers.
+ * Bulk data: vdbgi_*_copy_* fills a caller's buffer; called with a NULL
+ * buffer it returns the size needed, and with one too small it returns 0
+ * and writes nothing.
+ * Calls for benchmarks and debugging are declared only where
+ * VDBGI_BENCHMARK_API is defined before this header is included.
  */
 #ifndef VDBGI_H
 #define VDBGI_H
@@ -44,6 +61,13 @@ extern "C" {
 #else
 #define VDBGI_API
 #endif
+
+/*
+ * Asks for a real zero in a desc field whose 0 means "default" (see
+ * Conventions): INT32_MIN, exact as an int, a float and a double, and far
+ * outside every field's range, so no mistyped value reads as it.
+ */
+#define VDBGI_ZERO (-2147483647 - 1)
 
 #define VDBGI_VERSION_MAJOR 0
 #define VDBGI_VERSION_MINOR 1
@@ -198,7 +222,7 @@ typedef struct vdbgi_probes vdbgi_probes;
  *   spacing:     lattice step, metres, > 0. 0 == 0.5.
  *   margin:      a probe exists if its true distance to the nearest triangle
  *                is at most this, metres, >= 0. 0 == 4 * spacing (one
- *                level-0 brick). Use VDBGI_MARGIN_ZERO for no margin.
+ *                level-0 brick); VDBGI_ZERO for no margin.
  *   origin:      world position of probe (0,0,0). Ignored unless
  *                origin_is_set; the default is half a spacing on every axis,
  *                so floors at whole multiples of the spacing fall between
@@ -212,8 +236,6 @@ typedef struct vdbgi_place_desc {
     int origin_is_set;
     uint64_t max_probes;
 } vdbgi_place_desc;
-
-#define VDBGI_MARGIN_ZERO (-1.0)
 
 /* Bytes the library holds per probe while baking, for memory estimates. */
 #define VDBGI_BYTES_PER_PROBE 64
@@ -264,14 +286,6 @@ typedef enum vdbgi_trace_method {
 } vdbgi_trace_method;
 
 /*
- * Sentinel for the fields whose zero means "default" but where zero is also a
- * value one may want (no ambient fill, no sun, no coarsening): pass
- * VDBGI_NONE to get zero. It is far out of every field's range, so no
- * mistyped negative value can be read as it.
- */
-#define VDBGI_NONE (-3.0e38f)
-
-/*
  * The irradiance estimator of seed 000. All-zero means the defaults:
  *   rays:        directions per probe, 1..1 000 000. 0 == 128.
  *                VDBGI_RAYS_AUTO: a Fibonacci set of max_rays directions under
@@ -283,11 +297,11 @@ typedef enum vdbgi_trace_method {
  *                0 == 1024.
  *   ray_dist:    longest ray, metres, > 0. 0 == 40.
  *   ambient:     fill light added at every hit, >= 0. 0 == 0.15;
- *                VDBGI_NONE for no fill.
+ *                VDBGI_ZERO for no fill.
  *   sun_dir:     direction towards the sun. (0,0,0) == (0.4, 0.8, 0.3).
  *                Normalised by the bake.
  *   sun_color:   sun radiance, linear RGB >= 0. (0,0,0) == (1,1,1);
- *                VDBGI_NONE in sun_color[0] turns the sun off.
+ *                VDBGI_ZERO in every component turns the sun off.
  *   falloff:     distance weight 1 / (1 + (d/falloff)^2), metres, > 0.
  *                0 == 4; INFINITY turns the falloff off.
  *   sky:         what a miss contributes, linear RGB >= 0. (0,0,0) == black.
@@ -350,14 +364,16 @@ VDBGI_API vdbgi_result vdbgi_probes_bake(vdbgi_probes *probes, const vdbgi_scene
                                          const vdbgi_bake_desc *desc, vdbgi_bake_stats *stats);
 
 /*
- * The estimator at arbitrary points, for receivers and tests. Writes
- * point_count * 3 floats to rgb and, if backface is not NULL, point_count
- * back-face fractions. Random sampling seeds point i from (i, 0, 0).
+ * The estimator at arbitrary points of the scene, for receivers and tests.
+ * Writes point_count * 3 floats to rgb and, if backface is not NULL,
+ * point_count back-face fractions. Random sampling seeds point i from
+ * (i, 0, 0).
  */
-VDBGI_API vdbgi_result vdbgi_bake_points(vdbgi_context *ctx, const vdbgi_scene *scene,
-                                         const vdbgi_bake_desc *desc, const float *points,
-                                         size_t point_count, float *rgb, float *backface);
+VDBGI_API vdbgi_result vdbgi_scene_bake_points(const vdbgi_scene *scene,
+                                               const vdbgi_bake_desc *desc, const float *points,
+                                               size_t point_count, float *rgb, float *backface);
 
+#ifdef VDBGI_BENCHMARK_API
 /*
  * For benchmarks: trace exactly the rays the bake would (primary rays, then a
  * shadow ray from each hit whose facing normal sees the sun) with no shading,
@@ -368,6 +384,7 @@ VDBGI_API vdbgi_result vdbgi_bake_points(vdbgi_context *ctx, const vdbgi_scene *
 VDBGI_API vdbgi_result vdbgi_probes_trace_bare(const vdbgi_probes *probes, const vdbgi_scene *scene,
                                                const vdbgi_bake_desc *desc,
                                                vdbgi_bake_stats *stats);
+#endif
 
 /*
  * Write an OpenVDB file: a Vec3s grid "irradiance" (linear RGB), a float
@@ -423,10 +440,15 @@ VDBGI_API vdbgi_result vdbgi_probes_sample(const vdbgi_probes *probes, const flo
                                            float rgb[3]);
 
 /*
- * Probe number index's ambient cube, six RGB colours in vdbgi_side order.
- * VDBGI_ERR_INVALID_ARG for an index out of range or probes baked (or read)
- * without the ambient-cube basis.
+ * Every probe at once into the caller's arrays: ijk (3 int32 a probe), rgb
+ * (3 floats) and backface (1 float), each NULL to skip, for capacity
+ * probes. Returns the probe count when all three are NULL (the size query),
+ * else the probes copied: the count, or 0, writing nothing, when capacity is
+ * smaller.
  */
+VDBGI_API size_t vdbgi_probes_copy(const vdbgi_probes *probes, int32_t *ijk, float *rgb,
+                                   float *backface, size_t capacity);
+
 /*
  * Probe number index's standard error (of its value, the mean over channels,
  * estimated from the spread of its rays) and the rays it took. Either
@@ -435,6 +457,11 @@ VDBGI_API vdbgi_result vdbgi_probes_sample(const vdbgi_probes *probes, const flo
 VDBGI_API vdbgi_result vdbgi_probes_get_noise(const vdbgi_probes *probes, size_t index,
                                               float *stderr_out, uint32_t *rays_out);
 
+/*
+ * Probe number index's ambient cube, six RGB colours in vdbgi_side order.
+ * VDBGI_ERR_INVALID_ARG for an index out of range or probes baked (or read)
+ * without the ambient-cube basis.
+ */
 VDBGI_API vdbgi_result vdbgi_probes_get_cube(const vdbgi_probes *probes, size_t index,
                                              float cube[6][3]);
 
@@ -477,8 +504,9 @@ typedef enum vdbgi_fill {
  *   eps:        tolerance, relative to the mean irradiance of the valid
  *               probes (so one value suits dim and bright scenes): a block's
  *               largest channel difference must be <= eps * mean. >= 0.
- *               0 == 0.1; VDBGI_NONE for 0 (never coarsen a varying block).
- *   levels:     brick levels allowed, 1..4 (max level + 1). 0 == 4.
+ *               0 == 0.1; VDBGI_ZERO for 0 (never coarsen a varying block).
+ *   max_level:  largest brick level, 0..3 (a level-L brick spans 4 x 2^L
+ *               probes). 0 == 3; VDBGI_ZERO for 0 (level-0 bricks only).
  *   criterion:  see vdbgi_criterion.
  *   encoding:   see vdbgi_encoding.
  *   noise_sigmas: sampling-noise allowance, in standard errors (the bake's
@@ -488,7 +516,7 @@ typedef enum vdbgi_fill {
  *               and adaptive bakes (the estimate assumes independent rays and
  *               overstates a rotated Fibonacci set's error 1.9-2.4x:
  *               docs/stability.md) and 0 for the fixed Fibonacci set, whose
- *               error is a shared bias, not noise; VDBGI_NONE for none.
+ *               error is a shared bias, not noise; VDBGI_ZERO for none.
  *   fill:       see vdbgi_fill.
  *   progress:   as vdbgi_bake_desc's; may be NULL.
  *   threads:    worker threads, 0 == every online core. The bytes do not
@@ -497,7 +525,7 @@ typedef enum vdbgi_fill {
 typedef struct vdbgi_convert_desc {
     float eps;
     float noise_sigmas;
-    int levels;
+    int max_level;
     vdbgi_criterion criterion;
     vdbgi_encoding encoding;
     vdbgi_fill fill;
@@ -562,6 +590,16 @@ typedef struct vdbgi_volume_info {
 } vdbgi_volume_info;
 
 VDBGI_API void vdbgi_volume_get_info(const vdbgi_volume *volume, vdbgi_volume_info *info);
+
+/*
+ * The runtime textures into the caller's buffer, as the .gi file holds them
+ * (docs/format.md): indirection_size or atlas_size bytes. With a NULL
+ * buffer, returns the size needed; else the bytes copied, or 0 (nothing
+ * written) when capacity is smaller.
+ */
+VDBGI_API size_t vdbgi_volume_copy_indirection(const vdbgi_volume *volume, void *buffer,
+                                               size_t capacity);
+VDBGI_API size_t vdbgi_volume_copy_atlas(const vdbgi_volume *volume, void *buffer, size_t capacity);
 
 /*
  * The value the runtime shader of seed 000 computes at world position pos:
@@ -648,7 +686,6 @@ typedef struct vdbgi_bevy_info {
     double box_min[3], box_max[3];
     double center[3], size[3]; /* the light probe's Transform: translation, scale */
     size_t ktx2_texels;        /* Rx * 2Ry * 3Rz */
-    size_t clamped_count;      /* colours clamped by the last write */
 } vdbgi_bevy_info;
 
 VDBGI_API void vdbgi_bevy_get_info(const vdbgi_bevy *volume, vdbgi_bevy_info *info);
@@ -657,18 +694,21 @@ VDBGI_API void vdbgi_bevy_get_info(const vdbgi_bevy *volume, vdbgi_bevy_info *in
  * Layout 1 (Bevy's IrradianceVolume, seed 001): a 3D texture (Rx, 2Ry, 3Rz)
  * where side S of voxel (x, y, z) sits at s = x, t = y (+Ry for +X, +Y, +Z),
  * p = z (+Rz for Y sides, +2Rz for Z sides), in a KTX2 file. NaN and
- * negative colours are written as 0; colours beyond the format clamp.
+ * negative colours are written as 0; colours beyond the format clamp, and
+ * *clamped_count_out (may be NULL) says how many did.
  */
-VDBGI_API vdbgi_result vdbgi_bevy_write_ktx2(vdbgi_bevy *volume, const char *path,
-                                             vdbgi_bevy_format format);
+VDBGI_API vdbgi_result vdbgi_bevy_write_ktx2(const vdbgi_bevy *volume, const char *path,
+                                             vdbgi_bevy_format format, size_t *clamped_count_out);
 
 /*
  * Layout 2 (bevy-baked-gi, seed 002): a linear RGBA8 PNG of 3x2-texel cells,
  * cell i = (z*Ry + y)*Rx + x at texel (3 (i mod Rx), 2 floor(i / Rx)), the
  * upper row +X +Y +Z, the lower -X -Y -Z, each colour in the 8-bit shared
  * exponent encoding C = 2^(255A - 128) (R, G, B). No sRGB conversion.
+ * *clamped_count_out (may be NULL): colours beyond the encoding's range.
  */
-VDBGI_API vdbgi_result vdbgi_bevy_write_baked_gi(vdbgi_bevy *volume, const char *path);
+VDBGI_API vdbgi_result vdbgi_bevy_write_baked_gi(const vdbgi_bevy *volume, const char *path,
+                                                 size_t *clamped_count_out);
 
 /*
  * The volume's placement as JSON (resolution, box, the Transform's

@@ -16,19 +16,18 @@ static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *d
     const vdbgi_convert_desc none = {0};
     if (!desc)
         desc = &none;
-    *eps = desc->eps == 0.0f ? 0.1f : desc->eps == VDBGI_NONE ? 0.0f : desc->eps;
+    *eps = desc->eps == 0.0f ? 0.1f : desc->eps == VDBGI_ZERO ? 0.0f : desc->eps;
     VDBGI_FAIL_IF(ctx, !(*eps >= 0.0f) || !isfinite(*eps), VDBGI_ERR_INVALID_ARG,
                   "eps must be >= 0 and finite (got %g)", (double)desc->eps);
     *sigmas = desc->noise_sigmas == 0.0f         ? 1.0f
-              : desc->noise_sigmas == VDBGI_NONE ? 0.0f
+              : desc->noise_sigmas == VDBGI_ZERO ? 0.0f
                                                  : desc->noise_sigmas;
     VDBGI_FAIL_IF(ctx, !(*sigmas >= 0.0f) || !isfinite(*sigmas), VDBGI_ERR_INVALID_ARG,
                   "noise allowance must be >= 0 standard errors (got %g)",
                   (double)desc->noise_sigmas);
-    const int levels = desc->levels ? desc->levels : 4;
-    VDBGI_FAIL_IF(ctx, levels < 1 || levels > 4, VDBGI_ERR_INVALID_ARG,
-                  "max level must be in 0..3 (got %d)", levels - 1);
-    *max_level = levels - 1;
+    *max_level = desc->max_level == 0 ? 3 : desc->max_level == VDBGI_ZERO ? 0 : desc->max_level;
+    VDBGI_FAIL_IF(ctx, *max_level < 0 || *max_level > 3, VDBGI_ERR_INVALID_ARG,
+                  "max level must be in 0..3 (got %d)", desc->max_level);
     VDBGI_FAIL_IF(
         ctx, desc->criterion < VDBGI_CRITERION_AUTO || desc->criterion > VDBGI_CRITERION_INTERP,
         VDBGI_ERR_INVALID_ARG, "unknown criterion %d", (int)desc->criterion);
@@ -121,20 +120,6 @@ static vdbgi_result measure_error(vdbgi_volume *v, const vdbgi_probes *p)
 static int report(const vdbgi_convert_desc *desc, float done)
 {
     return desc && desc->progress ? desc->progress(desc->progress_user, done) : 0;
-}
-
-/*
- * A fixed Fibonacci set gives every probe the same directions: its error is a bias
- * shared by neighbours, not noise, and its standard error is no measure of it. The
- * default allowance applies to random and adaptive bakes only.
- */
-static bool fixed_direction_set(const vdbgi_probes *probes)
-{
-    const vdbgi_meta *const sampling = vdbgi_meta_find(&probes->meta, "sampling");
-    const vdbgi_meta *const rays_meta = vdbgi_meta_find(&probes->meta, "rays");
-    return sampling && sampling->type == VDBGI_META_STRING &&
-           strcmp(sampling->text, "fibonacci") == 0 &&
-           !(rays_meta && rays_meta->type == VDBGI_META_INT && rays_meta->i == VDBGI_RAYS_AUTO);
 }
 
 /* The volume's settings, and the mean irradiance of the valid probes: the scale of eps
@@ -246,7 +231,13 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     vdbgi_encoding encoding = VDBGI_ENCODING_RGBM;
     VDBGI_TRY(resolve_desc(ctx, desc, &eps, &cp.sigmas, &cp.max_level, &cp.criterion, &encoding,
                            &cp.threads));
-    if (fixed_direction_set(probes) && (!desc || desc->noise_sigmas == 0.0f))
+    /*
+     * A fixed Fibonacci set gives every probe the same directions: its error is a bias
+     * shared by neighbours, not noise, and its standard error is no measure of it. The
+     * default allowance applies to random and adaptive bakes only.
+     */
+    if (probes->sampling == VDBGI_SAMPLING_FIBONACCI && !probes->adaptive &&
+        (!desc || desc->noise_sigmas == 0.0f))
         cp.sigmas = 0.0f;
     VDBGI_FAIL_IF(ctx, !probes->rgb, VDBGI_ERR_FORMAT, "probes have no values: bake them first");
     VDBGI_FAIL_IF(ctx, probes->count == 0, VDBGI_ERR_FORMAT, "the grid holds no probes");
@@ -293,4 +284,25 @@ fail:
     }
     *out = v;
     return VDBGI_OK;
+}
+
+/* meshoptimizer's way: a NULL buffer asks the size, a short one gets nothing. */
+static size_t copy_bytes(const void *src, size_t size, void *buffer, size_t capacity)
+{
+    if (!buffer)
+        return size;
+    if (capacity < size)
+        return 0;
+    memcpy(buffer, src, size);
+    return size;
+}
+
+size_t vdbgi_volume_copy_indirection(const vdbgi_volume *v, void *buffer, size_t capacity)
+{
+    return copy_bytes(v->indirection, v->info.indirection_size, buffer, capacity);
+}
+
+size_t vdbgi_volume_copy_atlas(const vdbgi_volume *v, void *buffer, size_t capacity)
+{
+    return copy_bytes(v->atlas, v->info.atlas_size, buffer, capacity);
 }

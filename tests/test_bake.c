@@ -5,6 +5,7 @@
  * cancelling callback and failing allocations are refused cleanly.
  */
 #define _POSIX_C_SOURCE 200809L
+#define VDBGI_BENCHMARK_API /* vdbgi_probes_trace_bare */
 #include "test_util.h"
 
 #include <math.h>
@@ -53,7 +54,7 @@ static void probe_above_plane_matches_closed_form_fibonacci(void)
         float pts[4 * 3], rgb[4 * 3];
         for (int i = 0; i < 4; i++)
             pts[3 * i] = 0.123f, pts[3 * i + 1] = heights[i], pts[3 * i + 2] = -0.321f;
-        CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 4, rgb, NULL), VDBGI_OK);
+        CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &d, pts, 4, rgb, NULL), VDBGI_OK);
         for (int i = 0; i < 4; i++) {
             const double want = plane_closed_form(heights[i], 40.0, falloffs[f], 1.0);
             /* A Fibonacci set integrates this smooth-but-clipped integrand to ~1/N. */
@@ -75,7 +76,7 @@ static void probe_above_plane_matches_closed_form_random(void)
     float pts[3 * 3], rgb[3 * 3];
     for (int i = 0; i < 3; i++)
         pts[3 * i] = 0.0f, pts[3 * i + 1] = heights[i], pts[3 * i + 2] = 0.0f;
-    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 3, rgb, NULL), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &d, pts, 3, rgb, NULL), VDBGI_OK);
     for (int i = 0; i < 3; i++) {
         const double want = plane_closed_form(heights[i], 40.0, 4.0, 1.0);
         /* Each ray adds at most rho (ambient + 1): 5 standard errors of such a mean. */
@@ -150,8 +151,8 @@ static void closed_box_reads_albedo_times_ambient_at_any_scale(void)
             vdbgi_bake_desc d = {
                 .rays = 512, .ray_dist = 4.0f * r, .ambient = (float)ambient, .falloff = INFINITY};
             if (!sun)
-                d.sun_color[0] = VDBGI_NONE;
-            CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 3, rgb, bf), VDBGI_OK);
+                d.sun_color[0] = d.sun_color[1] = d.sun_color[2] = VDBGI_ZERO;
+            CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &d, pts, 3, rgb, bf), VDBGI_OK);
             for (int i = 0; i < 9; i++)
                 CHECK_NEAR(rgb[i], rho * ambient, 1e-6);
             for (int i = 0; i < 3; i++)
@@ -175,7 +176,7 @@ static void plane_under_slanted_sun_has_no_self_shadow_at_any_scale(void)
         memcpy(d.sun_dir, sun, sizeof(sun));
         const float pts[3] = {0.1f * k, 1.5f * k, 0.2f * k};
         float rgb[3];
-        CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 1, rgb, NULL), VDBGI_OK);
+        CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &d, pts, 1, rgb, NULL), VDBGI_OK);
         const double want = plane_closed_form(1.5, 40.0, 4.0, ndotl);
         CHECK_NEAR(rgb[0], want, 4e-3 * want);
         vdbgi_scene_destroy(s);
@@ -294,11 +295,11 @@ static void random_sampling_differs_by_seed_and_probe(void)
     const float pts[6] = {0.2f, 0.7f, 0.1f, 0.2f, 0.7f, 0.1f};
     float a[6], b[6], fa[6];
     vdbgi_bake_desc d = {.rays = 16, .sampling = VDBGI_SAMPLING_RANDOM, .seed = 1};
-    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 2, a, NULL), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &d, pts, 2, a, NULL), VDBGI_OK);
     d.seed = 2;
-    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 2, b, NULL), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &d, pts, 2, b, NULL), VDBGI_OK);
     d.sampling = VDBGI_SAMPLING_FIBONACCI;
-    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 2, fa, NULL), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &d, pts, 2, fa, NULL), VDBGI_OK);
     /* Same place, different stream (point index or seed): different rotation, different value. */
     CHECK(memcmp(&a[0], &a[3], 3 * sizeof(float)) != 0);
     CHECK(memcmp(&a[0], &b[0], 3 * sizeof(float)) != 0);
@@ -316,7 +317,7 @@ static void sky_fills_misses_and_falloff_off_is_flat(void)
     const vdbgi_bake_desc d = {.rays = 100, .ray_dist = 5.0f, .sky = {0.1f, 0.2f, 0.3f}};
     const float pts[3] = {0.0f, 20.0f, 0.0f};
     float rgb[3];
-    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 1, rgb, NULL), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &d, pts, 1, rgb, NULL), VDBGI_OK);
     CHECK_NEAR(rgb[0], 0.1, 1e-6);
     CHECK_NEAR(rgb[1], 0.2, 1e-6);
     CHECK_NEAR(rgb[2], 0.3, 1e-6);
@@ -331,10 +332,10 @@ static void trace_methods_agree(void)
     const float pts[6] = {0.2f, 0.7f, 0.1f, -0.5f, 3.5f, 1.0f};
     float ref[6], rgb[6];
     vdbgi_bake_desc d = {.rays = 100, .trace_method = VDBGI_TRACE_SINGLE};
-    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 2, ref, NULL), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &d, pts, 2, ref, NULL), VDBGI_OK);
     for (int m = VDBGI_TRACE_PACKET8; m <= VDBGI_TRACE_STREAM; m++) {
         d.trace_method = (vdbgi_trace_method)m;
-        CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &d, pts, 2, rgb, NULL), VDBGI_OK);
+        CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &d, pts, 2, rgb, NULL), VDBGI_OK);
         for (int i = 0; i < 6; i++)
             CHECK_NEAR(rgb[i], ref[i], 1e-6);
     }
@@ -380,15 +381,16 @@ static void bad_bake_parameters_are_refused(void)
     bad[9].threads = -2;
     bad[10].invalid_threshold = 1.5f;
     bad[11].trace_method = (vdbgi_trace_method)9;
-    bad[12].ambient = -1.0f; /* a mistyped negative is not the VDBGI_NONE sentinel */
+    bad[12].ambient = -1.0f; /* a mistyped negative is not the VDBGI_ZERO sentinel */
     bad[13].basis = (vdbgi_basis)3;
     for (int i = 0; i < 14; i++) {
-        CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &bad[i], pt, 1, rgb, NULL),
+        CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &bad[i], pt, 1, rgb, NULL),
                      VDBGI_ERR_INVALID_ARG);
         CHECK(strlen(vdbgi_context_error(ctx)) > 0);
     }
     const float nan_pt[3] = {0, NAN, 0};
-    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, NULL, nan_pt, 1, rgb, NULL), VDBGI_ERR_INVALID_ARG);
+    CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, NULL, nan_pt, 1, rgb, NULL),
+                 VDBGI_ERR_INVALID_ARG);
 
     vdbgi_probes *p = (vdbgi_probes *)1;
     const vdbgi_place_desc badp[4] = {
@@ -591,7 +593,7 @@ static void adaptive_rays_stop_early_where_light_is_even(void)
     const vdbgi_place_desc pd = {.spacing = 1.0, .margin = 8.0};
     CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
     vdbgi_bake_desc d = {.rays = VDBGI_RAYS_AUTO, .falloff = INFINITY, .threads = 1};
-    d.sun_color[0] = VDBGI_NONE;
+    d.sun_color[0] = d.sun_color[1] = d.sun_color[2] = VDBGI_ZERO;
     vdbgi_bake_stats st;
     CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &d, &st), VDBGI_OK);
     vdbgi_probes_info info;
@@ -611,7 +613,8 @@ static void adaptive_rays_stop_early_where_light_is_even(void)
     /* With the pillar the light varies: probes take more rays, up to the cap, the same on any thread count. */
     CHECK_RESULT(ctx, vdbgi_scene_create(ctx, md, 2, &s), VDBGI_OK);
     vdbgi_probes *q[2] = {NULL, NULL};
-    d.sun_color[0] = 0.0f; /* the sun on: its shadow of the pillar varies the most */
+    d.sun_color[0] = d.sun_color[1] = d.sun_color[2] =
+        0.0f; /* the sun on: its shadow of the pillar varies the most */
     d.max_rays = 512;
     for (int t = 0; t < 2; t++) {
         CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &q[t]), VDBGI_OK);

@@ -67,7 +67,8 @@ static void ktx2_layout_follows_seed_001(void)
     vdbgi_context *ctx = test_context();
     vdbgi_bevy *b = synthetic(ctx);
     for (int format = 0; format < 2 && b; format++) {
-        CHECK_RESULT(ctx, vdbgi_bevy_write_ktx2(b, tmp_path("v.ktx2"), (vdbgi_bevy_format)format),
+        CHECK_RESULT(ctx,
+                     vdbgi_bevy_write_ktx2(b, tmp_path("v.ktx2"), (vdbgi_bevy_format)format, NULL),
                      VDBGI_OK);
         size_t size = 0;
         uint8_t *const f = slurp(tmp_path("v.ktx2"), &size);
@@ -121,7 +122,7 @@ static void baked_gi_layout_follows_seed_002(void)
     vdbgi_context *ctx = test_context();
     vdbgi_bevy *b = synthetic(ctx);
     if (b)
-        CHECK_RESULT(ctx, vdbgi_bevy_write_baked_gi(b, tmp_path("v.png")), VDBGI_OK);
+        CHECK_RESULT(ctx, vdbgi_bevy_write_baked_gi(b, tmp_path("v.png"), NULL), VDBGI_OK);
     vdbgi_image img = {0, 0, NULL};
     CHECK_RESULT(ctx, vdbgi_image_decode(ctx, tmp_path("v.png"), NULL, 0, NULL, &img), VDBGI_OK);
     CHECK(img.width == 3 * 3 && img.height == 2 * 5 * 7);
@@ -186,7 +187,7 @@ static void baked_cubes_resample_onto_the_grid(void)
         CHECK(info.resolution[0] == 6 && info.resolution[2] == 4);
         CHECK_NEAR(info.center[1], 1.5, 1e-12);
         CHECK_NEAR(info.size[0], 6.0, 1e-12);
-        CHECK_RESULT(ctx, vdbgi_bevy_write_ktx2(b, tmp_path("room.ktx2"), VDBGI_BEVY_RGBA16F),
+        CHECK_RESULT(ctx, vdbgi_bevy_write_ktx2(b, tmp_path("room.ktx2"), VDBGI_BEVY_RGBA16F, NULL),
                      VDBGI_OK);
         size_t size = 0;
         uint8_t *const f = slurp(tmp_path("room.ktx2"), &size);
@@ -256,9 +257,35 @@ static void bad_volumes_are_refused_without_files(void)
     vdbgi_context_destroy(ctx);
 }
 
+static void writers_count_the_colours_they_clamp(void)
+{
+    /* One voxel whose +X side is far past half floats (65504) and RGB9E5 (65408). */
+    float cube[18] = {0};
+    cube[0] = cube[1] = cube[2] = 1e6f;
+    const int one[3] = {1, 1, 1};
+    const double lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
+    vdbgi_context *ctx = test_context();
+    vdbgi_bevy *b = NULL;
+    CHECK_RESULT(ctx, vdbgi_bevy_create(ctx, cube, one, lo, hi, &b), VDBGI_OK);
+    size_t half = 99, e5 = 99, png = 99;
+    if (b) {
+        CHECK_RESULT(ctx, vdbgi_bevy_write_ktx2(b, tmp_path("c.ktx2"), VDBGI_BEVY_RGBA16F, &half),
+                     VDBGI_OK);
+        CHECK_RESULT(ctx, vdbgi_bevy_write_ktx2(b, tmp_path("c.ktx2"), VDBGI_BEVY_RGB9E5, &e5),
+                     VDBGI_OK);
+        CHECK_RESULT(ctx, vdbgi_bevy_write_baked_gi(b, tmp_path("c.png"), &png), VDBGI_OK);
+    }
+    CHECK(half == 3); /* per channel */
+    CHECK(e5 == 1);   /* per texel */
+    CHECK(png == 0);  /* 2^(255A - 128) reaches 1e6 */
+    vdbgi_bevy_destroy(b);
+    vdbgi_context_destroy(ctx);
+}
+
 int main(void)
 {
     test_tmpdir_make("test-bevy");
+    RUN(writers_count_the_colours_they_clamp);
     RUN(ktx2_layout_follows_seed_001);
     RUN(baked_gi_layout_follows_seed_002);
     RUN(baked_cubes_resample_onto_the_grid);

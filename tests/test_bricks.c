@@ -58,7 +58,7 @@ static void exact_bricks_give_back_every_valid_probe(void)
     vdbgi_probes *p = test_slab(ctx, 20, 9, 13, smooth);
     for (int e = 0; e < 2; e++) {
         const vdbgi_convert_desc d = {
-            .eps = VDBGI_NONE, .levels = 1, .encoding = (vdbgi_encoding)e};
+            .eps = VDBGI_ZERO, .max_level = VDBGI_ZERO, .encoding = (vdbgi_encoding)e};
         vdbgi_volume *v = NULL;
         CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
         if (!v)
@@ -91,7 +91,7 @@ static void aprons_hide_brick_boundaries(void)
 {
     vdbgi_context *ctx = test_context();
     vdbgi_probes *p = test_slab(ctx, 40, 10, 24, smooth);
-    const vdbgi_convert_desc d = {.eps = VDBGI_NONE, .levels = 1};
+    const vdbgi_convert_desc d = {.eps = VDBGI_ZERO, .max_level = VDBGI_ZERO};
     vdbgi_volume *v = NULL;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
     if (v) {
@@ -122,7 +122,7 @@ static void larger_eps_never_grows_the_atlas(void)
 {
     vdbgi_context *ctx = test_context();
     vdbgi_probes *p = test_slab(ctx, 64, 10, 48, smooth);
-    const float eps[] = {VDBGI_NONE, 0.01f, 0.03f, 0.1f, 0.3f, 1.0f, 3.0f};
+    const float eps[] = {VDBGI_ZERO, 0.01f, 0.03f, 0.1f, 0.3f, 1.0f, 3.0f};
     for (int c = VDBGI_CRITERION_RANGE; c <= VDBGI_CRITERION_INTERP; c++) {
         size_t last_atlas = SIZE_MAX, last_bricks = SIZE_MAX;
         double last_rmse = 0.0;
@@ -213,7 +213,7 @@ static void invalid_probes_never_leak_their_value(void)
             p->backface[i] = 1.0f;
             p->rgb[3 * i] = p->rgb[3 * i + 1] = p->rgb[3 * i + 2] = 100.0f;
         }
-    const vdbgi_convert_desc d = {.eps = VDBGI_NONE, .levels = 1};
+    const vdbgi_convert_desc d = {.eps = VDBGI_ZERO, .max_level = VDBGI_ZERO};
     vdbgi_volume *v = NULL;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
     if (v) {
@@ -358,8 +358,8 @@ static void bad_parameters_and_probes_are_refused(void)
     const vdbgi_convert_desc bad[] = {{.eps = -1.0f},
                                       {.eps = -0.5f},
                                       {.eps = NAN},
-                                      {.levels = 5},
-                                      {.levels = -1},
+                                      {.max_level = 4},
+                                      {.max_level = -1},
                                       {.criterion = (vdbgi_criterion)9},
                                       {.encoding = (vdbgi_encoding)7},
                                       {.fill = (vdbgi_fill)3}};
@@ -430,6 +430,56 @@ static void failing_allocations_are_reported_without_leaks(void)
     CHECK(succeeded);
 }
 
+static void textures_and_probes_copy_into_caller_buffers_after_a_size_query(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_probes *p = test_slab(ctx, 12, 6, 12, smooth);
+    vdbgi_volume *v = NULL;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, NULL, &v), VDBGI_OK);
+    if (!v) {
+        vdbgi_probes_destroy(p);
+        vdbgi_context_destroy(ctx);
+        return;
+    }
+    size_t (*const copy[2])(const vdbgi_volume *, void *, size_t) = {vdbgi_volume_copy_indirection,
+                                                                     vdbgi_volume_copy_atlas};
+    const uint8_t *const want[2] = {v->indirection, v->atlas};
+    for (int t = 0; t < 2; t++) {
+        const size_t size = copy[t](v, NULL, 0);
+        CHECK(size == (t ? v->info.atlas_size : v->info.indirection_size) && size > 0);
+        /* A fresh buffer each time, one byte short first: nothing may be written. */
+        uint8_t *const shorter = malloc(size - 1);
+        memset(shorter, 0xA5, size - 1);
+        CHECK(copy[t](v, shorter, size - 1) == 0);
+        CHECK(shorter[0] == 0xA5 && shorter[size - 2] == 0xA5);
+        free(shorter);
+        uint8_t *const exact = malloc(size);
+        CHECK(copy[t](v, exact, size) == size);
+        CHECK(memcmp(exact, want[t], size) == 0);
+        free(exact);
+    }
+    const size_t n = vdbgi_probes_copy(p, NULL, NULL, NULL, 0);
+    CHECK(n == p->count && n > 0);
+    int32_t *const ijk = malloc(n * 3 * sizeof(int32_t));
+    float *const rgb = malloc(n * 3 * sizeof(float));
+    float *const bf = malloc(n * sizeof(float));
+    CHECK(vdbgi_probes_copy(p, ijk, rgb, bf, n - 1) == 0);
+    CHECK(vdbgi_probes_copy(p, ijk, rgb, bf, n) == n);
+    for (size_t i = 0; i < n; i += 97) {
+        int32_t c[3];
+        float col[3], b;
+        CHECK_RESULT(ctx, vdbgi_probes_get(p, i, c, col, &b), VDBGI_OK);
+        CHECK(memcmp(c, &ijk[3 * i], sizeof(c)) == 0 &&
+              memcmp(col, &rgb[3 * i], sizeof(col)) == 0 && b == bf[i]);
+    }
+    free(ijk);
+    free(rgb);
+    free(bf);
+    vdbgi_volume_destroy(v);
+    vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+}
+
 int main(void)
 {
     test_tmpdir_make("test-bricks");
@@ -443,6 +493,7 @@ int main(void)
     RUN(damaged_files_are_refused);
     RUN(bad_parameters_and_probes_are_refused);
     RUN(failing_allocations_are_reported_without_leaks);
+    RUN(textures_and_probes_copy_into_caller_buffers_after_a_size_query);
     test_tmpdir_remove();
     return CHECK_EXIT();
 }

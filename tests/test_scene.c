@@ -270,8 +270,8 @@ static void double_sided_back_hits_do_not_count_as_invalid(void)
     float rgb[3], bf_two = -1.0f, bf_one = -1.0f;
     const vdbgi_bake_desc d = {.rays = 64};
     if (two && one) {
-        CHECK_RESULT(ctx, vdbgi_bake_points(ctx, two, &d, pt, 1, rgb, &bf_two), VDBGI_OK);
-        CHECK_RESULT(ctx, vdbgi_bake_points(ctx, one, &d, pt, 1, rgb, &bf_one), VDBGI_OK);
+        CHECK_RESULT(ctx, vdbgi_scene_bake_points(two, &d, pt, 1, rgb, &bf_two), VDBGI_OK);
+        CHECK_RESULT(ctx, vdbgi_scene_bake_points(one, &d, pt, 1, rgb, &bf_one), VDBGI_OK);
     }
     CHECK(bf_two == 0.0f);
     CHECK(bf_one == 1.0f);

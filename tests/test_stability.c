@@ -156,7 +156,7 @@ static void noise_allowance_keeps_low_ray_bakes_coarse(void)
         for (int run = 0; run < 2 * neps && p; run++) {
             const int e = run / 2, allow = run % 2;
             const vdbgi_convert_desc cd = {.eps = eps[e],
-                                           .noise_sigmas = allow ? 0.0f : VDBGI_NONE};
+                                           .noise_sigmas = allow ? 0.0f : VDBGI_ZERO};
             vdbgi_volume *v = NULL;
             CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
             if (!v)
@@ -248,7 +248,7 @@ static void fibonacci_error_is_structured_on_thin_geometry(void)
         pts[3 * i + 2] = 0.37f;
     }
     const vdbgi_bake_desc rd = {.rays = full ? 65536 : 16384, .sampling = VDBGI_SAMPLING_RANDOM};
-    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &rd, pts, N, ref, NULL), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &rd, pts, N, ref, NULL), VDBGI_OK);
     const double mean = luminance_mean(ref, N);
     static const int full_rays[] = {32, 128, 512}, short_rays[] = {128};
     const int *rays = full ? full_rays : short_rays;
@@ -256,7 +256,7 @@ static void fibonacci_error_is_structured_on_thin_geometry(void)
         double rho[2] = {0, 0}, rmse[2] = {0, 0};
         for (int sm = 0; sm < 2; sm++) {
             const vdbgi_bake_desc bd = {.rays = rays[r], .sampling = (vdbgi_sampling)sm};
-            CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &bd, pts, N, got, NULL), VDBGI_OK);
+            CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &bd, pts, N, got, NULL), VDBGI_OK);
             static double e[N];
             double se = 0.0;
             for (int i = 0; i < N; i++) {
@@ -328,7 +328,7 @@ static void leak_case(float t, double origin_x, double out[2][FILL_CASES + 1])
             }
     const vdbgi_bake_desc rd = {.rays = full ? 4096 : 1024};
     for (int side = 0; side < 2; side++) {
-        CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &rd, pts[side], N, ref, NULL), VDBGI_OK);
+        CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &rd, pts[side], N, ref, NULL), VDBGI_OK);
         out[side][0] = luminance_mean(ref, N);
     }
     const vdbgi_place_desc pd = {
@@ -339,8 +339,8 @@ static void leak_case(float t, double origin_x, double out[2][FILL_CASES + 1])
         /* A threshold of 1 counts no probe invalid: the field as if validity did not exist. */
         const vdbgi_bake_desc bd = {.rays = 256, .invalid_threshold = f == FILL_NONE ? 1.0f : 0.0f};
         CHECK_RESULT(ctx, vdbgi_probes_bake(pr, s, &bd, NULL), VDBGI_OK);
-        const vdbgi_convert_desc cd = {.eps = VDBGI_NONE,
-                                       .levels = 1,
+        const vdbgi_convert_desc cd = {.eps = VDBGI_ZERO,
+                                       .max_level = VDBGI_ZERO,
                                        .fill = f == FILL_DARKEST ? VDBGI_FILL_DARKEST
                                                                  : VDBGI_FILL_MEAN};
         vdbgi_volume *v = NULL;
@@ -698,7 +698,7 @@ static void coincident_bake(vdbgi_context *ctx, const vdbgi_mesh_desc *md, size_
     vdbgi_scene *s = NULL;
     CHECK_RESULT(ctx, vdbgi_scene_create(ctx, md, count, &s), VDBGI_OK);
     const vdbgi_bake_desc bd = {.threads = threads, .sky = {0.5f, 0.5f, 0.5f}};
-    CHECK_RESULT(ctx, vdbgi_bake_points(ctx, s, &bd, pts, COINCIDENT_POINTS, rgb, backface),
+    CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &bd, pts, COINCIDENT_POINTS, rgb, backface),
                  VDBGI_OK);
     vdbgi_scene_destroy(s);
 }
