@@ -115,29 +115,6 @@ bool cli_parse_double(const char *s, double *out)
     return true;
 }
 
-bool cli_parse_vec3(const char *s, float out[3])
-{
-    if (!s)
-        return false;
-    const char *p = s;
-    for (int k = 0; k < 3; k++) {
-        char *end = NULL;
-        errno = 0;
-        const double v = strtod(p, &end);
-        if (end == p || errno == ERANGE || !isfinite(v))
-            return false;
-        out[k] = (float)v;
-        if (k < 2) {
-            if (*end != ',')
-                return false;
-            p = end + 1;
-        } else if (*end) {
-            return false;
-        }
-    }
-    return true;
-}
-
 bool cli_parse_doubles(const char *s, double *out, int n)
 {
     if (!s)
@@ -212,4 +189,14 @@ const char *cli_bytes(double bytes, char *buf, size_t cap)
     }
     snprintf(buf, cap, u ? "%.1f %s" : "%.0f %s", bytes, units[u]);
     return buf;
+}
+
+bool cli_parse_vec3(const char *s, float out[3])
+{
+    double v[3];
+    if (!cli_parse_doubles(s, v, 3))
+        return false;
+    for (int k = 0; k < 3; k++)
+        out[k] = (float)v[k];
+    return true;
 }

@@ -3,10 +3,13 @@
 #include "cli.h"
 #include "vdbgi.h"
 
+#include <fcntl.h>
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 static void usage(void)
 {
@@ -30,14 +33,21 @@ static void usage(void)
 
 enum { OPT_AT = 256, OPT_VERSION };
 
-/* VDB files start with the 64-bit magic 0x56444220 (" BDV" little-endian). */
+/*
+ * VDB files start with the 64-bit magic 0x56444220 (" BDV" little-endian).
+ * Only a regular file is sniffed: anything else goes to the .gi reader,
+ * which refuses it by name (a FIFO read here would block).
+ */
 static int is_vdb(const char *path)
 {
-    FILE *const f = fopen(path, "rb");
+    const int fd = open(path, O_RDONLY | O_NONBLOCK);
+    struct stat st;
     unsigned char m[8] = {0};
-    const size_t n = f ? fread(m, 1, 8, f) : 0;
-    if (f)
-        fclose(f);
+    ssize_t n = 0;
+    if (fd >= 0 && fstat(fd, &st) == 0 && S_ISREG(st.st_mode))
+        n = read(fd, m, 8);
+    if (fd >= 0)
+        close(fd);
     static const unsigned char magic[8] = {0x20, 0x42, 0x44, 0x56, 0, 0, 0, 0};
     return n == 8 && memcmp(m, magic, 8) == 0;
 }

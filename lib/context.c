@@ -3,6 +3,7 @@
 #include "context.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -231,6 +232,22 @@ static vdbgi_result temp_commit(vdbgi_context *ctx, char *tmp, const char *path)
                           strerror(err));
     }
     vdbgi_free(ctx, tmp);
+    return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_input_check(vdbgi_context *ctx, const char *path)
+{
+    VDBGI_FAIL_IF(ctx, !path || !*path, VDBGI_ERR_INVALID_ARG, "no input path given");
+    /* O_NONBLOCK: opening a FIFO with no writer must not hang. */
+    const int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    VDBGI_FAIL_IF(ctx, fd < 0, VDBGI_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st;
+    const int stat_r = fstat(fd, &st);
+    close(fd);
+    VDBGI_FAIL_IF(ctx, stat_r != 0, VDBGI_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    VDBGI_FAIL_IF(ctx, S_ISDIR(st.st_mode), VDBGI_ERR_IO, "%s: is a directory, not a file", path);
+    VDBGI_FAIL_IF(ctx, !S_ISREG(st.st_mode), VDBGI_ERR_IO,
+                  "%s: not a regular file (a pipe or device is never read)", path);
     return VDBGI_OK;
 }
 

@@ -75,6 +75,14 @@ int vdbgi_run_threads(int n, void *(*fn)(void *), void *args, size_t stride);
 typedef vdbgi_result (*vdbgi_writer)(vdbgi_context *ctx, const char *tmp, const void *user);
 vdbgi_result vdbgi_write_atomic(vdbgi_context *ctx, const char *path, vdbgi_writer write,
                                 const void *user);
+/*
+ * An input file, checked the one way every reader checks it before handing
+ * the path to a library: it opens for reading and is a regular file (a
+ * directory, FIFO or device would be misread, block or never end).
+ * VDBGI_ERR_IO with a message naming path.
+ */
+vdbgi_result vdbgi_input_check(vdbgi_context *ctx, const char *path);
+
 /* The same for a block of bytes already in memory. */
 vdbgi_result vdbgi_write_bytes_atomic(vdbgi_context *ctx, const char *path, const void *bytes,
                                       size_t size);

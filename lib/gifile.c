@@ -155,7 +155,7 @@ vdbgi_result vdbgi_volume_read(vdbgi_context *ctx, const char *path, vdbgi_volum
 {
     VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
     *out = NULL;
-    VDBGI_FAIL_IF(ctx, !path || !*path, VDBGI_ERR_INVALID_ARG, "no input path given");
+    VDBGI_TRY(vdbgi_input_check(ctx, path));
     /* gzread reads gzip'd and plain files alike, and checks the gzip CRC at the end. */
     gzFile gz = gzopen(path, "rb");
     VDBGI_FAIL_IF(ctx, !gz, VDBGI_ERR_IO, "%s: cannot open: %s", path,

@@ -91,7 +91,9 @@ static void load_material_texture(vdbgi_scene *s, const struct aiScene *as,
             return; /* the scene allocation that follows will fail the same way */
         memcpy(full, dir, dir_len);
         strcpy(full + dir_len, p);
-        r = vdbgi_image_decode(ctx, full, NULL, 0, NULL, tex);
+        r = vdbgi_input_check(ctx, full);
+        if (r == VDBGI_OK)
+            r = vdbgi_image_decode(ctx, full, NULL, 0, NULL, tex);
         vdbgi_free(ctx, full);
     }
     if (r != VDBGI_OK) {
@@ -190,10 +192,7 @@ vdbgi_result vdbgi_scene_load(vdbgi_context *ctx, const char *path, vdbgi_scene 
 {
     VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
     *out = NULL;
-    VDBGI_FAIL_IF(ctx, !path || !*path, VDBGI_ERR_INVALID_ARG, "no scene path given");
-    FILE *const probe = fopen(path, "rb");
-    VDBGI_FAIL_IF(ctx, !probe, VDBGI_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    fclose(probe);
+    VDBGI_TRY(vdbgi_input_check(ctx, path));
 
     const struct aiScene *const as = aiImportFile(
         path, aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_ValidateDataStructure);

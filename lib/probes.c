@@ -59,10 +59,7 @@ vdbgi_result vdbgi_probes_read(vdbgi_context *ctx, const char *path, vdbgi_probe
 {
     VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
     *out = NULL;
-    VDBGI_FAIL_IF(ctx, !path || !*path, VDBGI_ERR_INVALID_ARG, "no input path given");
-    FILE *const f = fopen(path, "rb");
-    VDBGI_FAIL_IF(ctx, !f, VDBGI_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    fclose(f);
+    VDBGI_TRY(vdbgi_input_check(ctx, path));
     vdbgi_probes *p = NULL;
     VDBGI_TRY(vdbgi_vdb_read(ctx, path, &p));
     if (p->count == 0) {
