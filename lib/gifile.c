@@ -151,84 +151,139 @@ static vdbgi_result check_indirection(vdbgi_context *ctx, const char *path, cons
     return VDBGI_OK;
 }
 
+/* Deflate expands at most about 1032:1; with gzip's framing no honest file goes past this. */
+#define VDBGI_GZIP_MAX_RATIO 1100
+
+/* The whole file in memory: its real size bounds everything read from it. */
+static vdbgi_result read_file(vdbgi_context *ctx, const char *path, uint8_t **data, size_t *size)
+{
+    *data = NULL;
+    *size = 0;
+    FILE *const f = fopen(path, "rb");
+    VDBGI_FAIL_IF(ctx, !f, VDBGI_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0 || st.st_size < 0) {
+        fclose(f);
+        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot read: %s", path, strerror(errno));
+    }
+    const size_t n = (size_t)st.st_size;
+    uint8_t *const b = vdbgi_alloc(ctx, n ? n : 1);
+    const bool ok = b && fread(b, 1, n, f) == n;
+    fclose(f);
+    if (!ok) {
+        vdbgi_free(ctx, b);
+        return b ? vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot read", path) : VDBGI_ERR_OUT_OF_MEMORY;
+    }
+    *data = b;
+    *size = n;
+    return VDBGI_OK;
+}
+
+/* The first header bytes of a gzip stream, inflated no further than that. */
+static bool gunzip_prefix(const uint8_t *in, size_t in_size, uint8_t *out, size_t out_size)
+{
+    z_stream zs;
+    memset(&zs, 0, sizeof(zs));
+    if (inflateInit2(&zs, 16 + MAX_WBITS) != Z_OK)
+        return false;
+    zs.next_in = (Bytef *)(uintptr_t)in;
+    zs.avail_in = (uInt)(in_size > UINT32_MAX ? UINT32_MAX : in_size);
+    zs.next_out = out;
+    zs.avail_out = (uInt)out_size;
+    int z = Z_OK;
+    while (zs.avail_out > 0 && z == Z_OK)
+        z = inflate(&zs, Z_SYNC_FLUSH);
+    inflateEnd(&zs);
+    return zs.avail_out == 0;
+}
+
+/*
+ * Read a .gi or .gi.gz. Every size comes from the header and is checked
+ * before anything is allocated for it: against its dimensions, then against
+ * what the file can hold (its size, times deflate's largest ratio). The gzip
+ * stream must decompress to exactly the header's size with its CRC and length
+ * right, and nothing may follow it.
+ */
 vdbgi_result vdbgi_volume_read(vdbgi_context *ctx, const char *path, vdbgi_volume **out)
 {
     VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
     *out = NULL;
     VDBGI_TRY(vdbgi_input_check(ctx, path));
-    /* gzread reads gzip'd and plain files alike, and checks the gzip CRC at the end. */
-    gzFile gz = gzopen(path, "rb");
-    VDBGI_FAIL_IF(ctx, !gz, VDBGI_ERR_IO, "%s: cannot open: %s", path,
-                  errno ? strerror(errno) : "out of memory");
-    vdbgi_result r = VDBGI_OK;
-    vdbgi_volume *v = NULL;
+    uint8_t *file = NULL, *raw = NULL;
+    size_t file_size = 0;
+    VDBGI_TRY(read_file(ctx, path, &file, &file_size));
+    const bool gz = file_size >= 18 && file[0] == 0x1f && file[1] == 0x8b;
     uint8_t h[VDBGI_GI_HEADER_SIZE];
-    const int got = gzread(gz, h, sizeof(h));
-    if (got != (int)sizeof(h)) {
-        r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %s", path,
-                       got < 0 ? "damaged gzip data" : "too short to be a .gi file");
-        goto done;
-    }
     vdbgi_volume_info info;
     size_t header_size = 0;
+    vdbgi_volume *v = NULL;
+    vdbgi_result r = VDBGI_OK;
+    if (gz ? !gunzip_prefix(file, file_size, h, sizeof(h)) : file_size < sizeof(h)) {
+        r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %s", path,
+                       gz ? "damaged gzip data, or too short to be a .gi file"
+                          : "too short to be a .gi file");
+        goto done;
+    }
+    if (!gz)
+        memcpy(h, file, sizeof(h));
     if ((r = parse_header(ctx, path, h, &info, &header_size)) != VDBGI_OK)
         goto done;
-    /* Skip header fields added by later minor versions. */
-    for (size_t skip = header_size - sizeof(h); skip > 0; skip--)
-        if (gzgetc(gz) < 0) {
-            r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: truncated header", path);
+    const uint64_t total = (uint64_t)header_size + info.indirection_size + info.atlas_size;
+    if (gz ? total > (uint64_t)file_size * VDBGI_GZIP_MAX_RATIO : total != file_size) {
+        r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                       "%s: the header's %llu bytes of textures cannot come from a %zu-byte file",
+                       path, (unsigned long long)total, file_size);
+        goto done;
+    }
+    if (gz && (uint32_t)total != vdbgi_get_u32(file + file_size - 4)) {
+        r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                       "%s: cut short or damaged (the gzip trailer disagrees with the header)",
+                       path);
+        goto done;
+    }
+    if (!(raw = vdbgi_alloc(ctx, (size_t)total))) {
+        r = VDBGI_ERR_OUT_OF_MEMORY;
+        goto done;
+    }
+    if (gz) {
+        struct libdeflate_decompressor *const d = libdeflate_alloc_decompressor();
+        size_t in_used = 0, out_got = 0;
+        const enum libdeflate_result dr =
+            d ? libdeflate_gzip_decompress_ex(d, file, file_size, raw, (size_t)total, &in_used,
+                                              &out_got)
+              : LIBDEFLATE_BAD_DATA;
+        libdeflate_free_decompressor(d);
+        if (dr != LIBDEFLATE_SUCCESS || out_got != total || in_used != file_size) {
+            r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %s", path,
+                           dr == LIBDEFLATE_SUCCESS && in_used != file_size
+                               ? "data after the gzip stream"
+                           : dr == LIBDEFLATE_SUCCESS || dr == LIBDEFLATE_SHORT_OUTPUT
+                               ? "textures end early"
+                               : "damaged gzip data (its CRC, length or stream is wrong)");
             goto done;
         }
+    } else {
+        memcpy(raw, file, (size_t)total);
+    }
     if (!(v = vdbgi_calloc(ctx, 1, sizeof(*v)))) {
         r = VDBGI_ERR_OUT_OF_MEMORY;
         goto done;
     }
     v->ctx = ctx;
     v->info = info;
-    if ((r = vdbgi_gifile_alloc(v)) != VDBGI_OK)
-        goto done;
-    const struct {
-        uint8_t *p;
-        size_t n;
-        const char *what;
-    } parts[2] = {{v->indirection, info.indirection_size, "indirection"},
-                  {v->atlas, info.atlas_size, "atlas"}};
-    for (int i = 0; i < 2; i++) {
-        size_t done_bytes = 0;
-        while (done_bytes < parts[i].n) {
-            const size_t chunk =
-                parts[i].n - done_bytes > (1u << 30) ? (1u << 30) : parts[i].n - done_bytes;
-            const int n = gzread(gz, parts[i].p + done_bytes, (unsigned)chunk);
-            if (n <= 0) {
-                int zerr = 0;
-                const char *const msg = gzerror(gz, &zerr);
-                r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %s ends early (%zu of %zu bytes)%s%s",
-                               path, parts[i].what, done_bytes, parts[i].n, n < 0 ? ": " : "",
-                               n < 0 ? msg : "");
-                goto done;
-            }
-            done_bytes += (size_t)n;
-        }
-    }
-    /* Nothing may follow the atlas, and the gzip trailer (CRC, length) must check out. */
-    uint8_t extra;
-    const int tail = gzread(gz, &extra, 1);
-    if (tail != 0) {
-        int zerr = 0;
-        const char *const msg = gzerror(gz, &zerr);
-        r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %s", path,
-                       tail > 0 ? "data after the atlas" : msg);
-        goto done;
-    }
+    v->raw = raw;
+    v->indirection = raw + header_size;
+    v->atlas = v->indirection + info.indirection_size;
+    raw = NULL;
+    v->info.file_size = file_size;
     r = check_indirection(ctx, path, v);
 done:
-    gzclose(gz);
+    vdbgi_free(ctx, file);
+    vdbgi_free(ctx, raw);
     if (r != VDBGI_OK) {
         vdbgi_volume_destroy(v);
         return r;
     }
-    struct stat st;
-    v->info.file_size = stat(path, &st) == 0 ? (size_t)st.st_size : 0;
     *out = v;
     return VDBGI_OK;
 }

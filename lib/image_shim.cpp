@@ -59,9 +59,15 @@ vdbgi_image_module_decode(vdbgi_context *ctx, const char *path, const void *data
     }
     const ImageSpec &spec = in->spec();
     const int w = spec.width, h = spec.height, nc = spec.nchannels;
-    if (w <= 0 || h <= 0 || nc <= 0 || w > 65536 || h > 65536) {
+    if (w <= 0 || h <= 0 || nc <= 0 || nc > 64 || w > 65536 || h > 65536) {
         return host->fail(ctx, VDBGI_ERR_FORMAT, "%s: unusable image size %dx%dx%d",
                           data ? "embedded texture" : path, w, h, nc);
+    }
+    // The size comes from the file's header: a few bytes may claim gigabytes of pixels.
+    if ((size_t)w * (size_t)h > VDBGI_IMAGE_MAX_PIXELS) {
+        return host->fail(ctx, VDBGI_ERR_FORMAT,
+                          "%s: %dx%d image is over the %d-megapixel texture limit",
+                          data ? "embedded texture" : path, w, h, VDBGI_IMAGE_MAX_PIXELS >> 20);
     }
     std::vector<float> pixels((size_t)w * h * nc);
     if (!in->read_image(0, 0, 0, nc, TypeDesc::FLOAT, pixels.data())) {

@@ -12,6 +12,9 @@
 extern "C" {
 #endif
 
+/* Largest image decoded, in pixels (16 M, 256 MB as floats): 4096 x 4096 textures fit. */
+#define VDBGI_IMAGE_MAX_PIXELS (16 << 20)
+
 /* A decoded image: width x height pixels of 4 floats, row 0 at the top. */
 typedef struct vdbgi_image {
     int width, height;
