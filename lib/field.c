@@ -95,3 +95,17 @@ bool vdbgi_field_trilinear(const vdbgi_field *f, const double pos[3], float *out
     return f->channels == 1 ? trilinear(f, pos, out, cache, 3)
                             : trilinear(f, pos, out, cache, 3 * f->channels);
 }
+
+int vdbgi_tree_order(const int32_t a[3], const int32_t b[3])
+{
+    /* Root keys, the two internal levels, leaves (OpenVDB's 5-4-3 tree), then points. */
+    static const int32_t blocks[4] = {4096, 128, 8, 1};
+    for (int level = 0; level < 4; level++)
+        for (int k = 0; k < 3; k++) {
+            const int32_t x = vdbgi_floor_div(a[k], blocks[level]);
+            const int32_t y = vdbgi_floor_div(b[k], blocks[level]);
+            if (x != y)
+                return x < y ? -1 : 1;
+        }
+    return 0;
+}

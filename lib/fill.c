@@ -284,20 +284,6 @@ static vdbgi_result spread(grid *g, const vdbgi_fill_params *fp, size_t *unreach
 
 /* ---- from probes to the field ---------------------------------------------- */
 
-int vdbgi_tree_order(const int32_t a[3], const int32_t b[3])
-{
-    /* Root keys, the two internal levels, leaves (OpenVDB's 5-4-3 tree), then points. */
-    static const int32_t blocks[4] = {4096, 128, 8, 1};
-    for (int level = 0; level < 4; level++)
-        for (int k = 0; k < 3; k++) {
-            const int32_t x = vdbgi_floor_div(a[k], blocks[level]);
-            const int32_t y = vdbgi_floor_div(b[k], blocks[level]);
-            if (x != y)
-                return x < y ? -1 : 1;
-        }
-    return 0;
-}
-
 static int compare_triples(const void *a, const void *b)
 {
     return vdbgi_tree_order(a, b);

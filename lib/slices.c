@@ -63,6 +63,7 @@ static vdbgi_result write_atlas(const vdbgi_volume *v, const char *dir, float ex
     return r;
 }
 
+/* One pass over the plane fills the four images together (about 90 lines, kept whole). */
 vdbgi_result vdbgi_volume_write_slices(const vdbgi_volume *v, const vdbgi_probes *probes,
                                        vdbgi_axis axis, double at, float exposure, const char *dir)
 {

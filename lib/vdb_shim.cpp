@@ -260,6 +260,11 @@ void copy_extras(vdbgi_probes *p, size_t n, const openvdb::FloatGrid::Ptr &se,
 
 } // namespace
 
+/*
+ * Read the grids, check their types and transform, copy them into probes
+ * (about 90 lines, kept whole: the OpenVDB objects live only inside this
+ * exception boundary).
+ */
 extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_probes **out)
 {
     VDBGI_SHIM_BEGIN
