@@ -5,6 +5,7 @@
 #include <errno.h>
 #include <getopt.h>
 #include <math.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -16,9 +17,20 @@
 int cli_verbosity = 2;
 const char *cli_prog = "vdbgi";
 
+/* Interrupted or terminated: no temporary file is left, and the signal still ends us. */
+static void on_signal(int sig)
+{
+    vdbgi_remove_temporaries();
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
 void cli_init(const char *prog)
 {
     cli_prog = prog;
+    signal(SIGINT, on_signal);
+    signal(SIGTERM, on_signal);
+    signal(SIGHUP, on_signal);
 }
 
 static void vmessage(const char *fmt, va_list ap)

@@ -299,7 +299,7 @@ int main(int argc, char **argv)
     const double t4 = cli_now();
     if (r != VDBGI_OK) {
         code = cli_fail(ctx, r);
-    } else {
+    } else if (cli_verbosity >= 2) { /* -q: errors only */
         vdbgi_scene_info si;
         vdbgi_probes_info pi;
         vdbgi_scene_get_info(scene, &si);
@@ -318,8 +318,9 @@ int main(int argc, char **argv)
                t2 - t1, t3 - t2, t4 - t3);
         printf("output   %s (%s)\n", o.output,
                stat(o.output, &fs) == 0 ? cli_bytes((double)fs.st_size, size, sizeof(size)) : "?");
-        code = CLI_OK;
     }
+    if (r == VDBGI_OK)
+        code = CLI_OK;
     vdbgi_probes_destroy(probes);
     vdbgi_scene_destroy(scene);
     vdbgi_context_destroy(ctx);

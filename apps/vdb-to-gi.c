@@ -380,20 +380,21 @@ static void print_bevy(const vdbgi_bevy *b, const options *o)
 }
 
 /* The JSON statistics, through a temporary name like every output. */
-static bool write_json(const options *o, const vdbgi_volume_info *vi, const vdbgi_probes_info *pi,
-                       double read_seconds)
+/* The statistics as JSON, composed in memory and written as the library writes its files. */
+static vdbgi_result write_json(vdbgi_context *ctx, const options *o, const vdbgi_volume_info *vi,
+                               const vdbgi_probes_info *pi, double read_seconds)
 {
-    char tmp[4096];
-    snprintf(tmp, sizeof(tmp), "%s.tmp-json", o->stats);
-    FILE *const f = fopen(tmp, "w");
+    char *text = NULL;
+    size_t size = 0;
+    FILE *const f = open_memstream(&text, &size);
     if (!f)
-        return false;
+        return VDBGI_ERR_OUT_OF_MEMORY;
     print_stats(f, o, vi, pi, read_seconds, true);
-    const bool written = !ferror(f);
-    const bool ok = (fclose(f) == 0) & written && rename(tmp, o->stats) == 0;
-    if (!ok)
-        remove(tmp);
-    return ok;
+    const bool ok = !ferror(f) & (fclose(f) == 0);
+    const vdbgi_result r =
+        ok ? vdbgi_context_write_file(ctx, o->stats, text, size) : VDBGI_ERR_OUT_OF_MEMORY;
+    free(text);
+    return r;
 }
 
 int main(int argc, char **argv)
@@ -468,10 +469,8 @@ int main(int argc, char **argv)
         code = CLI_OK;
         if (cli_verbosity >= 2)
             print_stats(stdout, &o, &vi, &pi, read_seconds, false);
-        if (o.stats && !write_json(&o, &vi, &pi, read_seconds)) {
-            cli_error("%s: cannot write statistics", o.stats);
-            code = CLI_FAILED;
-        }
+        if (o.stats && (r = write_json(ctx, &o, &vi, &pi, read_seconds)) != VDBGI_OK)
+            code = cli_fail(ctx, r);
     }
     if (r == VDBGI_OK && !o.output)
         code = CLI_OK;

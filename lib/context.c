@@ -2,9 +2,11 @@
 #define _POSIX_C_SOURCE 200809L
 #include "context.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <pthread.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -189,23 +191,101 @@ int vdbgi_run_threads(int n, void *(*fn)(void *), void *args, size_t stride)
     return ran;
 }
 
+/*
+ * Temporaries being written, so that a signal handler can remove them
+ * (vdbgi_remove_temporaries). Slots are claimed and released atomically; a
+ * full table only means a temporary a signal would leave behind.
+ */
+#define LIVE_SLOTS 64
+static char *live_temporaries[LIVE_SLOTS];
+
+static void live_add(char *tmp)
+{
+    for (int i = 0; i < LIVE_SLOTS; i++) {
+        char *expected = NULL;
+        if (__atomic_compare_exchange_n(&live_temporaries[i], &expected, tmp, false,
+                                        __ATOMIC_SEQ_CST, __ATOMIC_SEQ_CST))
+            return;
+    }
+}
+
+static void live_remove(const char *tmp)
+{
+    for (int i = 0; i < LIVE_SLOTS; i++) {
+        char *expected = (char *)(uintptr_t)tmp;
+        __atomic_compare_exchange_n(&live_temporaries[i], &expected, NULL, false, __ATOMIC_SEQ_CST,
+                                    __ATOMIC_SEQ_CST);
+    }
+}
+
+void vdbgi_remove_temporaries(void)
+{
+    for (int i = 0; i < LIVE_SLOTS; i++) {
+        const char *const p = __atomic_load_n(&live_temporaries[i], __ATOMIC_SEQ_CST);
+        if (p)
+            unlink(p); /* async-signal-safe */
+    }
+}
+
+/*
+ * Temporaries are named "OUT.tmp-PID-XXXXXX". One left by a run that was
+ * killed outright (SIGKILL, a power cut) is removed by the next run that
+ * writes OUT, once its process is gone.
+ */
+static void remove_stale(const char *path)
+{
+    const char *const slash = strrchr(path, '/');
+    const char *const base = slash ? slash + 1 : path;
+    const size_t dir_len = slash ? (size_t)(slash - path) : 0;
+    char dir[4096], prefix[512], full[4096 + 512];
+    if (dir_len >= sizeof(dir) || strlen(base) + 6 >= sizeof(prefix))
+        return;
+    if (!slash)
+        snprintf(dir, sizeof(dir), ".");
+    else if (dir_len == 0)
+        snprintf(dir, sizeof(dir), "/");
+    else
+        snprintf(dir, sizeof(dir), "%.*s", (int)dir_len, path);
+    snprintf(prefix, sizeof(prefix), "%s.tmp-", base);
+    DIR *const d = opendir(dir);
+    if (!d)
+        return;
+    const size_t plen = strlen(prefix);
+    for (struct dirent *e; (e = readdir(d)) != NULL;) {
+        if (strncmp(e->d_name, prefix, plen) != 0)
+            continue;
+        char *end = NULL;
+        const long pid = strtol(e->d_name + plen, &end, 10);
+        if (pid <= 0 || *end != '-' || pid == (long)getpid())
+            continue;
+        if (kill((pid_t)pid, 0) != 0 && errno == ESRCH) {
+            snprintf(full, sizeof(full), "%s/%s", dir, e->d_name);
+            unlink(full);
+        }
+    }
+    closedir(d);
+}
+
 static vdbgi_result temp_create(vdbgi_context *ctx, const char *path, char **tmp_out)
 {
     *tmp_out = NULL;
     VDBGI_FAIL_IF(ctx, !path || !*path, VDBGI_ERR_INVALID_ARG, "no output path given");
-    static const char suffix[] = ".tmp-XXXXXX";
-    const size_t n = strlen(path);
-    char *const tmp = vdbgi_alloc(ctx, n + sizeof(suffix));
+    remove_stale(path);
+    char suffix[48];
+    snprintf(suffix, sizeof(suffix), ".tmp-%ld-XXXXXX", (long)getpid());
+    const size_t n = strlen(path), sn = strlen(suffix) + 1;
+    char *const tmp = vdbgi_alloc(ctx, n + sn);
     if (!tmp)
         return VDBGI_ERR_OUT_OF_MEMORY;
     memcpy(tmp, path, n);
-    memcpy(tmp + n, suffix, sizeof(suffix));
+    memcpy(tmp + n, suffix, sn);
     const int fd = mkstemp(tmp);
     if (fd < 0) {
         const int err = errno;
         vdbgi_free(ctx, tmp);
         return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write: %s", path, strerror(err));
     }
+    live_add(tmp);
     /* mkstemp makes 0600; the finished file should get the usual umask mode. */
     const mode_t mask = umask(0);
     umask(mask);
@@ -219,18 +299,33 @@ static void temp_discard(vdbgi_context *ctx, char *tmp)
 {
     if (tmp) {
         unlink(tmp);
+        live_remove(tmp);
         vdbgi_free(ctx, tmp);
     }
 }
 
 static vdbgi_result temp_commit(vdbgi_context *ctx, char *tmp, const char *path)
 {
+    /*
+     * Whatever wrote the file, its data reach the disk before it replaces anything:
+     * fsync reports the write errors a filesystem defers (a full disk, quota).
+     */
+    const int fd = open(tmp, O_RDONLY | O_CLOEXEC);
+    const int synced = fd >= 0 ? fsync(fd) : -1;
+    const int sync_err = errno;
+    if (fd >= 0)
+        close(fd);
+    if (synced != 0) {
+        temp_discard(ctx, tmp);
+        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write: %s", path, strerror(sync_err));
+    }
     if (rename(tmp, path) != 0) {
         const int err = errno;
         temp_discard(ctx, tmp);
         return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot rename into place: %s", path,
                           strerror(err));
     }
+    live_remove(tmp);
     vdbgi_free(ctx, tmp);
     return VDBGI_OK;
 }
@@ -269,7 +364,7 @@ static vdbgi_result write_bytes(vdbgi_context *ctx, const char *tmp, const void 
 {
     const bytes_job *const job = user;
     FILE *const f = fopen(tmp, "wb");
-    const bool ok = f && fwrite(job->bytes, 1, job->size, f) == job->size;
+    const bool ok = f && fwrite(job->bytes, 1, job->size, f) == job->size && fflush(f) == 0;
     const int err = errno;
     const bool closed = f && fclose(f) == 0;
     VDBGI_FAIL_IF(ctx, !ok || !closed, VDBGI_ERR_IO, "%s: cannot write: %s", job->path,
@@ -295,4 +390,11 @@ vdbgi_result vdbgi_write_atomic(vdbgi_context *ctx, const char *path, vdbgi_writ
         return r;
     }
     return temp_commit(ctx, tmp, path);
+}
+
+vdbgi_result vdbgi_context_write_file(vdbgi_context *ctx, const char *path, const void *data,
+                                      size_t size)
+{
+    VDBGI_FAIL_IF(ctx, !data && size, VDBGI_ERR_INVALID_ARG, "no data given");
+    return vdbgi_write_bytes_atomic(ctx, path, data, size);
 }

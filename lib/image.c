@@ -22,7 +22,7 @@
 static struct {
     pthread_once_t once;
     vdbgi_image_module_decode_fn *decode;
-    vdbgi_image_module_write_fn *write;
+    vdbgi_image_module_encode_fn *encode;
     char error[512];
 } module = {PTHREAD_ONCE_INIT, NULL, NULL, ""};
 
@@ -66,10 +66,10 @@ static void open_module(void)
     vdbgi_image_module_init_fn *const init =
         (vdbgi_image_module_init_fn *)dlsym(h, "vdbgi_image_module_init");
     module.decode = (vdbgi_image_module_decode_fn *)dlsym(h, "vdbgi_image_module_decode");
-    module.write = (vdbgi_image_module_write_fn *)dlsym(h, "vdbgi_image_module_write");
-    if (!init || !module.decode || !module.write) {
+    module.encode = (vdbgi_image_module_encode_fn *)dlsym(h, "vdbgi_image_module_encode");
+    if (!init || !module.decode || !module.encode) {
         module.decode = NULL;
-        module.write = NULL;
+        module.encode = NULL;
         snprintf(module.error, sizeof(module.error), "%s lacks its entry points",
                  VDBGI_IMAGE_MODULE_NAME);
         return;
@@ -94,20 +94,6 @@ vdbgi_result vdbgi_image_decode(vdbgi_context *ctx, const char *path, const void
     return module.decode(ctx, path, data, data_size, format_hint, out);
 }
 
-typedef struct image_job {
-    const char *path, *ext;
-    int width, height, channels;
-    const float *pixels;
-    bool data;
-} image_job;
-
-static vdbgi_result write_tmp(vdbgi_context *ctx, const char *tmp, const void *user)
-{
-    const image_job *const j = user;
-    return module.write(ctx, tmp, j->path, j->ext, j->width, j->height, j->channels, j->pixels,
-                        j->data);
-}
-
 vdbgi_result vdbgi_image_write(vdbgi_context *ctx, const char *path, int width, int height,
                                int channels, const float *pixels, bool data)
 {
@@ -116,6 +102,12 @@ vdbgi_result vdbgi_image_write(vdbgi_context *ctx, const char *path, int width, 
     VDBGI_FAIL_IF(ctx, strcmp(ext, "exr") != 0 && strcmp(ext, "png") != 0, VDBGI_ERR_INVALID_ARG,
                   "%s: images are .png or .exr", path);
     VDBGI_TRY(ready(ctx));
-    const image_job job = {path, ext, width, height, channels, pixels, data};
-    return vdbgi_write_atomic(ctx, path, write_tmp, &job);
+    uint8_t *bytes = NULL;
+    size_t size = 0;
+    vdbgi_result r =
+        module.encode(ctx, path, ext, width, height, channels, pixels, data, &bytes, &size);
+    if (r == VDBGI_OK)
+        r = vdbgi_write_bytes_atomic(ctx, path, bytes, size);
+    vdbgi_free(ctx, bytes);
+    return r;
 }

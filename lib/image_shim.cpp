@@ -97,19 +97,21 @@ vdbgi_image_module_decode(vdbgi_context *ctx, const char *path, const void *data
     VDBGI_SHIM_END(ctx, "openimageio")
 }
 
-extern "C" VDBGI_MODULE_API vdbgi_result vdbgi_image_module_write(vdbgi_context *ctx,
-                                                                  const char *tmp, const char *path,
-                                                                  const char *ext, int width,
-                                                                  int height, int channels,
-                                                                  const float *pixels, bool data)
+extern "C" VDBGI_MODULE_API vdbgi_result vdbgi_image_module_encode(
+    vdbgi_context *ctx, const char *path, const char *ext, int width, int height, int channels,
+    const float *pixels, bool data, uint8_t **bytes, size_t *size)
 {
     VDBGI_SHIM_BEGIN
+    *bytes = nullptr;
+    *size = 0;
     const bool exr = std::strcmp(ext, "exr") == 0;
-    // The temporary name has no image extension, so name the format explicitly.
     auto out = ImageOutput::create(ext);
     if (!out)
         return host->fail(ctx, VDBGI_ERR_BACKEND, "openimageio: no %s writer: %s", ext,
                           OIIO::geterror().c_str());
+    if (!out->supports("ioproxy"))
+        return host->fail(ctx, VDBGI_ERR_BACKEND,
+                          "openimageio: the %s writer cannot write to memory", ext);
     ImageSpec spec(width, height, channels, exr ? TypeDesc::HALF : TypeDesc::UINT8);
     if (exr)
         spec.attribute("compression", "zip");
@@ -117,9 +119,20 @@ extern "C" VDBGI_MODULE_API vdbgi_result vdbgi_image_module_write(vdbgi_context 
         spec.attribute("oiio:ColorSpace", "Linear");
     // Our alpha is data, not coverage: write RGB as given, never divided by it.
     spec.attribute("oiio:UnassociatedAlpha", 1);
-    if (!(out->open(tmp, spec) && out->write_image(TypeDesc::FLOAT, pixels) && out->close()))
-        return host->fail(ctx, VDBGI_ERR_IO, "%s: cannot write image: %s", path,
+    // Into memory: the library writes the bytes itself and checks every write, which a
+    // plugin writing to a full disk may not.
+    std::vector<unsigned char> buffer;
+    Filesystem::IOVecOutput proxy(buffer);
+    if (!(out->set_ioproxy(&proxy) && out->open(std::string("memory.") + ext, spec) &&
+          out->write_image(TypeDesc::FLOAT, pixels) && out->close()))
+        return host->fail(ctx, VDBGI_ERR_IO, "%s: cannot encode image: %s", path,
                           out->geterror().c_str());
+    uint8_t *const b = (uint8_t *)host->calloc(ctx, buffer.size() ? buffer.size() : 1, 1);
+    if (!b)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    std::memcpy(b, buffer.data(), buffer.size());
+    *bytes = b;
+    *size = buffer.size();
     return VDBGI_OK;
     VDBGI_SHIM_END(ctx, "openimageio")
 }

@@ -56,11 +56,11 @@ typedef void vdbgi_image_module_init_fn(const vdbgi_image_host *host);
 typedef vdbgi_result vdbgi_image_module_decode_fn(vdbgi_context *ctx, const char *path,
                                                   const void *data, size_t data_size,
                                                   const char *format_hint, vdbgi_image *out);
-/* Write the image to tmp (path names it in messages) in the format ext ("png" or "exr"). */
-typedef vdbgi_result vdbgi_image_module_write_fn(vdbgi_context *ctx, const char *tmp,
-                                                 const char *path, const char *ext, int width,
-                                                 int height, int channels, const float *pixels,
-                                                 bool data);
+/* Encode the image in the format ext ("png" or "exr") into *bytes (through host->calloc). */
+typedef vdbgi_result vdbgi_image_module_encode_fn(vdbgi_context *ctx, const char *path,
+                                                  const char *ext, int width, int height,
+                                                  int channels, const float *pixels, bool data,
+                                                  uint8_t **bytes, size_t *size);
 
 #ifdef __cplusplus
 }

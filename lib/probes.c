@@ -44,15 +44,22 @@ void vdbgi_probes_destroy(vdbgi_probes *p)
 }
 
 /* Upper bound on the probes within margin of the triangles: area x band / spacing^3. */
-static vdbgi_result write_vdb(vdbgi_context *ctx, const char *tmp, const void *probes)
+typedef struct vdb_job {
+    const vdbgi_probes *probes;
+    const char *path; /* for messages: the name the user gave */
+} vdb_job;
+
+static vdbgi_result write_vdb(vdbgi_context *ctx, const char *tmp, const void *user)
 {
-    return vdbgi_vdb_write(ctx, tmp, probes);
+    const vdb_job *const job = user;
+    return vdbgi_vdb_write(ctx, tmp, job->path, job->probes);
 }
 
 vdbgi_result vdbgi_probes_write(const vdbgi_probes *p, const char *path)
 {
     VDBGI_FAIL_IF(p->ctx, !p->rgb, VDBGI_ERR_INVALID_ARG, "probes have no values: bake them first");
-    return vdbgi_write_atomic(p->ctx, path, write_vdb, p);
+    const vdb_job job = {p, path};
+    return vdbgi_write_atomic(p->ctx, path, write_vdb, &job);
 }
 
 vdbgi_result vdbgi_probes_read(vdbgi_context *ctx, const char *path, vdbgi_probes **out)

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -119,7 +120,21 @@ extern "C" vdbgi_result vdbgi_vdb_topology(vdbgi_context *ctx, const float *posi
     VDBGI_SHIM_END(ctx, "openvdb")
 }
 
-extern "C" vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, const vdbgi_probes *p)
+namespace
+{
+
+/* io::File::write's archive (seekable, so readers can find each grid), on a given stream. */
+struct CheckedWriter : openvdb::io::Archive {
+    void write_to(std::ostream &os, const openvdb::GridPtrVec &grids) const
+    {
+        write(os, grids, /*seekable=*/true);
+    }
+};
+
+} // namespace
+
+extern "C" vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, const char *name,
+                                        const vdbgi_probes *p)
 {
     VDBGI_SHIM_BEGIN
     openvdb::initialize();
@@ -186,9 +201,19 @@ extern "C" vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, co
     for (auto &g : grids)
         for (size_t m = 0; m < p->meta.count; m++)
             add_meta(*g, p->meta.items[m]);
-    openvdb::io::File file(path);
-    file.write(grids);
-    file.close();
+    // io::File::write never looks at its stream again: a full disk left a truncated file
+    // behind a success. The same archive, written to a stream of ours that is checked.
+    std::ofstream os(path, std::ios_base::out | std::ios_base::binary | std::ios_base::trunc);
+    if (!os)
+        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write: %s", name, std::strerror(errno));
+    errno = 0;
+    CheckedWriter().write_to(os, grids);
+    os.flush();
+    const int err = errno;
+    os.close();
+    if (!os)
+        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write: %s", name,
+                          err ? std::strerror(err) : "write failed");
     return VDBGI_OK;
     VDBGI_SHIM_END(ctx, "openvdb")
 }

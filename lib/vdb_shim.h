@@ -19,8 +19,10 @@ vdbgi_result vdbgi_vdb_topology(vdbgi_context *ctx, const float *positions, size
                                 const double origin[3], double spacing, double margin,
                                 uint64_t max_count, int32_t **ijk_out, size_t *count_out);
 
-/* Write probes (baked) as the "irradiance" and "validity" grids at path (no temp dance). */
-vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, const vdbgi_probes *probes);
+/* Write probes (baked) as the "irradiance" and "validity" grids at path (no temp dance);
+   messages say name. */
+vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, const char *name,
+                             const vdbgi_probes *probes);
 
 /* Read "irradiance" (and "validity" if present) from path into new probes. */
 vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_probes **out);

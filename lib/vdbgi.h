@@ -144,6 +144,24 @@ VDBGI_API const char *vdbgi_context_error(const vdbgi_context *ctx);
  */
 VDBGI_API vdbgi_result vdbgi_output_check(vdbgi_context *ctx, const char *path);
 
+/*
+ * Write size bytes to path the way the library writes every output: into a
+ * temporary file beside it, checked to the last write and fsync, then
+ * renamed over path. A failure leaves no file and never touches an existing
+ * one. For the apps' own outputs (statistics).
+ */
+VDBGI_API vdbgi_result vdbgi_context_write_file(vdbgi_context *ctx, const char *path,
+                                                const void *data, size_t size);
+
+/*
+ * Remove the temporary file of every write in progress, in any context.
+ * Async-signal-safe: for a SIGINT or SIGTERM handler, which should then let
+ * the signal end the process. Outputs are written to "OUT.tmp-PID-XXXXXX"
+ * and renamed when complete; one left by a killed process is removed by the
+ * next write of OUT.
+ */
+VDBGI_API void vdbgi_remove_temporaries(void);
+
 /* ------------------------------------------------------------------------ */
 /* Scene: a triangle soup with a material per triangle, and its ray tracer.  */
 
