@@ -41,13 +41,15 @@ vdbgi_result vdbgi_probes_place(vdbgi_context *ctx, const vdbgi_scene *scene,
         VDBGI_FAIL_IF(ctx, !isfinite(origin[k]), VDBGI_ERR_INVALID_ARG,
                       "lattice origin must be finite");
     }
-    /* The lattice index is int32: the scene must fit inside it. */
+    /* Probe indices stay within VDBGI_MAX_INDEX, as every reader of a .vdb demands. */
     for (int k = 0; k < 3; k++) {
         const double lo = (scene->bounds_min[k] - margin - origin[k]) / spacing;
         const double hi = (scene->bounds_max[k] + margin - origin[k]) / spacing;
-        VDBGI_FAIL_IF(ctx, lo < -1e9 || hi > 1e9, VDBGI_ERR_INVALID_ARG,
-                      "spacing %g m is too small for a scene %g m across", spacing,
-                      (double)(scene->bounds_max[k] - scene->bounds_min[k]));
+        VDBGI_FAIL_IF(ctx, lo < -VDBGI_MAX_INDEX || hi > VDBGI_MAX_INDEX, VDBGI_ERR_INVALID_ARG,
+                      "the scene reaches %g..%g m on %c: at spacing %g m its probes would be "
+                      "numbered beyond +-%d",
+                      (double)scene->bounds_min[k], (double)scene->bounds_max[k], "xyz"[k], spacing,
+                      VDBGI_MAX_INDEX);
     }
     /* Refuse early, before OpenVDB spends the memory finding out exactly. */
     const double estimate = estimate_probe_count(scene, spacing, margin);

@@ -88,8 +88,27 @@ vdbgi_result vdbgi_probes_read(vdbgi_context *ctx, const char *path, vdbgi_probe
     p->adaptive = m && m->type == VDBGI_META_INT && m->i == VDBGI_RAYS_AUTO;
     if (!vdbgi_meta_find(&p->meta, "sampling"))
         p->sampling = VDBGI_SAMPLING_RANDOM; /* not ours: assume independent noise */
-    for (size_t i = 0; i < p->count; i++)
+    /* What OpenVDB reads as any float: irradiance is finite and >= 0, validity a fraction. */
+    for (size_t i = 0; i < p->count; i++) {
+        const float *const c = &p->rgb[3 * i];
+        const float *const q = p->cube ? &p->cube[18 * i] : c;
+        bool ok = p->backface[i] >= 0.0f && p->backface[i] <= 1.0f;
+        for (int k = 0; k < (p->cube ? 18 : 3); k++)
+            ok = ok && q[k] >= 0.0f && isfinite(q[k]);
+        for (int k = 0; k < 3; k++)
+            ok = ok && c[k] >= 0.0f && isfinite(c[k]);
+        if (!ok) {
+            const int32_t *const ijk = &p->ijk[3 * i];
+            vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                       "%s: probe %d,%d,%d holds a negative or non-finite value (%g,%g,%g, "
+                       "validity %g)",
+                       path, ijk[0], ijk[1], ijk[2], (double)c[0], (double)c[1], (double)c[2],
+                       (double)p->backface[i]);
+            vdbgi_probes_destroy(p);
+            return VDBGI_ERR_FORMAT;
+        }
         p->invalid_count += p->backface[i] > p->invalid_threshold;
+    }
     *out = p;
     return VDBGI_OK;
 }

@@ -253,6 +253,49 @@ struct GridLayout : openvdb::io::Archive {
 namespace
 {
 
+/*
+ * What the rest of vdbgi can take: one probe per active voxel (no tiles, whose
+ * voxels would all be allocated), an axis-aligned lattice of one positive
+ * spacing (no rotation, mirror or shear: the .gi box is axis-aligned), sane
+ * numbers for the spacing and origin, and indices far enough inside int32 that
+ * no cell, block or leaf arithmetic can overflow.
+ */
+vdbgi_result check_lattice(vdbgi_context *ctx, const char *path, const openvdb::Vec3SGrid &irr)
+{
+    if (irr.tree().activeTileCount() != 0)
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                          "%s: grid 'irradiance' has active tiles: probes are single voxels", path);
+    const openvdb::math::Transform &xf = irr.transform();
+    if (!xf.isLinear())
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid 'irradiance' has a non-linear transform",
+                          path);
+    const openvdb::Mat4d m = xf.baseMap()->getAffineMap()->getMat4();
+    const double s = m(0, 0);
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            if (r == c ? !(std::fabs(m(r, c) - s) <= 1e-9 * std::fabs(s)) : m(r, c) != 0.0)
+                return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                                  "%s: grid 'irradiance' is rotated, mirrored, sheared or scaled "
+                                  "unevenly: probes need an axis-aligned lattice",
+                                  path);
+    if (!(s >= VDBGI_MIN_SPACING && s <= VDBGI_MAX_SPACING))
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: probe spacing %g m is outside %g..%g m", path,
+                          s, VDBGI_MIN_SPACING, VDBGI_MAX_SPACING);
+    for (int k = 0; k < 3; k++)
+        if (!(std::fabs(m(3, k)) <= VDBGI_MAX_ORIGIN))
+            return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                              "%s: lattice origin %g m on %c is not finite or beyond %g m", path,
+                              m(3, k), "xyz"[k], VDBGI_MAX_ORIGIN);
+    const openvdb::CoordBBox box = irr.evalActiveVoxelBoundingBox();
+    for (int k = 0; k < 3; k++)
+        if (!box.empty() &&
+            (std::abs(box.min()[k]) > VDBGI_MAX_INDEX || std::abs(box.max()[k]) > VDBGI_MAX_INDEX))
+            return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                              "%s: probe indices reach %d..%d on %c, beyond +-%d", path,
+                              box.min()[k], box.max()[k], "xyz"[k], VDBGI_MAX_INDEX);
+    return VDBGI_OK;
+}
+
 /* The per-probe extras beside the irradiance: noise, rays and cube sides, at p's n probes. */
 void copy_extras(vdbgi_probes *p, size_t n, const openvdb::FloatGrid::Ptr &se,
                  const openvdb::Int32Grid::Ptr &rays, const openvdb::Vec3SGrid::Ptr side_grids[6],
@@ -307,7 +350,8 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
                           "%s: truncated VDB file (a grid ends past its end)", path);
     openvdb::io::File file(path);
     try {
-        file.open();
+        // Every grid read whole, now: delayed loading crashed on damaged leaf buffers.
+        file.open(/*delayLoad=*/false);
     } catch (const openvdb::Exception &e) {
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: not a readable VDB file (%s)", path,
                           e.what());
@@ -347,12 +391,12 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
         if (!(side_grids[side] = openvdb::gridPtrCast<openvdb::Vec3SGrid>(sides[side])))
             return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid '%s' is %s, not vec3s", path,
                               side_grid_names[side], sides[side]->valueType().c_str());
+    VDBGI_TRY(check_lattice(ctx, path, *irr));
+    if (val && val->tree().activeTileCount() != 0)
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                          "%s: grid 'validity' has active tiles: probes are single voxels", path);
     const openvdb::math::Transform &xf = irr->transform();
     const openvdb::Vec3d vs = xf.voxelSize();
-    if (!xf.isLinear() || std::fabs(vs.x() - vs.y()) > 1e-9 * vs.x() ||
-        std::fabs(vs.x() - vs.z()) > 1e-9 * vs.x() || !(vs.x() > 0.0))
-        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
-                          "%s: grid 'irradiance' needs a uniform linear transform", path);
     const openvdb::Vec3d o = xf.indexToWorld(openvdb::Vec3d(0.0));
     const size_t count = size_t(irr->activeVoxelCount());
     vdbgi_probes *p = nullptr;

@@ -164,6 +164,34 @@ static vdbgi_volume *volume_start(vdbgi_context *ctx, const vdbgi_probes *probes
     return v;
 }
 
+/*
+ * The indirection's size from the valid probes alone, before the fill spends
+ * memory on a lattice the texture limit refuses anyway: the same cells
+ * place_indirection will count (the valid probes' cells, one cell of margin,
+ * the corner aligned to 8 cells).
+ */
+static vdbgi_result check_extent(vdbgi_context *ctx, const vdbgi_probes *p)
+{
+    int32_t lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, hi[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
+    for (size_t i = 0; i < p->count; i++) {
+        if (p->backface[i] > p->invalid_threshold)
+            continue;
+        for (int k = 0; k < 3; k++) {
+            const int32_t c = vdbgi_floor_div(p->ijk[3 * i + k], VDBGI_BRICK);
+            lo[k] = c < lo[k] ? c : lo[k];
+            hi[k] = c > hi[k] ? c : hi[k];
+        }
+    }
+    for (int k = 0; k < 3 && lo[k] <= hi[k]; k++) {
+        const int64_t dim = (int64_t)hi[k] + 1 - (int64_t)vdbgi_floor_div(lo[k] - 1, 8) * 8 + 1;
+        VDBGI_FAIL_IF(ctx, dim > VDBGI_MAX_TEXTURE_DIM, VDBGI_ERR_OUT_OF_MEMORY,
+                      "the indirection texture would be %lld cells along %c, above the "
+                      "%d-texel limit of 3D textures: raise the probe spacing",
+                      (long long)dim, "xyz"[k], VDBGI_MAX_TEXTURE_DIM);
+    }
+    return VDBGI_OK;
+}
+
 /* The indirection covers the occupied cells from a corner aligned to level-3 blocks. */
 static vdbgi_result place_indirection(vdbgi_volume *v, const int32_t *cells, size_t cell_count,
                                       double spacing)
@@ -241,6 +269,7 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
         cp.sigmas = 0.0f;
     VDBGI_FAIL_IF(ctx, !probes->rgb, VDBGI_ERR_FORMAT, "probes have no values: bake them first");
     VDBGI_FAIL_IF(ctx, probes->count == 0, VDBGI_ERR_FORMAT, "the grid holds no probes");
+    VDBGI_TRY(check_extent(ctx, probes));
     vdbgi_volume *const v = volume_start(ctx, probes, encoding, cp.max_level);
     if (!v)
         return VDBGI_ERR_OUT_OF_MEMORY;
