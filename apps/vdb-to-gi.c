@@ -445,8 +445,9 @@ int main(int argc, char **argv)
         r = vdbgi_bevy_write_json(bevy, json[1], base_name(o.bevy_baked_gi), "bevy-baked-gi-png");
     if (r == VDBGI_OK && bevy && cli_verbosity >= 2)
         print_bevy(bevy, &o);
+    bool built = true;
     if (r == VDBGI_OK && o.output)
-        r = vdbgi_volume_build(ctx, probes, &o.convert, &vol);
+        built = (r = vdbgi_volume_build(ctx, probes, &o.convert, &vol)) == VDBGI_OK;
     if (r == VDBGI_OK && o.output)
         r = vdbgi_volume_write(vol, o.output);
     vdbgi_volume_info vi;
@@ -463,7 +464,11 @@ int main(int argc, char **argv)
                               : (isnan(o.exposure) ? 0.0 : o.exposure);
         r = vdbgi_volume_write_slices(vol, probes, o.axis, at, (float)ev, o.slices);
     }
-    if (r != VDBGI_OK) {
+    if (!built) {
+        /* The build sees probes, not a file: say which input they came from. */
+        cli_error("%s: %s", o.input, vdbgi_context_error(ctx));
+        code = CLI_FAILED;
+    } else if (r != VDBGI_OK) {
         code = cli_fail(ctx, r);
     } else if (o.output) {
         code = CLI_OK;

@@ -230,6 +230,8 @@ struct GridLayout : openvdb::io::Archive {
         std::ifstream is(path, std::ios::binary | std::ios::ate);
         const std::streamoff size = is.tellg();
         is.seekg(0);
+        // Reading past the end throws: a damaged count must not read zeros forever.
+        is.exceptions(std::ios::failbit | std::ios::badbit | std::ios::eofbit);
         readHeader(is);
         openvdb::io::setVersion(is, libraryVersion(), fileVersion()); // as io::File::open tags it
         openvdb::io::setDataCompression(is, compression());
@@ -344,10 +346,15 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
         fits = GridLayout().grids_fit(path);
     } catch (const openvdb::Exception &) {
         // not a VDB file at all: open() below says why
+    } catch (const std::ios_base::failure &) {
+        fits = false;
+    } catch (const std::bad_alloc &) {
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                          "%s: damaged VDB file (a count in its header is absurd)", path);
     }
     if (!fits)
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
-                          "%s: truncated VDB file (a grid ends past its end)", path);
+                          "%s: truncated or damaged VDB file (a grid ends past its end)", path);
     openvdb::io::File file(path);
     try {
         // Every grid read whole, now: delayed loading crashed on damaged leaf buffers.
@@ -355,6 +362,9 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     } catch (const openvdb::Exception &e) {
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: not a readable VDB file (%s)", path,
                           e.what());
+    } catch (const std::bad_alloc &) {
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                          "%s: damaged VDB file (a count in its header is absurd)", path);
     }
     if (!file.hasGrid("irradiance"))
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: no grid named 'irradiance'", path);
@@ -376,6 +386,9 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
             raysbase = file.readGrid("rays");
     } catch (const openvdb::Exception &e) {
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: damaged grid data (%s)", path, e.what());
+    } catch (const std::bad_alloc &) {
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: damaged grid data (a size in it is absurd)",
+                          path);
     }
     file.close();
     const auto irr = openvdb::gridPtrCast<openvdb::Vec3SGrid>(base);
