@@ -1,9 +1,10 @@
 /* cli.c: messages, parsing and progress shared by the vdbgi programs. */
-#define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700
 #include "cli.h"
 
 #include <errno.h>
 #include <getopt.h>
+#include <limits.h>
 #include <math.h>
 #include <signal.h>
 #include <stdarg.h>
@@ -11,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -211,4 +213,60 @@ bool cli_parse_vec3(const char *s, float out[3])
     for (int k = 0; k < 3; k++)
         out[k] = (float)v[k];
     return true;
+}
+
+/* Where path would be: its directory resolved (links and dots), then its name. */
+static void canonical(const char *path, char *out, size_t cap)
+{
+    char dir[PATH_MAX], real[PATH_MAX];
+    const char *const slash = strrchr(path, '/');
+    const char *const name = slash ? slash + 1 : path;
+    snprintf(dir, sizeof(dir), "%.*s", slash ? (int)(slash - path + (slash == path)) : 1,
+             slash ? path : ".");
+    if (realpath(dir, real))
+        snprintf(out, cap, "%s/%s", real, name);
+    else
+        snprintf(out, cap, "%s", path);
+}
+
+static bool same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    if (stat(a, &sa) == 0 && stat(b, &sb) == 0)
+        return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    char ca[PATH_MAX + 256], cb[PATH_MAX + 256];
+    canonical(a, ca, sizeof(ca));
+    canonical(b, cb, sizeof(cb));
+    return strcmp(ca, cb) == 0;
+}
+
+int cli_check_files(const char *const *inputs, int input_count, const cli_file *outputs,
+                    int output_count)
+{
+    for (int i = 0; i < output_count; i++) {
+        const cli_file *const o = &outputs[i];
+        if (!o->path)
+            continue;
+        for (int k = 0; k < input_count; k++)
+            if (inputs[k] && same_file(o->path, inputs[k])) {
+                cli_error("output '%s' is the input '%s': not replacing it", o->path, inputs[k]);
+                return CLI_FAILED;
+            }
+        for (int j = 0; j < i; j++)
+            if (outputs[j].path && same_file(o->path, outputs[j].path)) {
+                cli_error("outputs '%s' and '%s' are the same file", outputs[j].path, o->path);
+                return CLI_FAILED;
+            }
+        FILE *const f = fopen(o->path, "rb");
+        if (!f)
+            continue; /* not there yet (or unwritable: the write will say) */
+        char head[16] = {0};
+        const size_t n = fread(head, 1, o->magic_size < sizeof(head) ? o->magic_size : 16, f);
+        fclose(f);
+        if (n > 0 && (n < o->magic_size || memcmp(head, o->magic, o->magic_size) != 0)) {
+            cli_error("%s: exists and is not a %s file: not replacing it", o->path, o->kind);
+            return CLI_FAILED;
+        }
+    }
+    return -1;
 }

@@ -63,6 +63,22 @@ typedef struct cli_progress {
     bool shown;
 } cli_progress;
 
+/*
+ * The files a run reads and writes. An output may not be an input or another
+ * output (by path or by inode, so through links), and an existing output is
+ * replaced only by a file of its own kind: one whose first bytes are magic
+ * (an empty file is fine). One line and CLI_FAILED on the first conflict,
+ * else -1.
+ */
+typedef struct cli_file {
+    const char *path; /* NULL: not used this run */
+    const char *kind; /* "VDB", "KTX2", ...: for the message */
+    const char *magic;
+    size_t magic_size;
+} cli_file;
+int cli_check_files(const char *const *inputs, int input_count, const cli_file *outputs,
+                    int output_count);
+
 double cli_now(void);
 void cli_progress_begin(cli_progress *p, const char *what, const char *unit, double total);
 int cli_progress_update(void *user, float done); /* fits vdbgi's progress callback */

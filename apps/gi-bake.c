@@ -250,14 +250,6 @@ static int parse_args(int argc, char **argv, options *o)
     return -1;
 }
 
-/* True if a and b name the same existing file: baking must never overwrite its scene. */
-static bool same_file(const char *a, const char *b)
-{
-    struct stat sa, sb;
-    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
-           sa.st_ino == sb.st_ino;
-}
-
 int main(int argc, char **argv)
 {
     cli_init("gi-bake");
@@ -265,8 +257,12 @@ int main(int argc, char **argv)
     const int parsed = parse_args(argc, argv, &o);
     if (parsed >= 0)
         return parsed;
-    if (same_file(o.scene, o.output))
-        return cli_usage_error("output '%s' is the scene itself", o.output);
+    /* The scene, and no file of another kind (its .mtl, a texture), is ever replaced. */
+    const char *const inputs[1] = {o.scene};
+    const cli_file out = {o.output, "VDB", "\x20\x42\x44\x56", 4};
+    const int clash = cli_check_files(inputs, 1, &out, 1);
+    if (clash >= 0)
+        return clash;
 
     vdbgi_context *const ctx = cli_context();
     if (!ctx)

@@ -404,19 +404,34 @@ int main(int argc, char **argv)
     const int parsed = parse_args(argc, argv, &o);
     if (parsed >= 0)
         return parsed;
+    char json[2][4096];
+    const char *const bevy_out[2] = {o.bevy, o.bevy_baked_gi};
+    for (int i = 0; i < 2; i++)
+        if (bevy_out[i])
+            snprintf(json[i], sizeof(json[i]), "%s.json", bevy_out[i]);
+    /* No output may replace the input, another output, or a file of another kind. */
+    const char *const inputs[1] = {o.input};
+    const cli_file outs[6] = {{o.output, "gzip'd .gi", "\x1f\x8b", 2},
+                              {o.stats, "JSON", "{", 1},
+                              {o.bevy, "KTX2", "\xabKTX", 4},
+                              {o.bevy ? json[0] : NULL, "JSON", "{", 1},
+                              {o.bevy_baked_gi, "PNG", "\x89PNG", 4},
+                              {o.bevy_baked_gi ? json[1] : NULL, "JSON", "{", 1}};
+    const int clash = cli_check_files(inputs, 1, outs, 6);
+    if (clash >= 0)
+        return clash;
     vdbgi_context *const ctx = cli_context();
     if (!ctx)
         return CLI_FAILED;
+    /* All the outputs of a run, or none: each waits under its temporary name until the last. */
+    vdbgi_context_hold_outputs(ctx, 1);
     vdbgi_probes *probes = NULL;
     vdbgi_volume *vol = NULL;
     int code = CLI_FAILED;
     /* Every output is checked before any work, so a bad path fails in a second, not a minute. */
-    char json[2][4096];
-    const char *const bevy_out[2] = {o.bevy, o.bevy_baked_gi};
     vdbgi_result r = VDBGI_OK;
     for (int i = 0; i < 2; i++)
         if (bevy_out[i]) {
-            snprintf(json[i], sizeof(json[i]), "%s.json", bevy_out[i]);
             if (r == VDBGI_OK)
                 r = vdbgi_output_check(ctx, bevy_out[i]);
             if (r == VDBGI_OK)
@@ -479,6 +494,8 @@ int main(int argc, char **argv)
     }
     if (r == VDBGI_OK && !o.output)
         code = CLI_OK;
+    if (code == CLI_OK && (r = vdbgi_context_commit_outputs(ctx)) != VDBGI_OK)
+        code = cli_fail(ctx, r);
     vdbgi_bevy_destroy(bevy);
     vdbgi_volume_destroy(vol);
     vdbgi_probes_destroy(probes);

@@ -74,8 +74,10 @@ vdbgi_result vdbgi_context_create(const vdbgi_context_desc *desc, vdbgi_context 
 
 void vdbgi_context_destroy(vdbgi_context *ctx)
 {
-    if (ctx)
+    if (ctx) {
+        vdbgi_context_discard_outputs(ctx);
         ctx->free(ctx->user, ctx);
+    }
 }
 
 const char *vdbgi_context_error(const vdbgi_context *ctx)
@@ -304,6 +306,8 @@ static void temp_discard(vdbgi_context *ctx, char *tmp)
     }
 }
 
+static vdbgi_result hold_output(vdbgi_context *ctx, char *tmp, const char *path);
+
 static vdbgi_result temp_commit(vdbgi_context *ctx, char *tmp, const char *path)
 {
     /*
@@ -319,6 +323,8 @@ static vdbgi_result temp_commit(vdbgi_context *ctx, char *tmp, const char *path)
         temp_discard(ctx, tmp);
         return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write: %s", path, strerror(sync_err));
     }
+    if (ctx->hold)
+        return hold_output(ctx, tmp, path);
     if (rename(tmp, path) != 0) {
         const int err = errno;
         temp_discard(ctx, tmp);
@@ -397,4 +403,83 @@ vdbgi_result vdbgi_context_write_file(vdbgi_context *ctx, const char *path, cons
 {
     VDBGI_FAIL_IF(ctx, !data && size, VDBGI_ERR_INVALID_ARG, "no data given");
     return vdbgi_write_bytes_atomic(ctx, path, data, size);
+}
+
+/* ---- held outputs: all of a run's files, or none ------------------------------- */
+
+static vdbgi_result hold_output(vdbgi_context *ctx, char *tmp, const char *path)
+{
+    for (size_t i = 0; i < ctx->held_count; i++)
+        if (strcmp(ctx->held_path[i], path) == 0) {
+            temp_discard(ctx, tmp);
+            return vdbgi_fail(ctx, VDBGI_ERR_INVALID_ARG, "%s: written twice in one run", path);
+        }
+    if (ctx->held_count == ctx->held_capacity) {
+        const size_t cap = ctx->held_capacity ? 2 * ctx->held_capacity : 16;
+        char **const t = vdbgi_calloc(ctx, cap, sizeof(char *));
+        char **const p = vdbgi_calloc(ctx, cap, sizeof(char *));
+        if (!t || !p) {
+            vdbgi_free(ctx, t);
+            vdbgi_free(ctx, p);
+            temp_discard(ctx, tmp);
+            return VDBGI_ERR_OUT_OF_MEMORY;
+        }
+        if (ctx->held_count) {
+            memcpy(t, ctx->held_tmp, ctx->held_count * sizeof(char *));
+            memcpy(p, ctx->held_path, ctx->held_count * sizeof(char *));
+        }
+        vdbgi_free(ctx, ctx->held_tmp);
+        vdbgi_free(ctx, ctx->held_path);
+        ctx->held_tmp = t;
+        ctx->held_path = p;
+        ctx->held_capacity = cap;
+    }
+    char *const copy = vdbgi_strdup(ctx, path);
+    if (!copy) {
+        temp_discard(ctx, tmp);
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    }
+    ctx->held_tmp[ctx->held_count] = tmp; /* still registered for the signal handler */
+    ctx->held_path[ctx->held_count++] = copy;
+    return VDBGI_OK;
+}
+
+void vdbgi_context_hold_outputs(vdbgi_context *ctx, int hold)
+{
+    ctx->hold = hold != 0;
+}
+
+static void release_held(vdbgi_context *ctx)
+{
+    vdbgi_free(ctx, ctx->held_tmp);
+    vdbgi_free(ctx, ctx->held_path);
+    ctx->held_tmp = ctx->held_path = NULL;
+    ctx->held_count = ctx->held_capacity = 0;
+}
+
+vdbgi_result vdbgi_context_commit_outputs(vdbgi_context *ctx)
+{
+    vdbgi_result r = VDBGI_OK;
+    for (size_t i = 0; i < ctx->held_count; i++) {
+        char *const tmp = ctx->held_tmp[i];
+        if (r == VDBGI_OK && rename(tmp, ctx->held_path[i]) != 0)
+            r = vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot rename into place: %s", ctx->held_path[i],
+                           strerror(errno));
+        if (r != VDBGI_OK)
+            unlink(tmp); /* what follows a failed rename is dropped, not half-committed */
+        live_remove(tmp);
+        vdbgi_free(ctx, tmp);
+        vdbgi_free(ctx, ctx->held_path[i]);
+    }
+    release_held(ctx);
+    return r;
+}
+
+void vdbgi_context_discard_outputs(vdbgi_context *ctx)
+{
+    for (size_t i = 0; i < ctx->held_count; i++) {
+        temp_discard(ctx, ctx->held_tmp[i]);
+        vdbgi_free(ctx, ctx->held_path[i]);
+    }
+    release_held(ctx);
 }

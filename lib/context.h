@@ -25,6 +25,10 @@ struct vdbgi_context {
     void (*log)(void *user, vdbgi_log_level level, const char *message);
     void *user;
     char error[512];
+    /* Outputs written but held under their temporary names (vdbgi_context_hold_outputs). */
+    bool hold;
+    char **held_tmp, **held_path;
+    size_t held_count, held_capacity;
 };
 
 /* Record a failure message on ctx and return code (for one-line returns). */

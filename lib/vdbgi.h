@@ -154,6 +154,17 @@ VDBGI_API vdbgi_result vdbgi_context_write_file(vdbgi_context *ctx, const char *
                                                 const void *data, size_t size);
 
 /*
+ * Hold outputs (hold non-zero): every file written on ctx from now on is
+ * complete and synced under its temporary name, and replaces nothing until
+ * vdbgi_context_commit_outputs renames them all; vdbgi_context_discard_outputs
+ * (or destroying the context) removes them. A run that writes several files
+ * then leaves all of them or none. Writing one path twice while held fails.
+ */
+VDBGI_API void vdbgi_context_hold_outputs(vdbgi_context *ctx, int hold);
+VDBGI_API vdbgi_result vdbgi_context_commit_outputs(vdbgi_context *ctx);
+VDBGI_API void vdbgi_context_discard_outputs(vdbgi_context *ctx);
+
+/*
  * Remove the temporary file of every write in progress, in any context.
  * Async-signal-safe: for a SIGINT or SIGTERM handler, which should then let
  * the signal end the process. Outputs are written to "OUT.tmp-PID-XXXXXX"

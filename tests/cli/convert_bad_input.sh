@@ -12,11 +12,11 @@ vdb.write("wrongtype.vdb", grids=[f])
 e = vdb.Vec3SGrid(); e.name = "irradiance"
 vdb.write("empty.vdb", grids=[e])
 PY
-echo keep > out.gi.gz
+printf '\037\213keep' > out.gi.gz # a gzip magic, then data
 for f in missing.vdb text.vdb truncated.vdb nogrid.vdb wrongtype.vdb empty.vdb; do
     "$BIN/vdb-to-gi" "$f" -o out.gi.gz 2>err >/dev/null
     echo "$? $(cat err)"
 done
 "$BIN/vdb-to-gi" good.vdb -o no/such/dir/out.gi.gz 2>err >/dev/null; echo "$? $(cat err)"
-echo "out.gi.gz: $(cat out.gi.gz)"
+echo "out.gi.gz: $(tail -c 4 out.gi.gz)"
 ls

@@ -5,7 +5,12 @@ mkdir disk
 mount -t tmpfs -o size=512k,nr_inodes=64 tmpfs disk 2>/dev/null || { echo "cannot mount a tmpfs here"; exit 77; }
 trap 'umount disk' EXIT
 "$BIN/gi-bake" -q "$DATA/room.obj" -o room.vdb --basis ambient-cube --rays 16 >/dev/null || echo "bake failed"
-for f in a.vdb a.gi.gz a.ktx2 a.png a.json; do echo good > "disk/$f"; done
+# Older outputs of each kind: their magic, then "good".
+printf ' BDVgood' > disk/a.vdb
+printf '\037\213good' > disk/a.gi.gz
+printf '\253KTXgood' > disk/a.ktx2
+printf '\211PNGgood' > disk/a.png
+printf '{good' > disk/a.json
 mkdir disk/sl
 cat /dev/zero > disk/filler 2>/dev/null # no block left
 run() {
@@ -18,5 +23,5 @@ run "$BIN/vdb-to-gi" -q room.vdb --bevy disk/a.ktx2
 run "$BIN/vdb-to-gi" -q room.vdb --bevy-baked-gi disk/a.png
 run "$BIN/vdb-to-gi" -q room.vdb -o b.gi.gz --stats disk/a.json
 run "$BIN/vdb-to-gi" -q room.vdb -o c.gi.gz --slices disk/sl
-cat disk/a.vdb disk/a.gi.gz disk/a.ktx2 disk/a.png disk/a.json
+for f in a.vdb a.gi.gz a.ktx2 a.png a.json; do echo "$f: $(tail -c 4 "disk/$f")"; done
 ls disk disk/sl
