@@ -290,8 +290,7 @@ vdbgi_result check_lattice(vdbgi_context *ctx, const char *path, const openvdb::
                               m(3, k), "xyz"[k], VDBGI_MAX_ORIGIN);
     const openvdb::CoordBBox box = irr.evalActiveVoxelBoundingBox();
     for (int k = 0; k < 3; k++)
-        if (!box.empty() &&
-            (std::abs(box.min()[k]) > VDBGI_MAX_INDEX || std::abs(box.max()[k]) > VDBGI_MAX_INDEX))
+        if (!box.empty() && (box.min()[k] < -VDBGI_MAX_INDEX || box.max()[k] > VDBGI_MAX_INDEX))
             return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
                               "%s: probe indices reach %d..%d on %c, beyond +-%d", path,
                               box.min()[k], box.max()[k], "xyz"[k], VDBGI_MAX_INDEX);

@@ -2,36 +2,58 @@
 # is refused: exit 1 within 20 s under a 4 GB address-space limit, one line on
 # stderr naming the file, no output left. The originals still convert, and a
 # texture that is a device or claims 20000^2 pixels is a warning, not a hang or
-# 6 GB.
+# 6 GB. Prints what it checked and every deviation.
 H="$ROOT/tests/hostile"
-# ASan reserves terabytes of address space, so under it the limit is its own:
-# no single allocation above 4 GB.
 limit="ulimit -v 4000000"
+sanitized=no
 case "$BIN" in
 */asan/* | */ubsan/*)
+    # ASan reserves terabytes of address space and cannot run under ulimit -v;
+    # its own limit stops single huge allocations. flip_in_142.vdb grows by many
+    # allocations inside OpenVDB and is bounded only by ulimit -v: skipped here.
     limit=true
+    sanitized=yes
     export ASAN_OPTIONS="allocator_may_return_null=1:max_allocation_size_mb=4000"
     ;;
 esac
-check() { # file, command...
-    f=$1
-    shift
+runs=0
+bad=0
+check() { # expect (refuse|accept), file, command...
+    expect=$1 f=$2
+    shift 2
     ($limit; timeout 20 "$@") >/dev/null 2>err
     rc=$?
     lines=$(wc -l < err)
-    named=no
-    grep -q "$(basename "$f")" err && named=yes
     left=$(ls out.* 2>/dev/null | wc -l)
-    echo "$(basename "$f"): exit $rc, $lines line, names it: $named, outputs left: $left"
+    runs=$((runs + 1))
+    if [ "$expect" = refuse ]; then
+        if [ $rc != 1 ] || [ "$lines" != 1 ] || ! grep -q "$(basename "$f")" err || [ "$left" != 0 ]; then
+            echo "NOT REFUSED CLEANLY: $(basename "$f") by $(basename "$1"): exit $rc, $lines lines, $left outputs left"
+            head -n 3 err
+            bad=$((bad + 1))
+        fi
+    elif [ $rc != 0 ]; then
+        echo "NOT ACCEPTED: $(basename "$f") by $(basename "$1"): exit $rc"
+        bad=$((bad + 1))
+    fi
     rm -f out.*
 }
 for f in "$H"/vdb/*.vdb; do
-    check "$f" "$BIN/vdb-to-gi" "$f" -o out.gi.gz -q
-    check "$f" "$BIN/gi-inspect" "$f"
+    case "$(basename "$f")" in
+    ORIGINAL*) expect=accept ;;
+    flip_in_142.vdb) [ $sanitized = yes ] && continue; expect=refuse ;;
+    *) expect=refuse ;;
+    esac
+    check $expect "$f" "$BIN/vdb-to-gi" "$f" -o out.gi.gz -q
+    # A long thin lattice is a valid file: only its conversion is refused.
+    [ "$(basename "$f")" = bbox_long_line.vdb ] && expect=accept
+    check $expect "$f" "$BIN/gi-inspect" "$f"
 done
 for f in "$H"/gi/*.gi.gz; do
-    check "$f" "$BIN/gi-inspect" "$f"
+    case "$(basename "$f")" in ORIGINAL*) expect=accept ;; *) expect=refuse ;; esac
+    check $expect "$f" "$BIN/gi-inspect" "$f"
 done
+echo "$bad of the runs deviated"
 for f in "$H"/scenes/*.obj; do
     ($limit; timeout 20 "$BIN/gi-bake" "$f" -o out.vdb --spacing 2 --rays 8) >/dev/null 2>err
     echo "$(basename "$f"): exit $?, $(sed -e 's/^gi-bake: warning: //' -e "s|$H/||g" err)"
