@@ -2,8 +2,8 @@
 # `pkg-config --cflags --libs vdbgi` then links and bakes; gi-bench is not installed.
 config=$(basename "$(dirname "$BIN")")
 env -u MAKEFLAGS -u MAKELEVEL make -s -C "$ROOT" --no-print-directory install config="$config" \
-    DESTDIR="$PWD/root" PREFIX=/usr/local >/dev/null 2>err || { echo "install failed"; cat err; }
-ls root/usr/local/bin root/usr/local/include root/usr/local/lib/vdbgi
+    DESTDIR="$PWD/stage" PREFIX=/usr/local >/dev/null 2>err || { echo "install failed"; cat err; }
+ls stage/usr/local/bin stage/usr/local/include stage/usr/local/lib/vdbgi
 cat > t.c <<'C'
 #include <stdio.h>
 #include <vdbgi.h>
@@ -33,6 +33,6 @@ int main(void)
     return 0;
 }
 C
-export PKG_CONFIG_PATH="$PWD/root/usr/local/lib/pkgconfig" PKG_CONFIG_SYSROOT_DIR="$PWD/root"
+export PKG_CONFIG_PATH="$PWD/stage/usr/local/lib/pkgconfig" PKG_CONFIG_SYSROOT_DIR="$PWD/stage"
 case "$config" in asan) san="-fsanitize=address,undefined" ;; ubsan) san="-fsanitize=undefined" ;; *) san="" ;; esac
 cc -std=c11 $san t.c $(pkg-config --cflags --libs vdbgi) -o t && ./t
