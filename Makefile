@@ -178,7 +178,7 @@ check:
 
 ## asan: the test suite under AddressSanitizer and UBSan (same as SANITIZE=1 make check)
 asan:
-	$(Q)LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp $(MAKE) --no-print-directory config=asan check
+	$(Q)LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 $(MAKE) --no-print-directory config=asan check
 
 ## demo: install what is missing, build, bake the bundled world and convert it
 demo:
