@@ -86,7 +86,7 @@ DEB_PACKAGES := gcc g++ make pkg-config libopenvdb-dev libboost-dev libimath-dev
 # Keep object files of apps and tests (make would delete them as intermediates).
 .SECONDARY:
 
-.PHONY: all lib apps tests check demo bench chart deps asan install uninstall clean format list
+.PHONY: all lib apps tests check demo bench chart deps asan fuzz install uninstall clean format list
 
 ## all: build the library and the apps (default)
 all: lib apps
@@ -179,6 +179,11 @@ check:
 ## asan: the test suite under AddressSanitizer and UBSan (same as SANITIZE=1 make check)
 asan:
 	$(Q)LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 $(MAKE) --no-print-directory config=asan check
+
+## fuzz: cut and flip bytes of a real .vdb and .gi.gz, read each under limits; deviations kept
+fuzz:
+	$(Q)$(MAKE) --no-print-directory all
+	$(Q)BUILD=$(BUILD) sh tests/fuzz_damage.sh
 
 ## demo: install what is missing, build, bake the bundled world and convert it
 demo:
