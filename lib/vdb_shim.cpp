@@ -225,6 +225,36 @@ extern "C" vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, co
  * descriptors the way io::File::open does, without reading any grid.
  */
 struct GridLayout : openvdb::io::Archive {
+    /*
+     * Do the n length-prefixed fields (u32 length, then bytes) at the stream's
+     * position fit before size? OpenVDB allocates a string's length before it
+     * reads it: a garbled length would cost gigabytes. The stream is left
+     * where it was.
+     */
+    static bool fields_fit(std::istream &is, std::streamoff size, int n)
+    {
+        const std::streamoff start = is.tellg();
+        std::streamoff pos = start;
+        bool ok = true;
+        for (int f = 0; f < n && ok; f++) {
+            uint32_t len = 0;
+            ok = pos + 4 <= size;
+            if (ok) {
+                is.read(reinterpret_cast<char *>(&len), 4);
+                pos += 4;
+                ok = std::streamoff(len) <= size - pos;
+                pos += len;
+                if (ok)
+                    is.seekg(pos);
+            }
+        }
+        is.seekg(start);
+        return ok;
+    }
+
+    std::vector<openvdb::io::GridDescriptor> descriptors;
+    openvdb::GridPtrVec grids;
+
     bool grids_fit(const char *path)
     {
         std::ifstream is(path, std::ios::binary | std::ios::ate);
@@ -237,18 +267,72 @@ struct GridLayout : openvdb::io::Archive {
         openvdb::io::setDataCompression(is, compression());
         if (!inputHasGridOffsets())
             return true; // read sequentially: nothing to check against
+        // File metadata: a count, then name, type and value, each length-prefixed.
+        uint32_t meta_count = 0;
+        const std::streamoff meta_start = is.tellg();
+        if (meta_start + 4 > size)
+            return false;
+        is.read(reinterpret_cast<char *>(&meta_count), 4);
+        if (std::streamoff(meta_count) > (size - meta_start - 4) / 12)
+            return false;
+        for (uint32_t m = 0; m < meta_count; m++) {
+            if (!fields_fit(is, size, 3))
+                return false;
+            for (int f = 0; f < 3; f++) { // past this entry
+                uint32_t len = 0;
+                is.read(reinterpret_cast<char *>(&len), 4);
+                is.seekg(len, std::ios::cur);
+            }
+        }
+        is.seekg(meta_start);
         openvdb::MetaMap meta;
         meta.readMeta(is);
         const int32_t count = readGridCount(is);
+        if (count < 0 || std::streamoff(count) > size / 36)
+            return false;
         for (int32_t i = 0; i < count; i++) {
-            openvdb::io::GridDescriptor gd;
-            gd.read(is);
-            if (!is || gd.getGridPos() < 0 || gd.getEndPos() < gd.getGridPos() ||
-                gd.getEndPos() > size)
+            // Name, type and instance parent, then three offsets that only move forward.
+            if (!fields_fit(is, size, 3))
                 return false;
+            openvdb::io::GridDescriptor gd;
+            openvdb::GridBase::Ptr grid = gd.read(is);
+            const std::streamoff here = is.tellg();
+            if (!is || gd.getGridPos() < here || gd.getBlockPos() < gd.getGridPos() ||
+                gd.getEndPos() < gd.getBlockPos() || gd.getEndPos() > size)
+                return false;
+            descriptors.push_back(gd);
+            grids.push_back(grid);
             gd.seekToEnd(is);
         }
         return bool(is);
+    }
+
+    /*
+     * Read every grid whole, as io::File does (seek to it, Archive::readGrid),
+     * but from a stream that throws at the end of the file: a damaged count
+     * then ends the read instead of building nodes from zeros for minutes.
+     * Only after grids_fit has returned true on the same path.
+     */
+    void read_grids(const char *path)
+    {
+        std::ifstream is(path, std::ios::binary);
+        is.exceptions(std::ios::failbit | std::ios::badbit | std::ios::eofbit);
+        openvdb::io::setVersion(is, libraryVersion(), fileVersion());
+        openvdb::io::setDataCompression(is, compression());
+        auto meta = std::make_shared<openvdb::io::StreamMetadata>();
+        meta->setFileVersion(fileVersion());
+        meta->setLibraryVersion(libraryVersion());
+        meta->setCompression(compression());
+        meta->setSeekable(true);
+        openvdb::io::setStreamMetadataPtr(is, meta, /*transfer=*/false);
+        for (size_t i = 0; i < descriptors.size(); i++) {
+            const openvdb::io::GridDescriptor &gd = descriptors[i];
+            if (gd.isInstance()) // vdbgi never writes instances: read as absent
+                continue;
+            gd.seekToGrid(is);
+            readGrid(grids[i], gd, is);
+            grids[i]->setName(gd.gridName());
+        }
     }
 };
 
@@ -354,42 +438,39 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     if (!fits)
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
                           "%s: truncated or damaged VDB file (a grid ends past its end)", path);
-    openvdb::io::File file(path);
+    GridLayout layout;
     try {
         // Every grid read whole, now: delayed loading crashed on damaged leaf buffers.
-        file.open(/*delayLoad=*/false);
+        if (!layout.grids_fit(path))
+            return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                              "%s: truncated or damaged VDB file (a grid ends past its end)", path);
+        layout.read_grids(path);
+    } catch (const std::ios_base::failure &) {
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: damaged VDB file (it ends inside a grid)",
+                          path);
     } catch (const openvdb::Exception &e) {
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: not a readable VDB file (%s)", path,
                           e.what());
     } catch (const std::bad_alloc &) {
-        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
-                          "%s: damaged VDB file (a count in its header is absurd)", path);
-    }
-    if (!file.hasGrid("irradiance"))
-        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: no grid named 'irradiance'", path);
-    openvdb::GridBase::Ptr base;
-    openvdb::GridBase::Ptr vbase;
-    openvdb::GridBase::Ptr sides[6], sebase, raysbase;
-    bool has_cube = true;
-    for (int side = 0; side < 6; side++)
-        has_cube = has_cube && file.hasGrid(side_grid_names[side]);
-    try {
-        base = file.readGrid("irradiance");
-        if (file.hasGrid("validity"))
-            vbase = file.readGrid("validity");
-        for (int side = 0; has_cube && side < 6; side++)
-            sides[side] = file.readGrid(side_grid_names[side]);
-        if (file.hasGrid("stderr"))
-            sebase = file.readGrid("stderr");
-        if (file.hasGrid("rays"))
-            raysbase = file.readGrid("rays");
-    } catch (const openvdb::Exception &e) {
-        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: damaged grid data (%s)", path, e.what());
-    } catch (const std::bad_alloc &) {
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: damaged grid data (a size in it is absurd)",
                           path);
     }
-    file.close();
+    const auto grid = [&](const char *name) {
+        openvdb::GridBase::Ptr g;
+        for (size_t i = 0; i < layout.grids.size(); i++)
+            if (!g && layout.grids[i] && !layout.descriptors[i].isInstance() &&
+                layout.descriptors[i].gridName() == name)
+                g = layout.grids[i];
+        return g;
+    };
+    const openvdb::GridBase::Ptr base = grid("irradiance"), vbase = grid("validity");
+    const openvdb::GridBase::Ptr sebase = grid("stderr"), raysbase = grid("rays");
+    if (!base)
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: no grid named 'irradiance'", path);
+    openvdb::GridBase::Ptr sides[6];
+    bool has_cube = true;
+    for (int side = 0; side < 6; side++)
+        has_cube = has_cube && (sides[side] = grid(side_grid_names[side]));
     const auto irr = openvdb::gridPtrCast<openvdb::Vec3SGrid>(base);
     if (!irr)
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid 'irradiance' is %s, not vec3s", path,
