@@ -334,6 +334,15 @@ struct GridLayout : openvdb::io::Archive {
             grids[i]->setName(gd.gridName());
         }
     }
+
+    /* The grid of that name (instances aside), or null. */
+    openvdb::GridBase::Ptr find(const char *name) const
+    {
+        for (size_t i = 0; i < grids.size(); i++)
+            if (grids[i] && !descriptors[i].isInstance() && descriptors[i].gridName() == name)
+                return grids[i];
+        return nullptr;
+    }
 };
 
 namespace
@@ -413,22 +422,22 @@ void copy_extras(vdbgi_probes *p, size_t n, const openvdb::FloatGrid::Ptr &se,
 
 } // namespace
 
-/*
- * Read the grids, check their types and transform, copy them into probes
- * (about 90 lines, kept whole: the OpenVDB objects live only inside this
- * exception boundary).
- */
-extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_probes **out)
+namespace
 {
-    VDBGI_SHIM_BEGIN
-    *out = nullptr;
-    openvdb::initialize();
-    // The layout first: io::File::open itself reads past the end of a truncated file.
-    bool fits = true;
+
+/*
+ * The grid table checked against the file (io::File::open itself reads past
+ * the end of a truncated file), then every grid read whole: each failure a
+ * one-line refusal naming the file.
+ */
+vdbgi_result read_layout(vdbgi_context *ctx, const char *path, GridLayout &layout)
+{
+    bool fits = false;
     try {
-        fits = GridLayout().grids_fit(path);
-    } catch (const openvdb::Exception &) {
-        // not a VDB file at all: open() below says why
+        fits = layout.grids_fit(path);
+    } catch (const openvdb::Exception &e) {
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: not a readable VDB file (%s)", path,
+                          e.what());
     } catch (const std::ios_base::failure &) {
         fits = false;
     } catch (const std::bad_alloc &) {
@@ -438,31 +447,36 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     if (!fits)
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
                           "%s: truncated or damaged VDB file (a grid ends past its end)", path);
-    GridLayout layout;
     try {
-        // Every grid read whole, now: delayed loading crashed on damaged leaf buffers.
-        if (!layout.grids_fit(path))
-            return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
-                              "%s: truncated or damaged VDB file (a grid ends past its end)", path);
+        // Every grid read whole: delayed loading crashed on damaged leaf buffers.
         layout.read_grids(path);
     } catch (const std::ios_base::failure &) {
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: damaged VDB file (it ends inside a grid)",
                           path);
     } catch (const openvdb::Exception &e) {
-        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: not a readable VDB file (%s)", path,
-                          e.what());
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: damaged grid data (%s)", path, e.what());
     } catch (const std::bad_alloc &) {
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: damaged grid data (a size in it is absurd)",
                           path);
     }
-    const auto grid = [&](const char *name) {
-        openvdb::GridBase::Ptr g;
-        for (size_t i = 0; i < layout.grids.size(); i++)
-            if (!g && layout.grids[i] && !layout.descriptors[i].isInstance() &&
-                layout.descriptors[i].gridName() == name)
-                g = layout.grids[i];
-        return g;
-    };
+    return VDBGI_OK;
+}
+
+} // namespace
+
+/*
+ * Read the grids, check their types and transform, copy them into probes
+ * (about 70 lines: the OpenVDB objects live only inside this exception
+ * boundary).
+ */
+extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_probes **out)
+{
+    VDBGI_SHIM_BEGIN
+    *out = nullptr;
+    openvdb::initialize();
+    GridLayout layout;
+    VDBGI_TRY(read_layout(ctx, path, layout));
+    const auto grid = [&](const char *name) { return layout.find(name); };
     const openvdb::GridBase::Ptr base = grid("irradiance"), vbase = grid("validity");
     const openvdb::GridBase::Ptr sebase = grid("stderr"), raysbase = grid("rays");
     if (!base)
