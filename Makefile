@@ -63,7 +63,7 @@ ALL_LDFLAGS = $(OPT) $(LDFLAGS)
 # ---- sources ----------------------------------------------------------------
 
 LIB_C := $(wildcard lib/*.c)
-LIB_CXX := lib/vdb_shim.cpp
+LIB_CXX := lib/vdb_shim.cpp lib/vdb_read.cpp
 LIB_OBJ := $(LIB_C:%.c=$(BUILD)/%.o) $(LIB_CXX:%.cpp=$(BUILD)/%.o)
 LIB_A := $(BUILD)/libvdbgi.a
 # The OpenImageIO shim as a module of its own (lib/image.c opens it).

@@ -1,4 +1,4 @@
-/* vdb_shim.h: C interface to the only code that includes OpenVDB. */
+/* vdb_shim.h: C interface to the code that includes OpenVDB (vdb_shim.cpp, vdb_read.cpp). */
 #ifndef VDBGI_VDB_SHIM_H
 #define VDBGI_VDB_SHIM_H
 
@@ -23,6 +23,9 @@ vdbgi_result vdbgi_vdb_topology(vdbgi_context *ctx, const float *positions, size
    messages say name. */
 vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, const char *name,
                              const vdbgi_probes *probes);
+
+/* The ambient cube's six grids, +x -x +y -y +z -z (docs/format.md). */
+extern const char *const vdbgi_side_grid_names[6];
 
 /* Read "irradiance" (and "validity" if present) from path into new probes. */
 vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_probes **out);

@@ -26,3 +26,14 @@ for item in irr.citerOnValues():
         outside += acc.getValue(item.min) > irr["invalid_threshold"]
 print("inside valid", inside > 0, "outside invalid", outside > 0)
 PY
+# And back: a file pyopenvdb wrote, its grids stored as half floats, converts.
+/usr/bin/python3 - <<'PY'
+import pyopenvdb as vdb
+grids, file_meta = vdb.readAll("room.vdb")
+for g in grids:
+    g.saveFloatAsHalf = True
+vdb.write("half.vdb", grids=grids, metadata=file_meta)
+PY
+"$BIN/vdb-to-gi" half.vdb -o half.gi.gz >/dev/null && "$BIN/vdb-to-gi" room.vdb -o room.gi.gz >/dev/null
+"$BIN/gi-inspect" half.gi.gz | grep -E "^(box|indirection)"
+"$BIN/gi-inspect" room.gi.gz | grep -E "^(box|indirection)"

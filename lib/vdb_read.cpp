@@ -1,0 +1,428 @@
+/*
+ * vdb_read.cpp: probes from a .vdb file, every byte OpenVDB will trust checked
+ * first, and the lattice checked against what the rest of vdbgi can take.
+ */
+#include "shim.h"
+#include "vdb_shim.h"
+#include "vdbtree.h"
+
+#include <openvdb/io/GridDescriptor.h>
+#include <openvdb/openvdb.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace
+{
+
+/* Copy the grid's metadata we can represent into probes (other types are skipped). */
+void read_meta(const openvdb::GridBase &grid, vdbgi_probes *p)
+{
+    for (auto it = grid.beginMeta(); it != grid.endMeta(); ++it) {
+        const std::string &name = it->first;
+        const openvdb::Metadata &md = *it->second;
+        if (name.size() >= sizeof(p->meta.items[0].name))
+            continue;
+        if (const auto *s = dynamic_cast<const openvdb::StringMetadata *>(&md)) {
+            vdbgi_meta_set_string(&p->meta, name.c_str(), s->value().c_str());
+        } else if (const auto *i64 = dynamic_cast<const openvdb::Int64Metadata *>(&md)) {
+            vdbgi_meta_set_int(&p->meta, name.c_str(), i64->value());
+        } else if (const auto *i32 = dynamic_cast<const openvdb::Int32Metadata *>(&md)) {
+            vdbgi_meta_set_int(&p->meta, name.c_str(), i32->value());
+        } else if (const auto *d = dynamic_cast<const openvdb::DoubleMetadata *>(&md)) {
+            vdbgi_meta_set_double(&p->meta, name.c_str(), d->value());
+        } else if (const auto *f = dynamic_cast<const openvdb::FloatMetadata *>(&md)) {
+            vdbgi_meta_set_double(&p->meta, name.c_str(), f->value());
+        } else if (const auto *v = dynamic_cast<const openvdb::Vec3SMetadata *>(&md)) {
+            const float xyz[3] = {v->value().x(), v->value().y(), v->value().z()};
+            vdbgi_meta_set_vec3(&p->meta, name.c_str(), xyz);
+        }
+    }
+}
+
+} // namespace
+
+/*
+ * The file's table of grids, checked against the file, and the grids vdbgi
+ * uses read whole. io::File trusts what it reads: a truncated file made it
+ * read a grid from whatever its buffers held (gigabytes under ASan's fill
+ * pattern), a garbled length allocated gigabytes, and one flipped byte in a
+ * chunk size corrupted the heap. So this walks the header and descriptors as
+ * io::File::open does, bounds every length-prefixed field, and walks each
+ * tree's bytes (vdbtree.c) before Archive::readGrid reads them.
+ */
+struct GridLayout : openvdb::io::Archive {
+    /* A refusal from inside the walk: what is wrong, said after the file's name. Inside
+       check_tree, only the reason: read() says which grid. */
+    struct Damaged {
+        std::string why;
+    };
+
+    /*
+     * Do the n length-prefixed fields (u32 length, then bytes) at the stream's
+     * position fit before end? OpenVDB allocates a string's length before it
+     * reads it. The stream is left where it was.
+     */
+    static bool fields_fit(std::istream &is, std::streamoff end, int n)
+    {
+        const std::streamoff start = is.tellg();
+        std::streamoff pos = start;
+        bool ok = true;
+        for (int f = 0; f < n && ok; f++) {
+            uint32_t len = 0;
+            ok = pos + 4 <= end;
+            if (ok) {
+                is.read(reinterpret_cast<char *>(&len), 4);
+                pos += 4;
+                ok = std::streamoff(len) <= end - pos;
+                pos += len;
+                if (ok)
+                    is.seekg(pos);
+            }
+        }
+        is.seekg(start);
+        return ok;
+    }
+
+    /* MetaMap::readMeta from the stream, once its count and fields fit before end. */
+    static openvdb::MetaMap read_meta_map(std::istream &is, std::streamoff end)
+    {
+        // A count, then name, type and value, each length-prefixed.
+        const std::streamoff start = is.tellg();
+        uint32_t count = 0;
+        if (start + 4 > end)
+            throw Damaged{"its metadata runs past its end"};
+        is.read(reinterpret_cast<char *>(&count), 4);
+        if (std::streamoff(count) > (end - start - 4) / 12)
+            throw Damaged{"its metadata count is absurd"};
+        for (uint32_t m = 0; m < count; m++) {
+            if (!fields_fit(is, end, 3))
+                throw Damaged{"its metadata runs past its end"};
+            for (int f = 0; f < 3; f++) { // past this entry
+                uint32_t len = 0;
+                is.read(reinterpret_cast<char *>(&len), 4);
+                is.seekg(len, std::ios::cur);
+            }
+        }
+        is.seekg(start);
+        openvdb::MetaMap meta;
+        meta.readMeta(is);
+        return meta;
+    }
+
+    std::streamoff size = 0;
+    std::vector<openvdb::io::GridDescriptor> descriptors;
+    openvdb::GridPtrVec grids;
+
+    /* Header, file metadata and grid descriptors, each grid inside the file. */
+    void read_table(std::istream &is)
+    {
+        is.seekg(0, std::ios::end);
+        size = is.tellg();
+        is.seekg(0);
+        // The format version, checked before readHeader warns of it on stdout and goes on.
+        int64_t magic = 0;
+        uint32_t version = 0;
+        if (size >= 12) {
+            is.read(reinterpret_cast<char *>(&magic), 8);
+            is.read(reinterpret_cast<char *>(&version), 4);
+            is.seekg(0);
+        }
+        if (magic == openvdb::OPENVDB_MAGIC &&
+            (version < openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION ||
+             version > openvdb::OPENVDB_FILE_VERSION))
+            throw Damaged{"VDB file format " + std::to_string(version) + " is outside the " +
+                          std::to_string(openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION) +
+                          ".." + std::to_string(openvdb::OPENVDB_FILE_VERSION) + " vdbgi reads"};
+        readHeader(is);
+        if (!inputHasGridOffsets())
+            throw Damaged{"VDB file written as a stream, without grid offsets"};
+        openvdb::io::setVersion(is, libraryVersion(), fileVersion()); // as io::File::open tags it
+        openvdb::io::setDataCompression(is, compression());
+        try {
+            read_meta_map(is, size);
+        } catch (const Damaged &d) {
+            throw Damaged{"damaged VDB file (" + d.why + ")"};
+        }
+        const int32_t count = readGridCount(is);
+        if (count < 0 || std::streamoff(count) > size / 36)
+            throw Damaged{"damaged VDB file (its grid count is absurd)"};
+        for (int32_t i = 0; i < count; i++) {
+            // Name, type and instance parent, then three offsets that only move forward.
+            if (!fields_fit(is, size, 3))
+                throw Damaged{"damaged VDB file (a grid descriptor runs past its end)"};
+            openvdb::io::GridDescriptor gd;
+            openvdb::GridBase::Ptr grid = gd.read(is);
+            const std::streamoff here = is.tellg();
+            if (gd.getGridPos() < here || gd.getBlockPos() < gd.getGridPos() ||
+                gd.getEndPos() < gd.getBlockPos() || gd.getEndPos() > size)
+                throw Damaged{"truncated or damaged VDB file (a grid ends past its end)"};
+            descriptors.push_back(gd);
+            grids.push_back(grid);
+            gd.seekToEnd(is);
+        }
+    }
+
+    /* The bytes of grid i's tree, walked by vdbtree.c; the stream is left anywhere. */
+    void check_tree(std::istream &is, size_t i)
+    {
+        const openvdb::io::GridDescriptor &gd = descriptors[i];
+        const std::streamoff block = gd.getBlockPos();
+        gd.seekToGrid(is);
+        readGridCompression(is);
+        const openvdb::MetaMap meta = read_meta_map(is, block);
+        if (!fields_fit(is, block, 1)) // the transform's map type
+            throw Damaged{"its transform runs into its data"};
+        openvdb::math::Transform().read(is);
+        const std::streamoff topology = is.tellg();
+        if (topology > block)
+            throw Damaged{"its transform runs into its data"};
+        std::vector<uint8_t> bytes(size_t(gd.getEndPos() - topology));
+        is.read(reinterpret_cast<char *>(bytes.data()), std::streamsize(bytes.size()));
+        const auto as_half = meta.getMetadata<openvdb::BoolMetadata>("is_saved_as_half_float");
+        const openvdb::GridBase &g = *grids[i];
+        vdbgi_vdb_tree_format f = {};
+        f.compression = openvdb::io::getDataCompression(is);
+        f.value_size = g.isType<openvdb::Vec3SGrid>() ? 12 : 4;
+        f.saved_size = as_half && as_half->value() && !g.isType<openvdb::Int32Grid>()
+                           ? f.value_size / 2
+                           : f.value_size;
+        f.max_index = VDBGI_MAX_INDEX;
+        char why[160];
+        if (!vdbgi_vdb_tree_check(bytes.data(), size_t(block - topology), bytes.size(), &f, why,
+                                  sizeof why))
+            throw Damaged{why};
+    }
+
+    /*
+     * Read the named grids of the types vdbgi takes whole, as io::File does
+     * (seek to each, Archive::readGrid) once its bytes have been walked, from
+     * a stream that throws at the end of the file. Other grids stay unread.
+     */
+    void read(const char *path, const std::vector<std::string> &names)
+    {
+        std::ifstream is(path, std::ios::binary);
+        // Reading past the end throws: a damaged count must not read zeros forever.
+        is.exceptions(std::ios::failbit | std::ios::badbit | std::ios::eofbit);
+        read_table(is);
+        auto meta = std::make_shared<openvdb::io::StreamMetadata>();
+        meta->setFileVersion(fileVersion());
+        meta->setLibraryVersion(libraryVersion());
+        meta->setCompression(compression());
+        meta->setSeekable(true);
+        openvdb::io::setStreamMetadataPtr(is, meta, /*transfer=*/false);
+        for (size_t i = 0; i < descriptors.size(); i++) {
+            const openvdb::io::GridDescriptor &gd = descriptors[i];
+            const openvdb::GridBase &g = *grids[i];
+            if (gd.isInstance() || // vdbgi never writes instances: read as absent
+                std::find(names.begin(), names.end(), gd.gridName()) == names.end() ||
+                !(g.isType<openvdb::Vec3SGrid>() || g.isType<openvdb::FloatGrid>() ||
+                  g.isType<openvdb::Int32Grid>()))
+                continue;
+            try {
+                check_tree(is, i);
+                gd.seekToGrid(is);
+                readGrid(grids[i], gd, is);
+            } catch (const Damaged &d) {
+                throw Damaged{"damaged VDB file (grid '" + gd.gridName() + "': " + d.why + ")"};
+            } catch (const openvdb::Exception &e) {
+                throw Damaged{"damaged VDB file (grid '" + gd.gridName() + "': " + e.what() + ")"};
+            }
+            grids[i]->setName(gd.gridName());
+        }
+    }
+
+    /* The grid of that name, or null; one not read still tells its type. */
+    openvdb::GridBase::Ptr find(const char *name) const
+    {
+        for (size_t i = 0; i < grids.size(); i++)
+            if (grids[i] && !descriptors[i].isInstance() && descriptors[i].gridName() == name)
+                return grids[i];
+        return nullptr;
+    }
+};
+
+namespace
+{
+
+/*
+ * What the rest of vdbgi can take: one probe per active voxel (no tiles, whose
+ * voxels would all be allocated), an axis-aligned lattice of one positive
+ * spacing (no rotation, mirror or shear: the .gi box is axis-aligned), sane
+ * numbers for the spacing and origin, and indices far enough inside int32 that
+ * no cell, block or leaf arithmetic can overflow.
+ */
+vdbgi_result check_lattice(vdbgi_context *ctx, const char *path, const openvdb::Vec3SGrid &irr)
+{
+    if (irr.tree().activeTileCount() != 0)
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                          "%s: grid 'irradiance' has active tiles: probes are single voxels", path);
+    const openvdb::math::Transform &xf = irr.transform();
+    if (!xf.isLinear())
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid 'irradiance' has a non-linear transform",
+                          path);
+    const openvdb::Mat4d m = xf.baseMap()->getAffineMap()->getMat4();
+    const double s = m(0, 0);
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            if (r == c ? !(std::fabs(m(r, c) - s) <= 1e-9 * std::fabs(s)) : m(r, c) != 0.0)
+                return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                                  "%s: grid 'irradiance' is rotated, mirrored, sheared or scaled "
+                                  "unevenly: probes need an axis-aligned lattice",
+                                  path);
+    if (!(s >= VDBGI_MIN_SPACING && s <= VDBGI_MAX_SPACING))
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: probe spacing %g m is outside %g..%g m", path,
+                          s, VDBGI_MIN_SPACING, VDBGI_MAX_SPACING);
+    for (int k = 0; k < 3; k++)
+        if (!(std::fabs(m(3, k)) <= VDBGI_MAX_ORIGIN))
+            return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                              "%s: lattice origin %g m on %c is not finite or beyond %g m", path,
+                              m(3, k), "xyz"[k], VDBGI_MAX_ORIGIN);
+    const openvdb::CoordBBox box = irr.evalActiveVoxelBoundingBox();
+    for (int k = 0; k < 3; k++)
+        if (!box.empty() && (box.min()[k] < -VDBGI_MAX_INDEX || box.max()[k] > VDBGI_MAX_INDEX))
+            return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                              "%s: probe indices reach %d..%d on %c, beyond +-%d", path,
+                              box.min()[k], box.max()[k], "xyz"[k], VDBGI_MAX_INDEX);
+    return VDBGI_OK;
+}
+
+/* The per-probe extras beside the irradiance: noise, rays and cube sides, at p's n probes. */
+void copy_extras(vdbgi_probes *p, size_t n, const openvdb::FloatGrid::Ptr &se,
+                 const openvdb::Int32Grid::Ptr &rays, const openvdb::Vec3SGrid::Ptr side_grids[6],
+                 bool has_cube)
+{
+    if (se || rays) {
+        // Grids of another type under these names are not ours: left as absent.
+        openvdb::FloatGrid::Ptr se_or_empty = se ? se : openvdb::FloatGrid::create();
+        openvdb::Int32Grid::Ptr rays_or_empty = rays ? rays : openvdb::Int32Grid::create();
+        const auto sa = se_or_empty->getConstAccessor();
+        const auto ra = rays_or_empty->getConstAccessor();
+        for (size_t i = 0; i < n; i++) {
+            const openvdb::Coord c(p->ijk[3 * i], p->ijk[3 * i + 1], p->ijk[3 * i + 2]);
+            if (se)
+                p->stderr_[i] = sa.getValue(c);
+            if (rays)
+                p->rays[i] = uint32_t(std::max(0, ra.getValue(c)));
+        }
+    }
+    for (int side = 0; has_cube && side < 6; side++) {
+        const auto a = side_grids[side]->getConstAccessor();
+        for (size_t i = 0; i < n; i++) {
+            const openvdb::Vec3s v =
+                a.getValue(openvdb::Coord(p->ijk[3 * i], p->ijk[3 * i + 1], p->ijk[3 * i + 2]));
+            float *const c = &p->cube[18 * i + 3 * side];
+            c[0] = v.x(), c[1] = v.y(), c[2] = v.z();
+        }
+    }
+}
+
+} // namespace
+
+namespace
+{
+
+/* The named grids read through GridLayout, each failure a one-line refusal naming the file. */
+vdbgi_result read_layout(vdbgi_context *ctx, const char *path, GridLayout &layout,
+                         const std::vector<std::string> &names)
+{
+    try {
+        layout.read(path, names);
+    } catch (const GridLayout::Damaged &d) {
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %s", path, d.why.c_str());
+    } catch (const std::ios_base::failure &) {
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: damaged VDB file (it ends inside a grid)",
+                          path);
+    } catch (const openvdb::Exception &e) {
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: not a readable VDB file (%s)", path,
+                          e.what());
+    } catch (const std::bad_alloc &) {
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: damaged VDB file (a size in it is absurd)",
+                          path);
+    }
+    return VDBGI_OK;
+}
+
+} // namespace
+
+/*
+ * Read the grids, check their types and transform, copy them into probes
+ * (about 70 lines: the OpenVDB objects live only inside this exception
+ * boundary).
+ */
+extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_probes **out)
+{
+    VDBGI_SHIM_BEGIN
+    *out = nullptr;
+    openvdb::initialize();
+    GridLayout layout;
+    VDBGI_TRY(
+        read_layout(ctx, path, layout,
+                    {"irradiance", "validity", "stderr", "rays", vdbgi_side_grid_names[0],
+                     vdbgi_side_grid_names[1], vdbgi_side_grid_names[2], vdbgi_side_grid_names[3],
+                     vdbgi_side_grid_names[4], vdbgi_side_grid_names[5]}));
+    const auto grid = [&](const char *name) { return layout.find(name); };
+    const openvdb::GridBase::Ptr base = grid("irradiance"), vbase = grid("validity");
+    const openvdb::GridBase::Ptr sebase = grid("stderr"), raysbase = grid("rays");
+    if (!base)
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: no grid named 'irradiance'", path);
+    openvdb::GridBase::Ptr sides[6];
+    bool has_cube = true;
+    for (int side = 0; side < 6; side++)
+        has_cube = has_cube && (sides[side] = grid(vdbgi_side_grid_names[side]));
+    const auto irr = openvdb::gridPtrCast<openvdb::Vec3SGrid>(base);
+    if (!irr)
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid 'irradiance' is %s, not vec3s", path,
+                          base->valueType().c_str());
+    const auto val = openvdb::gridPtrCast<openvdb::FloatGrid>(vbase);
+    if (vbase && !val)
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid 'validity' is %s, not float", path,
+                          vbase->valueType().c_str());
+    openvdb::Vec3SGrid::Ptr side_grids[6];
+    for (int side = 0; has_cube && side < 6; side++)
+        if (!(side_grids[side] = openvdb::gridPtrCast<openvdb::Vec3SGrid>(sides[side])))
+            return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid '%s' is %s, not vec3s", path,
+                              vdbgi_side_grid_names[side], sides[side]->valueType().c_str());
+    VDBGI_TRY(check_lattice(ctx, path, *irr));
+    if (val && val->tree().activeTileCount() != 0)
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                          "%s: grid 'validity' has active tiles: probes are single voxels", path);
+    const openvdb::math::Transform &xf = irr->transform();
+    const openvdb::Vec3d vs = xf.voxelSize();
+    const openvdb::Vec3d o = xf.indexToWorld(openvdb::Vec3d(0.0));
+    const size_t count = size_t(irr->activeVoxelCount());
+    vdbgi_probes *p = nullptr;
+    VDBGI_TRY(vdbgi_probes_alloc(ctx, count, true, &p));
+    // Destroys p if anything below throws; released on success.
+    std::unique_ptr<vdbgi_probes, void (*)(vdbgi_probes *)> guard(p, vdbgi_probes_destroy);
+    p->spacing = vs.x();
+    p->origin[0] = o.x(), p->origin[1] = o.y(), p->origin[2] = o.z();
+    read_meta(*irr, p);
+    const auto se = openvdb::gridPtrCast<openvdb::FloatGrid>(sebase);
+    const auto rays = openvdb::gridPtrCast<openvdb::Int32Grid>(raysbase);
+    if ((se && !(p->stderr_ = (float *)vdbgi_calloc(ctx, count ? count : 1, sizeof(float)))) ||
+        (rays && !(p->rays = (uint32_t *)vdbgi_calloc(ctx, count ? count : 1, sizeof(uint32_t)))))
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    if (has_cube && !(p->cube = (float *)vdbgi_calloc(ctx, count ? count : 1, 18 * sizeof(float))))
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    auto va = val ? std::make_unique<openvdb::FloatGrid::ConstAccessor>(val->getConstAccessor())
+                  : nullptr;
+    size_t n = 0;
+    for (auto it = irr->tree().cbeginValueOn(); it && n < count; ++it, ++n) {
+        const openvdb::Coord c = it.getCoord();
+        const openvdb::Vec3s v = *it;
+        p->ijk[3 * n] = c.x(), p->ijk[3 * n + 1] = c.y(), p->ijk[3 * n + 2] = c.z();
+        p->rgb[3 * n] = v.x(), p->rgb[3 * n + 1] = v.y(), p->rgb[3 * n + 2] = v.z();
+        p->backface[n] = va ? va->getValue(c) : 0.0f;
+    }
+    copy_extras(p, n, se, rays, side_grids, has_cube);
+    p->count = n;
+    *out = guard.release();
+    return VDBGI_OK;
+    VDBGI_SHIM_END(ctx, "openvdb")
+}
