@@ -3,6 +3,7 @@
 
   make_scenes.py                      writes world.glb, room.obj/.mtl, floor.png here
   make_scenes.py --world SIZE OUT.glb writes a generated world SIZE x SIZE metres
+  make_scenes.py --town OUT.glb       writes the town: 200 x 200 m, up to 60 m tall
 
 The outdoor world follows seed 000: orange canyon walls meeting green grass (a
 sharp colour seam), a few buildings with an embedded brick texture, trees
@@ -336,9 +337,150 @@ def write_room(directory):
         f.write(png_bytes(32, 32, checker_pixel))
 
 
+# ---- the town: seed 000's 200 x 60 x 200 m case ------------------------------
+
+
+def town_ground(x, z):
+    """Flat for z < 10, then a slope rising to 8 m at the far edge (z = 100)."""
+    return 0.0 if z < 10.0 else 8.0 * (z - 10.0) / 90.0
+
+
+def facing_quad(m, q, normal):
+    """Quad q, wound so that its front faces along normal."""
+    e1 = [q[1][k] - q[0][k] for k in range(3)]
+    e2 = [q[2][k] - q[0][k] for k in range(3)]
+    n = (e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0])
+    m.quad(*(q if sum(n[k] * normal[k] for k in range(3)) > 0 else q[::-1]))
+
+
+def facade(m, a, b, y0, storeys, t, out):
+    """A wall of thickness t from a to b (x, z), its outer face along the unit
+    vector out (x, z), with one window a storey every 3 m: outer and inner faces
+    and the window reveals. Storeys 3 m tall."""
+    ax, az = a
+    length = math.hypot(b[0] - ax, b[1] - az)
+    ux, uz = (b[0] - ax) / length, (b[1] - az) / length
+    nx, nz = out
+    bays = max(1, int(length // 3.0))
+    bay = length / bays
+
+    def pt(s, y, depth):
+        return (ax + ux * s - nx * depth, y, az + uz * s - nz * depth)
+
+    def panel(s0, s1, y0_, y1_):
+        facing_quad(m, [pt(s0, y0_, 0), pt(s1, y0_, 0), pt(s1, y1_, 0), pt(s0, y1_, 0)], (nx, 0, nz))
+        facing_quad(m, [pt(s0, y0_, t), pt(s1, y0_, t), pt(s1, y1_, t), pt(s0, y1_, t)], (-nx, 0, -nz))
+
+    for k in range(storeys):
+        base = y0 + 3.0 * k
+        sill, head = base + 1.0, base + 2.4
+        panel(0.0, length, base, sill)
+        panel(0.0, length, head, base + 3.0)
+        for i in range(bays):
+            s0, s1 = i * bay, (i + 1) * bay
+            w0, w1 = s0 + 0.35 * bay, s1 - 0.35 * bay
+            panel(s0, w0, sill, head)
+            panel(w1, s1, sill, head)
+            # The opening's four sides, facing into it.
+            for s_, d in ((w0, 1.0), (w1, -1.0)):
+                q = [pt(s_, sill, 0), pt(s_, sill, t), pt(s_, head, t), pt(s_, head, 0)]
+                facing_quad(m, q, (ux * d, 0, uz * d))
+            for y_, d in ((sill, 1.0), (head, -1.0)):
+                q = [pt(w0, y_, 0), pt(w1, y_, 0), pt(w1, y_, t), pt(w0, y_, t)]
+                facing_quad(m, q, (0, d, 0))
+
+
+def town_building(walls, floors, roofs, x0, z0, w, d, storeys, y0):
+    """A hollow building: windowed walls 0.3 m thick, a floor slab every storey
+    (both faces), one partition wall across the middle (rooms behind the windows),
+    and a flat roof."""
+    t = 0.3
+    x1, z1 = x0 + w, z0 + d
+    for a, b, out in (((x0, z1), (x1, z1), (0, 1)), ((x1, z1), (x1, z0), (1, 0)),
+                      ((x1, z0), (x0, z0), (0, -1)), ((x0, z0), (x0, z1), (-1, 0))):
+        facade(walls, a, b, y0, storeys, t, out)
+    top = y0 + 3.0 * storeys
+    for k in range(storeys + 1):
+        y = y0 + 3.0 * k
+        lo, hi = (x0 + t, y - 0.2, z0 + t), (x1 - t, y, z1 - t)
+        (roofs if k == storeys else floors).box(lo, hi)
+    roofs.box((x0 - 0.2, top, z0 - 0.2), (x1 + 0.2, top + 0.4, z1 + 0.2))
+    xm = x0 + w / 2.0
+    for k in range(storeys):
+        floors.quad((xm, y0 + 3.0 * k, z0 + t), (xm, y0 + 3.0 * k, z1 - t),
+                    (xm, y0 + 3.0 * k + 2.8, z1 - t), (xm, y0 + 3.0 * k + 2.8, z0 + t))
+        floors.quad((xm, y0 + 3.0 * k, z1 - t), (xm, y0 + 3.0 * k, z0 + t),
+                    (xm, y0 + 3.0 * k + 2.8, z0 + t), (xm, y0 + 3.0 * k + 2.8, z1 - t))
+
+
+def build_town(seed=11):
+    """200 x 200 m, up to 60 m tall: city blocks of multi-storey buildings with
+    windows and rooms, a paved plaza, an arcade to walk under along the plaza's
+    north side, a footbridge between two towers, and a slope to the north."""
+    rnd = random.Random(seed)
+    meshes = {}
+    ground, plaza = Mesh(), Mesh()
+    step = 4.0
+    for i in range(50):
+        for j in range(50):
+            x0, z0 = -100.0 + i * step, -100.0 + j * step
+            x1, z1 = x0 + step, z0 + step
+            p = [(x, town_ground(x, z), z) for x, z in ((x0, z1), (x1, z1), (x1, z0), (x0, z0))]
+            (plaza if abs(x0 + 2) < 20 and abs(z0 + 2) < 20 else ground).quad(*p)
+    meshes["ground"] = (ground, "grass")
+    meshes["plaza"] = (plaza, "stone")
+    walls, floors, roofs = Mesh(), Mesh(), Mesh()
+    # Blocks of 36 m with 12 m streets; the centre block is the plaza.
+    for bi in range(-2, 3):
+        for bj in range(-2, 3):
+            if bi == 0 and bj == 0:
+                continue
+            cx, cz = bi * 40.0, bj * 40.0
+            y0 = town_ground(cx, cz + 14.0)
+            for (ox, oz) in ((-14.0, -14.0), (2.0, -14.0), (-14.0, 2.0), (2.0, 2.0)):
+                if rnd.random() < 0.25:
+                    continue
+                w, d = rnd.uniform(8.0, 12.0), rnd.uniform(8.0, 12.0)
+                tall = rnd.random() < 0.15
+                storeys = rnd.randint(12, 17) if tall else rnd.randint(2, 6)
+                town_building(walls, floors, roofs, cx + ox, cz + oz, w, d, storeys, y0)
+    meshes["walls"] = (walls, "plaster")
+    meshes["floors"] = (floors, "concrete")
+    meshes["roofs"] = (roofs, "roof")
+    # Arcade: a roof on columns along the plaza's north edge.
+    arcade = Mesh()
+    arcade.box((-18.0, 4.0, 18.0), (18.0, 4.6, 22.0))
+    for k in range(7):
+        x = -18.0 + 6.0 * k
+        arcade.box((x - 0.3, 0.0, 21.4), (x + 0.3, 4.0, 22.0))
+    # Footbridge: 10 m up, from block (-1, 0) to block (1, 0), over the plaza.
+    arcade.box((-26.0, 10.0, -1.5), (26.0, 10.5, 1.5))
+    arcade.box((-26.0, 10.5, -1.5), (26.0, 11.5, -1.3))
+    arcade.box((-26.0, 10.5, 1.3), (26.0, 11.5, 1.5))
+    meshes["arcade"] = (arcade, "stone")
+    return meshes
+
+
+def write_town(path):
+    meshes = build_town()
+    w = GlbWriter()
+    mats = {"grass": w.material("grass", (0.22, 0.50, 0.16)),
+            "stone": w.material("stone", (0.60, 0.57, 0.52)),
+            "plaster": w.material("plaster", (0.85, 0.72, 0.55)),
+            "concrete": w.material("concrete", (0.50, 0.50, 0.50)),
+            "roof": w.material("roof", (0.55, 0.12, 0.10))}
+    for name, (m, mat) in meshes.items():
+        if m.idx:
+            w.node(name, w.mesh(name, m, mats[mat]))
+    w.write(path)
+
+
 def main(argv):
     if len(argv) == 3 and argv[0] == "--world":
         write_world(argv[2], float(argv[1]), seed=int(float(argv[1])))
+        return 0
+    if len(argv) == 2 and argv[0] == "--town":
+        write_town(argv[1])
         return 0
     if argv:
         sys.stderr.write(__doc__)

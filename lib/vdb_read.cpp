@@ -363,9 +363,9 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     GridLayout layout;
     VDBGI_TRY(
         read_layout(ctx, path, layout,
-                    {"irradiance", "validity", "stderr", "rays", vdbgi_side_grid_names[0],
-                     vdbgi_side_grid_names[1], vdbgi_side_grid_names[2], vdbgi_side_grid_names[3],
-                     vdbgi_side_grid_names[4], vdbgi_side_grid_names[5]}));
+                    {"irradiance", "validity", "stderr", "rays", vdbgi_side_grid_name(0),
+                     vdbgi_side_grid_name(1), vdbgi_side_grid_name(2), vdbgi_side_grid_name(3),
+                     vdbgi_side_grid_name(4), vdbgi_side_grid_name(5)}));
     const auto grid = [&](const char *name) { return layout.find(name); };
     const openvdb::GridBase::Ptr base = grid("irradiance"), vbase = grid("validity");
     const openvdb::GridBase::Ptr sebase = grid("stderr"), raysbase = grid("rays");
@@ -374,7 +374,7 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     openvdb::GridBase::Ptr sides[6];
     bool has_cube = true;
     for (int side = 0; side < 6; side++)
-        has_cube = has_cube && (sides[side] = grid(vdbgi_side_grid_names[side]));
+        has_cube = has_cube && (sides[side] = grid(vdbgi_side_grid_name(side)));
     const auto irr = openvdb::gridPtrCast<openvdb::Vec3SGrid>(base);
     if (!irr)
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid 'irradiance' is %s, not vec3s", path,
@@ -387,7 +387,7 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     for (int side = 0; has_cube && side < 6; side++)
         if (!(side_grids[side] = openvdb::gridPtrCast<openvdb::Vec3SGrid>(sides[side])))
             return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid '%s' is %s, not vec3s", path,
-                              vdbgi_side_grid_names[side], sides[side]->valueType().c_str());
+                              vdbgi_side_grid_name(side), sides[side]->valueType().c_str());
     VDBGI_TRY(check_lattice(ctx, path, *irr));
     if (val && val->tree().activeTileCount() != 0)
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,

@@ -16,9 +16,12 @@
 #include <memory>
 #include <vector>
 
-extern "C" const char *const vdbgi_side_grid_names[6] = {"irradiance_px", "irradiance_nx",
-                                                         "irradiance_py", "irradiance_ny",
-                                                         "irradiance_pz", "irradiance_nz"};
+extern "C" const char *vdbgi_side_grid_name(int side)
+{
+    static const char *const names[6] = {"irradiance_px", "irradiance_nx", "irradiance_py",
+                                         "irradiance_ny", "irradiance_pz", "irradiance_nz"};
+    return names[side];
+}
 
 namespace
 {
@@ -161,7 +164,7 @@ extern "C" vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, co
         // Ambient-cube sides: one Vec3s grid each, sharing the topology.
         for (int side = 0; side < 6; side++) {
             auto g = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
-            g->setName(vdbgi_side_grid_names[side]);
+            g->setName(vdbgi_side_grid_name(side));
             g->setTransform(xf->copy());
             g->setGridClass(openvdb::GRID_UNKNOWN);
             g->setVectorType(openvdb::VEC_INVARIANT);

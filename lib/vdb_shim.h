@@ -24,8 +24,8 @@ vdbgi_result vdbgi_vdb_topology(vdbgi_context *ctx, const float *positions, size
 vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, const char *name,
                              const vdbgi_probes *probes);
 
-/* The ambient cube's six grids, +x -x +y -y +z -z (docs/format.md). */
-extern const char *const vdbgi_side_grid_names[6];
+/* The name of the ambient cube's grid for side 0..5: +x -x +y -y +z -z (docs/format.md). */
+const char *vdbgi_side_grid_name(int side);
 
 /* Read "irradiance" (and "validity" if present) from path into new probes. */
 vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_probes **out);
