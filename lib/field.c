@@ -40,12 +40,11 @@ const float *vdbgi_field_at(const vdbgi_field *f, const int32_t ijk[3], const vd
 
 vdbgi_fill_params vdbgi_fill_params_default(float invalid_threshold, vdbgi_fill fill, int threads)
 {
-    /* Level-0 cells of 4 probes, the one-cell margin, a rim of one point for the aprons,
+    /* Level-0 cells of 4 probes, a rim of one point for the aprons,
        inverse-squared-distance weights for face, edge and corner neighbours, and the
        darkest fill unless the mean is asked for (docs/stability.md). */
     const vdbgi_fill_params fp = {.invalid_threshold = invalid_threshold,
                                   .cell_size = 4,
-                                  .margin_cells = 1,
                                   .rim = 1,
                                   .weights = {1.0f, 0.5f, 1.0f / 3.0f},
                                   .max_iterations = 1024,

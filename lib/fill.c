@@ -366,38 +366,36 @@ static vdbgi_result mark_target(grid *g, const vdbgi_map *cells, int cell_size, 
     return VDBGI_OK;
 }
 
-/* The cells holding a source, dilated by margin cells (a Chebyshev ball: 26-neighbour steps). */
+/*
+ * The cells whose filter reads a source: those whose 4^3 points, or the rim of
+ * points beyond their faces that the aprons hold, include one. A position in
+ * any other cell would interpolate filled values alone: nothing a receiver
+ * near a surface reads, and most of the old one-cell margin (docs/converter.md).
+ */
 static vdbgi_result occupied_cells(vdbgi_context *ctx, const vdbgi_fill_input *in,
                                    const vdbgi_fill_params *fp, vdbgi_map *cells, size_t *sources)
 {
-    vdbgi_map seeds;
-    VDBGI_TRY(vdbgi_map_init(ctx, &seeds, 1024));
-    vdbgi_result r = VDBGI_OK;
+    vdbgi_result r = vdbgi_map_init(ctx, cells, 1024);
     *sources = 0;
+    const int s = fp->cell_size, rim = fp->rim;
     for (size_t n = 0; n < in->count && r == VDBGI_OK; n++) {
         if (in->backface[n] > fp->invalid_threshold)
             continue;
-        const int32_t *const p = &in->ijk[3 * n];
-        const int32_t cell[3] = {vdbgi_floor_div(p[0], fp->cell_size),
-                                 vdbgi_floor_div(p[1], fp->cell_size),
-                                 vdbgi_floor_div(p[2], fp->cell_size)};
-        size_t index;
-        r = vdbgi_map_insert(&seeds, cell, &index, NULL);
         (*sources)++;
-    }
-    if (r == VDBGI_OK)
-        r = vdbgi_map_init(ctx, cells, 2 * seeds.count);
-    const int m = fp->margin_cells;
-    for (size_t c = 0; c < seeds.count && r == VDBGI_OK; c++)
-        for (int dx = -m; dx <= m && r == VDBGI_OK; dx++)
-            for (int dy = -m; dy <= m && r == VDBGI_OK; dy++)
-                for (int dz = -m; dz <= m && r == VDBGI_OK; dz++) {
-                    const int32_t *const s = seeds.keys[c];
-                    const int32_t cell[3] = {s[0] + dx, s[1] + dy, s[2] + dz};
+        const int32_t *const p = &in->ijk[3 * n];
+        int32_t lo[3], hi[3];
+        for (int k = 0; k < 3; k++) {
+            lo[k] = vdbgi_floor_div(p[k] - rim, s);
+            hi[k] = vdbgi_floor_div(p[k] + rim, s);
+        }
+        for (int32_t x = lo[0]; x <= hi[0] && r == VDBGI_OK; x++)
+            for (int32_t y = lo[1]; y <= hi[1] && r == VDBGI_OK; y++)
+                for (int32_t z = lo[2]; z <= hi[2] && r == VDBGI_OK; z++) {
+                    const int32_t cell[3] = {x, y, z};
                     size_t index;
                     r = vdbgi_map_insert(cells, cell, &index, NULL);
                 }
-    vdbgi_map_free(&seeds);
+    }
     return r;
 }
 

@@ -3,7 +3,8 @@
  * coarsening every valid probe reads back within the encoding's step; aprons
  * make brick boundaries invisible; a larger eps never grows the atlas; a flat
  * field becomes a few level-3 bricks and a linear one stays coarse under the
- * interpolation criterion; invalid probes never leak; files round-trip and
+ * interpolation criterion; invalid probes never leak; only cells whose filter
+ * reads a valid probe get bricks; files round-trip and
  * damaged ones are refused; bad parameters and failing allocations are
  * reported cleanly.
  */
@@ -236,6 +237,62 @@ static void invalid_probes_never_leak_their_value(void)
         vdbgi_volume_destroy(v);
     }
     vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+}
+
+/*
+ * A lit floor with a closed 8 m box on it, baked: every position whose filter
+ * reads a lit valid probe (within one spacing of it on every axis) lands in a
+ * brick and reads light; a cell inside the box whose filter reads invalid
+ * probes only has no brick and reads black, though the one-cell margin of
+ * old would have kept it.
+ */
+static void only_cells_whose_filter_reads_a_valid_probe_get_bricks(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    test_mesh_plane(&m, 16.0f, 0.0f);
+    const float lo[3] = {-4.0f, 0.0f, -4.0f}, hi[3] = {4.0f, 8.0f, 4.0f};
+    test_mesh_box(&m, lo, hi, 0);
+    const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.6f, 0);
+    vdbgi_scene *s = NULL;
+    vdbgi_probes *p = NULL;
+    vdbgi_volume *v = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &s), VDBGI_OK);
+    /* The first probes outside the wall at x = 4 m stand at index 6, mid-cell: the cell of
+       indices 0..3 inside it is next to theirs, yet its filter reads none of them. */
+    const vdbgi_place_desc pd = {.spacing = 0.5, .origin = {1.25, 1.25, 1.25}, .origin_is_set = 1};
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
+    const vdbgi_bake_desc bd = {.rays = 64};
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &bd, NULL), VDBGI_OK);
+    const vdbgi_convert_desc cd = {.max_level = VDBGI_ZERO}; /* no coarse brick over it */
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
+    if (v) {
+        int dark = 0, tried = 0;
+        for (size_t i = 0; i < p->count; i++) {
+            /* Beyond the floor's edge a valid probe sees only the black sky. */
+            if (p->backface[i] > p->invalid_threshold || p->rgb[3 * i] < 0.01f)
+                continue;
+            for (int corner = 0; corner < 8; corner++) {
+                const double q[3] = {p->ijk[3 * i] + (corner & 1 ? 0.95 : -0.95),
+                                     p->ijk[3 * i + 1] + (corner & 2 ? 0.95 : -0.95),
+                                     p->ijk[3 * i + 2] + (corner & 4 ? 0.95 : -0.95)};
+                float pos[3], got[3];
+                world_of(p, q, pos);
+                vdbgi_volume_sample(v, pos, got);
+                dark += got[0] + got[1] + got[2] <= 0.0f;
+                tried++;
+            }
+        }
+        CHECK(tried > 1000 && dark == 0);
+        const float inside[3] = {2.0f, 4.0f, 0.0f};
+        float got[3];
+        vdbgi_volume_sample(v, inside, got);
+        CHECK(got[0] == 0.0f && got[1] == 0.0f && got[2] == 0.0f);
+    }
+    vdbgi_volume_destroy(v);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
     vdbgi_context_destroy(ctx);
 }
 
@@ -489,6 +546,7 @@ int main(void)
     RUN(flat_field_becomes_a_few_level3_bricks);
     RUN(linear_ramp_stays_coarse_under_interpolation);
     RUN(invalid_probes_never_leak_their_value);
+    RUN(only_cells_whose_filter_reads_a_valid_probe_get_bricks);
     RUN(files_round_trip_and_are_deterministic);
     RUN(damaged_files_are_refused);
     RUN(bad_parameters_and_probes_are_refused);

@@ -29,35 +29,54 @@ static vdbgi_result fill(vdbgi_context *ctx, const int32_t *ijk, const float *va
     return vdbgi_field_fill(ctx, &in, &fp, field, cells, cell_count, unreached);
 }
 
-static void one_source_reaches_its_cells_and_their_margin(void)
+/* The cells a source's filter reaches: its own, and the next one where it sits within a
+   point of a face (rim 1), for a source inside a cell, on a face and at a corner. */
+static void one_source_reaches_the_cells_whose_filter_reads_it(void)
 {
-    vdbgi_context *const ctx = make_context();
-    const int32_t ijk[3] = {1, 2, 3};
-    const float rgb[3] = {0.25f, 0.5f, 2.0f}, bf = 0.0f;
-    vdbgi_field f;
-    int32_t *cells = NULL;
-    size_t cell_count = 0, unreached = 1;
-    CHECK_RESULT(ctx, fill(ctx, ijk, rgb, &bf, 1, 1, true, 0, &f, &cells, &cell_count, &unreached),
-                 VDBGI_OK);
-    /* The cell and its 26 neighbours, 12^3 points plus a rim of one: all reached. */
-    CHECK(cell_count == 27);
-    CHECK(unreached == 0);
-    size_t points = 0;
-    for (size_t l = 0; l < f.leaf_count; l++)
-        for (int w = 0; w < 8; w++)
-            points += (size_t)__builtin_popcountll(f.leaves[l].mask[w]);
-    CHECK(points == 14 * 14 * 14);
-    /* One source: every point takes its colour exactly, however far. */
-    const int32_t far[2][3] = {{-5, -4, -5}, {8, 8, 8}};
-    for (int i = 0; i < 2; i++) {
-        const float *const v = vdbgi_field_at(&f, far[i], NULL);
-        CHECK(v && v[0] == rgb[0] && v[1] == rgb[1] && v[2] == rgb[2]);
+    static const struct {
+        int32_t ijk[3];
+        size_t cells;
+    } cases[] = {{{1, 2, 1}, 1}, {{1, 2, 3}, 2}, {{4, 3, -1}, 8}};
+    for (size_t c = 0; c < sizeof(cases) / sizeof(cases[0]); c++) {
+        vdbgi_context *const ctx = make_context();
+        const float rgb[3] = {0.25f, 0.5f, 2.0f}, bf = 0.0f;
+        vdbgi_field f;
+        int32_t *cells = NULL;
+        size_t cell_count = 0, unreached = 1;
+        CHECK_RESULT(
+            ctx,
+            fill(ctx, cases[c].ijk, rgb, &bf, 1, 1, true, 0, &f, &cells, &cell_count, &unreached),
+            VDBGI_OK);
+        CHECK(cell_count == cases[c].cells);
+        CHECK(unreached == 0);
+        /* Every point of those cells and a rim of one: (4 n + 2) along each axis. */
+        size_t points = 0, want = 1;
+        for (size_t l = 0; l < f.leaf_count; l++)
+            for (int w = 0; w < 8; w++)
+                points += (size_t)__builtin_popcountll(f.leaves[l].mask[w]);
+        for (int k = 0; k < 3; k++) {
+            const int32_t p = cases[c].ijk[k];
+            const int32_t n = vdbgi_floor_div(p + 1, 4) - vdbgi_floor_div(p - 1, 4) + 1;
+            want *= (size_t)(4 * n + 2);
+        }
+        CHECK(points == want);
+        /* One source: every point takes its colour exactly, however far. */
+        int32_t lo[3], hi[3], past[3];
+        for (int k = 0; k < 3; k++) {
+            lo[k] = 4 * vdbgi_floor_div(cases[c].ijk[k] - 1, 4) - 1;
+            hi[k] = 4 * vdbgi_floor_div(cases[c].ijk[k] + 1, 4) + 4;
+            past[k] = hi[k];
+        }
+        past[0] = hi[0] + 1;
+        const float *const a = vdbgi_field_at(&f, lo, NULL);
+        const float *const b = vdbgi_field_at(&f, hi, NULL);
+        CHECK(a && a[0] == rgb[0] && a[1] == rgb[1] && a[2] == rgb[2]);
+        CHECK(b && b[0] == rgb[0] && b[1] == rgb[1] && b[2] == rgb[2]);
+        CHECK(vdbgi_field_at(&f, past, NULL) == NULL);
+        free(cells);
+        vdbgi_field_free(&f);
+        vdbgi_context_destroy(ctx);
     }
-    const int32_t outside[3] = {9, 8, 8};
-    CHECK(vdbgi_field_at(&f, outside, NULL) == NULL);
-    free(cells);
-    vdbgi_field_free(&f);
-    vdbgi_context_destroy(ctx);
 }
 
 static void a_ring_takes_the_weighted_mean_of_its_valued_neighbours(void)
@@ -165,7 +184,7 @@ static void leaves_and_cells_come_in_tree_order(void)
     size_t cell_count = 0, unreached = 0;
     CHECK_RESULT(ctx, fill(ctx, ijk, rgb, bf, 3, 1, true, 0, &f, &cells, &cell_count, &unreached),
                  VDBGI_OK);
-    CHECK(cell_count == 3 * 27);
+    CHECK(cell_count == 3 * 8); /* each source on a face of its cell along every axis */
     for (size_t i = 1; i < cell_count; i++)
         CHECK(vdbgi_tree_order(&cells[3 * (i - 1)], &cells[3 * i]) < 0);
     for (size_t l = 1; l < f.leaf_count; l++)
@@ -262,7 +281,7 @@ static void no_source_is_refused(void)
 
 int main(void)
 {
-    RUN(one_source_reaches_its_cells_and_their_margin);
+    RUN(one_source_reaches_the_cells_whose_filter_reads_it);
     RUN(a_ring_takes_the_weighted_mean_of_its_valued_neighbours);
     RUN(an_invalid_probe_in_a_wall_takes_one_neighbour_for_every_channel);
     RUN(leaves_and_cells_come_in_tree_order);
