@@ -168,8 +168,11 @@ vdbgi_result vdbgi_bevy_build(vdbgi_context *ctx, const vdbgi_probes *p,
     const size_t n = voxel_count(res);
     unsigned char *const valued = vdbgi_calloc(ctx, n, 1);
     vdbgi_result r = valued ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
-    const vdbgi_fill_params fp =
+    vdbgi_fill_params fp =
         vdbgi_fill_params_default(p->invalid_threshold, desc->fill, desc->threads);
+    /* A voxel 4 probes wide filters across solids' insides, which bricks never read:
+       fill a cell around every cell holding a valid probe, as the converter once did. */
+    fp.margin_cells = 1;
     const vdbgi_fill_input in = {p->count, p->ijk, p->cube, p->backface, 6};
     vdbgi_field field = {0};
     int32_t *cells = NULL;

@@ -57,6 +57,8 @@ int vdbgi_tree_order(const int32_t a[3], const int32_t b[3]);
 typedef struct vdbgi_fill_params {
     float invalid_threshold; /* back-face fraction above which a probe is not a source */
     int cell_size;           /* fine probes per level-0 brick cell edge (4) */
+    int margin_cells;        /* 0: the cells whose filter reads a source; k > 0: the cells
+                                holding one and k cells around them (Bevy: 1) */
     int rim;                 /* points beyond a cell's faces that its filter reads (1) */
     float weights[3];        /* weight of a face, edge and corner neighbour */
     int max_iterations;      /* rings of spreading before giving up */
@@ -80,8 +82,9 @@ typedef struct vdbgi_fill_input {
 /*
  * The filled field. Sources are the points whose back-face fraction is at
  * most fp->invalid_threshold. The target region is every level-0 cell whose
- * points, or the fp->rim points beyond its faces, include a source, as fine
- * points, dilated again by fp->rim points. Rings of target points next
+ * points, or the fp->rim points beyond its faces, include a source (or, with
+ * fp->margin_cells k > 0, every cell that holds one, dilated by k cells), as
+ * fine points, dilated again by fp->rim points. Rings of target points next
  * to already-valued points take the weighted mean of their valued 26
  * neighbours (weights by face, edge, corner), ring after ring, until the
  * target is covered or a ring is empty. An invalid point with valued face
