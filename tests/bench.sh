@@ -1,12 +1,15 @@
 #!/bin/sh
 # bench.sh: `make bench`. On the bundled world and a generated 200 x 200 m world:
 # bake throughput against a bare Embree loop over the same rays, then conversion
-# size, error and time against reading the .vdb. Writes build/bench/bench.md.
+# size, error and time against reading the .vdb; then where the bytes of the
+# default volume go on those two and the town (tests/breakdown.py, Debian's
+# python3). Writes build/bench/bench.md.
 set -eu
 BUILD=${BUILD:-build/release}
 OUT=build/bench
 mkdir -p "$OUT"
 [ -f "$OUT/world200.glb" ] || python3 data/make_scenes.py --world 200 "$OUT/world200.glb"
+[ -f "$OUT/town.glb" ] || python3 data/make_scenes.py --town "$OUT/town.glb"
 {
     echo "## gi-bench, $(date -u +%Y-%m-%d), $(nproc) cores: $(sed -n 's/^model name\t: //p' /proc/cpuinfo | head -n 1)"
     echo
@@ -16,5 +19,14 @@ mkdir -p "$OUT"
     "$BUILD/bin/gi-bake" -q "$OUT/world200.glb" -o "$OUT/world200.vdb" >/dev/null
     "$BUILD/bin/gi-bench" convert "$OUT/world.vdb" --repeat 3
     "$BUILD/bin/gi-bench" convert "$OUT/world200.vdb" --repeat 3
+    "$BUILD/bin/gi-bake" -q "$OUT/town.glb" -o "$OUT/town.vdb" >/dev/null
+    echo "### Where the bytes go (default conversion; docs/converter.md, section 10)"
+    echo
+    /usr/bin/python3 -c 'import sys; sys.path.insert(0, "tests"); import breakdown; print(breakdown.HEADER)'
+    for w in world world200 town; do
+        "$BUILD/bin/vdb-to-gi" -q "$OUT/$w.vdb" -o "$OUT/$w.gi.gz"
+        /usr/bin/python3 tests/breakdown.py --row "$w" "$OUT/$w.vdb" "$OUT/$w.gi.gz"
+    done
+    echo
 } | tee "$OUT/bench.md"
 echo "bench: results in $OUT/bench.md"

@@ -1,12 +1,13 @@
 #!/usr/bin/python3
-"""breakdown.py BAKE.vdb VOLUME.gi.gz: where the bytes of a .gi volume go.
+"""breakdown.py [--row NAME] BAKE.vdb VOLUME.gi.gz: where the bytes of a .gi volume go.
 
 Run under Debian's system python3 (pyopenvdb, numpy). Reads the baked probes
 (which are valid) and the volume (docs/format.md), and prints one JSON object:
 the VRAM and file bytes per valid probe, and what each suspect of issue 11
 costs: the apron, cells and bricks that hold no valid probe, coarsening,
 the atlas's unused slots, 4-byte texels, and what gzip makes of the atlas
-interleaved, as separate planes, and without its aprons.
+interleaved, as separate planes, and without its aprons. With --row NAME,
+one Markdown table row instead (HEADER below is its header).
 """
 import gzip
 import json
@@ -55,7 +56,23 @@ def gz(b):
     return len(zlib.compress(bytes(b), 6))
 
 
-def main(vdb_path, gi_path):
+HEADER = ("| world | valid probes | bricks L0 / L1 / L2 / L3 | bricks holding no valid probe "
+          "| slots per valid probe | textures | B per valid probe | file | B per valid probe "
+          "| dense RGBA8 | aprons in the atlas | gzip of the bricks without aprons |\n"
+          "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+
+
+def row(name, d):
+    """One line of HEADER's table."""
+    empty = sum(d["bricks_without_valid_probe"]) / d["bricks"]
+    return ("| %s | %d | %s | %.0f %% | %.2f | %.2f MB | %.1f | %.2f MB | %.1f | %.2f MB | %.0f %% | %.2f MB |"
+            % (name, d["valid_probes"], " / ".join(str(n) for n in d["bricks_per_level"]), 100 * empty,
+               d["probe_slots_per_valid_probe"], d["vram_bytes"] / 1e6, d["vram_per_valid_probe"],
+               d["file_bytes"] / 1e6, d["file_per_valid_probe"], d["dense_rgba8_bytes"] / 1e6,
+               100 * d["apron_bytes"] / d["atlas_bytes"], d["gzip_bricks_no_apron_interleaved"] / 1e6))
+
+
+def main(vdb_path, gi_path, name=None):
     gi = read_gi(gi_path)
     ijk, origin, spacing, probes = valid_probes(vdb_path)
     ind, atlas = gi["ind"], gi["atlas"]
@@ -133,11 +150,15 @@ def main(vdb_path, gi_path):
         "gzip_bricks_no_apron_interleaved": gz(inner),
         "gzip_bricks_no_apron_planes": gz(planes),
     }
-    print(json.dumps(out, indent=1))
+    print(row(name, out) if name else json.dumps(out, indent=1))
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 3:
+    args = sys.argv[1:]
+    name = None
+    if len(args) == 4 and args[0] == "--row":
+        name, args = args[1], args[2:]
+    if len(args) != 2:
         sys.stderr.write(__doc__)
         sys.exit(2)
-    main(sys.argv[1], sys.argv[2])
+    main(args[0], args[1], name)
