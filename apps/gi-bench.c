@@ -43,7 +43,7 @@ static void usage(void)
            "the same probes at 1 m), size.csv (bytes against error over eps, max level,\n"
            "criterion and encoding), spacing.csv (0.25..2 m: probes, time, bytes, and\n"
            "the error at 3000 points on the surfaces, against 2048-ray estimates there,\n"
-           "under the default darkest fill and the mean fill).\n"
+           "under the default darkest fill, the mean fill and the compact layout).\n"
            "\n"
            "Options:\n"
            "      --spacing M     probe spacing in metres (0.5)\n"
@@ -222,6 +222,10 @@ static int bench_convert(const options *o)
         code = convert_row(ctx, p, &defaults, "**default**, rgbm", read_seconds);
     if (code == CLI_OK)
         code = convert_row(ctx, p, &e9, "default, rgb9e5", read_seconds);
+    /* The compact layout (5^3 texels a brick, stitched levels) at the other defaults. */
+    const vdbgi_convert_desc compact = {.layout = VDBGI_LAYOUT_COMPACT};
+    if (code == CLI_OK)
+        code = convert_row(ctx, p, &compact, "default, rgbm, compact layout", read_seconds);
     printf("\n");
     vdbgi_probes_destroy(p);
     vdbgi_context_destroy(ctx);
@@ -413,7 +417,9 @@ static int sweep_spacing(sweep *w, const char *dir)
                                              "spacing,probes,bake_seconds,raw_bytes,gzip_bytes,"
                                              "dense_bytes,receivers,receiver_rmse_rel,"
                                              "receiver_p99_rel,mean_fill_rmse_rel,"
-                                             "mean_fill_p99_rel")
+                                             "mean_fill_p99_rel,compact_raw_bytes,"
+                                             "compact_gzip_bytes,compact_receiver_rmse_rel,"
+                                             "compact_receiver_p99_rel")
                                   : NULL;
     static const double spacing[] = {0.25, 0.5, 1.0, 2.0};
     for (int i = 0; f && r == VDBGI_OK && i < 4; i++) {
@@ -426,23 +432,31 @@ static int sweep_spacing(sweep *w, const char *dir)
             r = vdbgi_probes_bake(p, w->scene, NULL, &st);
         if (r == VDBGI_OK)
             r = vdbgi_volume_build(ctx, p, NULL, &v);
-        /* The same probes under the mean fill: what the darkest fill costs in the open. */
-        vdbgi_volume *mean = NULL;
+        /* The same probes under the mean fill: what the darkest fill costs in the open;
+           and in the compact layout. */
+        vdbgi_volume *mean = NULL, *compact = NULL;
         const vdbgi_convert_desc md = {.fill = VDBGI_FILL_MEAN};
+        const vdbgi_convert_desc cd = {.layout = VDBGI_LAYOUT_COMPACT};
         if (r == VDBGI_OK)
             r = vdbgi_volume_build(ctx, p, &md, &mean);
+        if (r == VDBGI_OK)
+            r = vdbgi_volume_build(ctx, p, &cd, &compact);
         if (r == VDBGI_OK) {
-            double rmse, p99, mean_rmse, mean_p99;
+            double rmse, p99, mean_rmse, mean_p99, c_rmse, c_p99;
             receiver_error(v, pts, ref, got, kept, &rmse, &p99);
             receiver_error(mean, pts, ref, got, kept, &mean_rmse, &mean_p99);
-            vdbgi_volume_info vi;
+            receiver_error(compact, pts, ref, got, kept, &c_rmse, &c_p99);
+            vdbgi_volume_info vi, ci;
             vdbgi_volume_get_info(v, &vi);
-            fprintf(f, "%g,%llu,%.4f,%zu,%zu,%zu,%d,%.6f,%.6f,%.6f,%.6f\n", spacing[i],
-                    (unsigned long long)st.probe_count, st.seconds,
+            vdbgi_volume_get_info(compact, &ci);
+            fprintf(f, "%g,%llu,%.4f,%zu,%zu,%zu,%d,%.6f,%.6f,%.6f,%.6f,%zu,%zu,%.6f,%.6f\n",
+                    spacing[i], (unsigned long long)st.probe_count, st.seconds,
                     vi.indirection_size + vi.atlas_size, vi.file_size, vi.dense_rgba8_size, kept,
-                    rmse, p99, mean_rmse, mean_p99);
+                    rmse, p99, mean_rmse, mean_p99, ci.indirection_size + ci.atlas_size,
+                    ci.file_size, c_rmse, c_p99);
             fflush(f);
         }
+        vdbgi_volume_destroy(compact);
         vdbgi_volume_destroy(mean);
         vdbgi_volume_destroy(v);
         vdbgi_probes_destroy(p);

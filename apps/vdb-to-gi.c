@@ -41,6 +41,9 @@ static void usage(void)
            "      --fill F          what an invalid probe inside a thin wall takes from its\n"
            "                        neighbours: darkest, which keeps light from leaking into\n"
            "                        dark rooms, or mean (darkest); applies to --bevy too\n"
+           "      --layout L        seed: 6^3 texels a brick, for seed 000's shader as it\n"
+           "                        is; compact: 5^3 texels, coarse probes at block corners,\n"
+           "                        levels stitched (docs/format.md) (seed)\n"
            "      --slices DIR      write slice images (PNG and EXR) into DIR\n"
            "      --slice-axis A    x, y or z (y)\n"
            "      --slice-at M      world coordinate of the slice (the plane with most probes)\n"
@@ -73,6 +76,7 @@ enum {
     OPT_ENCODING,
     OPT_NOISE_SIGMAS,
     OPT_FILL,
+    OPT_LAYOUT,
     OPT_SLICES,
     OPT_SLICE_AXIS,
     OPT_SLICE_AT,
@@ -107,6 +111,7 @@ static int parse_args(int argc, char **argv, options *o)
         {"encoding", required_argument, NULL, OPT_ENCODING},
         {"noise-sigmas", required_argument, NULL, OPT_NOISE_SIGMAS},
         {"fill", required_argument, NULL, OPT_FILL},
+        {"layout", required_argument, NULL, OPT_LAYOUT},
         {"slices", required_argument, NULL, OPT_SLICES},
         {"slice-axis", required_argument, NULL, OPT_SLICE_AXIS},
         {"slice-at", required_argument, NULL, OPT_SLICE_AT},
@@ -170,6 +175,14 @@ static int parse_args(int argc, char **argv, options *o)
                 o->convert.fill = VDBGI_FILL_DARKEST;
             else
                 return cli_usage_error("--fill must be mean or darkest (got '%s')", optarg);
+            break;
+        case OPT_LAYOUT:
+            if (strcmp(optarg, "seed") == 0)
+                o->convert.layout = VDBGI_LAYOUT_SEED;
+            else if (strcmp(optarg, "compact") == 0)
+                o->convert.layout = VDBGI_LAYOUT_COMPACT;
+            else
+                return cli_usage_error("--layout must be seed or compact (got '%s')", optarg);
             break;
         case OPT_SLICES: o->slices = optarg; break;
         case OPT_SLICE_AXIS:
@@ -305,7 +318,8 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             ",\n  \"probes\": %zu,\n"
             "  \"valid_probes\": %zu,\n  \"filled_points\": %zu,\n  \"unreached_points\": %zu,\n"
             "  \"fallback_texels\": %zu,\n  \"spacing\": %g,\n  \"max_level\": %u,\n"
-            "  \"encoding\": \"%s\",\n  \"bricks_per_level\": [%u, %u, %u, %u],\n"
+            "  \"encoding\": \"%s\",\n  \"layout\": \"%s\",\n"
+            "  \"bricks_per_level\": [%u, %u, %u, %u],\n"
             "  \"bricks\": %u,\n  \"atlas_dims\": [%u, %u, %u],\n"
             "  \"indirection_dims\": [%u, %u, %u],\n  \"atlas_bytes\": %zu,\n"
             "  \"indirection_bytes\": %zu,\n  \"raw_bytes\": %.0f,\n  \"gzip_bytes\": %zu,\n"
@@ -317,7 +331,8 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             "  \"convert_seconds\": %.4f,\n  \"convert_over_read\": %.3f\n}\n",
             vi->probe_count, vi->valid_count, vi->filled_count, vi->unreached_count,
             vi->fallback_count, (double)vi->spacing, vi->max_level,
-            vi->encoding == VDBGI_ENCODING_RGB9E5 ? "rgb9e5" : "rgbm", vi->bricks[0], vi->bricks[1],
+            vi->encoding == VDBGI_ENCODING_RGB9E5 ? "rgb9e5" : "rgbm",
+            vi->layout == VDBGI_LAYOUT_COMPACT ? "compact" : "seed", vi->bricks[0], vi->bricks[1],
             vi->bricks[2], vi->bricks[3], vi->brick_count, vi->atlas_dims[0], vi->atlas_dims[1],
             vi->atlas_dims[2], vi->indirection_dims[0], vi->indirection_dims[1],
             vi->indirection_dims[2], vi->atlas_size, vi->indirection_size, raw, vi->file_size,
@@ -335,8 +350,9 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             vi->filled_count, vi->unreached_count, vi->fallback_count);
     fprintf(f, "bricks       %u: level 0 %u, level 1 %u, level 2 %u, level 3 %u\n", vi->brick_count,
             vi->bricks[0], vi->bricks[1], vi->bricks[2], vi->bricks[3]);
-    fprintf(f, "atlas        %ux%ux%u texels, %s\n", vi->atlas_dims[0], vi->atlas_dims[1],
-            vi->atlas_dims[2], cli_bytes((double)vi->atlas_size, a, sizeof(a)));
+    fprintf(f, "atlas        %ux%ux%u texels%s, %s\n", vi->atlas_dims[0], vi->atlas_dims[1],
+            vi->atlas_dims[2], vi->layout == VDBGI_LAYOUT_COMPACT ? " (compact, 5^3 a brick)" : "",
+            cli_bytes((double)vi->atlas_size, a, sizeof(a)));
     fprintf(f, "indirection  %ux%ux%u cells, %s\n", vi->indirection_dims[0],
             vi->indirection_dims[1], vi->indirection_dims[2],
             cli_bytes((double)vi->indirection_size, b, sizeof(b)));

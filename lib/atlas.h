@@ -1,19 +1,24 @@
-/* atlas.h: the runtime layout of kept bricks: atlas slots, aprons, indirection, encoding. */
+/* atlas.h: the runtime layout of kept bricks: atlas slots, aprons or borders, indirection,
+   encoding. */
 #ifndef VDBGI_ATLAS_H
 #define VDBGI_ATLAS_H
 
 #include "coarsen.h"
 #include "volume.h"
 
-/* Atlas texel dimensions for slots bricks: near-cubic, at most 256 slots an axis. */
-vdbgi_result vdbgi_atlas_dims(vdbgi_context *ctx, size_t slots, uint32_t dims[3]);
+/* Atlas texel dimensions for slots bricks of the layout: near-cubic, at most 256 slots an axis. */
+vdbgi_result vdbgi_atlas_dims(vdbgi_context *ctx, size_t slots, vdbgi_layout layout,
+                              uint32_t dims[3]);
 
 /*
  * Sample, encode and point at every brick (brick i in slot i + 1; slot 0 is
- * black) into v's atlas and indirection, over threads: bricks own disjoint
- * slots and cells, so the bytes do not depend on the split. Adds the texels
- * that took a block mean and the clamped ones to v->info.
+ * black) into v's atlas and indirection in v->info.layout, over threads:
+ * bricks own disjoint slots and cells, so the bytes do not depend on the
+ * split. Compact bricks are stitched to coarser neighbours first, which holds
+ * every brick's samples in memory (1.5 kB a brick). Adds the texels that took
+ * a block mean and the clamped ones to v->info.
  */
-void vdbgi_atlas_fill(vdbgi_volume *v, const vdbgi_brick *bricks, size_t count, int threads);
+vdbgi_result vdbgi_atlas_fill(vdbgi_volume *v, const vdbgi_brick *bricks, size_t count,
+                              int threads);
 
 #endif /* VDBGI_ATLAS_H */

@@ -101,48 +101,54 @@ static void block_mean(const builder *b, const block_stats *st, float mean[3])
 }
 
 /*
- * The 6^3 values of a level-L brick: probe q (-1..4 per axis, -1 and 4 the
- * apron) stands at fine position origin + (q + 0.5) 2^L - 0.5, the centre of
- * its 2^L block (the shader's convention). Points the fill did not reach take
- * the block's mean, which is within the block's range of every filled point.
+ * The values of a level-L brick, x fastest. Seed layout: 6^3, probe q (-1..4
+ * per axis, -1 and 4 the apron) at fine position origin + (q + 0.5) 2^L - 0.5,
+ * the centre of its 2^L block (the shader's convention). Compact layout: 5^3,
+ * probe q (0..4, 4 the border) at origin + q 2^L, a lattice point. Points the
+ * fill did not reach take the block's mean, which is within the block's range
+ * of every filled point.
  */
 size_t vdbgi_brick_samples(const vdbgi_field *filled, const int32_t key[3], int level,
-                           const float mean[3],
-                           float out[VDBGI_BRICK_PADDED][VDBGI_BRICK_PADDED][VDBGI_BRICK_PADDED][3])
+                           const float mean[3], vdbgi_layout layout, float out[][3])
 {
     size_t fallbacks = 0;
     const vdbgi_leaf *cache = NULL;
-    const int span = 1 << level;
-    for (int z = 0; z < 6; z++)
-        for (int y = 0; y < 6; y++)
-            for (int x = 0; x < 6; x++) {
-                const int q[3] = {x - 1, y - 1, z - 1};
+    const int span = 1 << level, n = vdbgi_slot_texels(layout);
+    const double shift = layout == VDBGI_LAYOUT_COMPACT ? 0.0 : 0.5 * span - 0.5 - span;
+    for (int z = 0; z < n; z++)
+        for (int y = 0; y < n; y++)
+            for (int x = 0; x < n; x++) {
+                const int q[3] = {x, y, z};
                 double pos[3];
                 for (int k = 0; k < 3; k++)
-                    pos[k] = (double)key[k] * VDBGI_BRICK * span + (q[k] + 0.5) * span - 0.5;
-                if (!vdbgi_field_trilinear(filled, pos, out[z][y][x], &cache)) {
-                    memcpy(out[z][y][x], mean, 3 * sizeof(float));
+                    pos[k] = (double)key[k] * VDBGI_BRICK * span + q[k] * span + shift;
+                float *const v = out[(z * n + y) * n + x];
+                if (!vdbgi_field_trilinear(filled, pos, v, &cache)) {
+                    memcpy(v, mean, 3 * sizeof(float));
                     fallbacks++;
                 }
             }
     return fallbacks;
 }
 
-/* Trilinear reconstruction from a brick's 6^3 samples at fine position pos. */
-static void brick_interpolate(float s[6][6][6][3], const int32_t key[3], int level,
-                              const int32_t pos[3], float rgb[3])
+void vdbgi_brick_interpolate(const float s[][3], vdbgi_layout layout, const int32_t key[3],
+                             int level, const double pos[3], float rgb[3])
 {
     const float span = (float)(1 << level);
+    const int n = vdbgi_slot_texels(layout);
     int i0[3];
     float fr[3];
     for (int k = 0; k < 3; k++) {
         const float origin = (float)key[k] * VDBGI_BRICK * span;
-        const float t = ((float)pos[k] - origin + 0.5f) / span - 0.5f + 1.0f; /* texel units */
+        /* texel units: seed probes sit half a texel in, behind the apron */
+        const float t = layout == VDBGI_LAYOUT_COMPACT
+                            ? ((float)pos[k] - origin) / span
+                            : ((float)pos[k] - origin + 0.5f) / span - 0.5f + 1.0f;
         const float fl = floorf(t);
         i0[k] = (int)fl;
         fr[k] = t - fl;
-        if (i0[k] > 4) { /* t <= 4.75 for a coarse block and the step past it: a guard */
-            i0[k] = 4;
+        if (i0[k] > n - 2) { /* the far face itself, or a guard past it */
+            i0[k] = n - 2;
             fr[k] = 1.0f;
         }
     }
@@ -150,7 +156,8 @@ static void brick_interpolate(float s[6][6][6][3], const int32_t key[3], int lev
     for (int c = 0; c < 8; c++) {
         const float w = (c & 1 ? fr[0] : 1.0f - fr[0]) * (c & 2 ? fr[1] : 1.0f - fr[1]) *
                         (c & 4 ? fr[2] : 1.0f - fr[2]);
-        const float *const v = s[i0[2] + (c >> 2 & 1)][i0[1] + (c >> 1 & 1)][i0[0] + (c & 1)];
+        const int x = i0[0] + (c & 1), y = i0[1] + (c >> 1 & 1), z = i0[2] + (c >> 2 & 1);
+        const float *const v = s[(z * n + y) * n + x];
         for (int k = 0; k < 3; k++)
             rgb[k] += w * v[k];
     }
@@ -169,8 +176,8 @@ static void brick_interpolate(float s[6][6][6][3], const int32_t key[3], int lev
 static bool interpolation_fits(const builder *b, const int32_t key[3], int level,
                                const float mean[3], float noise)
 {
-    float s[6][6][6][3];
-    vdbgi_brick_samples(b->filled, key, level, mean, s);
+    float s[VDBGI_BRICK_PADDED * VDBGI_BRICK_PADDED * VDBGI_BRICK_PADDED][3];
+    vdbgi_brick_samples(b->filled, key, level, mean, b->cp->layout, s);
     const int span = 1 << level, n = VDBGI_BRICK * span;
     const level_map *const cells = &b->levels[0];
     const vdbgi_leaf *cache = NULL;
@@ -187,7 +194,8 @@ static bool interpolation_fits(const builder *b, const int32_t key[3], int level
                 const float *const want = vdbgi_field_at(b->filled, p, &cache);
                 if (!want)
                     continue;
-                brick_interpolate(s, key, level, p, got);
+                const double pos[3] = {p[0], p[1], p[2]};
+                vdbgi_brick_interpolate(s, b->cp->layout, key, level, pos, got);
                 for (int k = 0; k < 3; k++)
                     if (fabsf(got[k] - want[k]) > b->cp->tolerance + noise)
                         return false;

@@ -20,6 +20,7 @@ typedef struct vdbgi_coarsen_params {
     vdbgi_criterion criterion; /* resolved: RANGE or INTERP */
     float fallback[3];         /* mean of the valid probes: a block with no filled point */
     int threads;               /* >= 1 */
+    vdbgi_layout layout;       /* where a coarse brick's probes stand */
 } vdbgi_coarsen_params;
 
 /*
@@ -34,12 +35,15 @@ vdbgi_result vdbgi_coarsen(vdbgi_context *ctx, const vdbgi_field *filled,
                            size_t *brick_count);
 
 /*
- * The 6^3 values of a level-L brick at block key, apron included, from the
- * filled field; mean stands in where the field holds nothing near. Returns
- * how many texels took it.
+ * The values of a level-L brick at block key in the layout's slot (6^3 or
+ * 5^3, x fastest), apron or border included, from the filled field; mean
+ * stands in where the field holds nothing near. Returns how many texels took it.
  */
-size_t
-vdbgi_brick_samples(const vdbgi_field *filled, const int32_t key[3], int level, const float mean[3],
-                    float out[VDBGI_BRICK_PADDED][VDBGI_BRICK_PADDED][VDBGI_BRICK_PADDED][3]);
+size_t vdbgi_brick_samples(const vdbgi_field *filled, const int32_t key[3], int level,
+                           const float mean[3], vdbgi_layout layout, float out[][3]);
+
+/* Trilinear reconstruction from a brick's samples s at fine lattice position pos. */
+void vdbgi_brick_interpolate(const float s[][3], vdbgi_layout layout, const int32_t key[3],
+                             int level, const double pos[3], float rgb[3]);
 
 #endif /* VDBGI_COARSEN_H */

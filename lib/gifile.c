@@ -17,7 +17,8 @@ static void write_header(const vdbgi_volume_info *in, uint8_t h[VDBGI_GI_HEADER_
 {
     memset(h, 0, VDBGI_GI_HEADER_SIZE);
     memcpy(h, gi_magic, 8);
-    vdbgi_put_u32(h + 8, VDBGI_GI_VERSION);
+    /* Seed-layout files stay version 1, byte for byte; the compact layout is version 2. */
+    vdbgi_put_u32(h + 8, in->layout == VDBGI_LAYOUT_COMPACT ? 2 : 1);
     vdbgi_put_u32(h + 12, VDBGI_GI_HEADER_SIZE);
     vdbgi_put_u32(h + 16, (uint32_t)in->encoding);
     vdbgi_put_f32(h + 20, in->rgbm_range);
@@ -33,6 +34,7 @@ static void write_header(const vdbgi_volume_info *in, uint8_t h[VDBGI_GI_HEADER_
         vdbgi_put_u32(h + 80 + 4 * l, in->bricks[l]);
     vdbgi_put_u32(h + 96, (uint32_t)in->indirection_size);
     vdbgi_put_u32(h + 100, (uint32_t)in->atlas_size);
+    vdbgi_put_u32(h + 104, (uint32_t)in->layout);
 }
 
 vdbgi_result vdbgi_gifile_alloc(vdbgi_volume *v)
@@ -86,8 +88,12 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
     VDBGI_FAIL_IF(ctx, memcmp(h, gi_magic, 8) != 0, VDBGI_ERR_FORMAT,
                   "%s: not a .gi file (bad magic)", path);
     const uint32_t version = vdbgi_get_u32(h + 8);
-    VDBGI_FAIL_IF(ctx, version != VDBGI_GI_VERSION, VDBGI_ERR_FORMAT,
-                  "%s: .gi version %u, this reader knows %d", path, version, VDBGI_GI_VERSION);
+    VDBGI_FAIL_IF(ctx, version < 1 || version > VDBGI_GI_VERSION, VDBGI_ERR_FORMAT,
+                  "%s: .gi version %u, this reader knows 1..%d", path, version, VDBGI_GI_VERSION);
+    /* Version 1 is the seed layout (its field is reserved, 0); version 2 says which. */
+    const uint32_t layout = vdbgi_get_u32(h + 104);
+    VDBGI_FAIL_IF(ctx, version == 1 ? layout != 0 : layout > 1, VDBGI_ERR_FORMAT,
+                  "%s: unknown brick layout %u", path, layout);
     *header_size = vdbgi_get_u32(h + 12);
     VDBGI_FAIL_IF(ctx, *header_size < VDBGI_GI_HEADER_SIZE || *header_size > 65536,
                   VDBGI_ERR_FORMAT, "%s: bad header size %zu", path, *header_size);
@@ -95,6 +101,8 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
     const uint32_t enc = vdbgi_get_u32(h + 16);
     VDBGI_FAIL_IF(ctx, enc > 1, VDBGI_ERR_FORMAT, "%s: unknown encoding %u", path, enc);
     info->encoding = (vdbgi_encoding)enc;
+    info->layout = (vdbgi_layout)layout;
+    const uint32_t b = (uint32_t)vdbgi_slot_texels(layout);
     info->rgbm_range = vdbgi_get_f32(h + 20);
     VDBGI_FAIL_IF(ctx, !(info->rgbm_range > 0.0f) || !isfinite(info->rgbm_range), VDBGI_ERR_FORMAT,
                   "%s: bad RGBM range", path);
@@ -108,9 +116,8 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
             ctx, info->indirection_dims[k] < 1 || info->indirection_dims[k] > VDBGI_MAX_TEXTURE_DIM,
             VDBGI_ERR_FORMAT, "%s: bad indirection size", path);
         VDBGI_FAIL_IF(ctx,
-                      info->atlas_dims[k] < VDBGI_BRICK_PADDED ||
-                          info->atlas_dims[k] > 256 * VDBGI_BRICK_PADDED ||
-                          info->atlas_dims[k] % VDBGI_BRICK_PADDED,
+                      info->atlas_dims[k] < b || info->atlas_dims[k] > 256 * b ||
+                          info->atlas_dims[k] % b,
                       VDBGI_ERR_FORMAT, "%s: bad atlas size", path);
         VDBGI_FAIL_IF(ctx,
                       !isfinite(info->box_min[k]) || !isfinite(info->box_max[k]) ||
@@ -137,8 +144,9 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
 static vdbgi_result check_indirection(vdbgi_context *ctx, const char *path, const vdbgi_volume *v)
 {
     const vdbgi_volume_info *const info = &v->info;
-    const uint32_t slots[3] = {info->atlas_dims[0] / 6, info->atlas_dims[1] / 6,
-                               info->atlas_dims[2] / 6};
+    const uint32_t b = (uint32_t)vdbgi_slot_texels(info->layout);
+    const uint32_t slots[3] = {info->atlas_dims[0] / b, info->atlas_dims[1] / b,
+                               info->atlas_dims[2] / b};
     for (size_t i = 0; i < info->indirection_size; i += 4) {
         const uint8_t *const t = &v->indirection[i];
         if (t[3] == 0)

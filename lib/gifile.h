@@ -5,7 +5,8 @@
 #include "volume.h"
 
 #define VDBGI_GI_HEADER_SIZE 112
-#define VDBGI_GI_VERSION 1
+/* The newest version read: 1 is the seed layout, 2 adds the layout field (docs/format.md). */
+#define VDBGI_GI_VERSION 2
 
 /* Allocate v->raw for v->info's texture sizes and point indirection and atlas into it. */
 vdbgi_result vdbgi_gifile_alloc(vdbgi_volume *v);

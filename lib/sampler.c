@@ -1,5 +1,6 @@
 /*
- * sampler.c: the lookup of seed 000's gi-volume.ts, step by step in float32,
+ * sampler.c: the lookup of seed 000's gi-volume.ts, step by step in float32
+ * (and its one change for the compact layout, docs/format.md),
  * with the texture units' NEAREST and LINEAR filtering (clamp-to-edge,
  * texel centres at +0.5) done by hand. Depends on nothing else in lib/.
  */
@@ -84,8 +85,15 @@ void vdbgi_sampler_sample(const vdbgi_volume_view *v, const float pos[3], float 
     for (int k = 0; k < 3; k++) {
         const float slot = ind[k] * 255.0f;
         const float origin_cell = floorf(base[k] / span) * span * (float)VDBGI_BRICK;
-        const float q = (p[k] - origin_cell + 0.5f) / span - 0.5f;
-        const float atlas_texel = slot * (float)VDBGI_BRICK_PADDED + 1.0f + q;
+        float atlas_texel;
+        if (v->layout == 1) {
+            /* Compact: probe q of the brick stands at origin_cell + q span, q = 0..4. */
+            const float q = (p[k] - origin_cell) / span;
+            atlas_texel = slot * (float)VDBGI_BRICK_COMPACT + q;
+        } else {
+            const float q = (p[k] - origin_cell + 0.5f) / span - 0.5f;
+            atlas_texel = slot * (float)VDBGI_BRICK_PADDED + 1.0f + q;
+        }
         uvw[k] = (atlas_texel + 0.5f) / (float)v->atlas_dims[k];
     }
     float s[4];

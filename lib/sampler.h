@@ -7,6 +7,7 @@
 /* The two textures and the uniforms the shader is given. */
 typedef struct vdbgi_volume_view {
     uint32_t encoding; /* 0 RGBM (rgba8), 1 RGB9E5 (uint32 little-endian) */
+    uint32_t layout;   /* 0 seed 000's 6^3 bricks, 1 compact 5^3 bricks */
     float rgbm_range;
     float box_min[3], box_max[3];
     uint32_t ind_dims[3]; /* rgba8 texels, x fastest */
@@ -15,9 +16,16 @@ typedef struct vdbgi_volume_view {
     const uint8_t *atlas;
 } vdbgi_volume_view;
 
-/* 6^3 texels per brick: 4^3 probes and a one-texel apron. */
+/* 4^3 probes a brick: 6^3 texels with a one-texel apron (seed), or 5^3 with a + border. */
 #define VDBGI_BRICK 4
 #define VDBGI_BRICK_PADDED 6
+#define VDBGI_BRICK_COMPACT 5
+
+/* Texels per brick edge in an atlas slot of the given layout. */
+static inline int vdbgi_slot_texels(uint32_t layout)
+{
+    return layout == 1 ? VDBGI_BRICK_COMPACT : VDBGI_BRICK_PADDED;
+}
 
 void vdbgi_sampler_sample(const vdbgi_volume_view *v, const float pos[3], float rgb[3]);
 

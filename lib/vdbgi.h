@@ -510,6 +510,21 @@ typedef enum vdbgi_encoding {
     VDBGI_ENCODING_RGB9E5 = 1 /* WebGPU rgb9e5ufloat: shared 5-bit exponent, 9-bit mantissas */
 } vdbgi_encoding;
 
+/*
+ * How a brick lies in the atlas (docs/format.md). Both keep 4^3 probes a brick
+ * and one indirection texel per level-0 cell.
+ */
+typedef enum vdbgi_layout {
+    VDBGI_LAYOUT_SEED = 0,   /* seed 000's, for its shader unmodified: 6^3 texels, a coarse
+                                probe at the centre of its 2^L block, a one-texel apron on
+                                every side */
+    VDBGI_LAYOUT_COMPACT = 1 /* 5^3 texels: a coarse probe at a corner of its 2^L block, so
+                                the filter needs a border on the + side only (Unreal's
+                                volumetric lightmap); where a coarser brick adjoins, a
+                                brick's face takes its interpolated values, so levels meet
+                                without a step */
+} vdbgi_layout;
+
 typedef enum vdbgi_criterion {
     VDBGI_CRITERION_AUTO = 0,  /* the default: VDBGI_CRITERION_INTERP (see docs/converter.md) */
     VDBGI_CRITERION_RANGE = 1, /* keep a block coarse if its colour range <= eps (seed 000) */
@@ -550,6 +565,7 @@ typedef enum vdbgi_fill {
  *   progress:   as vdbgi_bake_desc's; may be NULL.
  *   threads:    worker threads, 0 == every online core. The bytes do not
  *               depend on it.
+ *   layout:     see vdbgi_layout (0: seed 000's).
  */
 typedef struct vdbgi_convert_desc {
     float eps;
@@ -561,6 +577,7 @@ typedef struct vdbgi_convert_desc {
     int (*progress)(void *user, float done);
     void *progress_user;
     int threads;
+    vdbgi_layout layout;
 } vdbgi_convert_desc;
 
 /* The RGBM range: colours up to this are encoded, brighter ones clamp. */
@@ -598,6 +615,7 @@ VDBGI_API void vdbgi_volume_destroy(vdbgi_volume *volume);
 
 typedef struct vdbgi_volume_info {
     vdbgi_encoding encoding;
+    vdbgi_layout layout;
     float rgbm_range;
     float spacing;                /* finest probe spacing, metres */
     float box_min[3], box_max[3]; /* world box the indirection covers, metres */

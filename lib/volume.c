@@ -38,6 +38,8 @@ static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *d
     *encoding = desc->encoding;
     VDBGI_FAIL_IF(ctx, desc->fill < VDBGI_FILL_AUTO || desc->fill > VDBGI_FILL_DARKEST,
                   VDBGI_ERR_INVALID_ARG, "unknown fill %d", (int)desc->fill);
+    VDBGI_FAIL_IF(ctx, desc->layout != VDBGI_LAYOUT_SEED && desc->layout != VDBGI_LAYOUT_COMPACT,
+                  VDBGI_ERR_INVALID_ARG, "unknown layout %d", (int)desc->layout);
     VDBGI_FAIL_IF(ctx, desc->threads < 0, VDBGI_ERR_INVALID_ARG,
                   "thread count must be >= 0 (got %d)", desc->threads);
     *threads = desc->threads ? desc->threads : vdbgi_core_count();
@@ -49,6 +51,7 @@ vdbgi_volume_view vdbgi_volume_view_of(const vdbgi_volume *v)
     vdbgi_volume_view view;
     memset(&view, 0, sizeof(view));
     view.encoding = (uint32_t)v->info.encoding;
+    view.layout = (uint32_t)v->info.layout;
     view.rgbm_range = v->info.rgbm_range;
     for (int k = 0; k < 3; k++) {
         view.box_min[k] = v->info.box_min[k];
@@ -125,7 +128,7 @@ static int report(const vdbgi_convert_desc *desc, float done)
 /* The volume's settings, and the mean irradiance of the valid probes: the scale of eps
    and of the error figures. */
 static vdbgi_volume *volume_start(vdbgi_context *ctx, const vdbgi_probes *probes,
-                                  vdbgi_encoding encoding, int max_level)
+                                  vdbgi_encoding encoding, vdbgi_layout layout, int max_level)
 {
     vdbgi_volume *const v = vdbgi_calloc(ctx, 1, sizeof(*v));
     if (!v)
@@ -133,6 +136,7 @@ static vdbgi_volume *volume_start(vdbgi_context *ctx, const vdbgi_probes *probes
     v->ctx = ctx;
     vdbgi_volume_info *const info = &v->info;
     info->encoding = encoding;
+    info->layout = layout;
     info->rgbm_range = VDBGI_RGBM_RANGE;
     info->spacing = (float)probes->spacing;
     info->max_level = (uint32_t)max_level;
@@ -225,11 +229,11 @@ static vdbgi_result lay_out(vdbgi_volume *v, const vdbgi_brick *bricks, size_t b
                             int threads)
 {
     vdbgi_volume_info *const info = &v->info;
-    VDBGI_TRY(vdbgi_atlas_dims(v->ctx, brick_count + 1, info->atlas_dims));
+    VDBGI_TRY(vdbgi_atlas_dims(v->ctx, brick_count + 1, info->layout, info->atlas_dims));
     info->brick_count = (uint32_t)brick_count;
     info->atlas_size = 4 * (size_t)info->atlas_dims[0] * info->atlas_dims[1] * info->atlas_dims[2];
     VDBGI_TRY(vdbgi_gifile_alloc(v));
-    vdbgi_atlas_fill(v, bricks, brick_count, threads);
+    VDBGI_TRY(vdbgi_atlas_fill(v, bricks, brick_count, threads));
     for (size_t i = 0; i < brick_count; i++)
         info->bricks[bricks[i].level]++;
     return VDBGI_OK;
@@ -270,7 +274,8 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     VDBGI_FAIL_IF(ctx, !probes->rgb, VDBGI_ERR_FORMAT, "probes have no values: bake them first");
     VDBGI_FAIL_IF(ctx, probes->count == 0, VDBGI_ERR_FORMAT, "the grid holds no probes");
     VDBGI_TRY(check_extent(ctx, probes));
-    vdbgi_volume *const v = volume_start(ctx, probes, encoding, cp.max_level);
+    cp.layout = desc ? desc->layout : VDBGI_LAYOUT_SEED;
+    vdbgi_volume *const v = volume_start(ctx, probes, encoding, cp.layout, cp.max_level);
     if (!v)
         return VDBGI_ERR_OUT_OF_MEMORY;
     vdbgi_volume_info *const info = &v->info;

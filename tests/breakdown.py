@@ -6,7 +6,8 @@ Run under Debian's system python3 (pyopenvdb, numpy). Reads the baked probes
 the VRAM and file bytes per valid probe, and what each suspect of issue 11
 costs: the apron, cells and bricks that hold no valid probe, coarsening,
 the atlas's unused slots, 4-byte texels, and what gzip makes of the atlas
-interleaved, as separate planes, and without its aprons. With --row NAME,
+interleaved, as separate planes, and without its aprons (seed layout) or
+borders (compact layout). With --row NAME,
 one Markdown table row instead (HEADER below is its header).
 """
 import gzip
@@ -22,7 +23,8 @@ import pyopenvdb as vdb
 def read_gi(path):
     raw = gzip.open(path, "rb").read()
     (magic, version, header_size, encoding, rgbm_range) = struct.unpack_from("<8sIIIf", raw, 0)
-    assert magic == b"vdbgi.gi" and version == 1, path
+    assert magic == b"vdbgi.gi" and version in (1, 2), path
+    layout = struct.unpack_from("<I", raw, 104)[0] if version == 2 else 0
     ind_dims = struct.unpack_from("<3I", raw, 24)
     atlas_dims = struct.unpack_from("<3I", raw, 36)
     box_min = struct.unpack_from("<3f", raw, 48)
@@ -35,7 +37,7 @@ def read_gi(path):
     atlas = atlas.reshape(atlas_dims[2], atlas_dims[1], atlas_dims[0], 4)
     return dict(raw=raw, ind=ind, atlas=atlas, box_min=box_min, box_max=box_max,
                 spacing=spacing, ind_dims=ind_dims, atlas_dims=atlas_dims,
-                file_bytes=len(open(path, "rb").read()), encoding=encoding)
+                file_bytes=len(open(path, "rb").read()), encoding=encoding, layout=layout)
 
 
 def valid_probes(path):
@@ -111,15 +113,17 @@ def main(vdb_path, gi_path, name=None):
     atlas_bytes = atlas.size
     ind_bytes = ind.size
     vram = atlas_bytes + ind_bytes
-    used_texels = bricks * 216
-    # The atlas without aprons: each brick's 4^3 probes, interleaved RGBA and as planes.
-    ax, ay, az = (d // 6 for d in gi["atlas_dims"])
-    blocks = atlas.reshape(az, 6, ay, 6, ax, 6, 4).transpose(0, 2, 4, 1, 3, 5, 6)
-    blocks = blocks.reshape(az * ay * ax, 6, 6, 6, 4)
+    b = 5 if gi["layout"] == 1 else 6  # texels a brick edge: compact or seed
+    used_texels = bricks * b ** 3
+    # The atlas without aprons or borders: each brick's 4^3 probes, interleaved RGBA and as planes.
+    ax, ay, az = (d // b for d in gi["atlas_dims"])
+    blocks = atlas.reshape(az, b, ay, b, ax, b, 4).transpose(0, 2, 4, 1, 3, 5, 6)
+    blocks = blocks.reshape(az * ay * ax, b, b, b, 4)
     slot_ids = np.array(sorted(brick_valid), np.int64)
     sx, sy, sz = slot_ids % 256, (slot_ids // 256) % 256, slot_ids // 65536
     kept = blocks[(sz * ay + sy) * ax + sx]
-    inner = np.ascontiguousarray(kept[:, 1:5, 1:5, 1:5, :])
+    first = 0 if b == 5 else 1
+    inner = np.ascontiguousarray(kept[:, first:first + 4, first:first + 4, first:first + 4, :])
     planes = np.ascontiguousarray(inner.transpose(4, 0, 1, 2, 3))
     out = {
         "probes": int(probes),
@@ -141,7 +145,8 @@ def main(vdb_path, gi_path, name=None):
         "indirection_bytes": ind_bytes,
         "atlas_bytes": atlas_bytes,
         "atlas_slack_bytes": atlas_bytes - 4 * used_texels,
-        "apron_bytes": 4 * bricks * (216 - 64),
+        "layout": "compact" if b == 5 else "seed",
+        "apron_bytes": 4 * bricks * (b ** 3 - 64),
         "unique_probe_bytes": 4 * bricks * 64,
         "dense_rgba8_bytes": 4 * int(np.prod(ijk.max(0) - ijk.min(0) + 1)),
         "gzip_indirection": gz(ind),

@@ -12,6 +12,7 @@
 #include "gifile.h"
 #include "test_slab.h"
 #include "test_util.h"
+#include "util.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -57,9 +58,12 @@ static void exact_bricks_give_back_every_valid_probe(void)
 {
     vdbgi_context *ctx = test_context();
     vdbgi_probes *p = test_slab(ctx, 20, 9, 13, smooth);
-    for (int e = 0; e < 2; e++) {
-        const vdbgi_convert_desc d = {
-            .eps = VDBGI_ZERO, .max_level = VDBGI_ZERO, .encoding = (vdbgi_encoding)e};
+    for (int run = 0; run < 4; run++) {
+        const int e = run % 2;
+        const vdbgi_convert_desc d = {.eps = VDBGI_ZERO,
+                                      .max_level = VDBGI_ZERO,
+                                      .encoding = (vdbgi_encoding)e,
+                                      .layout = (vdbgi_layout)(run / 2)};
         vdbgi_volume *v = NULL;
         CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
         if (!v)
@@ -296,12 +300,12 @@ static void only_cells_whose_filter_reads_a_valid_probe_get_bricks(void)
     vdbgi_context_destroy(ctx);
 }
 
-static void files_round_trip_and_are_deterministic(void)
+static void round_trip(vdbgi_layout layout)
 {
     vdbgi_context *ctx = test_context();
     vdbgi_probes *p = test_slab(ctx, 40, 10, 24, smooth);
     vdbgi_volume *a = NULL, *b = NULL, *r = NULL;
-    const vdbgi_convert_desc d = {.eps = 0.02f};
+    const vdbgi_convert_desc d = {.eps = 0.02f, .layout = layout};
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &a), VDBGI_OK);
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &b), VDBGI_OK);
     if (a && b) {
@@ -318,6 +322,8 @@ static void files_round_trip_and_are_deterministic(void)
         CHECK(memcmp(ia.atlas_dims, ir.atlas_dims, sizeof(ia.atlas_dims)) == 0);
         CHECK(memcmp(ia.bricks, ir.bricks, sizeof(ia.bricks)) == 0);
         CHECK(ir.file_size == ia.file_size && ir.spacing == ia.spacing);
+        CHECK(ir.layout == layout);
+        CHECK(vdbgi_get_u32(a->raw + 8) == (layout == VDBGI_LAYOUT_COMPACT ? 2u : 1u));
         CHECK(memcmp(a->indirection, r->indirection, ia.indirection_size) == 0);
         CHECK(memcmp(a->atlas, r->atlas, ia.atlas_size) == 0);
         for (int i = 0; i < 1000; i++) {
@@ -334,6 +340,13 @@ static void files_round_trip_and_are_deterministic(void)
     vdbgi_volume_destroy(b);
     vdbgi_probes_destroy(p);
     vdbgi_context_destroy(ctx);
+}
+
+/* Both layouts: the same bytes twice, and a file that reads back to the same lookups. */
+static void files_round_trip_and_are_deterministic(void)
+{
+    round_trip(VDBGI_LAYOUT_SEED);
+    round_trip(VDBGI_LAYOUT_COMPACT);
 }
 
 static void damaged_files_are_refused(void)
@@ -399,6 +412,17 @@ static void damaged_files_are_refused(void)
     fwrite(lie, 1, raw, f);
     fclose(f);
     CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("lie.gi"), &r), VDBGI_ERR_FORMAT);
+    /* The layout field: version 1 must leave it 0; version 2 knows 0 and 1 only. */
+    static const uint32_t version_layout[3][2] = {{1, 1}, {2, 2}, {3, 0}};
+    for (int c = 0; c < 3; c++) {
+        memcpy(lie, v->raw, raw);
+        vdbgi_put_u32(lie + 8, version_layout[c][0]);
+        vdbgi_put_u32(lie + 104, version_layout[c][1]);
+        f = fopen(tmp_path("lie.gi"), "wb");
+        fwrite(lie, 1, raw, f);
+        fclose(f);
+        CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("lie.gi"), &r), VDBGI_ERR_FORMAT);
+    }
     CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("missing.gi.gz"), &r), VDBGI_ERR_IO);
     free(lie);
     free(copy);

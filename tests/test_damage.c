@@ -1,7 +1,7 @@
 /*
  * test_damage.c: every cut, and FLIPS seeded byte flips, of a small
  * .vdb (all three value types vdbgi reads: vec3s, float, int32) and of a
- * small .gi.gz, read in process. Each either reads, or is refused with a
+ * small .gi.gz in each brick layout, read in process. Each either reads, or is refused with a
  * message that starts with the file's name and returns no object; none may
  * crash, and (outside ASan) none may need more than an address-space limit.
  * The .gi is also damaged before gzip, so that its own header is tested and
@@ -215,13 +215,15 @@ static void damaged_vdb_files_read_or_are_refused(void)
     vdbgi_context_destroy(ctx);
 }
 
-static void damaged_gi_files_read_or_are_refused(void)
+/* A .gi.gz of the layout: its cuts and flips in place, then (gzipped after) its .gi's. */
+static void damage_gi(vdbgi_layout layout)
 {
     vdbgi_context *ctx = test_context();
     vdbgi_scene *s = NULL;
     vdbgi_probes *p = small_bake(ctx, &s);
     vdbgi_volume *v = NULL;
-    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, NULL, &v), VDBGI_OK);
+    const vdbgi_convert_desc cd = {.layout = layout};
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
     CHECK_RESULT(ctx, vdbgi_volume_write(v, tmp_path("good.gi.gz")), VDBGI_OK);
     size_t zsize = 0, size = 0;
     unsigned char *const zbytes = slurp(tmp_path("good.gi.gz"), &zsize);
@@ -235,7 +237,8 @@ static void damaged_gi_files_read_or_are_refused(void)
               LIBDEFLATE_SUCCESS);
         libdeflate_free_decompressor(d);
         tally t = damage_in_place(ctx, read_gi, zbytes, zsize, tmp_path("good.gi.gz"));
-        printf("  .gi.gz of %zu bytes: %d reads, %d refusals\n", zsize, t.read, t.refused);
+        printf("  %s .gi.gz of %zu bytes: %d reads, %d refusals\n", layout ? "compact" : "seed",
+               zsize, t.read, t.refused);
         CHECK(t.bad == 0 && t.refused >= (int)zsize);
         t = damage_before_gzip(ctx, read_gi, raw, size, tmp_path("damaged.gi.gz"));
         printf("  .gi of %zu bytes, gzipped after damage: %d reads, %d refusals\n", size, t.read,
@@ -248,6 +251,12 @@ static void damaged_gi_files_read_or_are_refused(void)
     vdbgi_probes_destroy(p);
     vdbgi_scene_destroy(s);
     vdbgi_context_destroy(ctx);
+}
+
+static void damaged_gi_files_read_or_are_refused(void)
+{
+    damage_gi(VDBGI_LAYOUT_SEED);
+    damage_gi(VDBGI_LAYOUT_COMPACT);
 }
 
 int main(void)

@@ -9,6 +9,7 @@ set xlabel "probe spacing (m)"
 set key top right
 set ylabel "MB, or seconds"
 plot csv."/spacing.csv" using 1:($5/1e6) with linespoints title "gzip'd .gi", \
+     csv."/spacing.csv" using 1:($13/1e6) with linespoints title "gzip'd .gi, compact layout", \
      csv."/spacing.csv" using 1:($6/1e6) with linespoints title "dense RGBA8 grid", \
      csv."/spacing.csv" using 1:3 with linespoints title "bake seconds"
 unset logscale y

@@ -1,8 +1,9 @@
 # An independent JavaScript loader (tests/js/gi_loader.mjs: node, DecompressionStream)
-# agrees with the C sampler (gi-inspect --at) at 400 points, for both encodings.
+# agrees with the C sampler (gi-inspect --at) at 400 points, for both encodings and
+# both brick layouts.
 "$BIN/gi-bake" -q "$DATA/world.glb" -o world.vdb --spacing 1 --rays 32 >/dev/null
-for enc in rgbm rgb9e5; do
-    "$BIN/vdb-to-gi" -q world.vdb -o w.gi.gz --encoding $enc --eps 0.2
+for run in rgbm,seed rgb9e5,seed rgbm,compact rgb9e5,compact; do
+    "$BIN/vdb-to-gi" -q world.vdb -o w.gi.gz --encoding ${run%,*} --layout ${run#*,} --eps 0.2
     # Points spread over the world box and a little beyond it (clamp to edge).
     set -- $(awk 'BEGIN { s = 12345; for (i = 0; i < 400; i++) {
         s = (s * 1103515245 + 12345) % 2147483648; x = s / 2147483648 * 60 - 30;

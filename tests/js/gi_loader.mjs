@@ -31,9 +31,14 @@ export async function loadGi(fileBytes) {
   const u32 = (o) => dv.getUint32(o, true);
   const f32 = (o) => dv.getFloat32(o, true);
   const vec = (o, get) => [get(o), get(o + 4), get(o + 8)];
-  if (u32(8) !== 1) throw new Error(`unsupported version ${u32(8)}`);
+  const version = u32(8);
+  if (version !== 1 && version !== 2) throw new Error(`unsupported version ${version}`);
+  // Version 1 is seed 000's layout (6^3 texels a brick); version 2 says which at byte 104.
+  const layout = version === 2 ? u32(104) : 0;
+  if (layout > 1 || (version === 1 && u32(104) !== 0)) throw new Error(`unknown layout ${u32(104)}`);
   const headerSize = u32(12);
   const gi = {
+    layout,
     encoding: u32(16),
     rgbmRange: f32(20),
     indDims: vec(24, u32),
@@ -90,7 +95,8 @@ function sampleLinear(gi, uvw) {
   return out;
 }
 
-// The seed's volumeIrradiance(): NEAREST indirection, level and slot, LINEAR atlas, decode.
+// The seed's volumeIrradiance(): NEAREST indirection, level and slot, LINEAR atlas, decode;
+// the compact layout changes only where a brick's probes stand.
 export function sampleGi(gi, pos) {
   const p = [], base = [];
   for (let k = 0; k < 3; k++) {
@@ -108,8 +114,14 @@ export function sampleGi(gi, pos) {
   for (let k = 0; k < 3; k++) {
     const slot = f(ind[k] * 255);
     const originCell = f(f(Math.floor(f(base[k] / span)) * span) * 4);
-    const q = f(f(f(f(p[k] - originCell) + 0.5) / span) - 0.5);
-    const texel = f(f(f(slot * 6) + 1) + q);
+    let texel;
+    if (gi.layout === 1) { // compact: probe q at originCell + q * span, 5^3 texels a brick
+      const q = f(f(p[k] - originCell) / span);
+      texel = f(f(slot * 5) + q);
+    } else {
+      const q = f(f(f(f(p[k] - originCell) + 0.5) / span) - 0.5);
+      texel = f(f(f(slot * 6) + 1) + q);
+    }
     uvw[k] = f(f(texel + 0.5) / gi.atlasDims[k]);
   }
   const s = sampleLinear(gi, uvw);
