@@ -2,6 +2,7 @@
 // docs/format.md alone, the way a web page would load one: gunzip through
 // DecompressionStream('gzip'), parse the header with a DataView, and run the
 // seed's lookup in float32 (Math.fround after every operation the shader does).
+// It refuses, with an Error, every file docs/format.md says a reader must refuse.
 import { DecompressionStream } from 'node:stream/web';
 
 const f = Math.fround;
@@ -25,6 +26,11 @@ async function gunzip(bytes) {
 
 export async function loadGi(fileBytes) {
   const buf = await gunzip(fileBytes);
+  // DecompressionStream ignores bytes after the stream; its trailer's length must end the file.
+  const tail = new DataView(fileBytes.buffer, fileBytes.byteOffset, fileBytes.byteLength);
+  if (fileBytes.length < 4 || tail.getUint32(fileBytes.length - 4, true) !== buf.length >>> 0)
+    throw new Error('bytes after the gzip stream');
+  if (buf.length < 112) throw new Error('shorter than a .gi header');
   const dv = new DataView(buf.buffer, buf.byteOffset, buf.byteLength);
   const magic = new TextDecoder().decode(buf.subarray(0, 8));
   if (magic !== 'vdbgi.gi') throw new Error('not a .gi file');
@@ -49,6 +55,19 @@ export async function loadGi(fileBytes) {
     maxLevel: u32(76),
     bricks: [u32(80), u32(84), u32(88), u32(92)],
   };
+  // Every limit docs/format.md states, so that no lookup can leave the textures.
+  const b = layout === 1 ? 5 : 6;
+  if (headerSize < 112 || headerSize > 65536) throw new Error(`bad header size ${headerSize}`);
+  if (gi.encoding > 1) throw new Error(`unknown encoding ${gi.encoding}`);
+  if (!(gi.rgbmRange > 0) || !Number.isFinite(gi.rgbmRange)) throw new Error('bad RGBM range');
+  for (let k = 0; k < 3; k++) {
+    if (gi.indDims[k] < 1 || gi.indDims[k] > 2048) throw new Error('bad indirection size');
+    if (gi.atlasDims[k] < b || gi.atlasDims[k] > 256 * b || gi.atlasDims[k] % b)
+      throw new Error('bad atlas size');
+    if (!Number.isFinite(gi.boxMin[k]) || !Number.isFinite(gi.boxMax[k]) || !(gi.boxMax[k] > gi.boxMin[k]))
+      throw new Error('bad volume box');
+  }
+  if (gi.maxLevel > 3) throw new Error('bad max level');
   const indBytes = u32(96), atlasBytes = u32(100);
   const prod = (d) => d[0] * d[1] * d[2] * 4;
   if (indBytes !== prod(gi.indDims) || atlasBytes !== prod(gi.atlasDims))
@@ -57,6 +76,12 @@ export async function loadGi(fileBytes) {
     throw new Error(`file holds ${buf.length} bytes, header says ${headerSize + indBytes + atlasBytes}`);
   gi.indirection = buf.subarray(headerSize, headerSize + indBytes);
   gi.atlas = buf.subarray(headerSize + indBytes);
+  const slots = gi.atlasDims.map((d) => d / b);
+  for (let i = 0; i < indBytes; i += 4) {
+    const t = gi.indirection.subarray(i, i + 4);
+    if (t[3] !== 0 && (t[0] >= slots[0] || t[1] >= slots[1] || t[2] >= slots[2] || t[3] > gi.maxLevel + 1))
+      throw new Error(`indirection texel ${i / 4} points outside the atlas`);
+  }
   return gi;
 }
 
