@@ -46,6 +46,7 @@ vdbgi_fill_params vdbgi_fill_params_default(float invalid_threshold, vdbgi_fill 
     const vdbgi_fill_params fp = {.invalid_threshold = invalid_threshold,
                                   .cell_size = 4,
                                   .rim = 1,
+                                  .filter_below = 1,
                                   .weights = {1.0f, 0.5f, 1.0f / 3.0f},
                                   .max_iterations = 1024,
                                   .darkest = fill != VDBGI_FILL_MEAN,

@@ -59,7 +59,10 @@ typedef struct vdbgi_fill_params {
     int cell_size;           /* fine probes per level-0 brick cell edge (4) */
     int margin_cells;        /* 0: the cells whose filter reads a source; k > 0: the cells
                                 holding one and k cells around them (Bevy: 1) */
-    int rim;                 /* points beyond a cell's faces that its filter reads (1) */
+    int rim;                 /* points beyond a cell's + faces that its filter reads, and
+                                around the cells, points the fill reaches (1) */
+    int filter_below;        /* points below a cell's - faces that its filter reads: 1 with
+                                the seed layout's apron, 0 with the compact layout */
     float weights[3];        /* weight of a face, edge and corner neighbour */
     int max_iterations;      /* rings of spreading before giving up */
     bool darkest;            /* invalid probes take their darkest valued neighbour, not the
@@ -82,7 +85,8 @@ typedef struct vdbgi_fill_input {
 /*
  * The filled field. Sources are the points whose back-face fraction is at
  * most fp->invalid_threshold. The target region is every level-0 cell whose
- * points, or the fp->rim points beyond its faces, include a source (or, with
+ * points, or the points beyond its faces its filter reads (fp->rim above,
+ * fp->filter_below below), include a source (or, with
  * fp->margin_cells k > 0, every cell that holds one, dilated by k cells), as
  * fine points, dilated again by fp->rim points. Rings of target points next
  * to already-valued points take the weighted mean of their valued 26

@@ -368,8 +368,9 @@ static vdbgi_result mark_target(grid *g, const vdbgi_map *cells, int cell_size, 
 
 /*
  * With margin 0, the cells whose filter reads a source: those whose 4^3
- * points, or the rim of points beyond their faces that the aprons hold,
- * include one. A position in any other cell would interpolate filled values
+ * points, or the points beyond their faces that the filter reaches (rim
+ * above, filter_below below: the seed layout's apron, or the compact
+ * layout's + border alone), include one. A position in any other cell would interpolate filled values
  * alone: nothing a receiver near a surface reads (docs/converter.md). With
  * margin k > 0, the cells holding a source dilated by k cells
  * (26-neighbourhood), for Bevy's coarser voxels, which read further.
@@ -380,7 +381,8 @@ static vdbgi_result occupied_cells(vdbgi_context *ctx, const vdbgi_fill_input *i
     vdbgi_result r = vdbgi_map_init(ctx, cells, 1024);
     *sources = 0;
     const int s = fp->cell_size, m = fp->margin_cells;
-    const int reach = m > 0 ? 0 : fp->rim; /* points around a source, then cells around */
+    /* A cell's filter reads rim points above it and filter_below points below it. */
+    const int above = m > 0 ? 0 : fp->rim, below = m > 0 ? 0 : fp->filter_below;
     for (size_t n = 0; n < in->count && r == VDBGI_OK; n++) {
         if (in->backface[n] > fp->invalid_threshold)
             continue;
@@ -388,8 +390,8 @@ static vdbgi_result occupied_cells(vdbgi_context *ctx, const vdbgi_fill_input *i
         const int32_t *const p = &in->ijk[3 * n];
         int32_t lo[3], hi[3];
         for (int k = 0; k < 3; k++) {
-            lo[k] = vdbgi_floor_div(p[k] - reach, s) - m;
-            hi[k] = vdbgi_floor_div(p[k] + reach, s) + m;
+            lo[k] = vdbgi_floor_div(p[k] - above, s) - m;
+            hi[k] = vdbgi_floor_div(p[k] + below, s) + m;
         }
         for (int32_t x = lo[0]; x <= hi[0] && r == VDBGI_OK; x++)
             for (int32_t y = lo[1]; y <= hi[1] && r == VDBGI_OK; y++)

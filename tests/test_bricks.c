@@ -251,7 +251,7 @@ static void invalid_probes_never_leak_their_value(void)
  * probes only has no brick and reads black, though the one-cell margin of
  * old would have kept it.
  */
-static void only_cells_whose_filter_reads_a_valid_probe_get_bricks(void)
+static void only_cells_whose_filter_reads_a_valid_probe_get_bricks_in(vdbgi_layout layout)
 {
     vdbgi_context *ctx = test_context();
     test_mesh m = {0};
@@ -269,7 +269,8 @@ static void only_cells_whose_filter_reads_a_valid_probe_get_bricks(void)
     CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
     const vdbgi_bake_desc bd = {.rays = 64};
     CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &bd, NULL), VDBGI_OK);
-    const vdbgi_convert_desc cd = {.max_level = VDBGI_ZERO}; /* no coarse brick over it */
+    /* No coarse brick over it. */
+    const vdbgi_convert_desc cd = {.max_level = VDBGI_ZERO, .layout = layout};
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
     if (v) {
         int dark = 0, tried = 0;
@@ -295,6 +296,48 @@ static void only_cells_whose_filter_reads_a_valid_probe_get_bricks(void)
         CHECK(got[0] == 0.0f && got[1] == 0.0f && got[2] == 0.0f);
     }
     vdbgi_volume_destroy(v);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+/*
+ * The seed layout's filter reads one probe beyond each face; the compact one's,
+ * beyond the + faces only. With the lattice at 0.25 m the first probes outside
+ * the box's -x wall stand at index -9, one below the cell of indices -8..-5
+ * inside it: the seed layout's apron reads them, the compact layout reads nothing
+ * there and keeps no brick.
+ */
+static void only_cells_whose_filter_reads_a_valid_probe_get_bricks(void)
+{
+    only_cells_whose_filter_reads_a_valid_probe_get_bricks_in(VDBGI_LAYOUT_SEED);
+    only_cells_whose_filter_reads_a_valid_probe_get_bricks_in(VDBGI_LAYOUT_COMPACT);
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    test_mesh_plane(&m, 16.0f, 0.0f);
+    const float lo[3] = {-4.0f, 0.0f, -4.0f}, hi[3] = {4.0f, 8.0f, 4.0f};
+    test_mesh_box(&m, lo, hi, 0);
+    const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.6f, 0);
+    vdbgi_scene *s = NULL;
+    vdbgi_probes *p = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &s), VDBGI_OK);
+    const vdbgi_place_desc pd = {.spacing = 0.5, .origin = {0.25, 0.25, 0.25}, .origin_is_set = 1};
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
+    const vdbgi_bake_desc bd = {.rays = 64};
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &bd, NULL), VDBGI_OK);
+    for (int layout = 0; layout < 2; layout++) {
+        const vdbgi_convert_desc cd = {.max_level = VDBGI_ZERO, .layout = (vdbgi_layout)layout};
+        vdbgi_volume *v = NULL;
+        CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
+        if (!v)
+            continue;
+        const float inside[3] = {-3.0f, 4.0f, 0.0f};
+        float got[3];
+        vdbgi_volume_sample(v, inside, got);
+        const bool black = got[0] == 0.0f && got[1] == 0.0f && got[2] == 0.0f;
+        CHECK(black == (layout == VDBGI_LAYOUT_COMPACT));
+        vdbgi_volume_destroy(v);
+    }
     vdbgi_probes_destroy(p);
     vdbgi_scene_destroy(s);
     vdbgi_context_destroy(ctx);
