@@ -244,35 +244,60 @@ static void invalid_probes_never_leak_their_value(void)
     vdbgi_context_destroy(ctx);
 }
 
-/*
- * A lit floor with a closed 8 m box on it, baked: every position whose filter
- * reads a lit valid probe (within one spacing of it on every axis) lands in a
- * brick and reads light; a cell inside the box whose filter reads invalid
- * probes only has no brick and reads black, though the one-cell margin of
- * old would have kept it.
- */
-static void only_cells_whose_filter_reads_a_valid_probe_get_bricks_in(vdbgi_layout layout)
+/* A lit 16 m floor with a closed 8 m box on it, baked at 0.5 m on a lattice at origin. */
+static vdbgi_probes *boxed_floor(vdbgi_context *ctx, double origin, vdbgi_scene **s)
 {
-    vdbgi_context *ctx = test_context();
     test_mesh m = {0};
     test_mesh_plane(&m, 16.0f, 0.0f);
     const float lo[3] = {-4.0f, 0.0f, -4.0f}, hi[3] = {4.0f, 8.0f, 4.0f};
     test_mesh_box(&m, lo, hi, 0);
     const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.6f, 0);
-    vdbgi_scene *s = NULL;
     vdbgi_probes *p = NULL;
-    vdbgi_volume *v = NULL;
-    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &s), VDBGI_OK);
-    /* The first probes outside the wall at x = 4 m stand at index 6, mid-cell: the cell of
-       indices 0..3 inside it is next to theirs, yet its filter reads none of them. */
-    const vdbgi_place_desc pd = {.spacing = 0.5, .origin = {1.25, 1.25, 1.25}, .origin_is_set = 1};
-    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, s), VDBGI_OK);
+    const vdbgi_place_desc pd = {
+        .spacing = 0.5, .origin = {origin, origin, origin}, .origin_is_set = 1};
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, *s, &pd, &p), VDBGI_OK);
     const vdbgi_bake_desc bd = {.rays = 64};
-    CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &bd, NULL), VDBGI_OK);
-    /* No coarse brick over it. */
-    const vdbgi_convert_desc cd = {.max_level = VDBGI_ZERO, .layout = layout};
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, *s, &bd, NULL), VDBGI_OK);
+    return p;
+}
+
+/* Level-0 bricks only, so that no coarse brick covers the cells a test looks at. */
+static vdbgi_volume *level0_volume(vdbgi_context *ctx, const vdbgi_probes *p, int layout)
+{
+    const vdbgi_convert_desc cd = {.max_level = VDBGI_ZERO, .layout = (vdbgi_layout)layout};
+    vdbgi_volume *v = NULL;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
-    if (v) {
+    return v;
+}
+
+static bool reads_black(const vdbgi_volume *v, const float pos[3])
+{
+    float got[3];
+    vdbgi_volume_sample(v, pos, got);
+    return got[0] == 0.0f && got[1] == 0.0f && got[2] == 0.0f;
+}
+
+/*
+ * On the boxed floor, in both layouts: every position whose filter reads a lit
+ * valid probe (within one spacing of it on every axis) lands in a brick and
+ * reads light. With the lattice at 1.25 m the first probes outside the wall at
+ * x = 4 m stand at index 6, mid-cell: the cell of indices 0..3 inside it is next
+ * to theirs (the one-cell margin of old kept it), yet its filter reads none of
+ * them, so it has no brick and reads black. With the lattice at 0.25 m the first
+ * probes outside the -x wall stand at index -9, one below the cell of indices
+ * -8..-5 inside it: the seed layout's apron reads them, the compact layout's
+ * filter reads beyond the + faces only and keeps no brick there.
+ */
+static void only_cells_whose_filter_reads_a_valid_probe_get_bricks(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = NULL;
+    vdbgi_probes *p = boxed_floor(ctx, 1.25, &s);
+    for (int layout = 0; p && layout < 2; layout++) {
+        vdbgi_volume *const v = level0_volume(ctx, p, layout);
+        if (!v)
+            continue;
         int dark = 0, tried = 0;
         for (size_t i = 0; i < p->count; i++) {
             /* Beyond the floor's edge a valid probe sees only the black sky. */
@@ -282,60 +307,27 @@ static void only_cells_whose_filter_reads_a_valid_probe_get_bricks_in(vdbgi_layo
                 const double q[3] = {p->ijk[3 * i] + (corner & 1 ? 0.95 : -0.95),
                                      p->ijk[3 * i + 1] + (corner & 2 ? 0.95 : -0.95),
                                      p->ijk[3 * i + 2] + (corner & 4 ? 0.95 : -0.95)};
-                float pos[3], got[3];
+                float pos[3];
                 world_of(p, q, pos);
-                vdbgi_volume_sample(v, pos, got);
-                dark += got[0] + got[1] + got[2] <= 0.0f;
+                dark += reads_black(v, pos);
                 tried++;
             }
         }
         CHECK(tried > 1000 && dark == 0);
         const float inside[3] = {2.0f, 4.0f, 0.0f};
-        float got[3];
-        vdbgi_volume_sample(v, inside, got);
-        CHECK(got[0] == 0.0f && got[1] == 0.0f && got[2] == 0.0f);
+        CHECK(reads_black(v, inside));
+        vdbgi_volume_destroy(v);
     }
-    vdbgi_volume_destroy(v);
     vdbgi_probes_destroy(p);
     vdbgi_scene_destroy(s);
-    vdbgi_context_destroy(ctx);
-}
 
-/*
- * The seed layout's filter reads one probe beyond each face; the compact one's,
- * beyond the + faces only. With the lattice at 0.25 m the first probes outside
- * the box's -x wall stand at index -9, one below the cell of indices -8..-5
- * inside it: the seed layout's apron reads them, the compact layout reads nothing
- * there and keeps no brick.
- */
-static void only_cells_whose_filter_reads_a_valid_probe_get_bricks(void)
-{
-    only_cells_whose_filter_reads_a_valid_probe_get_bricks_in(VDBGI_LAYOUT_SEED);
-    only_cells_whose_filter_reads_a_valid_probe_get_bricks_in(VDBGI_LAYOUT_COMPACT);
-    vdbgi_context *ctx = test_context();
-    test_mesh m = {0};
-    test_mesh_plane(&m, 16.0f, 0.0f);
-    const float lo[3] = {-4.0f, 0.0f, -4.0f}, hi[3] = {4.0f, 8.0f, 4.0f};
-    test_mesh_box(&m, lo, hi, 0);
-    const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.6f, 0);
-    vdbgi_scene *s = NULL;
-    vdbgi_probes *p = NULL;
-    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &s), VDBGI_OK);
-    const vdbgi_place_desc pd = {.spacing = 0.5, .origin = {0.25, 0.25, 0.25}, .origin_is_set = 1};
-    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
-    const vdbgi_bake_desc bd = {.rays = 64};
-    CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &bd, NULL), VDBGI_OK);
-    for (int layout = 0; layout < 2; layout++) {
-        const vdbgi_convert_desc cd = {.max_level = VDBGI_ZERO, .layout = (vdbgi_layout)layout};
-        vdbgi_volume *v = NULL;
-        CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
+    p = boxed_floor(ctx, 0.25, &s);
+    for (int layout = 0; p && layout < 2; layout++) {
+        vdbgi_volume *const v = level0_volume(ctx, p, layout);
         if (!v)
             continue;
         const float inside[3] = {-3.0f, 4.0f, 0.0f};
-        float got[3];
-        vdbgi_volume_sample(v, inside, got);
-        const bool black = got[0] == 0.0f && got[1] == 0.0f && got[2] == 0.0f;
-        CHECK(black == (layout == VDBGI_LAYOUT_COMPACT));
+        CHECK(reads_black(v, inside) == (layout == VDBGI_LAYOUT_COMPACT));
         vdbgi_volume_destroy(v);
     }
     vdbgi_probes_destroy(p);
