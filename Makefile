@@ -81,7 +81,7 @@ TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 
 DEB_PACKAGES := gcc g++ make pkg-config libopenvdb-dev libboost-dev libimath-dev libtbb-dev \
                 libembree-dev libopenimageio-dev libassimp-dev zlib1g-dev libdeflate-dev libopenvdb-tools \
-                python3 python3-openvdb openimageio-tools gnuplot-nox clang-format
+                python3 python3-openvdb openimageio-tools gnuplot-nox clang-format chromium
 
 # Keep object files of apps and tests (make would delete them as intermediates).
 .SECONDARY:
@@ -168,6 +168,10 @@ deps:
 	if [ ! -d tests/js/node_modules/ktx-parse ]; then \
 	    echo "deps: npm install (tests/js: ktx-parse, an independent KTX2 reader)"; \
 	    (cd tests/js && npm install --no-audit --no-fund --loglevel=error >/dev/null); \
+	fi; \
+	if [ ! -d web/node_modules/three ] || [ ! -d web/node_modules/puppeteer-core ]; then \
+	    echo "deps: npm ci (web: three, and puppeteer-core to drive Debian's chromium)"; \
+	    (cd web && npm ci --no-audit --no-fund --loglevel=error >/dev/null); \
 	fi
 
 ## check: install what is missing, build, run every test; ends with "N passed, N failed"

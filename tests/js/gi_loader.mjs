@@ -1,89 +1,13 @@
-// gi_loader.mjs: an independent loader and sampler for .gi files, written from
-// docs/format.md alone, the way a web page would load one: gunzip through
-// DecompressionStream('gzip'), parse the header with a DataView, and run the
-// seed's lookup in float32 (Math.fround after every operation the shader does).
-// It refuses, with an Error, every file docs/format.md says a reader must refuse.
-import { DecompressionStream } from 'node:stream/web';
+// gi_loader.mjs: the CPU half of the JavaScript reading of docs/format.md.
+// The file is read by web/gi-format.js, the very parser the browser runtime
+// uses (DecompressionStream, DataView, every refusal docs/format.md lists);
+// this adds the seed's lookup in float32 (Math.fround after every operation
+// the shader does), so node can hold both to the C sampler.
+import { decodeGi, layoutGeometry } from '../../web/gi-format.js';
 
 const f = Math.fround;
 
-async function gunzip(bytes) {
-  const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream('gzip'));
-  const reader = stream.getReader();
-  const chunks = [];
-  let length = 0;
-  for (;;) {
-    const { done, value } = await reader.read();
-    if (done) break;
-    chunks.push(value);
-    length += value.length;
-  }
-  const out = new Uint8Array(length);
-  let at = 0;
-  for (const c of chunks) { out.set(c, at); at += c.length; }
-  return out;
-}
-
-export async function loadGi(fileBytes) {
-  const buf = await gunzip(fileBytes);
-  // DecompressionStream ignores bytes after the stream; its trailer's length must end the file.
-  const tail = new DataView(fileBytes.buffer, fileBytes.byteOffset, fileBytes.byteLength);
-  if (fileBytes.length < 4 || tail.getUint32(fileBytes.length - 4, true) !== buf.length >>> 0)
-    throw new Error('bytes after the gzip stream');
-  if (buf.length < 112) throw new Error('shorter than a .gi header');
-  const dv = new DataView(buf.buffer, buf.byteOffset, buf.byteLength);
-  const magic = new TextDecoder().decode(buf.subarray(0, 8));
-  if (magic !== 'vdbgi.gi') throw new Error('not a .gi file');
-  const u32 = (o) => dv.getUint32(o, true);
-  const f32 = (o) => dv.getFloat32(o, true);
-  const vec = (o, get) => [get(o), get(o + 4), get(o + 8)];
-  const version = u32(8);
-  if (version !== 1 && version !== 2) throw new Error(`unsupported version ${version}`);
-  // Version 1 is seed 000's layout (6^3 texels a brick); version 2 says which at byte 104.
-  const layout = version === 2 ? u32(104) : 0;
-  if (layout > 1 || (version === 1 && u32(104) !== 0)) throw new Error(`unknown layout ${u32(104)}`);
-  const headerSize = u32(12);
-  const gi = {
-    layout,
-    encoding: u32(16),
-    rgbmRange: f32(20),
-    indDims: vec(24, u32),
-    atlasDims: vec(36, u32),
-    boxMin: vec(48, f32),
-    boxMax: vec(60, f32),
-    spacing: f32(72),
-    maxLevel: u32(76),
-    bricks: [u32(80), u32(84), u32(88), u32(92)],
-  };
-  // Every limit docs/format.md states, so that no lookup can leave the textures.
-  const b = layout === 1 ? 5 : 6;
-  if (headerSize < 112 || headerSize > 65536) throw new Error(`bad header size ${headerSize}`);
-  if (gi.encoding > 1) throw new Error(`unknown encoding ${gi.encoding}`);
-  if (!(gi.rgbmRange > 0) || !Number.isFinite(gi.rgbmRange)) throw new Error('bad RGBM range');
-  for (let k = 0; k < 3; k++) {
-    if (gi.indDims[k] < 1 || gi.indDims[k] > 2048) throw new Error('bad indirection size');
-    if (gi.atlasDims[k] < b || gi.atlasDims[k] > 256 * b || gi.atlasDims[k] % b)
-      throw new Error('bad atlas size');
-    if (!Number.isFinite(gi.boxMin[k]) || !Number.isFinite(gi.boxMax[k]) || !(gi.boxMax[k] > gi.boxMin[k]))
-      throw new Error('bad volume box');
-  }
-  if (gi.maxLevel > 3) throw new Error('bad max level');
-  const indBytes = u32(96), atlasBytes = u32(100);
-  const prod = (d) => d[0] * d[1] * d[2] * 4;
-  if (indBytes !== prod(gi.indDims) || atlasBytes !== prod(gi.atlasDims))
-    throw new Error('texture sizes disagree with their dimensions');
-  if (buf.length !== headerSize + indBytes + atlasBytes)
-    throw new Error(`file holds ${buf.length} bytes, header says ${headerSize + indBytes + atlasBytes}`);
-  gi.indirection = buf.subarray(headerSize, headerSize + indBytes);
-  gi.atlas = buf.subarray(headerSize + indBytes);
-  const slots = gi.atlasDims.map((d) => d / b);
-  for (let i = 0; i < indBytes; i += 4) {
-    const t = gi.indirection.subarray(i, i + 4);
-    if (t[3] !== 0 && (t[0] >= slots[0] || t[1] >= slots[1] || t[2] >= slots[2] || t[3] > gi.maxLevel + 1))
-      throw new Error(`indirection texel ${i / 4} points outside the atlas`);
-  }
-  return gi;
-}
+export const loadGi = decodeGi;
 
 const clamp = (v, lo, hi) => Math.min(Math.max(v, lo), hi);
 
@@ -100,7 +24,9 @@ function atlasTexel(gi, x, y, z) {
 }
 
 // A texture unit's LINEAR filter at normalised coordinates, clamp to edge.
-function sampleLinear(gi, uvw) {
+// With `detail`, also the spread (largest minus smallest) of each channel over
+// the eight texels it blends, which bounds what a filter's weight error can do.
+function sampleLinear(gi, uvw, detail) {
   const i0 = [], i1 = [], fr = [];
   for (let k = 0; k < 3; k++) {
     const dim = gi.atlasDims[k];
@@ -110,19 +36,27 @@ function sampleLinear(gi, uvw) {
     i0[k] = clamp(fl, 0, dim - 1);
     i1[k] = clamp(fl + 1, 0, dim - 1);
   }
-  const out = [0, 0, 0, 0];
+  const out = [0, 0, 0, 0], lo = [Infinity, Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity, -Infinity];
   for (let c = 0; c < 8; c++) {
     const w = f(f((c & 1 ? fr[0] : f(1 - fr[0])) * (c & 2 ? fr[1] : f(1 - fr[1]))) *
                 (c & 4 ? fr[2] : f(1 - fr[2])));
     const t = atlasTexel(gi, c & 1 ? i1[0] : i0[0], c & 2 ? i1[1] : i0[1], c & 4 ? i1[2] : i0[2]);
-    for (let k = 0; k < 4; k++) out[k] = f(out[k] + f(w * t[k]));
+    for (let k = 0; k < 4; k++) {
+      out[k] = f(out[k] + f(w * t[k]));
+      lo[k] = Math.min(lo[k], t[k]);
+      hi[k] = Math.max(hi[k], t[k]);
+    }
+  }
+  if (detail) {
+    detail.filtered = out.slice();
+    detail.spread = hi.map((h, k) => h - lo[k]);
   }
   return out;
 }
 
 // The seed's volumeIrradiance(): NEAREST indirection, level and slot, LINEAR atlas, decode;
 // the compact layout changes only where a brick's probes stand.
-export function sampleGi(gi, pos) {
+export function sampleGi(gi, pos, detail = null) {
   const p = [], base = [];
   for (let k = 0; k < 3; k++) {
     const box = f(f(pos[k] - gi.boxMin[k]) / f(gi.boxMax[k] - gi.boxMin[k]));
@@ -136,20 +70,16 @@ export function sampleGi(gi, pos) {
   const level = Math.max(f(f(ind[3] * 255) - 1), 0);
   const span = f(2 ** level);
   const uvw = [];
+  const geo = layoutGeometry(gi.layout);
   for (let k = 0; k < 3; k++) {
     const slot = f(ind[k] * 255);
     const originCell = f(f(Math.floor(f(base[k] / span)) * span) * 4);
-    let texel;
-    if (gi.layout === 1) { // compact: probe q at originCell + q * span, 5^3 texels a brick
-      const q = f(f(p[k] - originCell) / span);
-      texel = f(f(slot * 5) + q);
-    } else {
-      const q = f(f(f(f(p[k] - originCell) + 0.5) / span) - 0.5);
-      texel = f(f(f(slot * 6) + 1) + q);
-    }
+    // Seed: probe q at the centre of its span-wide block; compact: at its corner.
+    const q = f(f(f(f(p[k] - originCell) + geo.centre) / span) - geo.centre);
+    const texel = f(f(f(slot * geo.brick) + geo.pad) + q);
     uvw[k] = f(f(texel + 0.5) / gi.atlasDims[k]);
   }
-  const s = sampleLinear(gi, uvw);
+  const s = sampleLinear(gi, uvw, detail);
   return gi.encoding === 1 ? [s[0], s[1], s[2]]
                            : [0, 1, 2].map((k) => f(f(s[k] * s[3]) * gi.rgbmRange));
 }

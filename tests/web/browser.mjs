@@ -1,0 +1,45 @@
+// browser.mjs: start the static server and Debian's headless Chromium
+// (puppeteer-core: it drives the installed browser and downloads nothing),
+// open tests/web/render.html, and run tasks in it.
+//   WebGL2 on SwiftShader; WebGPU on SwiftShader's Vulkan adapter.
+import { existsSync } from 'node:fs';
+import { serve } from '../../web/serve.mjs';
+
+const require = (await import('node:module')).createRequire(new URL('../../web/', import.meta.url));
+const puppeteer = require('puppeteer-core');
+
+export const CHROMIUM = process.env.CHROMIUM ?? '/usr/bin/chromium';
+
+const FLAGS = [
+  '--headless=new', '--no-sandbox', '--disable-gpu-sandbox', '--no-first-run', '--mute-audio',
+  '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+  '--enable-unsafe-webgpu', '--enable-features=Vulkan', '--use-webgpu-adapter=swiftshader',
+];
+
+export function haveChromium() {
+  return existsSync(CHROMIUM);
+}
+
+// Open the test page with `mounts` served ({ '/work': dir }) and hand fn a
+// run(task) that executes in the page; closes everything afterwards.
+export async function withPage(mounts, fn, { width = 800, height = 600, page: pagePath = '/tests/web/render.html' } = {}) {
+  const { server, url } = await serve({ mounts });
+  const browser = await puppeteer.launch({ executablePath: CHROMIUM, args: FLAGS,
+    defaultViewport: { width, height } });
+  const messages = [];
+  try {
+    const page = await browser.newPage();
+    page.on('console', (m) => messages.push(`${m.type()}: ${m.text()}`));
+    page.on('pageerror', (e) => messages.push(`pageerror: ${e.message}`));
+    await page.goto(`${url}${pagePath}`, { waitUntil: 'load' });
+    await page.waitForFunction('window.vdbgiReady === true', { timeout: 30000 });
+    const run = (task) => page.evaluate((t) => window.vdbgiRun(t), task);
+    return await fn({ page, run, url, messages, browser });
+  } catch (e) {
+    if (messages.length) e.message += `\n  page said:\n    ${messages.slice(-10).join('\n    ')}`;
+    throw e;
+  } finally {
+    await browser.close();
+    server.close();
+  }
+}

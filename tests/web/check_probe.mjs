@@ -1,0 +1,79 @@
+// check_probe.mjs BACKEND SCENE.glb FILE.gi.gz GI-INSPECT: render SCENE in
+// the probe-colour view (per fragment) in headless Chromium with web/
+// (BACKEND webgl or webgpu), read back each pixel's colour and world position
+// from float targets, and compare a few hundred covered pixels with the C
+// sampler (gi-inspect --at) at the same positions. docs/web.md derives the
+// tolerance; exit 1 if any channel exceeds it.
+import { spawnSync } from 'node:child_process';
+import { copyFileSync, mkdtempSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join, resolve } from 'node:path';
+import { withPage } from './browser.mjs';
+import { readFileSync } from 'node:fs';
+import { loadGi, sampleGi } from '../js/gi_loader.mjs';
+
+const [backend, scene, file, inspect] = process.argv.slice(2);
+const dir = mkdtempSync(join(tmpdir(), 'vdbgi-web-'));
+copyFileSync(scene, join(dir, 'scene.glb'));
+copyFileSync(file, join(dir, 'volume.gi.gz'));
+
+let result;
+try {
+  result = await withPage({ '/work': dir }, ({ run }) =>
+    run({ kind: 'probe', backend, scene: '/work/scene.glb', gi: '/work/volume.gi.gz', width: 256, height: 256,
+      points: 400 }));
+} finally {
+  rmSync(dir, { recursive: true, force: true });
+}
+
+const gi = await loadGi(readFileSync(file));
+const at = result.points.flatMap((p) => ['--at', p.pos.map((v) => v.toPrecision(9)).join(',')]);
+const c = spawnSync(resolve(inspect), [file, ...at], { encoding: 'utf8' });
+if (c.status !== 0) {
+  console.log(`gi-inspect failed: ${c.stderr}`);
+  process.exit(1);
+}
+const want = c.stdout.split('\n').map((l) => l.match(/^at\s+\S+ -> (\S+) (\S+) (\S+)$/)).filter(Boolean)
+  .map((m) => m.slice(1, 4).map(Number));
+if (want.length !== result.points.length) {
+  console.log(`gi-inspect gave ${want.length} values for ${result.points.length} points`);
+  process.exit(1);
+}
+
+// Tolerance (docs/web.md): a GPU's filter weights are fixed point, at least 8
+// fractional bits (D3D11, Vulkan's usual subTexelPrecisionBits), so each
+// axis's weight may be off by 2^-9 and a filtered channel by 3 x 2^-9 x its
+// spread over the eight texels blended. RGBM multiplies filtered rgb by
+// filtered m: R (drgb m + rgb dm). RGB9E5 is filtered as floats. Plus float32
+// arithmetic and the 6 significant digits gi-inspect prints.
+const W = 3 * 2 ** -9;
+const tolerance = (pos, v) => {
+  const d = {};
+  sampleGi(gi, pos, d);
+  const [r, g, b, m] = d.filtered, s = d.spread;
+  return [r, g, b].map((c, k) => (gi.encoding === 1 ? W * s[k] : gi.rgbmRange * W * (s[k] * m + c * s[3])) +
+    1e-5 * Math.abs(v[k]) + 1e-7);
+};
+let worst = 0, worstRel = 0, bad = 0, lit = 0, sumSq = 0, n = 0;
+result.points.forEach((p, i) => {
+  const tol = tolerance(p.pos, want[i]);
+  for (let k = 0; k < 3; k++) {
+    const d = Math.abs(p.irr[k] - want[i][k]);
+    const t = tol[k];
+    worst = Math.max(worst, d);
+    worstRel = Math.max(worstRel, d / t);
+    sumSq += d * d;
+    n++;
+    if (!(d <= t)) bad++;
+  }
+  if (want[i].some((v) => v > 0)) lit++;
+});
+const rms = Math.sqrt(sumSq / n);
+const layout = gi.layout === 1 ? 'compact' : 'seed', enc = gi.encoding === 1 ? 'rgb9e5' : 'rgbm';
+console.error(`${backend} ${enc} ${layout}: ${result.points.length} points of ${result.covered} covered, ` +
+  `${lit} lit; worst ${worst.toExponential(2)} (${(100 * worstRel).toFixed(1)} % of tolerance), rms ${rms.toExponential(2)}`);
+if (bad || result.points.length < 300 || lit < 300) {
+  console.log(`${backend} ${enc} ${layout}: ${bad} channels beyond tolerance, ${lit} lit points of ${result.points.length}`);
+  process.exit(1);
+}
+console.log(`${backend} ${enc} ${layout}: ${result.points.length} pixels agree with the C sampler`);

@@ -1,0 +1,97 @@
+// check_viewer.mjs SCENE.glb GOOD.gi.gz [--save DIR]: web/viewer.html in
+// headless Chromium (WebGL2).
+//  - With a good file (WebGL2 and WebGPU) it shows the file's figures and no error; GI on only
+//    adds light (no channel darker than GI off) and lights most of the scene.
+//  - With a truncated file and with a foreign one (the .glb itself) it shows
+//    an error naming the file and keeps rendering the scene without GI: the
+//    frame is the same, byte for byte, as the good file's with GI off.
+// --save DIR writes the GI off/on pictures (viewer_gi_off.png, viewer_gi_on.png).
+import { copyFileSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import { withPage } from './browser.mjs';
+
+const args = process.argv.slice(2);
+const [scene, good] = args;
+const save = args.includes('--save') ? args[args.indexOf('--save') + 1] : null;
+const dir = mkdtempSync(join(tmpdir(), 'vdbgi-viewer-'));
+copyFileSync(scene, join(dir, 'world.glb'));
+copyFileSync(good, join(dir, 'world.gi.gz'));
+const bytes = readFileSync(good);
+writeFileSync(join(dir, 'cut.gi.gz'), bytes.subarray(0, Math.floor(bytes.length / 2)));
+
+// Towards the canyon wall at x = +24 in its own shadow, over shaded grass.
+const view = process.env.VIEW ?? 'cam=-2,7,20&at=20,2,-2&gui=0';
+let failed = 0;
+const check = (ok, what) => {
+  console.log(`${ok ? 'ok' : 'FAILED'}: ${what}`);
+  if (!ok) failed++;
+};
+
+// Each file in a fresh tab: SwiftShader's WebGPU stalls in a tab that had a WebGL2 context.
+async function open(browser, url, gi, extra = '') {
+  const page = await browser.newPage();
+  await page.setViewport({ width: 800, height: 600 });
+  await page.goto(`${url}/web/viewer.html?scene=/work/world.glb&gi=/work/${gi}&${view}${extra}`);
+  await page.waitForFunction('window.vdbgiViewer?.status === "ready"', { timeout: 60000 });
+  await page.evaluate(() => window.vdbgiViewer.api.frame());
+  const state = await page.evaluate(() => ({ error: window.vdbgiViewer.error, figures: window.vdbgiViewer.figures,
+    text: document.getElementById('figures').textContent, shown: document.getElementById('error').textContent }));
+  return { page, ...state };
+}
+
+// The canvas as a PNG and as pixels (drawn into a 2D canvas in the page).
+const grab = (page) => page.evaluate(() => {
+  const c = document.getElementById('view');
+  const c2 = Object.assign(document.createElement('canvas'), { width: c.width, height: c.height });
+  const g = c2.getContext('2d');
+  g.drawImage(c, 0, 0);
+  return { png: c.toDataURL('image/png'), px: Array.from(g.getImageData(0, 0, c.width, c.height).data) };
+});
+
+try {
+  await withPage({ '/work': dir }, async ({ browser, url }) => {
+    const s = await open(browser, url, 'world.gi.gz');
+    const page = s.page;
+    check(!s.error && s.figures && s.figures.bricks.reduce((a, b) => a + b) > 0 && /bricks L0\.\.L3/.test(s.text),
+      'a good file: no error, the figures shown');
+    const on = await grab(page);
+    await page.evaluate(() => window.vdbgiViewer.api.setGi(false));
+    await page.evaluate(() => window.vdbgiViewer.api.frame());
+    const off = await grab(page);
+    let darker = 0, brighter = 0, added = [0, 0, 0];
+    for (let i = 0; i < on.px.length; i += 4) {
+      let up = false;
+      for (let k = 0; k < 3; k++) {
+        const d = on.px[i + k] - off.px[i + k];
+        if (d < -1) darker++;
+        if (d > 1) up = true;
+        added[k] += Math.max(d, 0);
+      }
+      brighter += up;
+    }
+    const pixels = on.px.length / 4;
+    check(darker === 0, `GI on darkens no channel beyond rounding (${darker} channels)`);
+    check(brighter > pixels / 2, `GI on lights most of the frame (${(100 * brighter / pixels).toFixed(0)} % of pixels)`);
+    console.error(`added light, mean per pixel: r ${(added[0] / pixels).toFixed(2)} g ${(added[1] / pixels).toFixed(2)} ` +
+      `b ${(added[2] / pixels).toFixed(2)} (8-bit)`);
+    if (save) {
+      writeFileSync(join(save, 'viewer_gi_off.png'), Buffer.from(off.png.split(',')[1], 'base64'));
+      writeFileSync(join(save, 'viewer_gi_on.png'), Buffer.from(on.png.split(',')[1], 'base64'));
+    }
+    // SwiftShader's WebGPU stalls with multisampling: aa=0 (docs/web.md).
+    const g = await open(browser, url, 'world.gi.gz', '&backend=webgpu&aa=0');
+    await g.page.close();
+    check(!g.error && g.figures && /WebGPU/.test(g.text), `WebGPU: no error, the figures shown${g.error ? ` (${g.error})` : ''}`);
+    for (const bad of ['cut.gi.gz', 'world.glb']) {
+      const b = await open(browser, url, bad);
+      check(b.error && b.error.startsWith(`${bad}:`) && b.shown === b.error, `${bad}: the page says "${b.error}"`);
+      const frame = await grab(b.page);
+      await b.page.close();
+      check(frame.png === off.png, `${bad}: the scene still renders, without GI`);
+    }
+  });
+} finally {
+  rmSync(dir, { recursive: true, force: true });
+}
+process.exit(failed ? 1 : 0);

@@ -1,0 +1,166 @@
+// render.mjs: the test page's script. window.vdbgiRun(task) loads task.scene
+// and task.gi with web/ (WebGL2 or WebGPU) and does one of:
+//   probe:  render the probe-colour view (per fragment) and the world
+//           positions into float targets; return both for covered pixels;
+//   shot:   draw the scene lit, GI off or on, into the canvas;
+//   frames: time task.frames frames with GI off, per vertex, per fragment;
+//   load:   only load, and report the error a bad file gives.
+import * as THREE from 'three';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { GiRuntime, loadGi, DebugView } from '/web/vdbgi.js';
+
+async function makeRenderer(backend, canvas, width, height) {
+  if (backend === 'webgpu') {
+    const { WebGPURenderer } = await import('three/webgpu');
+    const r = new WebGPURenderer({ canvas, antialias: false, forceWebGL: false });
+    await r.init();
+    if (!r.backend.isWebGPUBackend) throw new Error('no WebGPU adapter: the renderer fell back to WebGL');
+    r.setSize(width, height, false);
+    return r;
+  }
+  const r = new THREE.WebGLRenderer({ canvas, antialias: false, preserveDrawingBuffer: true });
+  r.setSize(width, height, false);
+  return r;
+}
+
+// The demo world's camera and the bake's lights (gi-bake's defaults: sun
+// towards 0.4,0.8,0.3, ambient 0.15; three's Lambert divides by pi).
+function stage(scene, width, height) {
+  const camera = new THREE.PerspectiveCamera(50, width / height, 0.1, 500);
+  camera.position.set(26, 17, 30);
+  camera.lookAt(0, 1, 0);
+  const sun = new THREE.DirectionalLight(0xffffff, Math.PI);
+  sun.position.set(0.4, 0.8, 0.3).multiplyScalar(50);
+  scene.add(sun, new THREE.AmbientLight(0xffffff, 0.15 * Math.PI));
+  return camera;
+}
+
+async function setup(task) {
+  const canvas = document.getElementById('c');
+  const { width = 256, height = 256, backend = 'webgl' } = task;
+  const renderer = await makeRenderer(backend, canvas, width, height);
+  const gltf = await new GLTFLoader().loadAsync(task.scene);
+  const scene = gltf.scene;
+  const camera = stage(scene, width, height);
+  const gi = new GiRuntime();
+  const t0 = performance.now();
+  const volume = await loadGi(task.gi, { renderer: backend === 'webgl' ? renderer : null });
+  const loadMs = performance.now() - t0;
+  gi.setVolume(volume);
+  const meshes = [];
+  scene.traverse((o) => o.isMesh && meshes.push(o));
+  let webgpu = null;
+  if (backend === 'webgpu') webgpu = await import('/web/vdbgi-webgpu.js');
+  // Each material in two variants, per vertex and per fragment, swapped by mode().
+  const variants = new Map();
+  for (const m of meshes) {
+    if (variants.has(m.material)) continue;
+    const make = (perFragment) => {
+      if (webgpu) return webgpu.applyGi(webgpu.toNodeMaterial(m.material), gi, { perFragment });
+      return gi.patchMaterial(m.material.clone(), { perFragment });
+    };
+    variants.set(m.material, { vertex: make(false), fragment: make(true) });
+  }
+  const originals = meshes.map((m) => m.material);
+  const mode = (which) => meshes.forEach((m, i) => { m.material = variants.get(originals[i])[which]; });
+  return { renderer, scene, camera, gi, volume, loadMs, mode, width, height, backend };
+}
+
+async function readFloat(ctx, view) {
+  const { renderer, scene, camera, gi, width, height, backend } = ctx;
+  const rt = new (backend === 'webgpu' ? (await import('three/webgpu')).RenderTarget : THREE.WebGLRenderTarget)(
+    width, height, { type: THREE.FloatType, format: THREE.RGBAFormat, minFilter: THREE.NearestFilter,
+      magFilter: THREE.NearestFilter, depthBuffer: true });
+  gi.debug = view;
+  renderer.setClearColor(0x000000, 0);
+  renderer.setRenderTarget(rt);
+  renderer.clear();
+  renderer.render(scene, camera);
+  renderer.setRenderTarget(null);
+  const px = backend === 'webgpu' ? await renderer.readRenderTargetPixelsAsync(rt, 0, 0, width, height)
+                                  : (() => {
+                                    const a = new Float32Array(width * height * 4);
+                                    renderer.readRenderTargetPixels(rt, 0, 0, width, height, a);
+                                    return a;
+                                  })();
+  rt.dispose();
+  gi.debug = DebugView.OFF;
+  return px;
+}
+
+async function probe(task) {
+  const ctx = await setup(task);
+  ctx.mode('fragment');
+  const pos = await readFloat(ctx, DebugView.POSITION);
+  const irr = await readFloat(ctx, DebugView.PROBE);
+  const covered = [];
+  for (let i = 0; i < ctx.width * ctx.height; i++) if (pos[4 * i + 3] === 1) covered.push(i);
+  const want = Math.min(task.points ?? 400, covered.length);
+  const points = [];
+  for (let k = 0; k < want; k++) {
+    const i = covered[Math.floor((k + 0.5) * covered.length / want)];
+    points.push({ pixel: i, pos: Array.from(pos.subarray(4 * i, 4 * i + 3)),
+      irr: Array.from(irr.subarray(4 * i, 4 * i + 3)) });
+  }
+  return { covered: covered.length, pixels: ctx.width * ctx.height, points, header: headerOf(ctx.volume) };
+}
+
+function headerOf(volume) {
+  const h = volume.header;
+  return { layout: h.layout, encoding: h.encoding, bricks: h.bricks, vramBytes: volume.vramBytes,
+    timings: volume.timings };
+}
+
+async function shot(task) {
+  const ctx = await setup(task);
+  ctx.renderer.outputColorSpace = THREE.SRGBColorSpace;
+  ctx.scene.background = new THREE.Color(0.55, 0.7, 0.9);
+  ctx.mode(task.perFragment ? 'fragment' : 'vertex');
+  ctx.gi.enabled = task.gi_on !== false;
+  ctx.renderer.render(ctx.scene, ctx.camera);
+  if (ctx.backend === 'webgpu') await ctx.renderer.backend.device?.queue.onSubmittedWorkDone();
+  return { header: headerOf(ctx.volume) };
+}
+
+// Frame time of each mode; the GPU is made to finish every frame (readPixels of one pixel).
+async function frames(task) {
+  const ctx = await setup(task);
+  const gl = ctx.renderer.getContext();
+  const one = new Uint8Array(4);
+  const time = async (setMode) => {
+    setMode();
+    for (let i = 0; i < 3; i++) ctx.renderer.render(ctx.scene, ctx.camera);
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
+    const t = performance.now();
+    for (let i = 0; i < task.frames; i++) {
+      ctx.renderer.render(ctx.scene, ctx.camera);
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
+    }
+    return (performance.now() - t) / task.frames;
+  };
+  const out = {};
+  for (let round = 0; round < 2; round++) {
+    out.off = await time(() => { ctx.mode('vertex'); ctx.gi.enabled = false; });
+    out.vertex = await time(() => { ctx.mode('vertex'); ctx.gi.enabled = true; });
+    out.fragment = await time(() => { ctx.mode('fragment'); ctx.gi.enabled = true; });
+  }
+  return out;
+}
+
+async function load(task) {
+  const canvas = document.getElementById('c');
+  const renderer = await makeRenderer('webgl', canvas, 64, 64);
+  try {
+    const v = await loadGi(task.gi, { renderer });
+    return { ok: true, timings: v.timings, vramBytes: v.vramBytes, fileBytes: v.fileBytes };
+  } catch (e) {
+    return { ok: false, error: e.message };
+  }
+}
+
+window.vdbgiRun = async (task) => {
+  const run = { probe, shot, frames, load }[task.kind];
+  if (!run) throw new Error(`unknown task ${task.kind}`);
+  return run(task);
+};
+window.vdbgiReady = true;

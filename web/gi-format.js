@@ -1,0 +1,106 @@
+// gi-format.js: read a vdbgi .gi.gz file (docs/format.md) into its header and
+// the two texture byte arrays. No three.js here: the same code runs in a page,
+// in a worker and in node (tests/js), and it refuses, with an Error naming the
+// problem, every file docs/format.md says a reader must refuse, so no lookup
+// can ever leave the textures.
+
+export const ENCODING_RGBM = 0;
+export const ENCODING_RGB9E5 = 1;
+export const LAYOUT_SEED = 0;
+export const LAYOUT_COMPACT = 1;
+
+const HEADER_BYTES = 112;
+
+// Texels a brick side, the border before its first probe, and where a coarse
+// probe stands inside its block (0.5: block centres, seed; 0: corners, compact).
+export function layoutGeometry(layout) {
+  return layout === LAYOUT_COMPACT ? { brick: 5, pad: 0, centre: 0 } : { brick: 6, pad: 1, centre: 0.5 };
+}
+
+// Gunzip with the platform's DecompressionStream (browsers, node >= 18).
+export async function gunzip(bytes) {
+  const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream('gzip'));
+  const reader = stream.getReader();
+  const chunks = [];
+  let length = 0;
+  for (;;) {
+    const { done, value } = await reader.read();
+    if (done) break;
+    chunks.push(value);
+    length += value.length;
+  }
+  const out = new Uint8Array(length);
+  let at = 0;
+  for (const c of chunks) {
+    out.set(c, at);
+    at += c.length;
+  }
+  return out;
+}
+
+// Parse an uncompressed .gi. The returned textures are views into `buf`.
+export function parseGi(buf) {
+  if (buf.length < HEADER_BYTES) throw new Error('shorter than a .gi header');
+  const dv = new DataView(buf.buffer, buf.byteOffset, buf.byteLength);
+  if (new TextDecoder().decode(buf.subarray(0, 8)) !== 'vdbgi.gi') throw new Error('not a .gi file');
+  const u32 = (o) => dv.getUint32(o, true);
+  const f32 = (o) => dv.getFloat32(o, true);
+  const vec = (o, get) => [get(o), get(o + 4), get(o + 8)];
+  const version = u32(8);
+  if (version !== 1 && version !== 2) throw new Error(`unsupported version ${version}`);
+  // Version 1 is seed 000's layout (6^3 texels a brick); version 2 says which at byte 104.
+  const layout = version === 2 ? u32(104) : LAYOUT_SEED;
+  if (layout > LAYOUT_COMPACT || (version === 1 && u32(104) !== 0)) throw new Error(`unknown layout ${u32(104)}`);
+  const headerSize = u32(12);
+  const gi = {
+    version,
+    layout,
+    encoding: u32(16),
+    rgbmRange: f32(20),
+    indDims: vec(24, u32),
+    atlasDims: vec(36, u32),
+    boxMin: vec(48, f32),
+    boxMax: vec(60, f32),
+    spacing: f32(72),
+    maxLevel: u32(76),
+    bricks: [u32(80), u32(84), u32(88), u32(92)],
+  };
+  const { brick } = layoutGeometry(layout);
+  if (headerSize < HEADER_BYTES || headerSize > 65536) throw new Error(`bad header size ${headerSize}`);
+  if (gi.encoding > ENCODING_RGB9E5) throw new Error(`unknown encoding ${gi.encoding}`);
+  if (!(gi.rgbmRange > 0) || !Number.isFinite(gi.rgbmRange)) throw new Error('bad RGBM range');
+  for (let k = 0; k < 3; k++) {
+    if (gi.indDims[k] < 1 || gi.indDims[k] > 2048) throw new Error('bad indirection size');
+    if (gi.atlasDims[k] < brick || gi.atlasDims[k] > 256 * brick || gi.atlasDims[k] % brick)
+      throw new Error('bad atlas size');
+    if (!Number.isFinite(gi.boxMin[k]) || !Number.isFinite(gi.boxMax[k]) || !(gi.boxMax[k] > gi.boxMin[k]))
+      throw new Error('bad volume box');
+  }
+  if (gi.maxLevel > 3) throw new Error('bad max level');
+  const indBytes = u32(96), atlasBytes = u32(100);
+  const bytes = (d) => d[0] * d[1] * d[2] * 4;
+  if (indBytes !== bytes(gi.indDims) || atlasBytes !== bytes(gi.atlasDims))
+    throw new Error('texture sizes disagree with their dimensions');
+  if (buf.length !== headerSize + indBytes + atlasBytes)
+    throw new Error(`file holds ${buf.length} bytes, header says ${headerSize + indBytes + atlasBytes}`);
+  gi.indirection = buf.subarray(headerSize, headerSize + indBytes);
+  gi.atlas = buf.subarray(headerSize + indBytes);
+  const slots = gi.atlasDims.map((d) => d / brick);
+  const ind = gi.indirection;
+  for (let i = 0; i < indBytes; i += 4) {
+    if (ind[i + 3] !== 0 &&
+        (ind[i] >= slots[0] || ind[i + 1] >= slots[1] || ind[i + 2] >= slots[2] || ind[i + 3] > gi.maxLevel + 1))
+      throw new Error(`indirection texel ${i / 4} points outside the atlas`);
+  }
+  return gi;
+}
+
+// Gunzip and parse a whole .gi.gz.
+export async function decodeGi(fileBytes) {
+  const buf = await gunzip(fileBytes);
+  // DecompressionStream ignores bytes after the stream; its trailer's length must end the file.
+  const tail = new DataView(fileBytes.buffer, fileBytes.byteOffset, fileBytes.byteLength);
+  if (fileBytes.length < 4 || tail.getUint32(fileBytes.length - 4, true) !== buf.length >>> 0)
+    throw new Error('bytes after the gzip stream');
+  return parseGi(buf);
+}

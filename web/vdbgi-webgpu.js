@@ -1,0 +1,135 @@
+// vdbgi-webgpu.js: the same lookup and shading as vdbgi.js, in TSL, for
+// three.js's WebGPURenderer (and its WebGL2 fallback).
+//
+//   const gi = new GiRuntime();                       // from vdbgi.js
+//   gi.setVolume(await loadGi('world.gi.gz'));
+//   applyGi(nodeMaterial, gi, { set: 'world' });      // per vertex, as seed 000
+//
+// The runtime's uniform objects are shared by reference, so setVolume(),
+// setKnobs(), `enabled` and `debug` reach every material without a rebuild.
+import { MeshStandardNodeMaterial, MeshLambertNodeMaterial } from 'three/webgpu';
+import {
+  Fn, If, uniform, texture3D, vec3, vec4, float, floor, exp2, max, min, clamp, dot, mix, select,
+  fwidth, positionWorld, varying, output, diffuseColor, diffuseContribution, materialEmissive,
+} from 'three/tsl';
+import { DebugView } from './vdbgi.js';
+
+// One set of nodes per runtime: its uniforms, its two textures, the lookup.
+const nodesOf = new WeakMap();
+
+function giNodes(runtime) {
+  let n = nodesOf.get(runtime);
+  if (n) return n;
+  const u = runtime.uniforms;
+  const textures = { ind: [], atlas: [] };
+  n = {
+    boxMin: uniform(u.giBoxMin.value),
+    boxSize: uniform(u.giBoxSize.value),
+    indDims: uniform(u.giIndDims.value),
+    atlasDims: uniform(u.giAtlasDims.value),
+    layout: uniform(u.giLayout.value),
+    decode: uniform(u.giDecode.value),
+    debug: uniform(0, 'int').onRenderUpdate(() => u.giDebug.value),
+    world: uniform(u.world.value),
+    character: uniform(u.character.value),
+    // Each lookup gets its own texture nodes; a new volume re-points them all.
+    texture: (which, uvw) => {
+      const t = texture3D(which === 'ind' ? u.giIndirection.value : u.giAtlas.value, uvw);
+      textures[which].push(new WeakRef(t));
+      return t;
+    },
+  };
+  const previous = runtime.setVolume.bind(runtime);
+  runtime.setVolume = (volume) => {
+    previous(volume);
+    for (const [which, name] of [['ind', 'giIndirection'], ['atlas', 'giAtlas']])
+      for (const ref of textures[which]) {
+        const t = ref.deref();
+        if (t) t.value = u[name].value;
+      }
+  };
+  // Seed 000's volumeIrradiance(), as vdbgi.js's GLSL: returns irradiance,
+  // level (-1: no brick) and the position inside the brick (0..1).
+  n.lookup = (pos) => {
+    const p = pos.sub(n.boxMin).div(n.boxSize).mul(n.indDims.mul(4)).sub(0.5);
+    const baseBrick = floor(p.div(4));
+    const ind = n.texture('ind', baseBrick.add(0.5).div(n.indDims));
+    const level = max(ind.a.mul(255).sub(1), 0);
+    const span = exp2(level);
+    const slot = ind.rgb.mul(255);
+    const originCell = floor(baseBrick.div(span)).mul(span).mul(4);
+    const q = p.sub(originCell).add(n.layout.z).div(span).sub(n.layout.z);
+    const texel = slot.mul(n.layout.x).add(n.layout.y).add(q);
+    const s = n.texture('atlas', texel.add(0.5).div(n.atlasDims));
+    const irradiance = select(n.decode.x.greaterThan(0), s.rgb.mul(s.a).mul(n.decode.x), s.rgb);
+    return { irradiance, level: ind.a.mul(255).sub(1), inBrick: p.sub(originCell).div(span.mul(4)) };
+  };
+  // The seed's knobs: see vdbgiBounce() in vdbgi.js.
+  n.bounce = Fn(([irradiance, albedo, knobs]) => {
+    const ownHue = albedo.sub(dot(albedo, vec3(1 / 3)));
+    const hue = irradiance.sub(dot(irradiance, vec3(1 / 3)));
+    const len2 = dot(ownHue, ownHue);
+    const along = select(len2.greaterThan(1e-8), max(dot(hue, ownHue), 0).div(max(len2, 1e-8)), 0);
+    const e = max(irradiance.sub(float(1).sub(knobs.y).mul(along).mul(ownHue)), 0);
+    return e.mul(mix(albedo, vec3(1), knobs.z)).mul(knobs.x);
+  });
+  nodesOf.set(runtime, n);
+  return n;
+}
+
+// The irradiance node at world position `pos` (default: the fragment's).
+export function giIrradiance(runtime, pos = positionWorld) {
+  return giNodes(runtime).lookup(pos).irradiance;
+}
+
+// Add GI to a MeshStandardNodeMaterial or MeshLambertNodeMaterial: the bounce
+// x albedo goes into the emissive term (added after lighting, as the seed's
+// indirectLight), looked up per vertex (varying) or per fragment; the debug
+// views replace the output.
+export function applyGi(material, runtime, { set = 'world', perFragment = false } = {}) {
+  if (!material.isNodeMaterial) throw new Error('applyGi: a node material (toNodeMaterial() converts)');
+  if (set !== 'world' && set !== 'character') throw new Error(`unknown knob set '${set}' (world or character)`);
+  const n = giNodes(runtime);
+  const here = n.lookup(positionWorld);
+  const irradiance = perFragment ? here.irradiance : varying(n.lookup(positionWorld).irradiance);
+  const albedo = material.isMeshStandardNodeMaterial ? diffuseContribution : diffuseColor.rgb;
+  const bounce = n.bounce(irradiance, albedo, n[set]).mul(n.decode.y);
+  material.emissiveNode = (material.emissiveNode ?? materialEmissive).add(bounce);
+  material.outputNode = Fn(() => {
+    const out = vec4(output).toVar();
+    If(n.debug.equal(DebugView.PROBE), () => out.assign(vec4(irradiance, 1)));
+    If(n.debug.equal(DebugView.LEVEL), () => {
+      const l = here.level;
+      out.assign(vec4(select(l.lessThan(0), vec3(0.25), select(l.lessThan(0.5), vec3(0.1, 0.35, 1),
+        select(l.lessThan(1.5), vec3(0.1, 0.85, 0.25), select(l.lessThan(2.5), vec3(1, 0.85, 0.1), vec3(1, 0.2, 0.1))))), 1));
+    });
+    If(n.debug.equal(DebugView.BRICKS), () => {
+      const b = here.inBrick;
+      const d = min(b, b.oneMinus()).div(max(fwidth(b), vec3(1e-6)));
+      const edge = clamp(min(d.x, min(d.y, d.z)).sub(0.5), 0, 1).oneMinus();
+      out.assign(vec4(mix(here.irradiance, vec3(0), edge), 1));
+    });
+    If(n.debug.equal(DebugView.POSITION), () => out.assign(vec4(positionWorld, 1)));
+    return out;
+  })();
+  material.needsUpdate = true;
+  return material;
+}
+
+// The properties a glTF's MeshStandardMaterial or MeshLambertMaterial carries
+// over to its node counterpart.
+const CARRIED = ['name', 'color', 'map', 'emissive', 'emissiveMap', 'emissiveIntensity', 'roughness', 'metalness',
+  'roughnessMap', 'metalnessMap', 'normalMap', 'normalScale', 'aoMap', 'aoMapIntensity', 'alphaMap', 'vertexColors',
+  'side', 'transparent', 'opacity', 'alphaTest', 'flatShading', 'lightMap', 'lightMapIntensity'];
+
+export function toNodeMaterial(material) {
+  if (material.isNodeMaterial) return material;
+  const out = material.isMeshLambertMaterial ? new MeshLambertNodeMaterial() : new MeshStandardNodeMaterial();
+  for (const key of CARRIED) {
+    if (!(key in material) || !(key in out)) continue;
+    const v = material[key];
+    if (v && typeof v.clone === 'function' && !v.isTexture) out[key] = v.clone();
+    else out[key] = v;
+  }
+  return out;
+}

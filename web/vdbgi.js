@@ -1,0 +1,359 @@
+// vdbgi.js: the runtime half of vdbgi for three.js (WebGL2).
+//
+//   const gi = new GiRuntime();
+//   gi.setVolume(await loadGi('world.gi.gz', { renderer }));
+//   gi.patchMaterial(material);                     // world set, per vertex
+//   gi.patchMaterial(heroMaterial, { set: 'character', perFragment: true });
+//
+// loadGi() reads a .gi.gz (docs/format.md) into two Data3DTextures; a
+// GiRuntime owns the uniforms every patched material shares, so swapping
+// volumes, turning GI off, changing a knob or a debug view touches no material.
+// The lookup is seed 000's volumeIrradiance(); docs/web.md says what each
+// knob does. vdbgi-webgpu.js is the same for WebGPURenderer, in TSL.
+import * as THREE from 'three';
+import { gunzip, parseGi, layoutGeometry, ENCODING_RGB9E5 } from './gi-format.js';
+
+export { ENCODING_RGBM, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT } from './gi-format.js';
+
+// Debug views: what a patched material shows instead of its lit colour.
+export const DebugView = Object.freeze({ OFF: 0, PROBE: 1, LEVEL: 2, BRICKS: 3, POSITION: 4 });
+
+const now = () => (typeof performance !== 'undefined' ? performance.now() : Date.now());
+
+// Fetch (a URL) or take (an ArrayBuffer or typed array) a .gi.gz, check it and
+// make its textures. With `renderer`, the textures are uploaded before this
+// returns, so `timings.upload` is real. Throws, and makes nothing, on a bad file.
+export async function loadGi(source, { renderer = null, signal } = {}) {
+  const timings = {};
+  let t = now();
+  let bytes;
+  if (typeof source === 'string' || source instanceof URL) {
+    const response = await fetch(source, { signal });
+    if (!response.ok) throw new Error(`${source}: HTTP ${response.status}`);
+    bytes = new Uint8Array(await response.arrayBuffer());
+  } else if (source instanceof ArrayBuffer) {
+    bytes = new Uint8Array(source);
+  } else if (ArrayBuffer.isView(source)) {
+    bytes = new Uint8Array(source.buffer, source.byteOffset, source.byteLength);
+  } else {
+    throw new Error('loadGi: expected a URL, an ArrayBuffer or a typed array');
+  }
+  timings.fetch = now() - t;
+  t = now();
+  let raw;
+  try {
+    raw = await gunzip(bytes);
+  } catch (e) {
+    throw new Error(`not a gzip'd .gi file, or cut short (${e.message})`);
+  }
+  timings.gunzip = now() - t;
+  t = now();
+  const tail = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  if (bytes.length < 4 || tail.getUint32(bytes.length - 4, true) !== raw.length >>> 0)
+    throw new Error('bytes after the gzip stream');
+  const header = parseGi(raw);
+  timings.parse = now() - t;
+  t = now();
+  const volume = new GiVolume(header, bytes.length);
+  timings.build = now() - t;
+  t = now();
+  if (renderer) {
+    renderer.initTexture(volume.indirection);
+    renderer.initTexture(volume.atlas);
+    const gl = renderer.getContext?.();
+    if (gl && gl.finish) gl.finish();
+  }
+  timings.upload = renderer ? now() - t : null;
+  volume.timings = timings;
+  return volume;
+}
+
+// One world's textures and figures. Make it with loadGi().
+export class GiVolume {
+  constructor(header, fileBytes) {
+    this.header = header;
+    this.fileBytes = fileBytes;
+    const [ix, iy, iz] = header.indDims;
+    const [ax, ay, az] = header.atlasDims;
+    const ind = new THREE.Data3DTexture(header.indirection, ix, iy, iz);
+    ind.format = THREE.RGBAFormat;
+    ind.type = THREE.UnsignedByteType;
+    ind.minFilter = ind.magFilter = THREE.NearestFilter;
+    let atlas;
+    if (header.encoding === ENCODING_RGB9E5) {
+      // Shared-exponent floats, which WebGL2 and WebGPU both filter.
+      const a = header.atlas;
+      const words = a.byteOffset % 4 === 0 ? new Uint32Array(a.buffer, a.byteOffset, a.length / 4)
+                                           : new Uint32Array(a.slice().buffer);
+      atlas = new THREE.Data3DTexture(words, ax, ay, az);
+      atlas.format = THREE.RGBFormat;
+      atlas.type = THREE.UnsignedInt5999Type;
+    } else {
+      atlas = new THREE.Data3DTexture(header.atlas, ax, ay, az);
+      atlas.format = THREE.RGBAFormat;
+      atlas.type = THREE.UnsignedByteType;
+    }
+    atlas.minFilter = atlas.magFilter = THREE.LinearFilter;
+    for (const t of [ind, atlas]) {
+      t.wrapS = t.wrapT = t.wrapR = THREE.ClampToEdgeWrapping;
+      t.generateMipmaps = false;
+      t.unpackAlignment = 4;
+      t.colorSpace = THREE.NoColorSpace;
+      t.needsUpdate = true;
+    }
+    this.indirection = ind;
+    this.atlas = atlas;
+    this.boxMin = new THREE.Vector3(...header.boxMin);
+    this.boxMax = new THREE.Vector3(...header.boxMax);
+    // No mipmaps, 4 bytes a texel: what the GPU holds is what the file unpacks to.
+    this.vramBytes = header.indirection.length + header.atlas.length;
+  }
+
+  get bricks() { return this.header.bricks; }
+
+  dispose() {
+    this.indirection.dispose();
+    this.atlas.dispose();
+  }
+}
+
+// An all-zero 1-texel texture: with it, every lookup reads black.
+function emptyTexture() {
+  const t = new THREE.Data3DTexture(new Uint8Array(4), 1, 1, 1);
+  t.minFilter = t.magFilter = THREE.NearestFilter;
+  t.needsUpdate = true;
+  return t;
+}
+
+// The knobs of seed 000, per receiver set: intensity, self, bleed.
+// intensity scales the bounce; self = 1 keeps the part of the bounce along the
+// surface's own colour (physical), 0 removes it; bleed lifts the reflecting
+// albedo toward white (mix(albedo, 1, bleed)). docs/web.md has the formulas.
+export const DEFAULT_KNOBS = Object.freeze({ intensity: 1, self: 1, bleed: 0 });
+
+export class GiRuntime {
+  constructor() {
+    this.volume = null;
+    this._retired = null;
+    this._empty = { ind: emptyTexture(), atlas: emptyTexture() };
+    this.uniforms = {
+      giIndirection: { value: this._empty.ind },
+      giAtlas: { value: this._empty.atlas },
+      giBoxMin: { value: new THREE.Vector3(0, 0, 0) },
+      giBoxSize: { value: new THREE.Vector3(1, 1, 1) },
+      giIndDims: { value: new THREE.Vector3(1, 1, 1) },
+      giAtlasDims: { value: new THREE.Vector3(1, 1, 1) },
+      // x: texels a brick side, y: border before the first probe, z: coarse probe offset.
+      giLayout: { value: new THREE.Vector3(6, 1, 0.5) },
+      // x: RGBM range (0 for RGB9E5, whose texels are already linear), y: GI on.
+      giDecode: { value: new THREE.Vector2(0, 0) },
+      giDebug: { value: DebugView.OFF },
+      world: { value: new THREE.Vector3(DEFAULT_KNOBS.intensity, DEFAULT_KNOBS.self, DEFAULT_KNOBS.bleed) },
+      character: { value: new THREE.Vector3(DEFAULT_KNOBS.intensity, DEFAULT_KNOBS.self, DEFAULT_KNOBS.bleed) },
+    };
+    this._enabled = true;
+  }
+
+  // Show `volume` (or nothing, with null). The volume shown before is disposed
+  // one setVolume() later, so it is out of any frame still in flight.
+  setVolume(volume) {
+    if (this._retired && this._retired !== volume) this._retired.dispose();
+    this._retired = this.volume !== volume ? this.volume : null;
+    this.volume = volume;
+    const u = this.uniforms;
+    if (!volume) {
+      u.giIndirection.value = this._empty.ind;
+      u.giAtlas.value = this._empty.atlas;
+      u.giDecode.value.set(0, 0);
+      return;
+    }
+    const h = volume.header;
+    const geo = layoutGeometry(h.layout);
+    u.giIndirection.value = volume.indirection;
+    u.giAtlas.value = volume.atlas;
+    u.giBoxMin.value.copy(volume.boxMin);
+    u.giBoxSize.value.subVectors(volume.boxMax, volume.boxMin);
+    u.giIndDims.value.set(...h.indDims);
+    u.giAtlasDims.value.set(...h.atlasDims);
+    u.giLayout.value.set(geo.brick, geo.pad, geo.centre);
+    u.giDecode.value.set(h.encoding === ENCODING_RGB9E5 ? 0 : h.rgbmRange, this._enabled ? 1 : 0);
+  }
+
+  get enabled() { return this._enabled; }
+  set enabled(on) {
+    this._enabled = !!on;
+    this.uniforms.giDecode.value.y = this._enabled && this.volume ? 1 : 0;
+  }
+
+  get debug() { return this.uniforms.giDebug.value; }
+  set debug(view) { this.uniforms.giDebug.value = view; }
+
+  // set: 'world' or 'character'; knobs: any of { intensity, self, bleed }.
+  setKnobs(set, knobs) {
+    const v = this._set(set).value;
+    if (knobs.intensity !== undefined) v.x = knobs.intensity;
+    if (knobs.self !== undefined) v.y = knobs.self;
+    if (knobs.bleed !== undefined) v.z = knobs.bleed;
+  }
+
+  getKnobs(set) {
+    const v = this._set(set).value;
+    return { intensity: v.x, self: v.y, bleed: v.z };
+  }
+
+  _set(set) {
+    if (set !== 'world' && set !== 'character') throw new Error(`unknown knob set '${set}' (world or character)`);
+    return this.uniforms[set];
+  }
+
+  // Add GI to a MeshStandardMaterial, MeshPhysicalMaterial or MeshLambertMaterial
+  // (WebGL2): giIrradiance x albedo as indirect diffuse, looked up per vertex
+  // (seed 000's default: the rasteriser interpolates it) or per fragment.
+  patchMaterial(material, { set = 'world', perFragment = false } = {}) {
+    const knobs = this._set(set);
+    if (!(material.isMeshStandardMaterial || material.isMeshLambertMaterial))
+      throw new Error('patchMaterial: a MeshStandardMaterial, MeshPhysicalMaterial or MeshLambertMaterial');
+    const previous = material.onBeforeCompile;
+    const u = this.uniforms;
+    material.onBeforeCompile = (shader, renderer) => {
+      previous?.call(material, shader, renderer);
+      for (const name of ['giIndirection', 'giAtlas', 'giBoxMin', 'giBoxSize', 'giIndDims', 'giAtlasDims',
+        'giLayout', 'giDecode', 'giDebug'])
+        shader.uniforms[name] = u[name];
+      shader.uniforms.giKnobs = knobs;
+      shader.vertexShader = shader.vertexShader
+        .replace('#include <common>', `#include <common>\n${GLSL_LOOKUP}\n${GLSL_VERTEX_PARS}`)
+        .replace('#include <worldpos_vertex>', `#include <worldpos_vertex>\n${GLSL_VERTEX}`);
+      shader.fragmentShader = shader.fragmentShader
+        .replace('#include <common>', `#include <common>\n${GLSL_LOOKUP}\n${GLSL_FRAGMENT_PARS}`)
+        .replace('#include <lights_fragment_end>', `#include <lights_fragment_end>\n${GLSL_SHADE}`)
+        .replace('#include <dithering_fragment>', `#include <dithering_fragment>\n${GLSL_DEBUG}`);
+    };
+    material.defines = { ...material.defines };
+    if (perFragment) delete material.defines.VDBGI_PER_VERTEX;
+    else material.defines.VDBGI_PER_VERTEX = '';
+    const key = material.customProgramCacheKey.bind(material);
+    material.customProgramCacheKey = () => `${key()}|vdbgi${perFragment ? 'f' : 'v'}`;
+    material.needsUpdate = true;
+    return material;
+  }
+
+  dispose() {
+    this._retired?.dispose();
+    this.volume?.dispose();
+    this._empty.ind.dispose();
+    this._empty.atlas.dispose();
+    this.volume = this._retired = null;
+  }
+}
+
+// Seed 000's volumeIrradiance(), both layouts: NEAREST indirection for the
+// cell's slot and level, then one LINEAR read inside the brick. docs/format.md
+// is the reference; tests/js/gi_loader.mjs is the same arithmetic in float32.
+const GLSL_LOOKUP = /* glsl */ `
+uniform highp sampler3D giIndirection;
+uniform highp sampler3D giAtlas;
+uniform vec3 giBoxMin, giBoxSize, giIndDims, giAtlasDims, giLayout;
+uniform vec2 giDecode;
+uniform int giDebug;
+struct GiLookup { vec3 irradiance; float level; vec3 inBrick; };
+GiLookup vdbgiLookup(vec3 pos) {
+  vec3 p = (pos - giBoxMin) / giBoxSize * (giIndDims * 4.0) - 0.5;
+  vec3 baseBrick = floor(p / 4.0);
+  vec4 ind = texture(giIndirection, (baseBrick + 0.5) / giIndDims);
+  float level = max(ind.a * 255.0 - 1.0, 0.0);
+  float span = exp2(level);
+  vec3 slot = ind.rgb * 255.0;
+  vec3 originCell = floor(baseBrick / span) * span * 4.0;
+  vec3 q = (p - originCell + giLayout.z) / span - giLayout.z;
+  vec3 texel = slot * giLayout.x + giLayout.y + q;
+  vec4 s = texture(giAtlas, (texel + 0.5) / giAtlasDims);
+  GiLookup r;
+  r.irradiance = giDecode.x > 0.0 ? s.rgb * s.a * giDecode.x : s.rgb;
+  r.level = ind.a * 255.0 - 1.0;
+  r.inBrick = (p - originCell) / (4.0 * span);
+  return r;
+}
+`;
+
+const GLSL_VERTEX_PARS = /* glsl */ `
+varying vec3 vGiWorld;
+#ifdef VDBGI_PER_VERTEX
+varying vec3 vGiIrradiance;
+#endif
+`;
+
+const GLSL_VERTEX = /* glsl */ `
+{
+  vec4 giWorld = vec4(transformed, 1.0);
+  #ifdef USE_BATCHING
+  giWorld = batchingMatrix * giWorld;
+  #endif
+  #ifdef USE_INSTANCING
+  giWorld = instanceMatrix * giWorld;
+  #endif
+  giWorld = modelMatrix * giWorld;
+  vGiWorld = giWorld.xyz;
+  #ifdef VDBGI_PER_VERTEX
+  vGiIrradiance = vdbgiLookup(vGiWorld).irradiance;
+  #endif
+}
+`;
+
+const GLSL_FRAGMENT_PARS = /* glsl */ `
+varying vec3 vGiWorld;
+#ifdef VDBGI_PER_VERTEX
+varying vec3 vGiIrradiance;
+#endif
+uniform vec3 giKnobs; // intensity, self, bleed
+vec3 vdbgiIrradianceHere() {
+  #ifdef VDBGI_PER_VERTEX
+  return vGiIrradiance;
+  #else
+  return vdbgiLookup(vGiWorld).irradiance;
+  #endif
+}
+// The seed's stylisation: self scales the part of the bounce's colour that
+// lies along the surface's own colour (1 keeps it: physical); bleed lifts the
+// reflecting albedo toward white.
+vec3 vdbgiBounce(vec3 irradiance, vec3 albedo, vec3 knobs) {
+  vec3 ownHue = albedo - dot(albedo, vec3(1.0 / 3.0));
+  vec3 hue = irradiance - dot(irradiance, vec3(1.0 / 3.0));
+  float len2 = dot(ownHue, ownHue);
+  float along = len2 > 1e-8 ? max(dot(hue, ownHue), 0.0) / len2 : 0.0;
+  vec3 e = max(irradiance - (1.0 - knobs.y) * along * ownHue, 0.0);
+  return e * mix(albedo, vec3(1.0), knobs.z) * knobs.x;
+}
+`;
+
+const GLSL_SHADE = /* glsl */ `
+#if defined( STANDARD )
+reflectedLight.indirectDiffuse += giDecode.y * vdbgiBounce(vdbgiIrradianceHere(), material.diffuseContribution, giKnobs);
+#else
+reflectedLight.indirectDiffuse += giDecode.y * vdbgiBounce(vdbgiIrradianceHere(), material.diffuseColor, giKnobs);
+#endif
+`;
+
+// Debug views replace the final colour; PROBE and POSITION write linear
+// values, so a float render target reads back exactly what the lookup returned.
+const GLSL_DEBUG = /* glsl */ `
+if (giDebug != 0) {
+  GiLookup giL = vdbgiLookup(vGiWorld);
+  vec3 giC;
+  if (giDebug == 1) {
+    giC = vdbgiIrradianceHere();
+  } else if (giDebug == 2) {
+    giC = giL.level < 0.0 ? vec3(0.25) : giL.level < 0.5 ? vec3(0.1, 0.35, 1.0)
+        : giL.level < 1.5 ? vec3(0.1, 0.85, 0.25) : giL.level < 2.5 ? vec3(1.0, 0.85, 0.1) : vec3(1.0, 0.2, 0.1);
+  } else if (giDebug == 3) {
+    vec3 d = min(giL.inBrick, 1.0 - giL.inBrick) / max(fwidth(giL.inBrick), vec3(1e-6));
+    float edge = 1.0 - clamp(min(d.x, min(d.y, d.z)) - 0.5, 0.0, 1.0);
+    giC = mix(giL.irradiance, vec3(0.0), edge);
+  } else {
+    giC = vGiWorld;
+  }
+  // Positions go out raw; colours through the output's colour space
+  // (the identity for a linear float target).
+  gl_FragColor = giDebug == 4 ? vec4(giC, 1.0) : linearToOutputTexel(vec4(giC, 1.0));
+}
+`;

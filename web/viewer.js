@@ -1,0 +1,231 @@
+// viewer.js: the vdbgi viewer page (viewer.html). A scene lit by the bake's
+// default lights (gi-bake: sun towards 0.4,0.8,0.3, ambient 0.15) plus the
+// probe volume as indirect diffuse, with seed 000's knobs as sliders.
+// window.vdbgiViewer exposes its state to the browser tests.
+import * as THREE from 'three';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import GUI from 'three/addons/libs/lil-gui.module.min.js';
+import { GiRuntime, loadGi, DebugView, LAYOUT_COMPACT, ENCODING_RGB9E5 } from './vdbgi.js';
+
+const params = new URLSearchParams(location.search);
+const backend = params.get('backend') === 'webgpu' ? 'webgpu' : 'webgl';
+const canvas = document.getElementById('view');
+const errorBox = document.getElementById('error');
+const figures = document.getElementById('figures');
+
+const state = { status: 'starting', error: null, frames: 0, scene: null, gi: null, figures: null };
+window.vdbgiViewer = state;
+
+let renderer, webgpu = null;
+if (backend === 'webgpu') {
+  const { WebGPURenderer } = await import('three/webgpu');
+  webgpu = await import('./vdbgi-webgpu.js');
+  renderer = new WebGPURenderer({ canvas, antialias: params.get('aa') !== '0' });
+  await renderer.init();
+} else {
+  renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+}
+renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
+renderer.toneMapping = THREE.NeutralToneMapping;
+renderer.shadowMap.enabled = true;
+renderer.shadowMap.type = backend === 'webgpu' ? THREE.PCFShadowMap : THREE.PCFSoftShadowMap;
+
+const scene = new THREE.Scene();
+scene.background = new THREE.Color(0.55, 0.7, 0.9);
+const camera = new THREE.PerspectiveCamera(50, 1, 0.05, 2000);
+camera.position.set(26, 17, 30);
+const controls = new OrbitControls(camera, canvas);
+controls.target.set(0, 1, 0);
+controls.enableDamping = true;
+const sun = new THREE.DirectionalLight(0xffffff, Math.PI);
+const ambient = new THREE.AmbientLight(0xffffff, 0.15 * Math.PI);
+scene.add(sun, sun.target, ambient);
+sun.castShadow = true;
+sun.shadow.mapSize.set(2048, 2048);
+sun.shadow.bias = -0.0005;
+let reach = 50; // half the scene's diagonal: the shadow camera covers it
+const setSun = () => {
+  sun.target.position.copy(controls.target);
+  sun.position.copy(controls.target).addScaledVector(new THREE.Vector3(0.4, 0.8, 0.3).normalize(), 2 * reach);
+  Object.assign(sun.shadow.camera, { left: -reach, right: reach, top: reach, bottom: -reach, near: 0.1, far: 4 * reach });
+  sun.shadow.camera.updateProjectionMatrix();
+};
+setSun();
+
+const gi = new GiRuntime();
+const settings = { gi: true, perVertex: params.get('vertex') !== '0', debug: 'off', sun: Math.PI, ambient: 0.15 };
+let root = null; // the scene's root object
+let character = null;
+const meshes = []; // { mesh, original, vertex, fragment }
+
+function showError(message) {
+  state.error = message;
+  errorBox.textContent = message;
+  errorBox.style.display = message ? 'block' : 'none';
+}
+
+// Every material gets a per-vertex and a per-fragment variant; the toggle swaps them.
+function prepare(mesh, set) {
+  const make = (perFragment) => (webgpu ? webgpu.applyGi(webgpu.toNodeMaterial(mesh.material), gi, { set, perFragment })
+                                        : gi.patchMaterial(mesh.material.clone(), { set, perFragment }));
+  meshes.push({ mesh, vertex: make(false), fragment: make(true) });
+}
+
+function applyMode() {
+  for (const m of meshes) m.mesh.material = settings.perVertex && m.mesh !== character ? m.vertex : m.fragment;
+}
+
+// A stand-in character (the knobs' second set): a capsule on the ground, lit per fragment.
+function addCharacter(box) {
+  const c = new THREE.Mesh(new THREE.CapsuleGeometry(0.35, 1.1, 8, 16),
+    new THREE.MeshStandardMaterial({ color: 0xd8d0c8, roughness: 0.8 }));
+  const centre = box.getCenter(new THREE.Vector3());
+  c.position.set(centre.x, box.min.y + 0.9, centre.z);
+  c.name = 'character';
+  c.castShadow = c.receiveShadow = true;
+  return c;
+}
+
+async function loadScene(source, name) {
+  const loader = new GLTFLoader();
+  const gltf = typeof source === 'string' ? await loader.loadAsync(source)
+                                          : await loader.parseAsync(source, '');
+  if (root) scene.remove(root);
+  if (character) scene.remove(character);
+  meshes.length = 0;
+  root = gltf.scene;
+  scene.add(root);
+  root.traverse((o) => {
+    if (!o.isMesh) return;
+    o.castShadow = o.receiveShadow = true;
+    prepare(o, 'world');
+  });
+  const box = new THREE.Box3().setFromObject(root);
+  reach = box.getSize(new THREE.Vector3()).length() / 2;
+  character = addCharacter(box);
+  scene.add(character);
+  prepare(character, 'character');
+  applyMode();
+  // Frame the scene, unless the URL says where to look from (cam=x,y,z&at=x,y,z).
+  const size = box.getSize(new THREE.Vector3()).length();
+  const vec = (name) => params.get(name) && new THREE.Vector3(...params.get(name).split(',').map(Number));
+  controls.target.copy(vec('at') || box.getCenter(new THREE.Vector3()));
+  if (vec('cam')) camera.position.copy(vec('cam'));
+  else camera.position.copy(controls.target).add(new THREE.Vector3(0.45, 0.35, 0.55).multiplyScalar(size * 0.8));
+  camera.far = size * 10;
+  camera.updateProjectionMatrix();
+  setSun();
+  state.scene = name;
+}
+
+async function loadVolume(source, name) {
+  try {
+    const volume = await loadGi(source, { renderer: backend === 'webgl' ? renderer : null });
+    gi.setVolume(volume);
+    state.gi = name;
+    showFigures(volume, name);
+    showError('');
+  } catch (e) {
+    // A bad file never half-replaces the volume shown: the scene keeps rendering without it.
+    gi.setVolume(null);
+    state.gi = null;
+    showFigures(null, name);
+    throw new Error(`${name}: ${e.message}`);
+  }
+}
+
+function showFigures(volume, name) {
+  if (!volume) {
+    state.figures = null;
+    figures.textContent = `${state.scene ?? 'no scene'} — no GI volume`;
+    return;
+  }
+  const h = volume.header, t = volume.timings;
+  const mb = (b) => `${(b / 1e6).toFixed(2)} MB`;
+  const ms = (v) => (v == null ? '–' : `${v.toFixed(1)} ms`);
+  state.figures = { bricks: h.bricks, vramBytes: volume.vramBytes, fileBytes: volume.fileBytes, timings: t };
+  figures.textContent = [
+    `${name}: ${h.layout === LAYOUT_COMPACT ? 'compact' : 'seed'} layout, ${h.encoding === ENCODING_RGB9E5 ? 'RGB9E5' : 'RGBM'}, ` +
+      `${h.spacing.toPrecision(3)} m spacing, ${backend === 'webgpu' ? 'WebGPU' : 'WebGL2'}`,
+    `bricks L0..L3  ${h.bricks.join(' / ')}`,
+    `VRAM           ${mb(volume.vramBytes)} (indirection ${h.indDims.join('×')}, atlas ${h.atlasDims.join('×')})`,
+    `file           ${mb(volume.fileBytes)}`,
+    `load           fetch ${ms(t.fetch)}, gunzip ${ms(t.gunzip)}, check ${ms(t.parse)}, textures ${ms(t.build)}, upload ${ms(t.upload)}`,
+  ].join('\n');
+}
+
+async function run(task) {
+  try {
+    await task();
+  } catch (e) {
+    showError(e.message);
+    console.error(e);
+  }
+}
+
+// Panel: GI on/off, per vertex or per fragment, the two knob sets, the debug views, the lights.
+const gui = new GUI({ title: 'vdbgi' });
+gui.add(settings, 'gi').name('GI on').onChange((v) => { gi.enabled = v; });
+gui.add(settings, 'perVertex').name('per vertex').onChange(applyMode);
+gui.add(settings, 'debug', { off: 'off', 'probe colour': 'probe', 'brick level': 'level', 'brick boundaries': 'bricks' })
+  .name('view').onChange((v) => { gi.debug = { off: DebugView.OFF, probe: DebugView.PROBE, level: DebugView.LEVEL, bricks: DebugView.BRICKS }[v]; });
+for (const set of ['world', 'character']) {
+  const knobs = gi.getKnobs(set);
+  const f = gui.addFolder(set);
+  f.add(knobs, 'intensity', 0, 4, 0.01).onChange(() => gi.setKnobs(set, knobs));
+  f.add(knobs, 'self', 0, 1, 0.01).onChange(() => gi.setKnobs(set, knobs));
+  f.add(knobs, 'bleed', 0, 1, 0.01).onChange(() => gi.setKnobs(set, knobs));
+}
+if (params.get('gui') === '0') gui.hide();
+const lights = gui.addFolder('lights');
+lights.add(sun, 'intensity', 0, 10, 0.01).name('sun');
+lights.add(ambient, 'intensity', 0, 3, 0.01).name('ambient');
+lights.close();
+
+// Drag and drop: a scene file, a .gi.gz, or both.
+addEventListener('dragover', (e) => { e.preventDefault(); document.body.classList.add('dragging'); });
+addEventListener('dragleave', () => document.body.classList.remove('dragging'));
+addEventListener('drop', (e) => {
+  e.preventDefault();
+  document.body.classList.remove('dragging');
+  const files = [...e.dataTransfer.files];
+  const sceneFile = files.find((f) => /\.(glb|gltf)$/i.test(f.name));
+  const giFile = files.find((f) => !/\.(glb|gltf)$/i.test(f.name));
+  run(async () => {
+    if (sceneFile) await loadScene(await sceneFile.arrayBuffer(), sceneFile.name);
+    if (giFile) await loadVolume(await giFile.arrayBuffer(), giFile.name);
+  });
+});
+
+function resize() {
+  const w = canvas.clientWidth, h = canvas.clientHeight;
+  if (canvas.width !== Math.floor(w * renderer.getPixelRatio()) || canvas.height !== Math.floor(h * renderer.getPixelRatio())) {
+    renderer.setSize(w, h, false);
+    camera.aspect = w / h;
+    camera.updateProjectionMatrix();
+  }
+}
+
+renderer.setAnimationLoop(() => {
+  resize();
+  controls.update();
+  renderer.render(scene, camera);
+  state.frames++;
+});
+
+await run(async () => {
+  if (params.get('scene')) await loadScene(params.get('scene'), params.get('scene').split('/').pop());
+});
+await run(async () => {
+  if (params.get('gi')) await loadVolume(params.get('gi'), params.get('gi').split('/').pop());
+});
+if (!params.get('gi')) showFigures(null);
+// What the panel does, for scripts and the browser tests.
+state.api = {
+  setGi: (on) => { settings.gi = on; gi.enabled = on; gui.controllersRecursive().forEach((c) => c.updateDisplay()); },
+  setPerVertex: (on) => { settings.perVertex = on; applyMode(); },
+  setDebug: (view) => { gi.debug = view; },
+  frame: () => new Promise((ok) => { const n = state.frames; const wait = () => (state.frames > n + 1 ? ok() : requestAnimationFrame(wait)); wait(); }),
+};
+state.status = 'ready';
