@@ -86,7 +86,7 @@ DEB_PACKAGES := gcc g++ make pkg-config libopenvdb-dev libboost-dev libimath-dev
 # Keep object files of apps and tests (make would delete them as intermediates).
 .SECONDARY:
 
-.PHONY: all lib apps tests check demo bench chart deps asan fuzz install uninstall clean format list
+.PHONY: all lib apps tests check demo bench chart deps asan fuzz install uninstall clean format list view pictures
 
 ## all: build the library and the apps (default)
 all: lib apps
@@ -201,6 +201,15 @@ demo:
 	@echo "      out/world.gi.gz    bricks for the runtime (gi-inspect out/world.gi.gz --at 0,1,0)"
 	@echo "      out/world.json     conversion statistics"
 	@echo "      out/slices/*.png   the baked field, the bricks, their difference, levels, atlas"
+	@echo "      make view          serves web/viewer.html on 127.0.0.1 with this world and its GI"
+
+## view: serve the viewer on 127.0.0.1 (PORT=8080) with the demo's world, or drop files on it
+PORT ?= 8080
+view:
+	$(Q)$(MAKE) --no-print-directory deps
+	@if [ -f out/world.gi.gz ]; then q="scene=/data/world.glb&gi=/out/world.gi.gz"; \
+	 else echo "view: no out/world.gi.gz yet (make demo makes it); drop a .glb and a .gi.gz on the page"; q=""; fi; \
+	 node web/serve.mjs --port $(PORT) $${q:+--query "$$q"}
 
 ## bench: bake throughput against bare Embree, conversion size/error/time (build/bench/bench.md)
 bench:
@@ -213,6 +222,11 @@ chart:
 	$(Q)$(MAKE) --no-print-directory deps
 	$(Q)$(MAKE) --no-print-directory all $(BUILD)/tests/test_stability
 	$(Q)BUILD=$(BUILD) sh tests/chart.sh
+
+## pictures: the README's pictures from the demo's outputs (slices enlarged, the viewer with GI off and on)
+pictures:
+	$(Q)$(MAKE) --no-print-directory demo
+	$(Q)sh tests/pictures.sh
 
 ## install: vdbgi.h, libvdbgi.a, the image module, vdbgi.pc and the apps under $(DESTDIR)$(PREFIX)
 install: all

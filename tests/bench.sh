@@ -3,7 +3,8 @@
 # bake throughput against a bare Embree loop over the same rays, then conversion
 # size, error and time against reading the .vdb; then where the bytes of the
 # default volume go on those two and the town (tests/breakdown.py, Debian's
-# python3). Writes build/bench/bench.md.
+# python3); then the browser runtime's load and frame times in headless
+# Chromium (tests/web/bench_web.mjs, docs/web.md). Writes build/bench/bench.md.
 set -eu
 BUILD=${BUILD:-build/release}
 OUT=build/bench
@@ -27,6 +28,16 @@ mkdir -p "$OUT"
         "$BUILD/bin/vdb-to-gi" -q "$OUT/$w.vdb" -o "$OUT/$w.gi.gz"
         /usr/bin/python3 tests/breakdown.py --row "$w" "$OUT/$w.vdb" "$OUT/$w.gi.gz"
     done
+    echo
+    echo "### Browser runtime: load and frame time in headless Chromium, SwiftShader (docs/web.md)"
+    echo
+    if [ -x "${CHROMIUM:-/usr/bin/chromium}" ] && [ -d web/node_modules/puppeteer-core ]; then
+        "$BUILD/bin/vdb-to-gi" -q "$OUT/world200.vdb" -o "$OUT/world200.compact.gi.gz" --layout compact
+        node tests/web/bench_web.mjs data/world.glb "$OUT/world.gi.gz" \
+            "200 m, seed=$OUT/world200.gi.gz" "200 m, compact=$OUT/world200.compact.gi.gz"
+    else
+        echo "(skipped: chromium or web/node_modules missing; make deps installs both)"
+    fi
     echo
 } | tee "$OUT/bench.md"
 echo "bench: results in $OUT/bench.md"

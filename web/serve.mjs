@@ -1,6 +1,7 @@
 // serve.mjs: a static file server on 127.0.0.1 for the viewer and the browser
 // tests (no dependencies). node web/serve.mjs [--port N] [--mount /url=DIR ...]
-// serves the repository at / and each DIR at its /url; prints the viewer's URL.
+// [--query Q] serves the repository at / and each DIR at its /url, and prints
+// the viewer's URL (with ?Q).
 // Files go out as they are: a .gi.gz is never sent with Content-Encoding, so
 // the page's DecompressionStream sees the file's own bytes.
 import { createServer } from 'node:http';
@@ -57,15 +58,17 @@ export function serve({ port = 0, mounts = {} } = {}) {
 
 if (process.argv[1] && resolve(process.argv[1]) === fileURLToPath(import.meta.url)) {
   const args = process.argv.slice(2);
-  let port = 8080;
+  let port = 8080, query = '';
   const mounts = {};
   for (let i = 0; i < args.length; i++) {
     if (args[i] === '--port') port = Number(args[++i]);
     else if (args[i] === '--mount') {
       const [url, dir] = args[++i].split('=');
       mounts[url] = dir;
+    } else if (args[i] === '--query') {
+      query = `?${args[++i]}`;
     } else if (args[i] === '--help' || args[i] === '-h') {
-      console.log('usage: node web/serve.mjs [--port N] [--mount /url=DIR ...]');
+      console.log('usage: node web/serve.mjs [--port N] [--mount /url=DIR ...] [--query SCENE_AND_GI]');
       process.exit(0);
     } else {
       console.error(`serve.mjs: unknown argument '${args[i]}' (try --help)`);
@@ -73,6 +76,5 @@ if (process.argv[1] && resolve(process.argv[1]) === fileURLToPath(import.meta.ur
     }
   }
   const { url } = await serve({ port, mounts });
-  const query = mounts['/out'] ? '?scene=/out/world.glb&gi=/out/world.gi.gz' : '';
   console.log(`vdbgi viewer: ${url}/web/viewer.html${query}   (Ctrl-C stops)`);
 }

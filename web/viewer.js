@@ -28,7 +28,7 @@ if (backend === 'webgpu') {
 }
 renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
 renderer.toneMapping = THREE.NeutralToneMapping;
-renderer.shadowMap.enabled = true;
+renderer.shadowMap.enabled = params.get('shadows') !== '0';
 renderer.shadowMap.type = backend === 'webgpu' ? THREE.PCFShadowMap : THREE.PCFSoftShadowMap;
 
 const scene = new THREE.Scene();
@@ -226,6 +226,13 @@ state.api = {
   setGi: (on) => { settings.gi = on; gi.enabled = on; gui.controllersRecursive().forEach((c) => c.updateDisplay()); },
   setPerVertex: (on) => { settings.perVertex = on; applyMode(); },
   setDebug: (view) => { gi.debug = view; },
+  // Draw a frame and copy it in the same task (a WebGPU canvas is blank once presented).
+  snapshot: () => {
+    renderer.render(scene, camera);
+    const c = Object.assign(document.createElement('canvas'), { width: canvas.width, height: canvas.height });
+    c.getContext('2d').drawImage(canvas, 0, 0);
+    return c;
+  },
   frame: () => new Promise((ok) => { const n = state.frames; const wait = () => (state.frames > n + 1 ? ok() : requestAnimationFrame(wait)); wait(); }),
 };
 state.status = 'ready';

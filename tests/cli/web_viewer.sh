@@ -1,5 +1,5 @@
 # web/viewer.html in headless Chromium: with a good .gi.gz it shows the file's
-# figures (WebGL2 and WebGPU); GI on only adds light, to most of the frame; a
+# figures (WebGL2 and WebGPU, whose frame carries the same light); GI on only adds light, to most of the frame; a
 # truncated file and a foreign one each give an error naming the file while
 # the scene keeps rendering, the same frame as with GI off.
 if [ ! -x "${CHROMIUM:-/usr/bin/chromium}" ] || [ ! -d "$ROOT/web/node_modules/puppeteer-core" ]; then

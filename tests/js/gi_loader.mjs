@@ -68,6 +68,7 @@ export function sampleGi(gi, pos, detail = null) {
   const o = 4 * ((it[2] * iy + it[1]) * ix + it[0]);
   const ind = [0, 1, 2, 3].map((k) => f(gi.indirection[o + k] / 255));
   const level = Math.max(f(f(ind[3] * 255) - 1), 0);
+  if (detail) detail.level = gi.indirection[o + 3] - 1; // -1: no brick
   const span = f(2 ** level);
   const uvw = [];
   const geo = layoutGeometry(gi.layout);

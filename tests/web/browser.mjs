@@ -13,7 +13,7 @@ export const CHROMIUM = process.env.CHROMIUM ?? '/usr/bin/chromium';
 const FLAGS = [
   '--headless=new', '--no-sandbox', '--disable-gpu-sandbox', '--no-first-run', '--mute-audio',
   '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-  '--enable-unsafe-webgpu', '--enable-features=Vulkan', '--use-webgpu-adapter=swiftshader',
+  '--enable-unsafe-webgpu', '--enable-features=Vulkan', '--use-vulkan=swiftshader', '--use-webgpu-adapter=swiftshader',
 ];
 
 export function haveChromium() {
@@ -21,20 +21,25 @@ export function haveChromium() {
 }
 
 // Open the test page with `mounts` served ({ '/work': dir }) and hand fn a
-// run(task) that executes in the page; closes everything afterwards.
+// run(task) that executes in the page, and fresh(), which opens another tab
+// of it (SwiftShader's WebGPU loses its device in a tab that had a WebGL2
+// context); closes everything afterwards.
 export async function withPage(mounts, fn, { width = 800, height = 600, page: pagePath = '/tests/web/render.html' } = {}) {
   const { server, url } = await serve({ mounts });
   const browser = await puppeteer.launch({ executablePath: CHROMIUM, args: FLAGS,
     defaultViewport: { width, height } });
   const messages = [];
   try {
-    const page = await browser.newPage();
-    page.on('console', (m) => messages.push(`${m.type()}: ${m.text()}`));
-    page.on('pageerror', (e) => messages.push(`pageerror: ${e.message}`));
-    await page.goto(`${url}${pagePath}`, { waitUntil: 'load' });
-    await page.waitForFunction('window.vdbgiReady === true', { timeout: 30000 });
-    const run = (task) => page.evaluate((t) => window.vdbgiRun(t), task);
-    return await fn({ page, run, url, messages, browser });
+    const fresh = async () => {
+      const page = await browser.newPage();
+      page.on('console', (m) => messages.push(`${m.type()}: ${m.text()}`));
+      page.on('pageerror', (e) => messages.push(`pageerror: ${e.message}`));
+      await page.goto(`${url}${pagePath}`, { waitUntil: 'load' });
+      await page.waitForFunction('window.vdbgiReady === true', { timeout: 30000 });
+      return { page, run: (task) => page.evaluate((t) => window.vdbgiRun(t), task) };
+    };
+    const { page, run } = await fresh();
+    return await fn({ page, run, fresh, url, messages, browser });
   } catch (e) {
     if (messages.length) e.message += `\n  page said:\n    ${messages.slice(-10).join('\n    ')}`;
     throw e;

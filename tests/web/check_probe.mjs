@@ -3,7 +3,8 @@
 // (BACKEND webgl or webgpu), read back each pixel's colour and world position
 // from float targets, and compare a few hundred covered pixels with the C
 // sampler (gi-inspect --at) at the same positions. docs/web.md derives the
-// tolerance; exit 1 if any channel exceeds it.
+// tolerance; exit 1 if any channel exceeds it. The brick-level view must show
+// the level the indirection gives at each of those pixels.
 import { spawnSync } from 'node:child_process';
 import { copyFileSync, mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -69,11 +70,25 @@ result.points.forEach((p, i) => {
   if (want[i].some((v) => v > 0)) lit++;
 });
 const rms = Math.sqrt(sumSq / n);
+
+// The brick-level view shows each level's colour (docs/web.md) at every pixel.
+const LEVEL_COLOURS = { '-1': [0.25, 0.25, 0.25], 0: [0.1, 0.35, 1], 1: [0.1, 0.85, 0.25], 2: [1, 0.85, 0.1], 3: [1, 0.2, 0.1] };
+const levelsSeen = new Set();
+let levelBad = 0;
+for (const p of result.points) {
+  const d = {};
+  sampleGi(gi, p.pos, d);
+  levelsSeen.add(d.level);
+  if (LEVEL_COLOURS[d.level].some((c, k) => Math.abs(c - p.level[k]) > 1e-6)) levelBad++;
+}
 const layout = gi.layout === 1 ? 'compact' : 'seed', enc = gi.encoding === 1 ? 'rgb9e5' : 'rgbm';
 console.error(`${backend} ${enc} ${layout}: ${result.points.length} points of ${result.covered} covered, ` +
   `${lit} lit; worst ${worst.toExponential(2)} (${(100 * worstRel).toFixed(1)} % of tolerance), rms ${rms.toExponential(2)}`);
-if (bad || result.points.length < 300 || lit < 300) {
-  console.log(`${backend} ${enc} ${layout}: ${bad} channels beyond tolerance, ${lit} lit points of ${result.points.length}`);
+console.error(`  levels seen: ${[...levelsSeen].sort().join(', ')}; ${levelBad} pixels show another level's colour`);
+if (bad || levelBad || result.points.length < 300 || lit < 300) {
+  console.log(`${backend} ${enc} ${layout}: ${bad} channels beyond tolerance, ${levelBad} wrong level colours, ` +
+    `${lit} lit points of ${result.points.length}`);
   process.exit(1);
 }
-console.log(`${backend} ${enc} ${layout}: ${result.points.length} pixels agree with the C sampler`);
+console.log(`${backend} ${enc} ${layout}: ${result.points.length} pixels agree with the C sampler, ` +
+  `bricks of levels ${[...levelsSeen].sort().join(', ')} among them`);

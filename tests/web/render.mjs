@@ -35,8 +35,16 @@ function stage(scene, width, height) {
   return camera;
 }
 
+// A canvas keeps the first kind of context it gave: each run gets a new one.
+function freshCanvas() {
+  const old = document.getElementById('c');
+  const canvas = Object.assign(document.createElement('canvas'), { id: 'c' });
+  old.replaceWith(canvas);
+  return canvas;
+}
+
 async function setup(task) {
-  const canvas = document.getElementById('c');
+  const canvas = freshCanvas();
   const { width = 256, height = 256, backend = 'webgl' } = task;
   const renderer = await makeRenderer(backend, canvas, width, height);
   const gltf = await new GLTFLoader().loadAsync(task.scene);
@@ -93,6 +101,7 @@ async function probe(task) {
   ctx.mode('fragment');
   const pos = await readFloat(ctx, DebugView.POSITION);
   const irr = await readFloat(ctx, DebugView.PROBE);
+  const level = await readFloat(ctx, DebugView.LEVEL);
   const covered = [];
   for (let i = 0; i < ctx.width * ctx.height; i++) if (pos[4 * i + 3] === 1) covered.push(i);
   const want = Math.min(task.points ?? 400, covered.length);
@@ -100,7 +109,7 @@ async function probe(task) {
   for (let k = 0; k < want; k++) {
     const i = covered[Math.floor((k + 0.5) * covered.length / want)];
     points.push({ pixel: i, pos: Array.from(pos.subarray(4 * i, 4 * i + 3)),
-      irr: Array.from(irr.subarray(4 * i, 4 * i + 3)) });
+      irr: Array.from(irr.subarray(4 * i, 4 * i + 3)), level: Array.from(level.subarray(4 * i, 4 * i + 3)) });
   }
   return { covered: covered.length, pixels: ctx.width * ctx.height, points, header: headerOf(ctx.volume) };
 }
@@ -122,33 +131,41 @@ async function shot(task) {
   return { header: headerOf(ctx.volume) };
 }
 
-// Frame time of each mode; the GPU is made to finish every frame (readPixels of one pixel).
+// Frame time of each mode, drawn into an 8-bit target; the GPU finishes
+// every frame before the next (one pixel read back).
 async function frames(task) {
   const ctx = await setup(task);
-  const gl = ctx.renderer.getContext();
+  const RT = ctx.backend === 'webgpu' ? (await import('three/webgpu')).RenderTarget : THREE.WebGLRenderTarget;
+  const rt = new RT(ctx.width, ctx.height, { depthBuffer: true });
   const one = new Uint8Array(4);
+  ctx.renderer.setRenderTarget(rt);
+  const finish = ctx.backend === 'webgpu' ? () => ctx.renderer.readRenderTargetPixelsAsync(rt, 0, 0, 1, 1)
+                                          : () => ctx.renderer.readRenderTargetPixels(rt, 0, 0, 1, 1, one);
   const time = async (setMode) => {
     setMode();
     for (let i = 0; i < 3; i++) ctx.renderer.render(ctx.scene, ctx.camera);
-    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
+    await finish();
     const t = performance.now();
     for (let i = 0; i < task.frames; i++) {
       ctx.renderer.render(ctx.scene, ctx.camera);
-      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
+      await finish();
     }
     return (performance.now() - t) / task.frames;
   };
   const out = {};
+  // The second round is kept: the first also compiles and warms caches.
   for (let round = 0; round < 2; round++) {
     out.off = await time(() => { ctx.mode('vertex'); ctx.gi.enabled = false; });
     out.vertex = await time(() => { ctx.mode('vertex'); ctx.gi.enabled = true; });
     out.fragment = await time(() => { ctx.mode('fragment'); ctx.gi.enabled = true; });
   }
+  ctx.renderer.setRenderTarget(null);
+  rt.dispose();
   return out;
 }
 
 async function load(task) {
-  const canvas = document.getElementById('c');
+  const canvas = freshCanvas();
   const renderer = await makeRenderer('webgl', canvas, 64, 64);
   try {
     const v = await loadGi(task.gi, { renderer });

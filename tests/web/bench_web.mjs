@@ -1,0 +1,57 @@
+// bench_web.mjs SCENE.glb SCENE.gi.gz [NAME=FILE.gi.gz ...]: the browser
+// runtime's figures in headless Chromium on SwiftShader (make bench).
+//  - load: each file, fetched from 127.0.0.1, gunzipped (DecompressionStream),
+//    checked, made into textures and uploaded (WebGL2), median of 5 loads;
+//  - frames: SCENE at 800 x 600 lit with SCENE.gi.gz, frame time with GI off,
+//    per vertex and per fragment (WebGL2 and WebGPU). SwiftShader renders on
+//    the CPU, so only the ratios say anything about a GPU.
+// Prints markdown tables.
+import { copyFileSync, mkdtempSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { basename, join } from 'node:path';
+import { withPage } from './browser.mjs';
+
+const [scene, sceneGi, ...more] = process.argv.slice(2);
+const dir = mkdtempSync(join(tmpdir(), 'vdbgi-bench-'));
+copyFileSync(scene, join(dir, 'scene.glb'));
+copyFileSync(sceneGi, join(dir, 'scene.gi.gz'));
+const files = [['bundled 48 m', 'scene.gi.gz']];
+for (const m of more) {
+  const [name, file] = m.includes('=') ? m.split('=') : [basename(m), m];
+  copyFileSync(file, join(dir, basename(file)));
+  files.push([name, basename(file)]);
+}
+const median = (a) => a.slice().sort((x, y) => x - y)[Math.floor(a.length / 2)];
+const f1 = (v) => v.toFixed(1);
+
+try {
+  await withPage({ '/work': dir }, async ({ run, fresh }) => {
+    console.log('| file | size | VRAM | fetch | gunzip | check | textures | upload | total |');
+    console.log('|---|---:|---:|---:|---:|---:|---:|---:|---:|');
+    for (const [name, file] of files) {
+      const runs = [];
+      for (let i = 0; i < 5; i++) {
+        const r = await run({ kind: 'load', gi: `/work/${file}` });
+        if (!r.ok) throw new Error(`${file}: ${r.error}`);
+        runs.push(r);
+      }
+      const t = (k) => median(runs.map((r) => r.timings[k]));
+      const total = median(runs.map((r) => Object.values(r.timings).reduce((a, b) => a + b, 0)));
+      console.log(`| ${name} | ${(runs[0].fileBytes / 1e6).toFixed(2)} MB | ${(runs[0].vramBytes / 1e6).toFixed(2)} MB | ` +
+        `${f1(t('fetch'))} ms | ${f1(t('gunzip'))} ms | ${f1(t('parse'))} ms | ${f1(t('build'))} ms | ${f1(t('upload'))} ms | ${f1(total)} ms |`);
+    }
+    console.log();
+    console.log('| backend | GI off | GI per vertex | GI per fragment | per vertex / off | per fragment / off |');
+    console.log('|---|---:|---:|---:|---:|---:|');
+    for (const backend of ['webgl', 'webgpu']) {
+      const tab = await fresh();
+      const r = await tab.run({ kind: 'frames', backend, scene: '/work/scene.glb', gi: '/work/scene.gi.gz',
+        width: 800, height: 600, frames: 30 });
+      console.log(`| ${backend === 'webgl' ? 'WebGL2' : 'WebGPU'} | ${f1(r.off)} ms | ${f1(r.vertex)} ms | ${f1(r.fragment)} ms | ` +
+        `${(r.vertex / r.off).toFixed(2)} | ${(r.fragment / r.off).toFixed(2)} |`);
+      await tab.page.close();
+    }
+  });
+} finally {
+  rmSync(dir, { recursive: true, force: true });
+}
