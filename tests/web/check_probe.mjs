@@ -14,6 +14,7 @@ import { readFileSync } from 'node:fs';
 import { loadGi, sampleGi } from '../js/gi_loader.mjs';
 
 const [backend, scene, file, inspect] = process.argv.slice(2);
+const KNOBS = { intensity: 1.7, self: 0.3, bleed: 0.4 };
 const dir = mkdtempSync(join(tmpdir(), 'vdbgi-web-'));
 copyFileSync(scene, join(dir, 'scene.glb'));
 copyFileSync(file, join(dir, 'volume.gi.gz'));
@@ -22,7 +23,7 @@ let result;
 try {
   result = await withPage({ '/work': dir }, ({ run }) =>
     run({ kind: 'probe', backend, scene: '/work/scene.glb', gi: '/work/volume.gi.gz', width: 256, height: 256,
-      points: 400 }));
+      points: 400, knobs: KNOBS }));
 } finally {
   rmSync(dir, { recursive: true, force: true });
 }
@@ -84,9 +85,33 @@ for (const p of result.points) {
 const layout = gi.layout === 1 ? 'compact' : 'seed', enc = gi.encoding === 1 ? 'rgb9e5' : 'rgbm';
 console.error(`${backend} ${enc} ${layout}: ${result.points.length} points of ${result.covered} covered, ` +
   `${lit} lit; worst ${worst.toExponential(2)} (${(100 * worstRel).toFixed(1)} % of tolerance), rms ${rms.toExponential(2)}`);
+// The knobs (docs/web.md): lit by GI alone, a pixel is bounce(E, a) with E
+// the probe view's colour; the physical knobs give E x a, so a = that / E.
+function bounce(e, a, { intensity, self, bleed }) {
+  const mean = (c) => (c[0] + c[1] + c[2]) / 3;
+  const ownHue = a.map((v) => v - mean(a)), hue = e.map((v) => v - mean(e));
+  const len2 = ownHue.reduce((s, v) => s + v * v, 0);
+  const along = len2 > 1e-8 ? Math.max(hue.reduce((s, v, k) => s + v * ownHue[k], 0), 0) / len2 : 0;
+  return e.map((v, k) => Math.max(v - (1 - self) * along * ownHue[k], 0) * (a[k] + (1 - a[k]) * bleed) * intensity);
+}
+let knobBad = 0, knobChecked = 0, knobWorst = 0;
+for (const p of result.points) {
+  if (p.irr.some((v) => v < 1e-3)) continue;
+  const a = p.physical.map((v, k) => v / p.irr[k]);
+  const want = bounce(p.irr, a, KNOBS);
+  knobChecked++;
+  for (let k = 0; k < 3; k++) {
+    const d = Math.abs(p.styled[k] - want[k]);
+    knobWorst = Math.max(knobWorst, d / Math.max(want[k], 1e-3));
+    if (d > 1e-4 * Math.max(want[k], 1e-2)) knobBad++;
+  }
+}
+bad += knobBad;
+console.error(`  knobs ${JSON.stringify(KNOBS)}: ${knobChecked} pixels, worst relative ${knobWorst.toExponential(2)}, ${knobBad} off`);
 console.error(`  levels seen: ${[...levelsSeen].sort().join(', ')}; ${levelBad} pixels show another level's colour`);
-if (bad || levelBad || result.points.length < 300 || lit < 300) {
-  console.log(`${backend} ${enc} ${layout}: ${bad} channels beyond tolerance, ${levelBad} wrong level colours, ` +
+if (bad || levelBad || knobChecked < 300 || result.points.length < 300 || lit < 300) {
+  console.log(`${backend} ${enc} ${layout}: ${bad} channels beyond tolerance (${knobBad} of them with the knobs), ` +
+    `${levelBad} wrong level colours, ${knobChecked} pixels with the knobs, ` +
     `${lit} lit points of ${result.points.length}`);
   process.exit(1);
 }

@@ -2,6 +2,7 @@
 // headless Chromium (WebGL2).
 //  - With a good file (WebGL2 and WebGPU) it shows the file's figures and no error; GI on only
 //    adds light (no channel darker than GI off) and lights most of the scene.
+//  - Dropping both files on an empty page loads them.
 //  - With a truncated file and with a foreign one (the .glb itself) it shows
 //    an error naming the file and keeps rendering the scene without GI: the
 //    frame is the same, byte for byte, as the good file's with GI off.
@@ -85,6 +86,22 @@ try {
     const mean = (px) => px.reduce((a, v, i) => (i % 4 === 3 ? a : a + v), 0) / (px.length * 0.75);
     const ratio = mean(gpuFrame.px) / mean(on.px);
     check(Math.abs(ratio - 1) < 0.05, `WebGPU: the frame's mean light within 5 % of WebGL2's with GI on (${ratio.toFixed(3)})`);
+    // Drag and drop: both files on a page opened without any.
+    const d = await browser.newPage();
+    await d.goto(`${url}/web/viewer.html?gui=0`);
+    await d.waitForFunction('window.vdbgiViewer?.status === "ready"', { timeout: 60000 });
+    await d.evaluate(async () => {
+      const dt = new DataTransfer();
+      for (const [src, name] of [['/work/world.glb', 'world.glb'], ['/work/world.gi.gz', 'dropped.gi.gz']])
+        dt.items.add(new File([await (await fetch(src)).arrayBuffer()], name));
+      window.dispatchEvent(new DragEvent('drop', { dataTransfer: dt, cancelable: true }));
+    });
+    await d.waitForFunction('window.vdbgiViewer.gi === "dropped.gi.gz" || window.vdbgiViewer.error', { timeout: 60000 });
+    const dropped = await d.evaluate(() => ({ scene: window.vdbgiViewer.scene, error: window.vdbgiViewer.error,
+      text: document.getElementById('figures').textContent }));
+    await d.close();
+    check(!dropped.error && dropped.scene === 'world.glb' && dropped.text.startsWith('dropped.gi.gz:'),
+      'dropping a .glb and a .gi.gz on the page loads both');
     for (const bad of ['cut.gi.gz', 'world.glb']) {
       const b = await open(browser, url, bad);
       check(b.error && b.error.startsWith(`${bad}:`) && b.shown === b.error, `${bad}: the page says "${b.error}"`);

@@ -31,8 +31,9 @@ function stage(scene, width, height) {
   camera.lookAt(0, 1, 0);
   const sun = new THREE.DirectionalLight(0xffffff, Math.PI);
   sun.position.set(0.4, 0.8, 0.3).multiplyScalar(50);
-  scene.add(sun, new THREE.AmbientLight(0xffffff, 0.15 * Math.PI));
-  return camera;
+  const ambient = new THREE.AmbientLight(0xffffff, 0.15 * Math.PI);
+  scene.add(sun, ambient);
+  return { camera, lights: [sun, ambient] };
 }
 
 // A canvas keeps the first kind of context it gave: each run gets a new one.
@@ -49,7 +50,7 @@ async function setup(task) {
   const renderer = await makeRenderer(backend, canvas, width, height);
   const gltf = await new GLTFLoader().loadAsync(task.scene);
   const scene = gltf.scene;
-  const camera = stage(scene, width, height);
+  const { camera, lights } = stage(scene, width, height);
   const gi = new GiRuntime();
   const t0 = performance.now();
   const volume = await loadGi(task.gi, { renderer: backend === 'webgl' ? renderer : null });
@@ -71,10 +72,10 @@ async function setup(task) {
   }
   const originals = meshes.map((m) => m.material);
   const mode = (which) => meshes.forEach((m, i) => { m.material = variants.get(originals[i])[which]; });
-  return { renderer, scene, camera, gi, volume, loadMs, mode, width, height, backend };
+  return { renderer, scene, camera, lights, gi, volume, loadMs, mode, width, height, backend };
 }
 
-async function readFloat(ctx, view) {
+async function readFloat(ctx, view = DebugView.OFF) {
   const { renderer, scene, camera, gi, width, height, backend } = ctx;
   const rt = new (backend === 'webgpu' ? (await import('three/webgpu')).RenderTarget : THREE.WebGLRenderTarget)(
     width, height, { type: THREE.FloatType, format: THREE.RGBAFormat, minFilter: THREE.NearestFilter,
@@ -102,6 +103,12 @@ async function probe(task) {
   const pos = await readFloat(ctx, DebugView.POSITION);
   const irr = await readFloat(ctx, DebugView.PROBE);
   const level = await readFloat(ctx, DebugView.LEVEL);
+  // Lit by GI alone (the lights kept at zero: a node material with no light
+  // at all would show its albedo), with the physical knobs and with task.knobs.
+  for (const l of ctx.lights) l.intensity = 0;
+  const physical = await readFloat(ctx);
+  ctx.gi.setKnobs('world', task.knobs ?? { intensity: 1, self: 1, bleed: 0 });
+  const styled = await readFloat(ctx);
   const covered = [];
   for (let i = 0; i < ctx.width * ctx.height; i++) if (pos[4 * i + 3] === 1) covered.push(i);
   const want = Math.min(task.points ?? 400, covered.length);
@@ -109,7 +116,8 @@ async function probe(task) {
   for (let k = 0; k < want; k++) {
     const i = covered[Math.floor((k + 0.5) * covered.length / want)];
     points.push({ pixel: i, pos: Array.from(pos.subarray(4 * i, 4 * i + 3)),
-      irr: Array.from(irr.subarray(4 * i, 4 * i + 3)), level: Array.from(level.subarray(4 * i, 4 * i + 3)) });
+      irr: Array.from(irr.subarray(4 * i, 4 * i + 3)), level: Array.from(level.subarray(4 * i, 4 * i + 3)),
+      physical: Array.from(physical.subarray(4 * i, 4 * i + 3)), styled: Array.from(styled.subarray(4 * i, 4 * i + 3)) });
   }
   return { covered: covered.length, pixels: ctx.width * ctx.height, points, header: headerOf(ctx.volume) };
 }
