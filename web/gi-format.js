@@ -95,12 +95,24 @@ export function parseGi(buf) {
   return gi;
 }
 
-// Gunzip and parse a whole .gi.gz.
-export async function decodeGi(fileBytes) {
-  const buf = await gunzip(fileBytes);
+// Gunzip and parse a whole .gi.gz; `timings`, if given, gets the
+// milliseconds of each step (gunzip, parse).
+export async function decodeGi(fileBytes, timings = {}) {
+  const now = () => (typeof performance !== 'undefined' ? performance.now() : Date.now());
+  let t = now();
+  let buf;
+  try {
+    buf = await gunzip(fileBytes);
+  } catch (e) {
+    throw new Error(`not a gzip'd .gi file, or cut short (${e.message})`);
+  }
+  timings.gunzip = now() - t;
+  t = now();
   // DecompressionStream ignores bytes after the stream; its trailer's length must end the file.
   const tail = new DataView(fileBytes.buffer, fileBytes.byteOffset, fileBytes.byteLength);
   if (fileBytes.length < 4 || tail.getUint32(fileBytes.length - 4, true) !== buf.length >>> 0)
     throw new Error('bytes after the gzip stream');
-  return parseGi(buf);
+  const gi = parseGi(buf);
+  timings.parse = now() - t;
+  return gi;
 }

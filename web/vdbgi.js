@@ -11,7 +11,7 @@
 // The lookup is seed 000's volumeIrradiance(); docs/web.md says what each
 // knob does. vdbgi-webgpu.js is the same for WebGPURenderer, in TSL.
 import * as THREE from 'three';
-import { gunzip, parseGi, layoutGeometry, ENCODING_RGB9E5 } from './gi-format.js';
+import { decodeGi, layoutGeometry, ENCODING_RGB9E5 } from './gi-format.js';
 
 export { ENCODING_RGBM, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT } from './gi-format.js';
 
@@ -39,20 +39,7 @@ export async function loadGi(source, { renderer = null, signal } = {}) {
     throw new Error('loadGi: expected a URL, an ArrayBuffer or a typed array');
   }
   timings.fetch = now() - t;
-  t = now();
-  let raw;
-  try {
-    raw = await gunzip(bytes);
-  } catch (e) {
-    throw new Error(`not a gzip'd .gi file, or cut short (${e.message})`);
-  }
-  timings.gunzip = now() - t;
-  t = now();
-  const tail = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
-  if (bytes.length < 4 || tail.getUint32(bytes.length - 4, true) !== raw.length >>> 0)
-    throw new Error('bytes after the gzip stream');
-  const header = parseGi(raw);
-  timings.parse = now() - t;
+  const header = await decodeGi(bytes, timings);
   t = now();
   const volume = new GiVolume(header, bytes.length);
   timings.build = now() - t;
