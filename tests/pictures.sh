@@ -13,4 +13,4 @@ for s in baked bricks difference levels; do
     oiiotool "$src" --resample $(($3 * 4))x$(($5 * 4)) -o "docs/img/world_$s.png"
 done
 node tests/web/check_viewer.mjs data/world.glb out/world.gi.gz --save docs/img >/dev/null
-echo "pictures: docs/img/world_{baked,bricks,difference,levels}.png, viewer_gi_{off,on}.png"
+echo "pictures: docs/img/world_{baked,bricks,difference,levels}.png, viewer_{gi_off,gi_on,levels,bricks}.png"

@@ -6,7 +6,8 @@
 //  - With a truncated file and with a foreign one (the .glb itself) it shows
 //    an error naming the file and keeps rendering the scene without GI: the
 //    frame is the same, byte for byte, as the good file's with GI off.
-// --save DIR writes the GI off/on pictures (viewer_gi_off.png, viewer_gi_on.png).
+// --save DIR writes the pictures: viewer_gi_off.png, viewer_gi_on.png, and the
+// debug views viewer_levels.png and viewer_bricks.png.
 import { copyFileSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
@@ -74,8 +75,15 @@ try {
     console.error(`added light, mean per pixel: r ${(added[0] / pixels).toFixed(2)} g ${(added[1] / pixels).toFixed(2)} ` +
       `b ${(added[2] / pixels).toFixed(2)} (8-bit)`);
     if (save) {
-      writeFileSync(join(save, 'viewer_gi_off.png'), Buffer.from(off.png.split(',')[1], 'base64'));
-      writeFileSync(join(save, 'viewer_gi_on.png'), Buffer.from(on.png.split(',')[1], 'base64'));
+      const write = (name, shot) => writeFileSync(join(save, name), Buffer.from(shot.png.split(',')[1], 'base64'));
+      write('viewer_gi_off.png', off);
+      write('viewer_gi_on.png', on);
+      // The debug views (web/vdbgi.js DebugView: 2 brick level, 3 brick boundaries).
+      for (const [view, name] of [[2, 'viewer_levels.png'], [3, 'viewer_bricks.png']]) {
+        await page.evaluate((v) => window.vdbgiViewer.api.setDebug(v), view);
+        write(name, await grab(page));
+      }
+      await page.evaluate(() => window.vdbgiViewer.api.setDebug(0));
     }
     const g = await open(browser, url, 'world.gi.gz', '&backend=webgpu');
     const gpuFrame = await grab(g.page);
