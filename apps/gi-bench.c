@@ -2,6 +2,7 @@
 #define _DEFAULT_SOURCE     /* mkstemps */
 #define VDBGI_BENCHMARK_API /* vdbgi_probes_trace_bare */
 #include "cli.h"
+#include "encode.h" /* vdbgi_rgbm_encode: the dense grid's texels, as the bricks' */
 #include "vdbgi.h"
 
 #include <errno.h>
@@ -16,6 +17,7 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <zlib.h>
 
 extern char **environ;
 
@@ -23,6 +25,8 @@ static void usage(void)
 {
     printf("Usage: gi-bench bake SCENE [options]\n"
            "       gi-bench convert PROBES.vdb [options]\n"
+           "       gi-bench sweep SCENE [options]\n"
+           "       gi-bench memory SCENE [options]\n"
            "\n"
            "bake: measure, in one run on one machine, the ray throughput of:\n"
            "  - a bare Embree loop that traces exactly the bake's rays (primary rays, then a\n"
@@ -45,6 +49,13 @@ static void usage(void)
            "the error at 3000 points on the surfaces, against 2048-ray estimates there,\n"
            "under the default darkest fill, the mean fill and the compact layout).\n"
            "\n"
+           "memory: memory against the error a player sees on SCENE, as --out/memory.csv:\n"
+           "at 0.25, 0.5 and 1 m (--spacing S limits it to one), a dense RGBM grid over the\n"
+           "probes' box and both brick layouts under the interp and rmse criteria at eps\n"
+           "0.05..0.4: VRAM, gzip'd bytes, RMSE at the probes, at 3000 points 10 cm off the\n"
+           "surfaces and at a character layer 0.5-2 m above walkable ground; probes within\n"
+           "2.5 m of a surface at every spacing.\n"
+           "\n"
            "Options:\n"
            "      --spacing M     probe spacing in metres (0.5)\n"
            "      --rays N        rays per probe (128)\n"
@@ -60,12 +71,14 @@ static void usage(void)
            "  gi-bench bake data/world.glb\n"
            "  gi-bench bake world200.glb --repeat 1\n"
            "  gi-bench convert world.vdb\n"
-           "  gi-bench sweep data/world.glb --out build/chart\n");
+           "  gi-bench sweep data/world.glb --out build/chart\n"
+           "  gi-bench memory data/world.glb --out build/chart\n");
 }
 
 typedef struct options {
     const char *mode, *scene, *gi_bake, *out;
     double spacing;
+    bool spacing_given;
     int rays, threads, repeat;
 } options;
 
@@ -92,6 +105,7 @@ static int parse_args(int argc, char **argv, options *o)
             if (!cli_parse_double(optarg, &d) || !(d > 0.0))
                 return cli_usage_error("--spacing must be a number > 0 (got '%s')", optarg);
             o->spacing = d;
+            o->spacing_given = true;
             break;
         case OPT_RAYS:
             if (!cli_parse_int(optarg, &i) || i < 1 || i > 1000000)
@@ -119,9 +133,9 @@ static int parse_args(int argc, char **argv, options *o)
     }
     if (optind == argc ||
         (strcmp(argv[optind], "bake") != 0 && strcmp(argv[optind], "convert") != 0 &&
-         strcmp(argv[optind], "sweep") != 0))
-        return cli_usage_error("say which benchmark: gi-bench bake SCENE, convert PROBES.vdb "
-                               "or sweep SCENE");
+         strcmp(argv[optind], "sweep") != 0 && strcmp(argv[optind], "memory") != 0))
+        return cli_usage_error("say which benchmark: gi-bench bake SCENE, convert PROBES.vdb, "
+                               "sweep SCENE or memory SCENE");
     if (argc - optind != 2)
         return cli_usage_error("give one input: gi-bench %s FILE", argv[optind]);
     o->mode = argv[optind];
@@ -470,6 +484,201 @@ static int sweep_spacing(sweep *w, const char *dir)
     return r == VDBGI_OK && f ? CLI_OK : (r != VDBGI_OK ? cli_fail(ctx, r) : CLI_FAILED);
 }
 
+/*
+ * Receivers where a player's eye reads light: `count` points 10 cm off the
+ * surfaces, then as many at a character layer, each lifted 0.5-2 m above a
+ * walkable (upward-facing) surface point; each with what 2048 random rays see
+ * there. Points inside solids or under the ground (more than a quarter of
+ * back faces) are dropped. Returns the number kept of each kind.
+ */
+static vdbgi_result receivers(const vdbgi_scene *scene, int count, float *pts, float *ref,
+                              int *surface, int *character)
+{
+    float *const flat = calloc(3 * (size_t)count, sizeof(float));
+    float *const bf = calloc(2 * (size_t)count, sizeof(float));
+    vdbgi_result r = flat && bf ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
+    if (r == VDBGI_OK)
+        r = vdbgi_scene_sample_surface(scene, (size_t)count, 0.1f, 7, pts);
+    if (r == VDBGI_OK) /* the same points on the surface: their offset is the normal */
+        r = vdbgi_scene_sample_surface(scene, (size_t)count, 0.0f, 7, flat);
+    int n = 0;
+    for (int k = 0; r == VDBGI_OK && k < count; k++) {
+        const float up = (pts[3 * k + 1] - flat[3 * k + 1]) / 0.1f;
+        if (up < 0.7f)
+            continue; /* not walkable: steeper than about 45 degrees */
+        float *const c = &pts[3 * (count + n)];
+        const unsigned h = (unsigned)k * 2654435761u;
+        memcpy(c, &flat[3 * k], 3 * sizeof(float));
+        c[1] += 0.5f + 1.5f * (float)(h >> 8) / 16777216.0f;
+        n++;
+    }
+    const vdbgi_bake_desc rd = {.rays = 2048, .sampling = VDBGI_SAMPLING_RANDOM, .seed = 5};
+    if (r == VDBGI_OK)
+        r = vdbgi_scene_bake_points(scene, &rd, pts, (size_t)(count + n), ref, bf);
+    int kept = 0;
+    *surface = *character = 0;
+    for (int k = 0; r == VDBGI_OK && k < count + n; k++)
+        if (bf[k] <= 0.25f) {
+            memmove(&pts[3 * kept], &pts[3 * k], 3 * sizeof(float));
+            memmove(&ref[3 * kept], &ref[3 * k], 3 * sizeof(float));
+            kept++;
+            ++*(k < count ? surface : character);
+        }
+    free(flat);
+    free(bf);
+    return r;
+}
+
+/* Bytes of a dense RGBM grid over the probes' box, gzip'd as the .gi is (level 6). */
+static size_t dense_gzip_bytes(const vdbgi_volume *exact, const vdbgi_probes_info *pi)
+{
+    z_stream z = {0};
+    if (deflateInit2(&z, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+        return 0;
+    const int nx = pi->ijk_max[0] - pi->ijk_min[0] + 1;
+    uint8_t *const row = malloc(4 * (size_t)nx);
+    uint8_t out[1 << 16];
+    size_t total = 0;
+    vdbgi_volume_info vi;
+    vdbgi_volume_get_info(exact, &vi);
+    for (int z0 = pi->ijk_min[2]; row && z0 <= pi->ijk_max[2] + 1; z0++)
+        for (int y = pi->ijk_min[1]; y <= pi->ijk_max[1]; y++) {
+            const bool last = z0 > pi->ijk_max[2];
+            if (!last)
+                for (int x = 0; x < nx; x++) {
+                    const int32_t ijk[3] = {pi->ijk_min[0] + x, y, z0};
+                    float pos[3], rgb[3];
+                    for (int k = 0; k < 3; k++)
+                        pos[k] = (float)(pi->origin[k] + pi->spacing * ijk[k]);
+                    vdbgi_volume_sample(exact, pos, rgb);
+                    vdbgi_rgbm_encode(rgb, vi.rgbm_range, &row[4 * x]);
+                }
+            z.next_in = row;
+            z.avail_in = last ? 0 : 4 * (unsigned)nx;
+            do {
+                z.next_out = out;
+                z.avail_out = sizeof(out);
+                deflate(&z, last ? Z_FINISH : Z_NO_FLUSH);
+                total += sizeof(out) - z.avail_out;
+            } while (z.avail_out == 0);
+            if (last)
+                break;
+        }
+    deflateEnd(&z);
+    free(row);
+    return total;
+}
+
+/* One row of memory.csv: a volume's bytes and its errors at the probes and receivers. */
+static void memory_row(FILE *f, double spacing, const char *layout, const char *criterion,
+                       const char *eps, const vdbgi_volume *v, size_t vram, size_t file,
+                       const float *pts, const float *ref, float *got, int surface, int character)
+{
+    vdbgi_volume_info vi;
+    vdbgi_volume_get_info(v, &vi);
+    double s_rmse, s_p99, c_rmse, c_p99;
+    receiver_error(v, pts, ref, got, surface, &s_rmse, &s_p99);
+    receiver_error(v, &pts[3 * surface], &ref[3 * surface], got, character, &c_rmse, &c_p99);
+    const double mean = vi.mean_irradiance > 0.0 ? vi.mean_irradiance : 1.0;
+    fprintf(f, "%g,%s,%s,%s,%zu,%zu,%zu,%u,%u,%u,%u,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%d,%d\n", spacing,
+            layout, criterion, eps, vi.valid_count, vram, file, vi.bricks[0], vi.bricks[1],
+            vi.bricks[2], vi.bricks[3], vi.rmse / mean, vi.p99 / mean, s_rmse, s_p99, c_rmse, c_p99,
+            surface, character);
+    fflush(f);
+}
+
+static int bench_memory(const options *o, bool one_spacing)
+{
+    const char *const dir = o->out ? o->out : "build/chart";
+    if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
+        cli_error("%s: cannot make directory: %s", dir, strerror(errno));
+        return CLI_FAILED;
+    }
+    vdbgi_context *const ctx = cli_context();
+    if (!ctx)
+        return CLI_FAILED;
+    vdbgi_scene *scene = NULL;
+    enum { RECEIVERS = 3000 };
+    float *const pts = calloc(6 * RECEIVERS, sizeof(float));
+    float *const ref = calloc(6 * RECEIVERS, sizeof(float));
+    float *const got = calloc(6 * RECEIVERS, sizeof(float));
+    int surface = 0, character = 0;
+    vdbgi_result r =
+        pts && ref && got ? vdbgi_scene_load(ctx, o->scene, &scene) : VDBGI_ERR_OUT_OF_MEMORY;
+    if (r == VDBGI_OK)
+        r = receivers(scene, RECEIVERS, pts, ref, &surface, &character);
+    FILE *const f =
+        r == VDBGI_OK
+            ? open_csv(dir, "memory.csv",
+                       "spacing,layout,criterion,eps,valid_probes,vram_bytes,file_bytes,"
+                       "bricks_l0,bricks_l1,bricks_l2,bricks_l3,probe_rmse_rel,probe_p99_rel,"
+                       "surface_rmse_rel,surface_p99_rel,character_rmse_rel,"
+                       "character_p99_rel,surface_points,character_points")
+            : NULL;
+    static const double spacings[] = {0.25, 0.5, 1.0};
+    static const float eps[] = {0.05f, 0.1f, 0.2f, 0.4f};
+    static const char *const eps_text[] = {"0.05", "0.1", "0.2", "0.4"};
+    for (int i = 0; f && r == VDBGI_OK && i < 3; i++) {
+        const double spacing = one_spacing ? o->spacing : spacings[i];
+        if (one_spacing && i > 0)
+            break;
+        /* Probes up to 2.5 m from a surface at every spacing, so that a character's
+           head (2 m) and the lattice step above it have probes (the default margin,
+           4 spacings, is 1 m at 0.25 m). */
+        const vdbgi_place_desc pd = {.spacing = spacing, .margin = 2.5};
+        const vdbgi_bake_desc bd = {.rays = o->rays};
+        vdbgi_probes *p = NULL;
+        r = vdbgi_probes_place(ctx, scene, &pd, &p);
+        if (r == VDBGI_OK)
+            r = vdbgi_probes_bake(p, scene, &bd, NULL);
+        /* The dense grid holds every probe as it is: the bricks at eps 0, level 0. */
+        vdbgi_volume *exact = NULL;
+        const vdbgi_convert_desc ed = {.eps = VDBGI_ZERO, .max_level = VDBGI_ZERO};
+        if (r == VDBGI_OK)
+            r = vdbgi_volume_build(ctx, p, &ed, &exact);
+        if (r == VDBGI_OK) {
+            vdbgi_probes_info pi;
+            vdbgi_volume_info ei;
+            vdbgi_probes_get_info(p, &pi);
+            vdbgi_volume_get_info(exact, &ei);
+            memory_row(f, spacing, "dense", "-", "0", exact, ei.dense_rgba8_size,
+                       dense_gzip_bytes(exact, &pi), pts, ref, got, surface, character);
+        }
+        vdbgi_volume_destroy(exact);
+        for (int l = 0; r == VDBGI_OK && l < 2; l++)
+            for (int c = 0; r == VDBGI_OK && c < 2; c++)
+                for (int e = 0; r == VDBGI_OK && e < 4; e++) {
+                    const vdbgi_convert_desc d = {
+                        .eps = eps[e],
+                        .layout = l ? VDBGI_LAYOUT_COMPACT : VDBGI_LAYOUT_SEED,
+                        .criterion = c ? VDBGI_CRITERION_RMSE : VDBGI_CRITERION_INTERP};
+                    vdbgi_volume *v = NULL;
+                    r = vdbgi_volume_build(ctx, p, &d, &v);
+                    if (r == VDBGI_OK) {
+                        vdbgi_volume_info vi;
+                        vdbgi_volume_get_info(v, &vi);
+                        memory_row(f, spacing, l ? "compact" : "seed", c ? "rmse" : "interp",
+                                   eps_text[e], v, vi.indirection_size + vi.atlas_size,
+                                   vi.file_size, pts, ref, got, surface, character);
+                    }
+                    vdbgi_volume_destroy(v);
+                }
+        vdbgi_probes_destroy(p);
+    }
+    if (f)
+        fclose(f);
+    if (r == VDBGI_OK && f)
+        printf("memory: %s/memory.csv (%d surface and %d character receivers)\n", dir, surface,
+               character);
+    free(pts);
+    free(ref);
+    free(got);
+    vdbgi_scene_destroy(scene);
+    const int code = r == VDBGI_OK && f ? CLI_OK : (r != VDBGI_OK ? cli_fail(ctx, r) : CLI_FAILED);
+    vdbgi_context_destroy(ctx);
+    return code;
+}
+
 static int bench_sweep(const options *o)
 {
     const char *const dir = o->out ? o->out : "build/chart";
@@ -506,6 +715,8 @@ int main(int argc, char **argv)
         return bench_convert(&o);
     if (strcmp(o.mode, "sweep") == 0)
         return bench_sweep(&o);
+    if (strcmp(o.mode, "memory") == 0)
+        return bench_memory(&o, o.spacing_given);
 
     /* gi-bake lives beside gi-bench unless told otherwise. */
     char gi_bake[PATH_MAX];

@@ -32,7 +32,8 @@ static void usage(void)
            "      --max-level L     largest brick level, 0..3: a level-L brick spans 4*2^L\n"
            "                        probes (3)\n"
            "      --criterion C     interp: keep a coarse brick when its interpolation\n"
-           "                        reproduces every probe it covers within eps; range: when\n"
+           "                        reproduces every probe it covers within eps; rmse: when\n"
+           "                        its RMSE over them is within eps (Unreal); range: when\n"
            "                        its colour range is within eps, as seed 000 (interp)\n"
            "      --encoding E      rgbm (rgba8, range 8, as seed 000) or rgb9e5 (rgbm)\n"
            "      --noise-sigmas K  allow each block K standard errors of sampling noise\n"
@@ -151,8 +152,11 @@ static int parse_args(int argc, char **argv, options *o)
                 o->convert.criterion = VDBGI_CRITERION_RANGE;
             else if (strcmp(optarg, "interp") == 0)
                 o->convert.criterion = VDBGI_CRITERION_INTERP;
+            else if (strcmp(optarg, "rmse") == 0)
+                o->convert.criterion = VDBGI_CRITERION_RMSE;
             else
-                return cli_usage_error("--criterion must be range or interp (got '%s')", optarg);
+                return cli_usage_error("--criterion must be range, interp or rmse (got '%s')",
+                                       optarg);
             break;
         case OPT_ENCODING:
             if (strcmp(optarg, "rgbm") == 0)

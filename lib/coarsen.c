@@ -164,8 +164,9 @@ void vdbgi_brick_interpolate(const float s[][3], vdbgi_layout layout, const int3
 }
 
 /*
- * Unreal's test: does the coarse brick reproduce every filled point it draws
- * within tolerance? The shader keeps a block's brick up to the next block's
+ * Does the coarse brick reproduce the filled points it draws within
+ * tolerance: every one (INTERP), or in the root mean square of each point's
+ * largest channel error (RMSE, Unreal's rule)? The shader keeps a block's brick up to the next block's
  * first probe, so the probes one step past the block's far faces are tested
  * too: with both ends of that last step within tolerance, and the next
  * block's brick exact or within its own tolerance at that probe, the jump
@@ -181,6 +182,10 @@ static bool interpolation_fits(const builder *b, const int32_t key[3], int level
     const int span = 1 << level, n = VDBGI_BRICK * span;
     const level_map *const cells = &b->levels[0];
     const vdbgi_leaf *cache = NULL;
+    const float tolerance = b->cp->tolerance + noise;
+    const bool rmse = b->cp->criterion == VDBGI_CRITERION_RMSE;
+    double sum = 0.0;
+    size_t count = 0;
     for (int z = 0; z <= n; z++)
         for (int y = 0; y <= n; y++)
             for (int x = 0; x <= n; x++) {
@@ -196,11 +201,48 @@ static bool interpolation_fits(const builder *b, const int32_t key[3], int level
                     continue;
                 const double pos[3] = {p[0], p[1], p[2]};
                 vdbgi_brick_interpolate(s, b->cp->layout, key, level, pos, got);
+                float worst = 0.0f;
                 for (int k = 0; k < 3; k++)
-                    if (fabsf(got[k] - want[k]) > b->cp->tolerance + noise)
-                        return false;
+                    worst = fmaxf(worst, fabsf(got[k] - want[k]));
+                if (!rmse && worst > tolerance)
+                    return false;
+                sum += (double)worst * worst;
+                count++;
             }
-    return true;
+    return !rmse || count == 0 || sqrt(sum / (double)count) <= tolerance;
+}
+
+/*
+ * The range criterion in the compact layout: a coarse brick there stands its
+ * last probes on the next blocks' first ones (its + border), so the block's
+ * own range says nothing about the step into them. The range of the block
+ * together with the filled points on its + faces bounds every value the
+ * brick interpolates.
+ */
+static float range_with_far_faces(const builder *b, const block_stats *st, const int32_t key[3],
+                                  int level)
+{
+    block_stats all = *st;
+    const int n = VDBGI_BRICK << level;
+    const vdbgi_leaf *cache = NULL;
+    for (int z = 0; z <= n; z++)
+        for (int y = 0; y <= n; y++)
+            for (int x = 0; x <= n; x++) {
+                if (x < n && y < n && z < n) {
+                    x = n - 1; /* inside: skip to the + face of this row */
+                    continue;
+                }
+                const int32_t p[3] = {key[0] * n + x, key[1] * n + y, key[2] * n + z};
+                const float *const v = vdbgi_field_at(b->filled, p, &cache);
+                if (!v)
+                    continue;
+                for (int c = 0; c < 3; c++) {
+                    all.lo[c] = fminf(all.lo[c], v[c]);
+                    all.hi[c] = fmaxf(all.hi[c], v[c]);
+                }
+                all.count++;
+            }
+    return stats_range(&all);
 }
 
 /*
@@ -240,9 +282,13 @@ static vdbgi_result visit(builder *b, const int32_t key[3], int level)
      * reaches half a coarse texel into the neighbours, and a flat block beside a
      * shadow edge would draw the edge into its own probes (docs/stability.md).
      */
-    const bool coarse = b->cp->criterion == VDBGI_CRITERION_RANGE
-                            ? stats_range(st) - 2.0f * noise <= b->cp->tolerance
-                            : interpolation_fits(b, key, level, mean, noise);
+    bool coarse;
+    if (b->cp->criterion != VDBGI_CRITERION_RANGE)
+        coarse = interpolation_fits(b, key, level, mean, noise);
+    else if (b->cp->layout == VDBGI_LAYOUT_COMPACT)
+        coarse = range_with_far_faces(b, st, key, level) - 2.0f * noise <= b->cp->tolerance;
+    else
+        coarse = stats_range(st) - 2.0f * noise <= b->cp->tolerance;
     if (coarse)
         return keep(b, key, level, mean);
     for (int c = 0; c < 8; c++) {

@@ -17,7 +17,7 @@ typedef struct vdbgi_coarsen_params {
     int max_level;             /* 0..3 */
     float tolerance;           /* eps * mean irradiance: absolute, per channel */
     float sigmas;              /* noise allowance: a probe may stray this many standard errors */
-    vdbgi_criterion criterion; /* resolved: RANGE or INTERP */
+    vdbgi_criterion criterion; /* resolved: RANGE, INTERP or RMSE */
     float fallback[3];         /* mean of the valid probes: a block with no filled point */
     int threads;               /* >= 1 */
     vdbgi_layout layout;       /* where a coarse brick's probes stand */

@@ -526,10 +526,12 @@ typedef enum vdbgi_layout {
 } vdbgi_layout;
 
 typedef enum vdbgi_criterion {
-    VDBGI_CRITERION_AUTO = 0,  /* the default: VDBGI_CRITERION_INTERP (see docs/converter.md) */
-    VDBGI_CRITERION_RANGE = 1, /* keep a block coarse if its colour range <= eps (seed 000) */
-    VDBGI_CRITERION_INTERP = 2 /* ... or if its brick's trilinear interpolation reproduces
-                                   every fine probe it covers within eps (Unreal) */
+    VDBGI_CRITERION_AUTO = 0,   /* the default: VDBGI_CRITERION_INTERP (see docs/converter.md) */
+    VDBGI_CRITERION_RANGE = 1,  /* keep a block coarse if its colour range <= eps (seed 000) */
+    VDBGI_CRITERION_INTERP = 2, /* ... or if its brick's trilinear interpolation reproduces
+                                   every fine probe it covers within eps */
+    VDBGI_CRITERION_RMSE = 3    /* ... or if that interpolation's RMSE over the fine probes
+                                   it covers is within eps (Unreal's volumetric lightmap) */
 } vdbgi_criterion;
 
 typedef enum vdbgi_fill {

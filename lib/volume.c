@@ -28,9 +28,9 @@ static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *d
     *max_level = desc->max_level == 0 ? 3 : desc->max_level == VDBGI_ZERO ? 0 : desc->max_level;
     VDBGI_FAIL_IF(ctx, *max_level < 0 || *max_level > 3, VDBGI_ERR_INVALID_ARG,
                   "max level must be in 0..3 (got %d)", desc->max_level);
-    VDBGI_FAIL_IF(
-        ctx, desc->criterion < VDBGI_CRITERION_AUTO || desc->criterion > VDBGI_CRITERION_INTERP,
-        VDBGI_ERR_INVALID_ARG, "unknown criterion %d", (int)desc->criterion);
+    VDBGI_FAIL_IF(ctx,
+                  desc->criterion < VDBGI_CRITERION_AUTO || desc->criterion > VDBGI_CRITERION_RMSE,
+                  VDBGI_ERR_INVALID_ARG, "unknown criterion %d", (int)desc->criterion);
     *criterion = desc->criterion == VDBGI_CRITERION_AUTO ? VDBGI_CRITERION_INTERP : desc->criterion;
     VDBGI_FAIL_IF(ctx,
                   desc->encoding != VDBGI_ENCODING_RGBM && desc->encoding != VDBGI_ENCODING_RGB9E5,

@@ -3,7 +3,9 @@
  * coarsening every valid probe reads back within the encoding's step; aprons
  * make brick boundaries invisible; a larger eps never grows the atlas; a flat
  * field becomes a few level-3 bricks and a linear one stays coarse under the
- * interpolation criterion; invalid probes never leak; only cells whose filter
+ * interpolation criterion; Unreal's RMSE rule never keeps more bricks than
+ * the max-error one; at eps 0 every layout and criterion gives back every
+ * probe; invalid probes never leak; only cells whose filter
  * reads a valid probe get bricks; files round-trip and
  * damaged ones are refused; bad parameters and failing allocations are
  * reported cleanly.
@@ -128,7 +130,7 @@ static void larger_eps_never_grows_the_atlas(void)
     vdbgi_context *ctx = test_context();
     vdbgi_probes *p = test_slab(ctx, 64, 10, 48, smooth);
     const float eps[] = {VDBGI_ZERO, 0.01f, 0.03f, 0.1f, 0.3f, 1.0f, 3.0f};
-    for (int c = VDBGI_CRITERION_RANGE; c <= VDBGI_CRITERION_INTERP; c++) {
+    for (int c = VDBGI_CRITERION_RANGE; c <= VDBGI_CRITERION_RMSE; c++) {
         size_t last_atlas = SIZE_MAX, last_bricks = SIZE_MAX;
         double last_rmse = 0.0;
         for (size_t i = 0; i < sizeof(eps) / sizeof(eps[0]); i++) {
@@ -148,6 +150,89 @@ static void larger_eps_never_grows_the_atlas(void)
             vdbgi_volume_destroy(v);
         }
         CHECK(last_bricks == 4 * 2 * 3); /* eps 3: one brick per level-3 block */
+    }
+    vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+}
+
+/*
+ * Unreal's rule (rmse) passes every block the max-error rule (interp) passes,
+ * so at one eps it never keeps more bricks, and on a bending field it keeps
+ * fewer; at eps 0 both keep only blocks they reproduce exactly: the same
+ * textures.
+ */
+static void rmse_criterion_coarsens_at_least_as_much_as_interp(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_probes *p = test_slab(ctx, 64, 10, 48, smooth);
+    const float eps[] = {VDBGI_ZERO, 0.01f, 0.03f, 0.1f, 0.3f};
+    bool fewer = false;
+    for (size_t i = 0; i < sizeof(eps) / sizeof(eps[0]); i++) {
+        vdbgi_volume *v[2] = {NULL, NULL};
+        vdbgi_volume_info info[2];
+        for (int c = 0; c < 2; c++) {
+            const vdbgi_convert_desc d = {
+                .eps = eps[i], .criterion = c ? VDBGI_CRITERION_RMSE : VDBGI_CRITERION_INTERP};
+            CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v[c]), VDBGI_OK);
+            if (v[c])
+                vdbgi_volume_get_info(v[c], &info[c]);
+        }
+        if (v[0] && v[1]) {
+            CHECK(info[1].brick_count <= info[0].brick_count);
+            fewer |= info[1].brick_count < info[0].brick_count;
+            if (i == 0) {
+                const size_t n = vdbgi_volume_copy_atlas(v[0], NULL, 0);
+                uint8_t *const a = malloc(n), *const b = malloc(n);
+                CHECK(n == vdbgi_volume_copy_atlas(v[1], NULL, 0) && a && b &&
+                      vdbgi_volume_copy_atlas(v[0], a, n) == n &&
+                      vdbgi_volume_copy_atlas(v[1], b, n) == n && memcmp(a, b, n) == 0);
+                free(a);
+                free(b);
+            }
+        }
+        vdbgi_volume_destroy(v[0]);
+        vdbgi_volume_destroy(v[1]);
+    }
+    CHECK(fewer);
+    vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+}
+
+/*
+ * At eps 0 every layout and criterion gives back every valid probe within the
+ * encoding's step, whatever the max level: a coarse brick survives only where
+ * it is exact.
+ */
+static void at_eps_0_every_layout_returns_every_probe(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_probes *p = test_slab(ctx, 40, 10, 24, ramp);
+    for (int run = 0; run < 6; run++) {
+        const vdbgi_convert_desc d = {.eps = VDBGI_ZERO,
+                                      .layout = (vdbgi_layout)(run % 2),
+                                      .criterion = (vdbgi_criterion)(1 + run / 2)};
+        vdbgi_volume *v = NULL;
+        CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
+        if (!v)
+            continue;
+        vdbgi_volume_info info;
+        vdbgi_volume_get_info(v, &info);
+        double worst = 0.0;
+        for (size_t i = 0; i < p->count; i++) {
+            const double q[3] = {p->ijk[3 * i], p->ijk[3 * i + 1], p->ijk[3 * i + 2]};
+            float pos[3], got[3];
+            world_of(p, q, pos);
+            vdbgi_volume_sample(v, pos, got);
+            const float *const want = &p->rgb[3 * i];
+            const float mx = fmaxf(want[0], fmaxf(want[1], want[2]));
+            const float step = (mx + 8.0f / 255.0f) / 255.0f;
+            for (int k = 0; k < 3; k++)
+                worst = fmax(worst, fabs(got[k] - want[k]) / step);
+        }
+        CHECK(worst <= 1.0);
+        if (worst > 1.0)
+            fprintf(stderr, "# layout %d criterion %d: %.2f steps\n", run % 2, 1 + run / 2, worst);
+        vdbgi_volume_destroy(v);
     }
     vdbgi_probes_destroy(p);
     vdbgi_context_destroy(ctx);
@@ -602,6 +687,8 @@ int main(void)
     RUN(exact_bricks_give_back_every_valid_probe);
     RUN(aprons_hide_brick_boundaries);
     RUN(larger_eps_never_grows_the_atlas);
+    RUN(rmse_criterion_coarsens_at_least_as_much_as_interp);
+    RUN(at_eps_0_every_layout_returns_every_probe);
     RUN(flat_field_becomes_a_few_level3_bricks);
     RUN(linear_ramp_stays_coarse_under_interpolation);
     RUN(invalid_probes_never_leak_their_value);
