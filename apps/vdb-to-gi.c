@@ -44,7 +44,7 @@ static void usage(void)
            "                        dark rooms, or mean (darkest); applies to --bevy too\n"
            "      --layout L        seed: 6^3 texels a brick, for seed 000's shader as it\n"
            "                        is; compact: 5^3 texels, coarse probes at block corners,\n"
-           "                        levels stitched (docs/format.md) (seed)\n"
+           "                        levels stitched (docs/format.md) (compact)\n"
            "      --slices DIR      write slice images (PNG and EXR) into DIR\n"
            "      --slice-axis A    x, y or z (y)\n"
            "      --slice-at M      world coordinate of the slice (the plane with most probes)\n"
@@ -420,7 +420,13 @@ static vdbgi_result write_json(vdbgi_context *ctx, const options *o, const vdbgi
 int main(int argc, char **argv)
 {
     cli_init("vdb-to-gi");
-    options o = {.axis = VDBGI_AXIS_Y, .slice_at = NAN, .exposure = NAN};
+    /* The compact layout by default: half the memory of seed 000's at the same error
+       where light is read (docs/converter.md, section 12). The library's zero value
+       stays the seed layout. */
+    options o = {.axis = VDBGI_AXIS_Y,
+                 .slice_at = NAN,
+                 .exposure = NAN,
+                 .convert = {.layout = VDBGI_LAYOUT_COMPACT}};
     const int parsed = parse_args(argc, argv, &o);
     if (parsed >= 0)
         return parsed;

@@ -1,7 +1,10 @@
 #!/bin/sh
 # chart.sh: `make chart`. Sweep rays, eps and spacing on the bundled world (gi-bench sweep),
 # keep the CSV tables in docs/data/ and draw docs/img/chart_*.png with gnuplot; run the
-# long stability cases (tests/test_stability.c --full) into docs/data/stability.csv.
+# long stability cases (tests/test_stability.c --full) into docs/data/stability.csv;
+# then memory against the error a player sees (gi-bench memory) on the bundled
+# world, and with ALL=1 on the 200 m world and the town too (about 40 minutes
+# on 2 cores), into docs/data/memory_*.csv and docs/img/chart_memory_*.png.
 set -eu
 BUILD=${BUILD:-build/release}
 OUT=build/chart
@@ -20,4 +23,23 @@ fi
     sed -n 's/^# //p' "$OUT/stability.log"
 } >"$OUT/stability.csv"
 cp "$OUT/stability.csv" docs/data/stability.csv
-echo "chart: docs/img/chart_rays.png, chart_size.png, chart_spacing.png (tables in docs/data/, stability.csv among them)"
+"$BUILD/bin/gi-bench" memory data/world.glb --out "$OUT"
+cp "$OUT/memory.csv" docs/data/memory_world.csv
+if [ "${ALL:-0}" = 1 ]; then
+    [ -f build/bench/world200.glb ] || python3 data/make_scenes.py --world 200 build/bench/world200.glb
+    [ -f build/bench/town.glb ] || python3 data/make_scenes.py --town build/bench/town.glb
+    "$BUILD/bin/gi-bench" memory build/bench/world200.glb --out "$OUT"
+    cp "$OUT/memory.csv" docs/data/memory_world200.csv
+    : >"$OUT/memory_town.csv"
+    for s in 0.25 0.5 1; do
+        "$BUILD/bin/gi-bench" memory build/bench/town.glb --out "$OUT" --spacing $s
+        if [ -s "$OUT/memory_town.csv" ]; then tail -n +2 "$OUT/memory.csv"; else cat "$OUT/memory.csv"; fi \
+            >>"$OUT/memory_town.csv"
+    done
+    cp "$OUT/memory_town.csv" docs/data/memory_town.csv
+fi
+for w in world:"Bundled 48 m world" world200:"Generated 200 m world" town:"Town, 200 x 60 x 200 m"; do
+    f=docs/data/memory_${w%%:*}.csv
+    [ -f "$f" ] && gnuplot -e "csv='$f'; out='docs/img/chart_memory_${w%%:*}.png'; name='${w#*:}'" docs/charts/memory.gp
+done
+echo "chart: docs/img/chart_rays.png, chart_size.png, chart_spacing.png, chart_memory_*.png (tables in docs/data/, stability.csv among them)"

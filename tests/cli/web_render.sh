@@ -3,7 +3,7 @@
 # through WebGPU (TSL), for both encodings and both brick layouts, and 400
 # covered pixels match gi-inspect --at at their world positions within the
 # tolerance docs/web.md derives; the brick-level view shows their levels.
-# The seed's range criterion at a coarse eps puts level 1 and 2 bricks where
+# The seed's range criterion at a coarse eps puts level 1 (and, seed layout, 2) bricks where
 # the camera looks, so the lookup's coarse-brick arithmetic is exercised.
 if [ ! -x "${CHROMIUM:-/usr/bin/chromium}" ] || [ ! -d "$ROOT/web/node_modules/puppeteer-core" ]; then
     echo "chromium or web/node_modules missing (make deps installs both)"
