@@ -89,6 +89,9 @@ export function giIrradiance(runtime, pos = positionWorld) {
 export function applyGi(material, runtime, { set = 'world', perFragment = false } = {}) {
   if (!material.isNodeMaterial) throw new Error('applyGi: a node material (toNodeMaterial() converts)');
   if (set !== 'world' && set !== 'character') throw new Error(`unknown knob set '${set}' (world or character)`);
+  // Twice would add the bounce twice: apply to a fresh material instead.
+  if (material.userData.vdbgi) throw new Error('applyGi: this material has GI already');
+  material.userData.vdbgi = { set, perFragment };
   const n = giNodes(runtime);
   const here = n.lookup(positionWorld);
   const irradiance = perFragment ? here.irradiance : varying(n.lookup(positionWorld).irradiance);

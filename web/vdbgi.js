@@ -200,6 +200,9 @@ export class GiRuntime {
     const knobs = this._set(set);
     if (!(material.isMeshStandardMaterial || material.isMeshLambertMaterial))
       throw new Error('patchMaterial: a MeshStandardMaterial, MeshPhysicalMaterial or MeshLambertMaterial');
+    // Twice would inject the shader code twice: patch a clone instead.
+    if (material.userData.vdbgi) throw new Error('patchMaterial: this material is patched already');
+    material.userData.vdbgi = { set, perFragment };
     const previous = material.onBeforeCompile;
     const u = this.uniforms;
     material.onBeforeCompile = (shader, renderer) => {
