@@ -38,9 +38,10 @@ static void usage(void)
            "Prints a Markdown table; ratios are against the fastest bare loop.\n"
            "\n"
            "convert: time reading the .vdb (fastest of --repeat), then convert it with each\n"
-           "criterion (range, interp) at eps 0, 0.01, 0.03, 0.1, 0.2, 0.4 in RGBM, and the\n"
-           "default in RGB9E5; print bytes against the dense RGBA8 grid, the error, and the\n"
-           "conversion time against the read.\n"
+           "criterion (range, interp) at eps 0, 0.01, 0.03, 0.1, 0.2, 0.4 in RGBM in the seed\n"
+           "layout, and the defaults (compact layout) in RGBM and RGB9E5 and in the seed\n"
+           "layout; print bytes against the dense RGBA8 grid, the error, and the conversion\n"
+           "time against the read.\n"
            "\n"
            "sweep: speed against accuracy on SCENE, as CSV files in --out: rays.csv (rays\n"
            "16..1024 per sampling, and adaptive targets, against a 4096-ray random bake of\n"
@@ -227,19 +228,21 @@ static int bench_convert(const options *o)
         for (size_t e = 0; e < sizeof(eps) / sizeof(eps[0]) && code == CLI_OK; e++) {
             const vdbgi_convert_desc d = {.eps = eps[e], .criterion = (vdbgi_criterion)c};
             char label[64];
-            snprintf(label, sizeof(label), "%s, %s, rgbm",
+            snprintf(label, sizeof(label), "%s, %s, rgbm, seed layout",
                      c == VDBGI_CRITERION_RANGE ? "range" : "interp", eps_text[e]);
             code = convert_row(ctx, p, &d, label, read_seconds);
         }
-    const vdbgi_convert_desc defaults = {0}, e9 = {.encoding = VDBGI_ENCODING_RGB9E5};
+    /* vdb-to-gi's default, the compact layout, and seed 000's layout (the library's zero value). */
+    const vdbgi_convert_desc compact = {.layout = VDBGI_LAYOUT_COMPACT},
+                             e9 = {.layout = VDBGI_LAYOUT_COMPACT,
+                                   .encoding = VDBGI_ENCODING_RGB9E5},
+                             seed = {.layout = VDBGI_LAYOUT_SEED};
     if (code == CLI_OK)
-        code = convert_row(ctx, p, &defaults, "**default**, rgbm", read_seconds);
+        code = convert_row(ctx, p, &compact, "**default** (compact), rgbm", read_seconds);
     if (code == CLI_OK)
-        code = convert_row(ctx, p, &e9, "default, rgb9e5", read_seconds);
-    /* The compact layout (5^3 texels a brick, stitched levels) at the other defaults. */
-    const vdbgi_convert_desc compact = {.layout = VDBGI_LAYOUT_COMPACT};
+        code = convert_row(ctx, p, &e9, "default (compact), rgb9e5", read_seconds);
     if (code == CLI_OK)
-        code = convert_row(ctx, p, &compact, "default, rgbm, compact layout", read_seconds);
+        code = convert_row(ctx, p, &seed, "default, rgbm, seed layout", read_seconds);
     printf("\n");
     vdbgi_probes_destroy(p);
     vdbgi_context_destroy(ctx);
