@@ -32,9 +32,9 @@ mkdir -p "$OUT"
     echo "### Browser runtime: load and frame time in headless Chromium, SwiftShader (docs/web.md)"
     echo
     if [ -x "${CHROMIUM:-/usr/bin/chromium}" ] && [ -d web/node_modules/puppeteer-core ]; then
-        "$BUILD/bin/vdb-to-gi" -q "$OUT/world200.vdb" -o "$OUT/world200.compact.gi.gz" --layout compact
+        "$BUILD/bin/vdb-to-gi" -q "$OUT/world200.vdb" -o "$OUT/world200.seed.gi.gz" --layout seed
         node tests/web/bench_web.mjs data/world.glb "$OUT/world.gi.gz" \
-            "200 m, seed=$OUT/world200.gi.gz" "200 m, compact=$OUT/world200.compact.gi.gz"
+            "200 m, seed=$OUT/world200.seed.gi.gz" "200 m, compact=$OUT/world200.gi.gz"
     else
         echo "(skipped: chromium or web/node_modules missing; make deps installs both)"
     fi
