@@ -51,26 +51,45 @@ vdbgi_result vdbgi_gifile_alloc(vdbgi_volume *v)
     return VDBGI_OK;
 }
 
-vdbgi_result vdbgi_gifile_encode(vdbgi_volume *v)
+vdbgi_result vdbgi_gifile_encode_begin(vdbgi_volume *v, vdbgi_gzip_job *job)
 {
-    vdbgi_context *const ctx = v->ctx;
+    memset(job, 0, sizeof(*job));
     write_header(&v->info, v->raw);
-    const size_t raw = VDBGI_GI_HEADER_SIZE + v->info.indirection_size + v->info.atlas_size;
+    job->in = v->raw;
+    job->in_size = VDBGI_GI_HEADER_SIZE + v->info.indirection_size + v->info.atlas_size;
     /* libdeflate: one call over the whole buffer, several times faster than zlib at level 6. */
-    struct libdeflate_compressor *const c = libdeflate_alloc_compressor(6);
-    VDBGI_FAIL_IF(ctx, !c, VDBGI_ERR_OUT_OF_MEMORY, "libdeflate: cannot start compression");
-    const size_t cap = libdeflate_gzip_compress_bound(c, raw);
-    uint8_t *const out = vdbgi_alloc(ctx, cap);
-    const size_t written = out ? libdeflate_gzip_compress(c, v->raw, raw, out, cap) : 0;
-    libdeflate_free_compressor(c);
-    if (!written) {
-        vdbgi_free(ctx, out);
-        return out ? vdbgi_fail(ctx, VDBGI_ERR_BACKEND, "libdeflate: compression failed")
-                   : VDBGI_ERR_OUT_OF_MEMORY;
+    job->compressor = libdeflate_alloc_compressor(6);
+    VDBGI_FAIL_IF(v->ctx, !job->compressor, VDBGI_ERR_OUT_OF_MEMORY,
+                  "libdeflate: cannot start compression");
+    job->capacity = libdeflate_gzip_compress_bound(job->compressor, job->in_size);
+    job->out = vdbgi_alloc(v->ctx, job->capacity);
+    if (!job->out) {
+        libdeflate_free_compressor(job->compressor);
+        job->compressor = NULL;
+        return VDBGI_ERR_OUT_OF_MEMORY;
     }
-    vdbgi_free(ctx, v->file);
-    v->file = out;
-    v->info.file_size = written;
+    return VDBGI_OK;
+}
+
+void vdbgi_gifile_encode_run(vdbgi_gzip_job *job)
+{
+    job->written =
+        libdeflate_gzip_compress(job->compressor, job->in, job->in_size, job->out, job->capacity);
+}
+
+vdbgi_result vdbgi_gifile_encode_end(vdbgi_volume *v, vdbgi_gzip_job *job)
+{
+    libdeflate_free_compressor(job->compressor);
+    job->compressor = NULL;
+    if (!job->written) {
+        vdbgi_free(v->ctx, job->out);
+        job->out = NULL;
+        return vdbgi_fail(v->ctx, VDBGI_ERR_BACKEND, "libdeflate: compression failed");
+    }
+    vdbgi_free(v->ctx, v->file);
+    v->file = job->out;
+    v->info.file_size = job->written;
+    job->out = NULL;
     return VDBGI_OK;
 }
 

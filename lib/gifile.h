@@ -10,7 +10,22 @@
 
 /* Allocate v->raw for v->info's texture sizes and point indirection and atlas into it. */
 vdbgi_result vdbgi_gifile_alloc(vdbgi_volume *v);
-/* Write the header into v->raw and gzip the whole into v->file. */
-vdbgi_result vdbgi_gifile_encode(vdbgi_volume *v);
+/*
+ * Write the header into v->raw and gzip the whole into v->file, in three
+ * steps: begin allocates, run compresses (it allocates nothing and touches no
+ * context, so it may run on another thread beside other work), end keeps the
+ * result or reports the failure. end also frees what begin took.
+ */
+typedef struct vdbgi_gzip_job {
+    struct libdeflate_compressor *compressor;
+    const uint8_t *in;
+    size_t in_size;
+    uint8_t *out;
+    size_t capacity, written;
+} vdbgi_gzip_job;
+
+vdbgi_result vdbgi_gifile_encode_begin(vdbgi_volume *v, vdbgi_gzip_job *job);
+void vdbgi_gifile_encode_run(vdbgi_gzip_job *job);
+vdbgi_result vdbgi_gifile_encode_end(vdbgi_volume *v, vdbgi_gzip_job *job);
 
 #endif /* VDBGI_GIFILE_H */
