@@ -17,8 +17,9 @@ export function layoutGeometry(layout) {
   return layout === LAYOUT_COMPACT ? { brick: 5, pad: 0, centre: 0 } : { brick: 6, pad: 1, centre: 0.5 };
 }
 
-// Gunzip with the platform's DecompressionStream (browsers, node >= 18).
-export async function gunzip(bytes) {
+// Gunzip with the platform's DecompressionStream (browsers, node >= 18),
+// stopping as soon as the output passes `limit` bytes.
+export async function gunzip(bytes, limit = Infinity) {
   const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream('gzip'));
   const reader = stream.getReader();
   const chunks = [];
@@ -28,6 +29,10 @@ export async function gunzip(bytes) {
     if (done) break;
     chunks.push(value);
     length += value.length;
+    if (length > limit) {
+      await reader.cancel();
+      throw new Error(`unpacks to more than the ${limit} bytes its gzip trailer says`);
+    }
   }
   const out = new Uint8Array(length);
   let at = 0;
@@ -99,19 +104,26 @@ export function parseGi(buf) {
 // milliseconds of each step (gunzip, parse).
 export async function decodeGi(fileBytes, timings = {}) {
   const now = () => (typeof performance !== 'undefined' ? performance.now() : Date.now());
+  // Sizes before allocations (docs/format.md): the trailer says how much the
+  // stream unpacks to; deflate expands at most about 1032:1, so more than
+  // 1100 times the file is a lie, refused before anything is unpacked.
+  if (fileBytes.length < 18) throw new Error('not a whole .gi.gz file (shorter than a gzip stream)');
+  const tail = new DataView(fileBytes.buffer, fileBytes.byteOffset, fileBytes.byteLength);
+  const isize = tail.getUint32(fileBytes.length - 4, true);
+  if (isize < HEADER_BYTES || isize > 1100 * fileBytes.length)
+    throw new Error(`not a whole .gi.gz file (its gzip trailer promises ${isize} bytes, ` +
+      `impossible from ${fileBytes.length})`);
   let t = now();
   let buf;
   try {
-    buf = await gunzip(fileBytes);
+    buf = await gunzip(fileBytes, isize);
   } catch (e) {
     throw new Error(`not a gzip'd .gi file, or cut short (${e.message})`);
   }
   timings.gunzip = now() - t;
   t = now();
   // DecompressionStream ignores bytes after the stream; its trailer's length must end the file.
-  const tail = new DataView(fileBytes.buffer, fileBytes.byteOffset, fileBytes.byteLength);
-  if (fileBytes.length < 4 || tail.getUint32(fileBytes.length - 4, true) !== buf.length >>> 0)
-    throw new Error('bytes after the gzip stream');
+  if (isize !== buf.length >>> 0) throw new Error('bytes after the gzip stream');
   const gi = parseGi(buf);
   timings.parse = now() - t;
   return gi;

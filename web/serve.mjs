@@ -27,7 +27,13 @@ export function serve({ port = 0, mounts = {} } = {}) {
     .map(([url, dir]) => [url.endsWith('/') ? url : `${url}/`, resolve(dir)])
     .sort((a, b) => b[0].length - a[0].length);
   const server = createServer((req, res) => {
-    const path = decodeURIComponent(new URL(req.url, 'http://x').pathname);
+    let path;
+    try {
+      path = decodeURIComponent(new URL(req.url, 'http://x').pathname);
+    } catch {
+      res.writeHead(400).end();
+      return;
+    }
     const [prefix, dir] = table.find(([p]) => path.startsWith(p) || `${path}/` === p) ?? [];
     const file = dir && join(dir, path.slice(prefix.length));
     if (!file || (file !== dir && !file.startsWith(dir + sep))) {
@@ -48,7 +54,7 @@ export function serve({ port = 0, mounts = {} } = {}) {
       'Content-Length': size,
       'Cache-Control': 'no-store',
     });
-    createReadStream(file).pipe(res);
+    createReadStream(file).on('error', () => res.destroy()).pipe(res);
   });
   return new Promise((ok, fail) => {
     server.once('error', fail);

@@ -14,6 +14,9 @@ import {
 } from 'three/tsl';
 import { DebugView } from './vdbgi.js';
 
+// Materials applyGi() has seen.
+const applied = new WeakSet();
+
 // One set of nodes per runtime: its uniforms, its two textures, the lookup.
 const nodesOf = new WeakMap();
 
@@ -90,8 +93,8 @@ export function applyGi(material, runtime, { set = 'world', perFragment = false 
   if (!material.isNodeMaterial) throw new Error('applyGi: a node material (toNodeMaterial() converts)');
   if (set !== 'world' && set !== 'character') throw new Error(`unknown knob set '${set}' (world or character)`);
   // Twice would add the bounce twice: apply to a fresh material instead.
-  if (material.userData.vdbgi) throw new Error('applyGi: this material has GI already');
-  material.userData.vdbgi = { set, perFragment };
+  if (applied.has(material)) throw new Error('applyGi: this material has GI already');
+  applied.add(material);
   const n = giNodes(runtime);
   const here = n.lookup(positionWorld);
   const irradiance = perFragment ? here.irradiance : varying(n.lookup(positionWorld).irradiance);

@@ -104,6 +104,9 @@ export class GiVolume {
   }
 }
 
+// Materials patchMaterial() has seen.
+const patched = new WeakSet();
+
 // An all-zero 1-texel texture: with it, every lookup reads black.
 function emptyTexture() {
   const t = new THREE.Data3DTexture(new Uint8Array(4), 1, 1, 1);
@@ -200,9 +203,10 @@ export class GiRuntime {
     const knobs = this._set(set);
     if (!(material.isMeshStandardMaterial || material.isMeshLambertMaterial))
       throw new Error('patchMaterial: a MeshStandardMaterial, MeshPhysicalMaterial or MeshLambertMaterial');
-    // Twice would inject the shader code twice: patch a clone instead.
-    if (material.userData.vdbgi) throw new Error('patchMaterial: this material is patched already');
-    material.userData.vdbgi = { set, perFragment };
+    // Twice would inject the shader code twice. (A clone of a patched material
+    // is not patched: three copies neither onBeforeCompile nor this mark.)
+    if (patched.has(material)) throw new Error('patchMaterial: this material is patched already');
+    patched.add(material);
     const previous = material.onBeforeCompile;
     const u = this.uniforms;
     material.onBeforeCompile = (shader, renderer) => {

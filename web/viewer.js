@@ -24,7 +24,7 @@ if (backend === 'webgpu') {
   renderer = new WebGPURenderer({ canvas, antialias: params.get('aa') !== '0' });
   await renderer.init();
 } else {
-  renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+  renderer = new THREE.WebGLRenderer({ canvas, antialias: params.get('aa') !== '0', preserveDrawingBuffer: true });
 }
 renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
 renderer.toneMapping = THREE.NeutralToneMapping;
@@ -87,13 +87,32 @@ function addCharacter(box) {
   return c;
 }
 
+// Loads finish in any order: only the latest of each kind is shown.
+let sceneToken = 0, volumeToken = 0;
+
+// The GPU side of the scene shown before: geometries, textures, both material variants.
+function disposeScene() {
+  const textures = new Set();
+  for (const m of meshes) {
+    m.mesh.geometry.dispose();
+    for (const mat of [m.vertex, m.fragment]) {
+      for (const v of Object.values(mat)) if (v && v.isTexture) textures.add(v);
+      mat.dispose();
+    }
+  }
+  textures.forEach((t) => t.dispose());
+  meshes.length = 0;
+}
+
 async function loadScene(source, name) {
+  const token = ++sceneToken;
   const loader = new GLTFLoader();
   const gltf = typeof source === 'string' ? await loader.loadAsync(source)
                                           : await loader.parseAsync(source, '');
+  if (token !== sceneToken) return; // a later load won
   if (root) scene.remove(root);
   if (character) scene.remove(character);
-  meshes.length = 0;
+  disposeScene();
   root = gltf.scene;
   scene.add(root);
   root.traverse((o) => {
@@ -120,13 +139,19 @@ async function loadScene(source, name) {
 }
 
 async function loadVolume(source, name) {
+  const token = ++volumeToken;
   try {
     const volume = await loadGi(source, { renderer: backend === 'webgl' ? renderer : null });
+    if (token !== volumeToken) { // a later load won
+      volume.dispose();
+      return;
+    }
     gi.setVolume(volume);
     state.gi = name;
     showFigures(volume, name);
     showError('');
   } catch (e) {
+    if (token !== volumeToken) return;
     // A bad file never half-replaces the volume shown: the scene keeps rendering without it.
     gi.setVolume(null);
     state.gi = null;

@@ -106,9 +106,21 @@ for (const p of result.points) {
     if (d > 1e-4 * Math.max(want[k], 1e-2)) knobBad++;
   }
 }
+// At metalness 0.5 a standard material reflects half the bounce.
+let metalBad = 0;
+for (const p of result.points)
+  for (let k = 0; k < 3; k++)
+    if (Math.abs(p.halfMetal[k] - 0.5 * p.physical[k]) > 1e-4 * Math.max(p.physical[k], 1e-2)) metalBad++;
+console.error(`  metalness 0.5: ${metalBad} channels not half the bounce`);
+knobBad += metalBad;
 bad += knobBad;
 console.error(`  knobs ${JSON.stringify(KNOBS)}: ${knobChecked} pixels, worst relative ${knobWorst.toExponential(2)}, ${knobBad} off`);
 console.error(`  levels seen: ${[...levelsSeen].sort().join(', ')}; ${levelBad} pixels show another level's colour`);
+console.error(`  positions project back within ${result.offPixel.toExponential(2)} pixels of their pixels`);
+if (!(result.offPixel < 0.1)) { // measured 0.037: the rasteriser's interpolation
+  console.log(`${backend}: a pixel's world position projects ${result.offPixel} pixels away from it`);
+  process.exit(1);
+}
 if (bad || levelBad || knobChecked < 300 || result.points.length < 300 || lit < 300) {
   console.log(`${backend} ${enc} ${layout}: ${bad} channels beyond tolerance (${knobBad} of them with the knobs), ` +
     `${levelBad} wrong level colours, ${knobChecked} pixels with the knobs, ` +

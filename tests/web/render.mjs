@@ -109,17 +109,33 @@ async function probe(task) {
   const physical = await readFloat(ctx);
   ctx.gi.setKnobs('world', task.knobs ?? { intensity: 1, self: 1, bleed: 0 });
   const styled = await readFloat(ctx);
+  // Half metal: a standard material reflects the bounce with albedo x (1 - metalness).
+  ctx.gi.setKnobs('world', { intensity: 1, self: 1, bleed: 0 });
+  const materials = new Set();
+  ctx.scene.traverse((o) => o.isMesh && materials.add(o.material));
+  for (const m of materials) m.metalness = 0.5;
+  const halfMetal = await readFloat(ctx);
   const covered = [];
   for (let i = 0; i < ctx.width * ctx.height; i++) if (pos[4 * i + 3] === 1) covered.push(i);
   const want = Math.min(task.points ?? 400, covered.length);
   const points = [];
+  // The world position a pixel reports must project back onto that pixel's
+  // centre: a wrong position (a missing model matrix) would fool the
+  // comparison with the C sampler, which reads the same position.
+  let offPixel = 0;
+  const v = new THREE.Vector3();
   for (let k = 0; k < want; k++) {
     const i = covered[Math.floor((k + 0.5) * covered.length / want)];
+    v.set(pos[4 * i], pos[4 * i + 1], pos[4 * i + 2]).project(ctx.camera);
+    const x = (v.x + 1) / 2 * ctx.width;
+    const y = (ctx.backend === 'webgpu' ? 1 - v.y : v.y + 1) / 2 * ctx.height; // readback rows
+    offPixel = Math.max(offPixel, Math.hypot(x - (i % ctx.width + 0.5), y - (Math.floor(i / ctx.width) + 0.5)));
     points.push({ pixel: i, pos: Array.from(pos.subarray(4 * i, 4 * i + 3)),
       irr: Array.from(irr.subarray(4 * i, 4 * i + 3)), level: Array.from(level.subarray(4 * i, 4 * i + 3)),
-      physical: Array.from(physical.subarray(4 * i, 4 * i + 3)), styled: Array.from(styled.subarray(4 * i, 4 * i + 3)) });
+      physical: Array.from(physical.subarray(4 * i, 4 * i + 3)), styled: Array.from(styled.subarray(4 * i, 4 * i + 3)),
+      halfMetal: Array.from(halfMetal.subarray(4 * i, 4 * i + 3)) });
   }
-  return { covered: covered.length, pixels: ctx.width * ctx.height, points, header: headerOf(ctx.volume) };
+  return { covered: covered.length, pixels: ctx.width * ctx.height, points, offPixel, header: headerOf(ctx.volume) };
 }
 
 function headerOf(volume) {
@@ -177,9 +193,12 @@ async function load(task) {
   const renderer = await makeRenderer('webgl', canvas, 64, 64);
   try {
     const v = await loadGi(task.gi, { renderer });
+    v.dispose();
     return { ok: true, timings: v.timings, vramBytes: v.vramBytes, fileBytes: v.fileBytes };
   } catch (e) {
     return { ok: false, error: e.message };
+  } finally {
+    renderer.dispose();
   }
 }
 
