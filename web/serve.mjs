@@ -22,7 +22,7 @@ const TYPES = {
 
 export function serve({ port = 0, mounts = {} } = {}) {
   const root = resolve(fileURLToPath(new URL('..', import.meta.url)));
-  // Longest prefix first, so /work/x wins over /.
+  // Longest prefix first, so /files/x wins over /.
   const table = Object.entries({ '/': root, ...mounts })
     .map(([url, dir]) => [url.endsWith('/') ? url : `${url}/`, resolve(dir)])
     .sort((a, b) => b[0].length - a[0].length);

@@ -25,13 +25,13 @@ const median = (a) => a.slice().sort((x, y) => x - y)[Math.floor(a.length / 2)];
 const f1 = (v) => v.toFixed(1);
 
 try {
-  await withPage({ '/work': dir }, async ({ run, fresh }) => {
+  await withPage({ '/files': dir }, async ({ run, fresh }) => {
     console.log('| file | size | VRAM | fetch | gunzip | check | textures | upload | total |');
     console.log('|---|---:|---:|---:|---:|---:|---:|---:|---:|');
     for (const [name, file] of files) {
       const runs = [];
       for (let i = 0; i < 5; i++) {
-        const r = await run({ kind: 'load', gi: `/work/${file}` });
+        const r = await run({ kind: 'load', gi: `/files/${file}` });
         if (!r.ok) throw new Error(`${file}: ${r.error}`);
         runs.push(r);
       }
@@ -45,7 +45,7 @@ try {
     console.log('|---|---:|---:|---:|---:|---:|');
     for (const backend of ['webgl', 'webgpu']) {
       const tab = await fresh();
-      const r = await tab.run({ kind: 'frames', backend, scene: '/work/scene.glb', gi: '/work/scene.gi.gz',
+      const r = await tab.run({ kind: 'frames', backend, scene: '/files/scene.glb', gi: '/files/scene.gi.gz',
         width: 800, height: 600, frames: 30 });
       console.log(`| ${backend === 'webgl' ? 'WebGL2' : 'WebGPU'} | ${f1(r.off)} ms | ${f1(r.vertex)} ms | ${f1(r.fragment)} ms | ` +
         `${(r.vertex / r.off).toFixed(2)} | ${(r.fragment / r.off).toFixed(2)} |`);

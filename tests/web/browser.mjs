@@ -20,7 +20,7 @@ export function haveChromium() {
   return existsSync(CHROMIUM);
 }
 
-// Open the test page with `mounts` served ({ '/work': dir }) and hand fn a
+// Open the test page with `mounts` served ({ '/files': dir }) and hand fn a
 // run(task) that executes in the page, and fresh(), which opens another tab
 // of it (SwiftShader's WebGPU loses its device in a tab that had a WebGL2
 // context); closes everything afterwards.

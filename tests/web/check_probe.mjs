@@ -21,8 +21,8 @@ copyFileSync(file, join(dir, 'volume.gi.gz'));
 
 let result;
 try {
-  result = await withPage({ '/work': dir }, ({ run }) =>
-    run({ kind: 'probe', backend, scene: '/work/scene.glb', gi: '/work/volume.gi.gz', width: 256, height: 256,
+  result = await withPage({ '/files': dir }, ({ run }) =>
+    run({ kind: 'probe', backend, scene: '/files/scene.glb', gi: '/files/volume.gi.gz', width: 256, height: 256,
       points: 400, knobs: KNOBS }));
 } finally {
   rmSync(dir, { recursive: true, force: true });

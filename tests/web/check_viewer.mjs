@@ -34,7 +34,7 @@ const check = (ok, what) => {
 async function open(browser, url, gi, extra = '') {
   const page = await browser.newPage();
   await page.setViewport({ width: 800, height: 600 });
-  await page.goto(`${url}/web/viewer.html?scene=/work/world.glb&gi=/work/${gi}&${view}${extra}`);
+  await page.goto(`${url}/web/viewer.html?scene=/files/world.glb&gi=/files/${gi}&${view}${extra}`);
   await page.waitForFunction('window.vdbgiViewer?.status === "ready"', { timeout: 60000 });
   await page.evaluate(() => window.vdbgiViewer.api.frame());
   const state = await page.evaluate(() => ({ error: window.vdbgiViewer.error, figures: window.vdbgiViewer.figures,
@@ -49,7 +49,7 @@ const grab = (page) => page.evaluate(() => {
 });
 
 try {
-  await withPage({ '/work': dir }, async ({ browser, url }) => {
+  await withPage({ '/files': dir }, async ({ browser, url }) => {
     const s = await open(browser, url, 'world.gi.gz');
     const page = s.page;
     check(!s.error && s.figures && s.figures.bricks.reduce((a, b) => a + b) > 0 && /bricks L0\.\.L3/.test(s.text),
@@ -100,7 +100,7 @@ try {
     await d.waitForFunction('window.vdbgiViewer?.status === "ready"', { timeout: 60000 });
     await d.evaluate(async () => {
       const dt = new DataTransfer();
-      for (const [src, name] of [['/work/world.glb', 'world.glb'], ['/work/world.gi.gz', 'dropped.gi.gz']])
+      for (const [src, name] of [['/files/world.glb', 'world.glb'], ['/files/world.gi.gz', 'dropped.gi.gz']])
         dt.items.add(new File([await (await fetch(src)).arrayBuffer()], name));
       window.dispatchEvent(new DragEvent('drop', { dataTransfer: dt, cancelable: true }));
     });
