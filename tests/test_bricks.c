@@ -56,6 +56,27 @@ static float lattice_trilinear(field_fn f, const double q[3], int c)
     return (float)v;
 }
 
+/* The largest error of v at p's probes, in units of one encoding step of each probe's value. */
+static double worst_probe_error_in_steps(const vdbgi_probes *p, const vdbgi_volume *v,
+                                         vdbgi_encoding encoding)
+{
+    double worst = 0.0;
+    for (size_t i = 0; i < p->count; i++) {
+        const double q[3] = {p->ijk[3 * i], p->ijk[3 * i + 1], p->ijk[3 * i + 2]};
+        float pos[3], got[3];
+        world_of(p, q, pos);
+        vdbgi_volume_sample(v, pos, got);
+        const float *const want = &p->rgb[3 * i];
+        const float mx = fmaxf(want[0], fmaxf(want[1], want[2]));
+        /* One RGBM step of this texel (M rounded up adds at most 8/255), or 2^-9. */
+        const float step =
+            encoding == VDBGI_ENCODING_RGBM ? (mx + 8.0f / 255.0f) / 255.0f : mx / 512.0f;
+        for (int k = 0; k < 3; k++)
+            worst = fmax(worst, fabs(got[k] - want[k]) / step);
+    }
+    return worst;
+}
+
 static void exact_bricks_give_back_every_valid_probe(void)
 {
     vdbgi_context *ctx = test_context();
@@ -73,20 +94,7 @@ static void exact_bricks_give_back_every_valid_probe(void)
         vdbgi_volume_info info;
         vdbgi_volume_get_info(v, &info);
         CHECK(info.bricks[1] == 0 && info.bricks[0] == info.brick_count);
-        double worst = 0.0;
-        for (size_t i = 0; i < p->count; i++) {
-            const double q[3] = {p->ijk[3 * i], p->ijk[3 * i + 1], p->ijk[3 * i + 2]};
-            float pos[3], got[3];
-            world_of(p, q, pos);
-            vdbgi_volume_sample(v, pos, got);
-            const float *const want = &p->rgb[3 * i];
-            const float mx = fmaxf(want[0], fmaxf(want[1], want[2]));
-            /* One RGBM step of this texel (M rounded up adds at most 8/255), or 2^-9. */
-            const float step = e == 0 ? (mx + 8.0f / 255.0f) / 255.0f : mx / 512.0f;
-            for (int k = 0; k < 3; k++)
-                worst = fmax(worst, fabs(got[k] - want[k]) / step);
-        }
-        CHECK(worst <= 1.0);
+        CHECK(worst_probe_error_in_steps(p, v, (vdbgi_encoding)e) <= 1.0);
         CHECK(info.rmse <= 0.004 * info.mean_irradiance);
         vdbgi_volume_destroy(v);
     }
@@ -215,20 +223,7 @@ static void at_eps_0_every_layout_returns_every_probe(void)
         CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
         if (!v)
             continue;
-        vdbgi_volume_info info;
-        vdbgi_volume_get_info(v, &info);
-        double worst = 0.0;
-        for (size_t i = 0; i < p->count; i++) {
-            const double q[3] = {p->ijk[3 * i], p->ijk[3 * i + 1], p->ijk[3 * i + 2]};
-            float pos[3], got[3];
-            world_of(p, q, pos);
-            vdbgi_volume_sample(v, pos, got);
-            const float *const want = &p->rgb[3 * i];
-            const float mx = fmaxf(want[0], fmaxf(want[1], want[2]));
-            const float step = (mx + 8.0f / 255.0f) / 255.0f;
-            for (int k = 0; k < 3; k++)
-                worst = fmax(worst, fabs(got[k] - want[k]) / step);
-        }
+        const double worst = worst_probe_error_in_steps(p, v, VDBGI_ENCODING_RGBM);
         CHECK(worst <= 1.0);
         if (worst > 1.0)
             fprintf(stderr, "# layout %d criterion %d: %.2f steps\n", run % 2, 1 + run / 2, worst);
