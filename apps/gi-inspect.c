@@ -13,25 +13,29 @@
 
 static void usage(void)
 {
-    printf("Usage: gi-inspect FILE [--at X,Y,Z]...\n"
+    printf("Usage: gi-inspect FILE [--at X,Y,Z]... [--textures OUT.gi]\n"
            "\n"
            "Print the header and statistics of FILE, either probes baked by gi-bake (.vdb)\n"
            "or a bricked volume written by vdb-to-gi (.gi.gz, or a plain .gi), told apart\n"
            "by their first bytes. Each --at prints the value at a world position: for a\n"
            ".gi the runtime shader's lookup, exactly; for a .vdb the trilinear\n"
-           "interpolation of the valid probes around it.\n"
+           "interpolation of the valid probes around it. A compact .gi stores each probe\n"
+           "once; --textures writes the textures a reader rebuilds from it, as the GPU\n"
+           "takes them (an uncompressed .gi, version 2).\n"
            "\n"
            "Options:\n"
            "      --at X,Y,Z    a world position in metres (repeat for more)\n"
+           "      --textures F  write a .gi's runtime textures to F (replaced on success)\n"
            "  -h, --help        print this help and exit\n"
            "      --version     print the version and exit\n"
            "\n"
            "Examples:\n"
            "  gi-inspect world.vdb\n"
-           "  gi-inspect world.gi.gz --at 0,1,0 --at 10,0.5,-3\n");
+           "  gi-inspect world.gi.gz --at 0,1,0 --at 10,0.5,-3\n"
+           "  gi-inspect world.gi.gz --textures world-textures.gi\n");
 }
 
-enum { OPT_AT = 256, OPT_VERSION };
+enum { OPT_AT = 256, OPT_TEXTURES, OPT_VERSION };
 
 /*
  * VDB files start with the 64-bit magic 0x56444220 (" BDV" little-endian).
@@ -82,7 +86,8 @@ static int inspect_vdb(vdbgi_context *ctx, const char *path, float (*at)[3], int
     return code;
 }
 
-static int inspect_gi(vdbgi_context *ctx, const char *path, float (*at)[3], int at_count)
+static int inspect_gi(vdbgi_context *ctx, const char *path, float (*at)[3], int at_count,
+                      const char *textures)
 {
     vdbgi_volume *v = NULL;
     const vdbgi_result r = vdbgi_volume_read(ctx, path, &v);
@@ -105,13 +110,21 @@ static int inspect_gi(vdbgi_context *ctx, const char *path, float (*at)[3], int 
            cli_bytes((double)vi.atlas_size, c, sizeof(c)));
     printf("bricks       %u (max level %u): level 0 %u, level 1 %u, level 2 %u, level 3 %u\n",
            vi.brick_count, vi.max_level, vi.bricks[0], vi.bricks[1], vi.bricks[2], vi.bricks[3]);
+    if (vi.stored_points)
+        printf("stored       %zu probe values, each once; the textures rebuilt from them\n",
+               vi.stored_points);
     for (int i = 0; i < at_count; i++) {
         float rgb[3];
         vdbgi_volume_sample(v, at[i], rgb);
         printf("at           %g,%g,%g -> %.6g %.6g %.6g\n", (double)at[i][0], (double)at[i][1],
                (double)at[i][2], (double)rgb[0], (double)rgb[1], (double)rgb[2]);
     }
+    const vdbgi_result w = textures ? vdbgi_volume_write_textures(v, textures) : VDBGI_OK;
     vdbgi_volume_destroy(v);
+    if (w != VDBGI_OK)
+        return cli_fail(ctx, w);
+    if (textures)
+        printf("textures     %s\n", textures);
     return CLI_OK;
 }
 
@@ -119,11 +132,13 @@ int main(int argc, char **argv)
 {
     cli_init("gi-inspect");
     static const struct option longs[] = {{"at", required_argument, NULL, OPT_AT},
+                                          {"textures", required_argument, NULL, OPT_TEXTURES},
                                           {"help", no_argument, NULL, 'h'},
                                           {"version", no_argument, NULL, OPT_VERSION},
                                           {NULL, 0, NULL, 0}};
     float(*at)[3] = calloc((size_t)argc, sizeof(*at));
     int at_count = 0, c;
+    const char *textures = NULL;
     if (!at) {
         cli_error("out of memory");
         return CLI_FAILED;
@@ -138,6 +153,7 @@ int main(int argc, char **argv)
             }
             at_count++;
             break;
+        case OPT_TEXTURES: textures = optarg; break;
         case 'h':
             usage();
             free(at);
@@ -159,8 +175,13 @@ int main(int argc, char **argv)
         free(at);
         return CLI_FAILED;
     }
-    const int code =
-        is_vdb(path) ? inspect_vdb(ctx, path, at, at_count) : inspect_gi(ctx, path, at, at_count);
+    if (textures && is_vdb(path)) {
+        vdbgi_context_destroy(ctx);
+        free(at);
+        return cli_usage_error("--textures needs a .gi file, not probes");
+    }
+    const int code = is_vdb(path) ? inspect_vdb(ctx, path, at, at_count)
+                                  : inspect_gi(ctx, path, at, at_count, textures);
     vdbgi_context_destroy(ctx);
     free(at);
     return code;

@@ -332,7 +332,8 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             "  \"mean_irradiance\": %.6g,\n  \"rmse\": %.6g,\n  \"p99\": %.6g,\n"
             "  \"max_error\": %.6g,\n  \"rmse_relative\": %.6g,\n  \"p99_relative\": %.6g,\n"
             "  \"max_relative\": %.6g,\n  \"read_seconds\": %.4f,\n"
-            "  \"convert_seconds\": %.4f,\n  \"convert_over_read\": %.3f\n}\n",
+            "  \"convert_seconds\": %.4f,\n  \"convert_over_read\": %.3f,\n"
+            "  \"stored_points\": %zu\n}\n",
             vi->probe_count, vi->valid_count, vi->filled_count, vi->unreached_count,
             vi->fallback_count, (double)vi->spacing, vi->max_level,
             vi->encoding == VDBGI_ENCODING_RGB9E5 ? "rgb9e5" : "rgbm",
@@ -343,7 +344,8 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             vi->dense_rgba8_size, (double)vi->dense_rgba8_size / raw,
             (double)vi->dense_rgba8_size / (double)vi->file_size, vi->clamped_count,
             vi->mean_irradiance, vi->rmse, vi->p99, vi->max_error, vi->rmse / mean, vi->p99 / mean,
-            vi->max_error / mean, read_seconds, vi->seconds, vi->seconds / read_seconds);
+            vi->max_error / mean, read_seconds, vi->seconds, vi->seconds / read_seconds,
+            vi->stored_points);
         return;
     }
     char a[32], b[32], c[32], d[32];
@@ -360,8 +362,13 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
     fprintf(f, "indirection  %ux%ux%u cells, %s\n", vi->indirection_dims[0],
             vi->indirection_dims[1], vi->indirection_dims[2],
             cli_bytes((double)vi->indirection_size, b, sizeof(b)));
-    fprintf(f, "file         %s: %s raw, %s gzip'd\n", o->output, cli_bytes(raw, c, sizeof(c)),
-            cli_bytes((double)vi->file_size, d, sizeof(d)));
+    if (vi->stored_points)
+        fprintf(f, "file         %s: %s gzip'd, %zu probe values each stored once (textures %s)\n",
+                o->output, cli_bytes((double)vi->file_size, d, sizeof(d)), vi->stored_points,
+                cli_bytes(raw, c, sizeof(c)));
+    else
+        fprintf(f, "file         %s: %s raw, %s gzip'd\n", o->output, cli_bytes(raw, c, sizeof(c)),
+                cli_bytes((double)vi->file_size, d, sizeof(d)));
     fprintf(f, "dense        RGBA8 grid at %g m: %s, %.1fx the raw textures, %.1fx the file\n",
             pi->spacing, cli_bytes((double)vi->dense_rgba8_size, a, sizeof(a)),
             (double)vi->dense_rgba8_size / raw,

@@ -1,7 +1,7 @@
 /*
- * atlas.c: bricks into atlas slots with their aprons or borders, encoded, and
- * the indirection to them. The compact layout also stitches each brick's
- * faces to the coarser bricks they touch (docs/format.md).
+ * atlas.c: seed 000's layout: bricks into atlas slots with their aprons,
+ * encoded, and the indirection to them. The compact layout's textures are
+ * rebuilt from its packed file instead (packed.c).
  */
 #include "atlas.h"
 #include "encode.h"
@@ -81,82 +81,13 @@ static void mark_indirection(const vdbgi_volume *v, const vdbgi_brick *k, uint32
 }
 
 enum { SLOT_MAX = VDBGI_BRICK_PADDED * VDBGI_BRICK_PADDED * VDBGI_BRICK_PADDED };
-enum { COMPACT = VDBGI_BRICK_COMPACT * VDBGI_BRICK_COMPACT * VDBGI_BRICK_COMPACT };
 
 typedef struct atlas_job {
     vdbgi_volume *v;
     const vdbgi_brick *bricks;
-    float (*samples)[COMPACT][3]; /* compact: every brick's samples, stitched in place */
-    int stage, level;             /* compact: which pass; the level being stitched */
-    size_t begin, end;            /* kept bricks [begin, end) */
+    size_t begin, end; /* kept bricks [begin, end) */
     size_t fallbacks, clamped;
 } atlas_job;
-
-/*
- * The coarsest brick whose cells touch fine lattice point p, if coarser than
- * level: its index (slot - 1) and level. A point on a cell face, edge or
- * corner touches two, four or eight cells.
- */
-static bool coarser_brick_at(const vdbgi_volume *v, const int32_t p[3], int level, size_t *index,
-                             int *coarse_level)
-{
-    const uint32_t *const d = v->info.indirection_dims;
-    const uint32_t n = VDBGI_BRICK_COMPACT;
-    const uint32_t sx = v->info.atlas_dims[0] / n, sy = v->info.atlas_dims[1] / n;
-    int32_t c0[3];
-    int two[3];
-    for (int k = 0; k < 3; k++) {
-        c0[k] = vdbgi_floor_div(p[k], VDBGI_BRICK) - v->origin_cell[k];
-        two[k] = p[k] % VDBGI_BRICK == 0; /* on a face: the cell below touches it too */
-    }
-    int best = level;
-    for (int c = 0; c < 8; c++) {
-        int32_t cell[3];
-        bool inside = true;
-        for (int k = 0; k < 3; k++) {
-            const int down = c >> k & 1;
-            cell[k] = c0[k] - down;
-            inside = inside && (!down || two[k]) && cell[k] >= 0 && cell[k] < (int32_t)d[k];
-        }
-        if (!inside)
-            continue;
-        const uint8_t *const t =
-            &v->indirection[4 * (((size_t)cell[2] * d[1] + (size_t)cell[1]) * d[0] + cell[0])];
-        if (t[3] == 0 || t[3] - 1 <= best)
-            continue;
-        best = t[3] - 1;
-        *index = ((size_t)t[2] * sy + t[1]) * sx + t[0] - 1;
-    }
-    *coarse_level = best;
-    return best > level;
-}
-
-/* A compact brick's face texels that touch a coarser brick take its interpolated value. */
-static void stitch_brick(const atlas_job *job, size_t i)
-{
-    const vdbgi_brick *const k = &job->bricks[i];
-    const int n = VDBGI_BRICK_COMPACT, span = 1 << k->level;
-    for (int z = 0; z < n; z++)
-        for (int y = 0; y < n; y++)
-            for (int x = 0; x < n; x++) {
-                const int q[3] = {x, y, z};
-                if (x % 4 && y % 4 && z % 4)
-                    continue; /* inside: only faces meet other bricks */
-                int32_t p[3];
-                for (int a = 0; a < 3; a++)
-                    p[a] = (k->key[a] * VDBGI_BRICK + q[a]) * span;
-                size_t j = 0;
-                int cl = 0;
-                if (!coarser_brick_at(job->v, p, k->level, &j, &cl))
-                    continue;
-                const double pos[3] = {p[0], p[1], p[2]};
-                vdbgi_brick_interpolate((const float(*)[3])job->samples[j], VDBGI_LAYOUT_COMPACT,
-                                        job->bricks[j].key, cl, pos,
-                                        job->samples[i][(z * n + y) * n + x]);
-            }
-}
-
-enum { SEED_ALL, COMPACT_SAMPLE, COMPACT_STITCH, COMPACT_ENCODE };
 
 static void *atlas_worker(void *arg)
 {
@@ -164,40 +95,13 @@ static void *atlas_worker(void *arg)
     for (size_t i = job->begin; i < job->end; i++) {
         const vdbgi_brick *const k = &job->bricks[i];
         const uint32_t slot = (uint32_t)i + 1;
-        switch (job->stage) {
-        case SEED_ALL: {
-            float s[SLOT_MAX][3];
-            job->fallbacks += vdbgi_brick_samples(&job->v->filled, k->key, k->level, k->mean,
-                                                  VDBGI_LAYOUT_SEED, s);
-            job->clamped += encode_brick(job->v, (const float(*)[3])s, slot);
-            mark_indirection(job->v, k, slot);
-            break;
-        }
-        case COMPACT_SAMPLE:
-            job->fallbacks += vdbgi_brick_samples(&job->v->filled, k->key, k->level, k->mean,
-                                                  VDBGI_LAYOUT_COMPACT, job->samples[i]);
-            mark_indirection(job->v, k, slot);
-            break;
-        case COMPACT_STITCH:
-            if (k->level == job->level)
-                stitch_brick(job, i);
-            break;
-        default: job->clamped += encode_brick(job->v, (const float(*)[3])job->samples[i], slot);
-        }
+        float s[SLOT_MAX][3];
+        job->fallbacks +=
+            vdbgi_brick_samples(&job->v->filled, k->key, k->level, k->mean, VDBGI_LAYOUT_SEED, s);
+        job->clamped += encode_brick(job->v, (const float(*)[3])s, slot);
+        mark_indirection(job->v, k, slot);
     }
     return NULL;
-}
-
-/* One pass of the atlas over threads, each a contiguous run of bricks. */
-static void run_pass(atlas_job *jobs, int n, size_t count, int stage, int level)
-{
-    for (int t = 0; t < n; t++) {
-        jobs[t].begin = count * (size_t)t / (size_t)n;
-        jobs[t].end = count * (size_t)(t + 1) / (size_t)n;
-        jobs[t].stage = stage;
-        jobs[t].level = level;
-    }
-    vdbgi_run_threads(n, atlas_worker, jobs, sizeof(jobs[0]));
 }
 
 vdbgi_result vdbgi_atlas_fill(vdbgi_volume *v, const vdbgi_brick *bricks, size_t count, int threads)
@@ -209,26 +113,10 @@ vdbgi_result vdbgi_atlas_fill(vdbgi_volume *v, const vdbgi_brick *bricks, size_t
     for (int t = 0; t < n; t++) {
         jobs[t].v = v;
         jobs[t].bricks = bricks;
+        jobs[t].begin = count * (size_t)t / (size_t)n;
+        jobs[t].end = count * (size_t)(t + 1) / (size_t)n;
     }
-    if (v->info.layout == VDBGI_LAYOUT_COMPACT) {
-        /*
-         * Every brick sampled and pointed at first; then faces stitched level by
-         * level from the coarsest, each reading only coarser bricks, already final,
-         * so the bytes do not depend on the split; then encoded.
-         */
-        float(*samples)[COMPACT][3] = vdbgi_alloc(v->ctx, (count ? count : 1) * sizeof(*samples));
-        if (!samples)
-            return VDBGI_ERR_OUT_OF_MEMORY;
-        for (int t = 0; t < n; t++)
-            jobs[t].samples = samples;
-        run_pass(jobs, n, count, COMPACT_SAMPLE, 0);
-        for (int level = (int)v->info.max_level - 1; level >= 0; level--)
-            run_pass(jobs, n, count, COMPACT_STITCH, level);
-        run_pass(jobs, n, count, COMPACT_ENCODE, 0);
-        vdbgi_free(v->ctx, samples);
-    } else {
-        run_pass(jobs, n, count, SEED_ALL, 0);
-    }
+    vdbgi_run_threads(n, atlas_worker, jobs, sizeof(jobs[0]));
     for (int t = 0; t < n; t++) {
         v->info.fallback_count += jobs[t].fallbacks;
         v->info.clamped_count += jobs[t].clamped;

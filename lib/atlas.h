@@ -12,11 +12,10 @@ vdbgi_result vdbgi_atlas_dims(vdbgi_context *ctx, size_t slots, vdbgi_layout lay
 
 /*
  * Sample, encode and point at every brick (brick i in slot i + 1; slot 0 is
- * black) into v's atlas and indirection in v->info.layout, over threads:
+ * black) into v's atlas and indirection in seed 000's layout, over threads:
  * bricks own disjoint slots and cells, so the bytes do not depend on the
- * split. Compact bricks are stitched to coarser neighbours first, which holds
- * every brick's samples in memory (1.5 kB a brick). Adds the texels that took
- * a block mean and the clamped ones to v->info.
+ * split. Adds the texels that took a block mean and the clamped ones to
+ * v->info. (The compact layout: vdbgi_pack_write.)
  */
 vdbgi_result vdbgi_atlas_fill(vdbgi_volume *v, const vdbgi_brick *bricks, size_t count,
                               int threads);

@@ -1,6 +1,7 @@
 /* gifile.c: the .gi container (docs/format.md): header, indirection, atlas, gzip. */
 #define _POSIX_C_SOURCE 200809L
 #include "gifile.h"
+#include "packed.h"
 #include "util.h"
 
 #include <errno.h>
@@ -13,12 +14,15 @@
 
 static const char gi_magic[8] = {'v', 'd', 'b', 'g', 'i', '.', 'g', 'i'};
 
-static void write_header(const vdbgi_volume_info *in, uint8_t h[VDBGI_GI_HEADER_SIZE])
+static void write_header(const vdbgi_volume_info *in, bool packed, uint8_t h[VDBGI_GI_HEADER_SIZE])
 {
     memset(h, 0, VDBGI_GI_HEADER_SIZE);
     memcpy(h, gi_magic, 8);
-    /* Seed-layout files stay version 1, byte for byte; the compact layout is version 2. */
-    vdbgi_put_u32(h + 8, in->layout == VDBGI_LAYOUT_COMPACT ? 2 : 1);
+    /*
+     * Seed-layout files stay version 1, byte for byte; the compact layout is
+     * version 3 packed, version 2 as textures.
+     */
+    vdbgi_put_u32(h + 8, in->layout == VDBGI_LAYOUT_COMPACT ? (packed ? 3 : 2) : 1);
     vdbgi_put_u32(h + 12, VDBGI_GI_HEADER_SIZE);
     vdbgi_put_u32(h + 16, (uint32_t)in->encoding);
     vdbgi_put_f32(h + 20, in->rgbm_range);
@@ -35,6 +39,8 @@ static void write_header(const vdbgi_volume_info *in, uint8_t h[VDBGI_GI_HEADER_
     vdbgi_put_u32(h + 96, (uint32_t)in->indirection_size);
     vdbgi_put_u32(h + 100, (uint32_t)in->atlas_size);
     vdbgi_put_u32(h + 104, (uint32_t)in->layout);
+    if (packed)
+        vdbgi_put_u32(h + 108, (uint32_t)in->stored_points);
 }
 
 vdbgi_result vdbgi_gifile_alloc(vdbgi_volume *v)
@@ -51,12 +57,28 @@ vdbgi_result vdbgi_gifile_alloc(vdbgi_volume *v)
     return VDBGI_OK;
 }
 
+vdbgi_result vdbgi_gifile_pack(vdbgi_volume *v, const uint8_t *payload, size_t size)
+{
+    VDBGI_FAIL_IF(v->ctx, v->info.stored_points > UINT32_MAX, VDBGI_ERR_OUT_OF_MEMORY,
+                  "%zu stored probes exceed the format's 2^32", v->info.stored_points);
+    vdbgi_free(v->ctx, v->packed);
+    v->packed_size = VDBGI_GI_HEADER_SIZE + size;
+    v->packed = vdbgi_alloc(v->ctx, v->packed_size);
+    if (!v->packed)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    memcpy(v->packed + VDBGI_GI_HEADER_SIZE, payload, size);
+    return VDBGI_OK;
+}
+
 vdbgi_result vdbgi_gifile_encode_begin(vdbgi_volume *v, vdbgi_gzip_job *job)
 {
     memset(job, 0, sizeof(*job));
-    write_header(&v->info, v->raw);
-    job->in = v->raw;
-    job->in_size = VDBGI_GI_HEADER_SIZE + v->info.indirection_size + v->info.atlas_size;
+    /* The file is the packed one where there is one, else the textures as they are. */
+    uint8_t *const in = v->packed ? v->packed : v->raw;
+    write_header(&v->info, v->packed != NULL, in);
+    job->in = in;
+    job->in_size = v->packed ? v->packed_size
+                             : VDBGI_GI_HEADER_SIZE + v->info.indirection_size + v->info.atlas_size;
     /* libdeflate: one call over the whole buffer, several times faster than zlib at level 6. */
     job->compressor = libdeflate_alloc_compressor(6);
     VDBGI_FAIL_IF(v->ctx, !job->compressor, VDBGI_ERR_OUT_OF_MEMORY,
@@ -99,20 +121,58 @@ vdbgi_result vdbgi_volume_write(const vdbgi_volume *v, const char *path)
     return vdbgi_write_bytes_atomic(v->ctx, path, v->file, v->info.file_size);
 }
 
+typedef struct texture_file {
+    const vdbgi_volume *v;
+    uint8_t header[VDBGI_GI_HEADER_SIZE];
+} texture_file;
+
+static vdbgi_result write_textures(vdbgi_context *ctx, const char *tmp, const void *user)
+{
+    const texture_file *const tf = user;
+    const vdbgi_volume *const v = tf->v;
+    FILE *const f = fopen(tmp, "wb");
+    VDBGI_FAIL_IF(ctx, !f, VDBGI_ERR_IO, "%s: cannot write: %s", tmp, strerror(errno));
+    const bool ok =
+        fwrite(tf->header, 1, sizeof(tf->header), f) == sizeof(tf->header) &&
+        fwrite(v->indirection, 1, v->info.indirection_size, f) == v->info.indirection_size &&
+        fwrite(v->atlas, 1, v->info.atlas_size, f) == v->info.atlas_size;
+    const int saved = errno;
+    if (fclose(f) != 0 || !ok)
+        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write: %s", tmp,
+                          strerror(ok ? errno : saved));
+    return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_volume_write_textures(const vdbgi_volume *v, const char *path)
+{
+    VDBGI_FAIL_IF(v->ctx, !v->atlas, VDBGI_ERR_INVALID_ARG, "volume has no textures");
+    texture_file tf = {.v = v};
+    write_header(&v->info, false, tf.header);
+    return vdbgi_write_atomic(v->ctx, path, write_textures, &tf);
+}
+
 /* ---- reading ---------------------------------------------------------------- */
 
 static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uint8_t *h,
-                                 vdbgi_volume_info *info, size_t *header_size)
+                                 vdbgi_volume_info *info, size_t *header_size,
+                                 uint64_t *stored_size)
 {
     VDBGI_FAIL_IF(ctx, memcmp(h, gi_magic, 8) != 0, VDBGI_ERR_FORMAT,
                   "%s: not a .gi file (bad magic)", path);
     const uint32_t version = vdbgi_get_u32(h + 8);
     VDBGI_FAIL_IF(ctx, version < 1 || version > VDBGI_GI_VERSION, VDBGI_ERR_FORMAT,
                   "%s: .gi version %u, this reader knows 1..%d", path, version, VDBGI_GI_VERSION);
-    /* Version 1 is the seed layout (its field is reserved, 0); version 2 says which. */
+    /*
+     * Version 1 is the seed layout (its field is reserved, 0); version 2 says
+     * which; version 3 is the packed compact layout.
+     */
     const uint32_t layout = vdbgi_get_u32(h + 104);
-    VDBGI_FAIL_IF(ctx, version == 1 ? layout != 0 : layout > 1, VDBGI_ERR_FORMAT,
-                  "%s: unknown brick layout %u", path, layout);
+    VDBGI_FAIL_IF(ctx,
+                  version == 1   ? layout != 0
+                  : version == 3 ? layout != 1
+                                 : layout > 1,
+                  VDBGI_ERR_FORMAT, "%s: unknown brick layout %u for version %u", path, layout,
+                  version);
     *header_size = vdbgi_get_u32(h + 12);
     VDBGI_FAIL_IF(ctx, *header_size < VDBGI_GI_HEADER_SIZE || *header_size > 65536,
                   VDBGI_ERR_FORMAT, "%s: bad header size %zu", path, *header_size);
@@ -156,7 +216,38 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
     info->atlas_size = vdbgi_get_u32(h + 100);
     VDBGI_FAIL_IF(ctx, info->indirection_size != ind || info->atlas_size != atlas, VDBGI_ERR_FORMAT,
                   "%s: texture sizes disagree with their dimensions", path);
+    VDBGI_FAIL_IF(ctx, version < 3 && vdbgi_get_u32(h + 108) != 0, VDBGI_ERR_FORMAT,
+                  "%s: reserved header field is not 0", path);
+    /* Version 3 stores the level bytes and the points instead of the textures. */
+    info->stored_points = version == 3 ? vdbgi_get_u32(h + 108) : 0;
+    *stored_size = version == 3 ? ind / 4 + 4 * (uint64_t)info->stored_points : ind + atlas;
     return VDBGI_OK;
+}
+
+/*
+ * A version 3 file's textures, rebuilt from its payload: refused unless the
+ * bricks its level bytes describe are the ones its header counts.
+ */
+static vdbgi_result unpack(vdbgi_context *ctx, const char *path, vdbgi_volume *v,
+                           const uint8_t *payload)
+{
+    const vdbgi_volume_info header = v->info;
+    vdbgi_pack_plan pl;
+    VDBGI_TRY(vdbgi_pack_plan_make(v, payload, path, &pl));
+    vdbgi_result r = VDBGI_OK;
+    if (memcmp(header.atlas_dims, v->info.atlas_dims, sizeof(header.atlas_dims)) != 0 ||
+        memcmp(header.bricks, v->info.bricks, sizeof(header.bricks)) != 0)
+        r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                       "%s: the level bytes hold other bricks than the header counts", path);
+    else if (pl.points != header.stored_points)
+        r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                       "%s: the bricks read %zu points, the header says %zu are stored", path,
+                       pl.points, header.stored_points);
+    else
+        r = vdbgi_pack_rebuild(v, &pl, payload + header.indirection_size / 4,
+                               &v->info.clamped_count);
+    vdbgi_pack_plan_free(ctx, &pl);
+    return r;
 }
 
 /* Every indirection texel must point at a slot of the atlas with a level the file allows. */
@@ -253,9 +344,10 @@ vdbgi_result vdbgi_volume_read(vdbgi_context *ctx, const char *path, vdbgi_volum
     }
     if (!gz)
         memcpy(h, file, sizeof(h));
-    if ((r = parse_header(ctx, path, h, &info, &header_size)) != VDBGI_OK)
+    uint64_t stored = 0;
+    if ((r = parse_header(ctx, path, h, &info, &header_size, &stored)) != VDBGI_OK)
         goto done;
-    const uint64_t total = (uint64_t)header_size + info.indirection_size + info.atlas_size;
+    const uint64_t total = (uint64_t)header_size + stored;
     if (gz ? total > (uint64_t)file_size * VDBGI_GZIP_MAX_RATIO : total != file_size) {
         r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
                        "%s: the header's %llu bytes of textures cannot come from a %zu-byte file",
@@ -298,11 +390,15 @@ vdbgi_result vdbgi_volume_read(vdbgi_context *ctx, const char *path, vdbgi_volum
     }
     v->ctx = ctx;
     v->info = info;
+    v->info.file_size = file_size;
+    if (vdbgi_get_u32(h + 8) == 3) {
+        r = unpack(ctx, path, v, raw + header_size);
+        goto done;
+    }
     v->raw = raw;
     v->indirection = raw + header_size;
     v->atlas = v->indirection + info.indirection_size;
     raw = NULL;
-    v->info.file_size = file_size;
     r = check_indirection(ctx, path, v);
 done:
     vdbgi_free(ctx, file);

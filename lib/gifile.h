@@ -5,11 +5,16 @@
 #include "volume.h"
 
 #define VDBGI_GI_HEADER_SIZE 112
-/* The newest version read: 1 is the seed layout, 2 adds the layout field (docs/format.md). */
-#define VDBGI_GI_VERSION 2
+/*
+ * The newest version read: 1 is the seed layout, 2 adds the layout field, 3
+ * stores the compact layout packed (docs/format.md).
+ */
+#define VDBGI_GI_VERSION 3
 
 /* Allocate v->raw for v->info's texture sizes and point indirection and atlas into it. */
 vdbgi_result vdbgi_gifile_alloc(vdbgi_volume *v);
+/* The compact layout's file: its header (written later) and payload, into v->packed. */
+vdbgi_result vdbgi_gifile_pack(vdbgi_volume *v, const uint8_t *payload, size_t size);
 /*
  * Write the header into v->raw and gzip the whole into v->file, in three
  * steps: begin allocates, run compresses (it allocates nothing and touches no

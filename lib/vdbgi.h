@@ -601,10 +601,19 @@ VDBGI_API vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes
                                           const vdbgi_convert_desc *desc, vdbgi_volume **out);
 
 /*
- * Write the .gi file (docs/format.md): header, indirection bytes, atlas
- * bytes, gzip-compressed; through a temporary file renamed when complete.
+ * Write the .gi file (docs/format.md), gzip-compressed, through a temporary
+ * file renamed when complete: the seed layout as header, indirection bytes
+ * and atlas bytes (version 1); the compact layout packed, each probe once
+ * (version 3), its textures rebuilt by the reader.
  */
 VDBGI_API vdbgi_result vdbgi_volume_write(const vdbgi_volume *volume, const char *path);
+
+/*
+ * Write the runtime textures as they go to the GPU, uncompressed: header,
+ * indirection bytes, atlas bytes (version 1, or 2 for the compact layout),
+ * for an engine that uploads them as they are and for comparing readers.
+ */
+VDBGI_API vdbgi_result vdbgi_volume_write_textures(const vdbgi_volume *volume, const char *path);
 
 /*
  * Read a .gi file (gzip'd or not). Every size is checked against the header
@@ -636,6 +645,7 @@ typedef struct vdbgi_volume_info {
     double mean_irradiance;      /* over valid probes and channels */
     double rmse, p99, max_error; /* sampled field vs filled field at valid probes, absolute */
     double seconds;              /* wall time of the build */
+    size_t stored_points;        /* compact layout: probe values the file stores, each once */
 } vdbgi_volume_info;
 
 VDBGI_API void vdbgi_volume_get_info(const vdbgi_volume *volume, vdbgi_volume_info *info);

@@ -4,6 +4,7 @@
  */
 #include "atlas.h"
 #include "gifile.h"
+#include "packed.h"
 #include "util.h"
 
 #include <math.h>
@@ -81,6 +82,7 @@ void vdbgi_volume_destroy(vdbgi_volume *v)
         return;
     vdbgi_context *const ctx = v->ctx;
     vdbgi_free(ctx, v->raw);
+    vdbgi_free(ctx, v->packed);
     vdbgi_free(ctx, v->file);
     vdbgi_field_free(&v->filled);
     vdbgi_free(ctx, v);
@@ -263,11 +265,23 @@ static vdbgi_result place_indirection(vdbgi_volume *v, const int32_t *cells, siz
     return VDBGI_OK;
 }
 
-/* Slot 0 is an all-zero brick: an empty cell (indirection 0,0,0,0) reads black from it. */
-static vdbgi_result lay_out(vdbgi_volume *v, const vdbgi_brick *bricks, size_t brick_count,
-                            int threads)
+/*
+ * Slot 0 is an all-zero brick: an empty cell (indirection 0,0,0,0) reads
+ * black from it. The compact layout's textures come from its file, as a
+ * reader rebuilds them.
+ */
+static vdbgi_result lay_out(vdbgi_volume *v, vdbgi_brick *bricks, size_t brick_count,
+                            const vdbgi_probes *probes, int threads)
 {
     vdbgi_volume_info *const info = &v->info;
+    if (info->layout == VDBGI_LAYOUT_COMPACT) {
+        uint8_t *payload = NULL;
+        size_t size = 0;
+        VDBGI_TRY(vdbgi_pack_write(v, bricks, brick_count, probes, threads, &payload, &size));
+        vdbgi_result r = vdbgi_gifile_pack(v, payload, size);
+        vdbgi_free(v->ctx, payload);
+        return r;
+    }
     VDBGI_TRY(vdbgi_atlas_dims(v->ctx, brick_count + 1, info->layout, info->atlas_dims));
     info->brick_count = (uint32_t)brick_count;
     info->atlas_size = 4 * (size_t)info->atlas_dims[0] * info->atlas_dims[1] * info->atlas_dims[2];
@@ -340,7 +354,7 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
         (r = vdbgi_coarsen(ctx, &v->filled, probes, cells, cell_count, &cp, &bricks,
                            &brick_count)) != VDBGI_OK ||
         (r = step_done(ctx, desc, 0.6f, &t, "pyramid and coarsening")) != VDBGI_OK ||
-        (r = lay_out(v, bricks, brick_count, cp.threads)) != VDBGI_OK ||
+        (r = lay_out(v, bricks, brick_count, probes, cp.threads)) != VDBGI_OK ||
         (r = step_done(ctx, desc, 0.8f, &t, "sampling and encoding")) != VDBGI_OK ||
         (r = finish(v, probes, cp.threads)) != VDBGI_OK)
         goto fail;

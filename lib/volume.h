@@ -11,7 +11,9 @@ struct vdbgi_volume {
     uint8_t *raw;         /* the uncompressed .gi: header, indirection, atlas */
     uint8_t *indirection; /* info.indirection_size bytes inside raw */
     uint8_t *atlas;       /* info.atlas_size bytes inside raw */
-    uint8_t *file;        /* the gzip'd .gi bytes */
+    uint8_t *packed;      /* compact layout: the uncompressed version 3 file (header, payload) */
+    size_t packed_size;
+    uint8_t *file; /* the gzip'd .gi bytes */
     /* Only from vdbgi_volume_build: */
     vdbgi_field filled;
     double lattice_origin[3]; /* world position of fine index (0,0,0) */

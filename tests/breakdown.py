@@ -12,8 +12,11 @@ one Markdown table row instead (HEADER below is its header).
 """
 import gzip
 import json
+import os
 import struct
+import subprocess
 import sys
+import tempfile
 import zlib
 
 import numpy as np
@@ -22,6 +25,14 @@ import pyopenvdb as vdb
 
 def read_gi(path):
     raw = gzip.open(path, "rb").read()
+    file_bytes = len(open(path, "rb").read())
+    if struct.unpack_from("<I", raw, 8)[0] == 3:
+        # A packed file: its textures as the C reader rebuilds them (gi-inspect --textures).
+        tool = os.path.join(os.environ.get("BIN", "build/release/bin"), "gi-inspect")
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "textures.gi")
+            subprocess.run([tool, path, "--textures", out], check=True, stdout=subprocess.DEVNULL)
+            raw = open(out, "rb").read()
     (magic, version, header_size, encoding, rgbm_range) = struct.unpack_from("<8sIIIf", raw, 0)
     assert magic == b"vdbgi.gi" and version in (1, 2), path
     layout = struct.unpack_from("<I", raw, 104)[0] if version == 2 else 0
@@ -37,7 +48,7 @@ def read_gi(path):
     atlas = atlas.reshape(atlas_dims[2], atlas_dims[1], atlas_dims[0], 4)
     return dict(raw=raw, ind=ind, atlas=atlas, box_min=box_min, box_max=box_max,
                 spacing=spacing, ind_dims=ind_dims, atlas_dims=atlas_dims,
-                file_bytes=len(open(path, "rb").read()), encoding=encoding, layout=layout)
+                file_bytes=file_bytes, encoding=encoding, layout=layout)
 
 
 def valid_probes(path):

@@ -2,7 +2,9 @@
 // the two texture byte arrays. No three.js here: the same code runs in a page,
 // in a worker and in node (tests/js), and it refuses, with an Error naming the
 // problem, every file docs/format.md says a reader must refuse, so no lookup
-// can ever leave the textures.
+// can ever leave the textures. A version 3 file (the compact layout, each
+// probe stored once) has its textures rebuilt by gi-packed.js.
+import { rebuildPacked } from './gi-packed.js';
 
 export const ENCODING_RGBM = 0;
 export const ENCODING_RGB9E5 = 1;
@@ -52,10 +54,12 @@ export function parseGi(buf) {
   const f32 = (o) => dv.getFloat32(o, true);
   const vec = (o, get) => [get(o), get(o + 4), get(o + 8)];
   const version = u32(8);
-  if (version !== 1 && version !== 2) throw new Error(`unsupported version ${version}`);
-  // Version 1 is seed 000's layout (6^3 texels a brick); version 2 says which at byte 104.
-  const layout = version === 2 ? u32(104) : LAYOUT_SEED;
-  if (layout > LAYOUT_COMPACT || (version === 1 && u32(104) !== 0)) throw new Error(`unknown layout ${u32(104)}`);
+  if (version < 1 || version > 3) throw new Error(`unsupported version ${version}`);
+  // Version 1 is seed 000's layout (6^3 texels a brick); version 2 says which
+  // at byte 104; version 3 is the compact layout packed.
+  const layout = version === 1 ? LAYOUT_SEED : u32(104);
+  if (version === 1 ? u32(104) !== 0 : version === 3 ? layout !== LAYOUT_COMPACT : layout > LAYOUT_COMPACT)
+    throw new Error(`unknown layout ${u32(104)} for version ${version}`);
   const headerSize = u32(12);
   const gi = {
     version,
@@ -86,8 +90,18 @@ export function parseGi(buf) {
   const bytes = (d) => d[0] * d[1] * d[2] * 4;
   if (indBytes !== bytes(gi.indDims) || atlasBytes !== bytes(gi.atlasDims))
     throw new Error('texture sizes disagree with their dimensions');
-  if (buf.length !== headerSize + indBytes + atlasBytes)
-    throw new Error(`file holds ${buf.length} bytes, header says ${headerSize + indBytes + atlasBytes}`);
+  if (version < 3 && u32(108) !== 0) throw new Error('reserved header field is not 0');
+  gi.storedPoints = version === 3 ? u32(108) : 0;
+  // Version 3 stores a level byte a cell and 4 bytes a stored point, not the textures.
+  const stored = version === 3 ? indBytes / 4 + 4 * gi.storedPoints : indBytes + atlasBytes;
+  if (buf.length !== headerSize + stored)
+    throw new Error(`file holds ${buf.length} bytes, header says ${headerSize + stored}`);
+  if (version === 3) {
+    const { indirection, atlas } = rebuildPacked(gi, buf.subarray(headerSize));
+    gi.indirection = indirection;
+    gi.atlas = atlas;
+    return gi;
+  }
   gi.indirection = buf.subarray(headerSize, headerSize + indBytes);
   gi.atlas = buf.subarray(headerSize + indBytes);
   const slots = gi.atlasDims.map((d) => d / brick);

@@ -1,0 +1,66 @@
+/*
+ * packed.h: the compact layout's file (.gi version 3, docs/format.md): each
+ * kept brick's level in one byte a cell, and every probe value the bricks
+ * read stored once; the runtime textures (slots, borders, stitched seams)
+ * rebuilt from them, by the converter and the reader alike.
+ */
+#ifndef VDBGI_PACKED_H
+#define VDBGI_PACKED_H
+
+#include "coarsen.h"
+#include "volume.h"
+
+/*
+ * The bricks a level array describes, in slot order, and which lattice
+ * points their texels read unstitched: those, and only those, the file
+ * stores. Points are owned by the level-0 cell holding them; the owner grid
+ * reaches 8 cells past the indirection so a level-3 brick's border has one.
+ */
+typedef struct vdbgi_pack_plan {
+    uint32_t dims[3];      /* indirection cells */
+    uint32_t grid[3];      /* cells owning stored points: dims + 2 */
+    size_t brick_count;    /* brick i is in slot i + 1 */
+    int32_t (*key)[3];     /* per brick: block index at its level, relative to cell 0 */
+    uint8_t *level;        /* per brick */
+    uint32_t (*stitch)[4]; /* per brick: bit t, texel t takes a coarser brick's value */
+    uint64_t *mask;        /* per owner cell: bit (z*4 + y)*4 + x, point stored */
+    uint32_t *offset;      /* per owner cell: index of its first stored point */
+    size_t points;         /* stored points */
+    uint32_t per_level[4];
+} vdbgi_pack_plan;
+
+/*
+ * From one level byte a cell (level + 1, or 0 for an empty cell; x fastest):
+ * the bricks, v's indirection (slots, levels), v->info's atlas size and brick
+ * counts, v->raw allocated, and the stored points. A level array no
+ * converter writes (a level above max_level, a coarse block whose cells
+ * disagree, more bricks than an atlas holds) is VDBGI_ERR_FORMAT, with what
+ * is wrong in the message after `name: `.
+ */
+vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels, const char *name,
+                                  vdbgi_pack_plan *plan);
+void vdbgi_pack_plan_free(vdbgi_context *ctx, vdbgi_pack_plan *plan);
+
+/*
+ * The converter's half: bricks (in any order; sorted here into slot order)
+ * sampled from v->filled, each stored point encoded once, and a point no
+ * receiver can read (no valid probe within one step, and read by level-0
+ * bricks only) given the value the decoder predicts, which costs the file
+ * almost nothing. Writes the payload (levels, then four planes of residuals)
+ * into *payload (payload_size bytes, the caller frees it) and builds v's
+ * textures from it exactly as vdbgi_pack_rebuild does for a reader.
+ */
+vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count,
+                              const vdbgi_probes *probes, int threads, uint8_t **payload,
+                              size_t *payload_size);
+
+/*
+ * The reader's half: v's atlas from the plan and the payload's planes
+ * (after its level bytes): stored texels copied, stitched ones interpolated
+ * from their coarser brick and encoded; *clamped gets how many of those
+ * clamped.
+ */
+vdbgi_result vdbgi_pack_rebuild(vdbgi_volume *v, const vdbgi_pack_plan *plan, const uint8_t *planes,
+                                size_t *clamped);
+
+#endif /* VDBGI_PACKED_H */

@@ -1,0 +1,41 @@
+// craft_packed.mjs GOOD.gi.gz DIR: from a good packed (version 3) file, write
+// into DIR one file for each inconsistency docs/format.md says a reader must
+// refuse, each gzip'd whole (so only the reader's checks can catch it), and
+// print their names. Needs a file with a level-1 brick.
+import { readFileSync, writeFileSync } from 'node:fs';
+import { gunzipSync, gzipSync } from 'node:zlib';
+
+const [good, dir] = process.argv.slice(2);
+const raw = new Uint8Array(gunzipSync(readFileSync(good)));
+const dv = new DataView(raw.buffer);
+const u32 = (o) => dv.getUint32(o, true);
+if (u32(8) !== 3) throw new Error(`${good} is version ${u32(8)}, not a packed file`);
+const d = [u32(24), u32(28), u32(32)], cells = d[0] * d[1] * d[2], H = u32(12), maxLevel = u32(76);
+const at = (x, y, z) => H + (z * d[1] + y) * d[0] + x;
+// The first level-1 brick whose 2^3 block lies inside the indirection, and the first level-0 cell.
+let coarse = null, fine = null;
+for (let z = 0; z + 1 < d[2]; z++)
+  for (let y = 0; y + 1 < d[1]; y++)
+    for (let x = 0; x + 1 < d[0]; x++) {
+      const b = raw[at(x, y, z)];
+      if (!coarse && b === 2 && x % 2 === 0 && y % 2 === 0 && z % 2 === 0) coarse = [x, y, z];
+      if (!fine && b === 1 && x % 2 === 1) fine = [x, y, z];
+    }
+if (!coarse || !fine) throw new Error('no level-1 brick or no odd level-0 cell to damage');
+
+function write(name, edit, extra = 0) {
+  const b = new Uint8Array(raw.length + extra);
+  b.set(raw);
+  edit(b, new DataView(b.buffer));
+  writeFileSync(`${dir}/${name}.gi.gz`, gzipSync(b));
+  console.log(name);
+}
+write('level-above-max', (b) => { b[at(...fine)] = maxLevel + 2; });
+write('block-with-a-cell-of-another-level', (b) => { b[at(coarse[0] + 1, coarse[1], coarse[2])] = 1; });
+write('coarse-cell-outside-its-block', (b) => { b[at(...fine)] = 2; });
+write('one-brick-fewer', (b) => { b[at(...fine)] = 0; });
+write('header-counts-another-brick', (b, v) => { v.setUint32(80, u32(80) + 1, true); });
+write('one-stored-point-more', (b, v) => { v.setUint32(108, u32(108) + 1, true); }, 4);
+write('stored-points-without-their-bytes', (b, v) => { v.setUint32(108, u32(108) + 1, true); });
+write('packed-in-the-seed-layout', (b, v) => { v.setUint32(104, 0, true); });
+write('textures-with-a-point-count', (b, v) => { v.setUint32(8, 2, true); });

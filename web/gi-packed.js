@@ -1,0 +1,328 @@
+// gi-packed.js: the runtime textures of a version 3 .gi (docs/format.md,
+// "Version 3"), rebuilt from its level bytes and the probe values it stores
+// once. Bit for bit what lib/packed.c rebuilds: every float operation below
+// is a float32 one (Math.fround) in the C code's order, and the encoders
+// round as the C ones do, so a test can compare the two byte for byte.
+
+const N = 5, TEXELS = 125, PAD = 2;
+const f = Math.fround;
+
+// The atlas's size in texels for `slots` slots: near-cubic, at most 256 an axis.
+export function atlasDims(slots) {
+  const sx = Math.min(Math.ceil(Math.cbrt(slots)), 256);
+  const sy = Math.min(Math.ceil(Math.sqrt(slots / sx)), 256);
+  const sz = Math.ceil(slots / (sx * sy));
+  if (sz > 256) throw new Error(`${slots} bricks do not fit an atlas of 256^3 slots`);
+  return [sx * N, sy * N, sz * N];
+}
+
+const popcount = (x) => {
+  x -= (x >>> 1) & 0x55555555;
+  x = (x & 0x33333333) + ((x >>> 2) & 0x33333333);
+  return (((x + (x >>> 4)) & 0x0f0f0f0f) * 0x01010101) >>> 24;
+};
+
+// Round to nearest, ties to even, as C's lrintf.
+function rint(x) {
+  const r = Math.round(x);
+  return r - x === 0.5 && r % 2 !== 0 ? r - 1 : r;
+}
+
+const f32 = new Float32Array(1), u32 = new Uint32Array(f32.buffer);
+
+function rgbmDecode(b, o, range, out) {
+  const m = f(f(b[o + 3] / 255) * range);
+  for (let k = 0; k < 3; k++) out[k] = f(f(b[o + k] / 255) * m);
+}
+
+function rgb9e5Decode(b, o, out) {
+  const w = (b[o] | (b[o + 1] << 8) | (b[o + 2] << 16) | (b[o + 3] << 24)) >>> 0;
+  const scale = 2 ** ((w >>> 27) - 24);
+  for (let k = 0; k < 3; k++) out[k] = f(((w >>> (9 * k)) & 511) * scale);
+}
+
+const sanitise = (c) => (c > 0 ? c : 0);
+
+function rgbmEncode(rgb, range, b, o) {
+  const c = [sanitise(rgb[0]), sanitise(rgb[1]), sanitise(rgb[2])];
+  const mx = Math.max(c[0], c[1], c[2]);
+  if (!(mx > 0)) {
+    b.fill(0, o, o + 4);
+    return false;
+  }
+  let m8 = Math.ceil(f(Math.min(f(mx / range), 1) * 255));
+  if (m8 < 1) m8 = 1;
+  const scale = f(f(m8 / 255) * range);
+  for (let k = 0; k < 3; k++) b[o + k] = rint(f(Math.min(f(c[k] / scale), 1) * 255));
+  b[o + 3] = m8;
+  return mx > range;
+}
+
+function rgb9e5Encode(rgb, b, o) {
+  const MAX = 65408;
+  const c = [0, 1, 2].map((k) => Math.min(sanitise(rgb[k]), MAX));
+  const mx = Math.max(c[0], c[1], c[2]);
+  f32[0] = mx;
+  // floor(log2(mx)) from the float's exponent bits (exact); tiny values clamp anyway.
+  let exp = mx >= 2 ** -126 ? ((u32[0] >>> 23) & 255) - 127 : -127;
+  if (exp < -16) exp = -16;
+  exp += 16;
+  let denom = 2 ** (exp - 24);
+  if (Math.floor(mx / denom + 0.5) === 512) {
+    exp += 1;
+    denom *= 2;
+  }
+  const w = (Math.floor(c[0] / denom + 0.5) | (Math.floor(c[1] / denom + 0.5) << 9) |
+    (Math.floor(c[2] / denom + 0.5) << 18) | (exp << 27)) >>> 0;
+  b[o] = w & 255, b[o + 1] = (w >>> 8) & 255, b[o + 2] = (w >>> 16) & 255, b[o + 3] = w >>> 24;
+  return rgb.some((v) => v > MAX);
+}
+
+// Trilinear over a compact brick's 5^3 float samples at fine lattice point p (lib/coarsen.c).
+function interpolate(s, key, level, p, out) {
+  const span = f(1 << level);
+  const i0 = [0, 0, 0], fr = [0, 0, 0];
+  for (let k = 0; k < 3; k++) {
+    const origin = f(f(key[k] * 4) * span);
+    const t = f(f(p[k] - origin) / span);
+    const fl = Math.floor(t);
+    i0[k] = fl;
+    fr[k] = f(t - fl);
+    if (i0[k] > N - 2) {
+      i0[k] = N - 2;
+      fr[k] = 1;
+    }
+  }
+  out[0] = out[1] = out[2] = 0;
+  for (let c = 0; c < 8; c++) {
+    const w = f(f((c & 1 ? fr[0] : f(1 - fr[0])) * (c & 2 ? fr[1] : f(1 - fr[1]))) *
+      (c & 4 ? fr[2] : f(1 - fr[2])));
+    const x = i0[0] + (c & 1), y = i0[1] + ((c >> 1) & 1), z = i0[2] + ((c >> 2) & 1);
+    const v = 3 * ((z * N + y) * N + x);
+    for (let k = 0; k < 3; k++) out[k] = f(out[k] + f(w * s[v + k]));
+  }
+}
+
+// Rebuild { indirection, atlas, storedPoints } from a version 3 payload, or
+// throw an Error naming what is inconsistent. `gi` is the parsed header.
+export function rebuildPacked(gi, payload) {
+  const d = gi.indDims, cells = d[0] * d[1] * d[2];
+  const levels = payload.subarray(0, cells);
+  const cellAt = (x, y, z) => (z * d[1] + y) * d[0] + x;
+  // The bricks, in slot order: each met at its block's first cell.
+  const keys = [], lv = [];
+  for (let z = 0; z < d[2]; z++)
+    for (let y = 0; y < d[1]; y++)
+      for (let x = 0; x < d[0]; x++) {
+        const b = levels[cellAt(x, y, z)];
+        if (b === 0) continue;
+        if (b > gi.maxLevel + 1)
+          throw new Error(`cell ${x},${y},${z} has level ${b - 1}, above the file's max level ${gi.maxLevel}`);
+        const span = 1 << (b - 1);
+        const fx = x - (x % span), fy = y - (y % span), fz = z - (z % span);
+        if (fx !== x || fy !== y || fz !== z) {
+          if (levels[cellAt(fx, fy, fz)] !== b)
+            throw new Error(`cell ${x},${y},${z} is level ${b - 1} but its block's first cell is not`);
+          continue;
+        }
+        for (let k = z; k < Math.min(z + span, d[2]); k++)
+          for (let j = y; j < Math.min(y + span, d[1]); j++)
+            for (let i = x; i < Math.min(x + span, d[0]); i++)
+              if (levels[cellAt(i, j, k)] !== b)
+                throw new Error(`the level-${b - 1} block at cell ${x},${y},${z} has a cell of another level`);
+        keys.push([x / span, y / span, z / span]);
+        lv.push(b - 1);
+      }
+  const count = keys.length;
+  const dims = atlasDims(count + 1);
+  const perLevel = [0, 0, 0, 0];
+  for (const l of lv) perLevel[l]++;
+  if (dims.some((v, k) => v !== gi.atlasDims[k]) || perLevel.some((v, k) => v !== gi.bricks[k]))
+    throw new Error('the level bytes hold other bricks than the header counts');
+  const sx = dims[0] / N, sy = dims[1] / N;
+  const indirection = new Uint8Array(4 * cells);
+  for (let b = 0; b < count; b++) {
+    const slot = b + 1, span = 1 << lv[b];
+    const t = [slot % sx, Math.floor(slot / sx) % sy, Math.floor(slot / (sx * sy)), lv[b] + 1];
+    const lo = keys[b].map((k) => k * span);
+    for (let z = lo[2]; z < Math.min(lo[2] + span, d[2]); z++)
+      for (let y = lo[1]; y < Math.min(lo[1] + span, d[1]); y++)
+        for (let x = lo[0]; x < Math.min(lo[0] + span, d[0]); x++) indirection.set(t, 4 * cellAt(x, y, z));
+  }
+  const point = [0, 0, 0];
+  const texelPoint = (b, t, p) => {
+    const span = 1 << lv[b], key = keys[b];
+    p[0] = (key[0] * 4 + (t % N)) * span;
+    p[1] = (key[1] * 4 + (Math.floor(t / N) % N)) * span;
+    p[2] = (key[2] * 4 + Math.floor(t / (N * N))) * span;
+  };
+  // The coarsest brick whose cells touch lattice point p, if coarser than level.
+  let coarseIndex = 0, coarseLevel = 0;
+  const coarserBrickAt = (p, level) => {
+    let best = level;
+    for (let c = 0; c < 8; c++) {
+      const dx = c & 1, dy = (c >> 1) & 1, dz = (c >> 2) & 1;
+      const x = (p[0] >> 2) - dx, y = (p[1] >> 2) - dy, z = (p[2] >> 2) - dz;
+      if ((dx && p[0] % 4) || (dy && p[1] % 4) || (dz && p[2] % 4)) continue;
+      if (x < 0 || y < 0 || z < 0 || x >= d[0] || y >= d[1] || z >= d[2]) continue;
+      const o = 4 * cellAt(x, y, z);
+      if (indirection[o + 3] === 0 || indirection[o + 3] - 1 <= best) continue;
+      best = indirection[o + 3] - 1;
+      coarseIndex = (indirection[o + 2] * sy + indirection[o + 1]) * sx + indirection[o] - 1;
+    }
+    coarseLevel = best;
+    return best > level;
+  };
+  // Which texels take a coarser brick's value: none unless a cell around the block is coarser.
+  const stitch = new Uint32Array(4 * count);
+  for (let b = 0; b < count; b++) {
+    const span = 1 << lv[b];
+    let near = false;
+    const lo = keys[b].map((k, a) => Math.max(k * span - 1, 0));
+    const hi = keys[b].map((k, a) => Math.min(k * span + span, d[a] - 1));
+    for (let z = lo[2]; z <= hi[2] && !near; z++)
+      for (let y = lo[1]; y <= hi[1] && !near; y++)
+        for (let x = lo[0]; x <= hi[0] && !near; x++) near = indirection[4 * cellAt(x, y, z) + 3] > lv[b] + 1;
+    if (!near) continue;
+    for (let t = 0; t < TEXELS; t++) {
+      if (t % N % 4 && Math.floor(t / N) % N % 4 && Math.floor(t / (N * N)) % 4) continue;
+      texelPoint(b, t, point);
+      if (coarserBrickAt(point, lv[b])) stitch[4 * b + (t >> 5)] |= 1 << (t & 31);
+    }
+  }
+  // Sets point, coarseIndex and coarseLevel for a stitched texel.
+  const stitched = (b, t) => {
+    if (!((stitch[4 * b + (t >> 5)] >>> (t & 31)) & 1)) return false;
+    texelPoint(b, t, point);
+    return coarserBrickAt(point, lv[b]);
+  };
+  // The stored points, a mask of 64 a cell (two words) and each cell's first index.
+  const g = d.map((v) => v + PAD), gcells = g[0] * g[1] * g[2];
+  const lo32 = new Uint32Array(gcells), hi32 = new Uint32Array(gcells), offset = new Uint32Array(gcells);
+  const gridAt = (p) => {
+    const cx = p[0] >> 2, cy = p[1] >> 2, cz = p[2] >> 2;
+    if (p[0] < 0 || p[1] < 0 || p[2] < 0 || cx >= g[0] || cy >= g[1] || cz >= g[2]) return -1;
+    return (cz * g[1] + cy) * g[0] + cx;
+  };
+  const bitOf = (p) => ((p[2] & 3) * 4 + (p[1] & 3)) * 4 + (p[0] & 3);
+  for (let b = 0; b < count; b++)
+    for (let t = 0; t < TEXELS; t++) {
+      if (stitched(b, t)) continue;
+      texelPoint(b, t, point);
+      const c = gridAt(point);
+      if (c < 0) continue;
+      const bit = bitOf(point);
+      if (bit < 32) lo32[c] |= 1 << bit;
+      else hi32[c] |= 1 << (bit - 32);
+    }
+  let points = 0;
+  for (let c = 0; c < gcells; c++) {
+    offset[c] = points;
+    points += popcount(lo32[c]) + popcount(hi32[c]);
+  }
+  if (points !== gi.storedPoints)
+    throw new Error(`the bricks read ${points} points, the header says ${gi.storedPoints} are stored`);
+  const indexOf = (p) => {
+    const c = gridAt(p);
+    if (c < 0) return -1;
+    const bit = bitOf(p);
+    if (bit < 32) {
+      if (!((lo32[c] >>> bit) & 1)) return -1;
+      return offset[c] + popcount(lo32[c] & ((1 << bit) - 1));
+    }
+    if (!((hi32[c] >>> (bit - 32)) & 1)) return -1;
+    return offset[c] + popcount(lo32[c]) + popcount(hi32[c] & ((1 << (bit - 32)) - 1));
+  };
+  // The values: residuals against a prediction from the -x, -y, -x-y and -z
+  // neighbours (docs/format.md, step 4), plane by plane; an RGBM multiplier
+  // before the colour bytes it rescales the neighbours' colours to.
+  const planes = payload.subarray(cells);
+  const values = new Uint8Array(4 * points);
+  const rgbm = gi.encoding === 0;
+  const order = rgbm ? [3, 0, 1, 2] : [0, 1, 2, 3];
+  const rescaled = (j, k, m) => {
+    if (m === 0) return values[4 * j + k];
+    return Math.min(Math.floor((2 * values[4 * j + k] * values[4 * j + 3] + m) / (2 * m)), 255);
+  };
+  const q = [0, 0, 0];
+  let i = 0;
+  for (let cz = 0; cz < g[2]; cz++)
+    for (let cy = 0; cy < g[1]; cy++)
+      for (let cx = 0; cx < g[0]; cx++) {
+        const c = (cz * g[1] + cy) * g[0] + cx;
+        if (!lo32[c] && !hi32[c]) continue;
+        for (let bit = 0; bit < 64; bit++) {
+          if (!(((bit < 32 ? lo32[c] : hi32[c]) >>> (bit & 31)) & 1)) continue;
+          const x = cx * 4 + (bit & 3), y = cy * 4 + ((bit >> 2) & 3), z = cz * 4 + (bit >> 4);
+          q[0] = x - 1, q[1] = y, q[2] = z;
+          const a = indexOf(q);
+          q[0] = x, q[1] = y - 1;
+          const b = indexOf(q);
+          q[0] = x - 1;
+          const cc = indexOf(q);
+          q[0] = x, q[1] = y, q[2] = z - 1;
+          const e = indexOf(q);
+          for (const k of order) {
+            const m = rgbm && k < 3 ? values[4 * i + 3] : 0;
+            let pred = 0;
+            if (a >= 0 && b >= 0 && cc >= 0) {
+              const A = rescaled(a, k, m), B = rescaled(b, k, m), C = rescaled(cc, k, m);
+              const lo = Math.min(A, B), hi = Math.max(A, B);
+              pred = C >= hi ? lo : C <= lo ? hi : A + B - C;
+            } else {
+              const j = a >= 0 ? a : b >= 0 ? b : e;
+              if (j >= 0) pred = rescaled(j, k, m);
+            }
+            values[4 * i + k] = (planes[k * points + i] + pred) & 255;
+          }
+          i++;
+        }
+      }
+  // The atlas: stored texels copied; stitched ones interpolated from their
+  // coarser brick (coarse bricks' samples kept as floats, coarsest first).
+  const decode = (idx, out) => {
+    if (idx < 0) out.fill(0);
+    else if (rgbm) rgbmDecode(values, 4 * idx, gi.rgbmRange, out);
+    else rgb9e5Decode(values, 4 * idx, out);
+  };
+  const cidx = new Int32Array(count).fill(-1);
+  let coarse = 0;
+  for (let b = 0; b < count; b++) if (lv[b]) cidx[b] = coarse++;
+  const fs = new Float32Array(Math.max(coarse, 1) * TEXELS * 3);
+  const rgb = new Float32Array(3), tmp = [0, 0, 0];
+  const interpolateFrom = (j, cl, p, out) => {
+    interpolate(fs.subarray(cidx[j] * TEXELS * 3, (cidx[j] + 1) * TEXELS * 3), keys[j], cl, p, tmp);
+    out[0] = tmp[0], out[1] = tmp[1], out[2] = tmp[2];
+  };
+  for (let level = gi.maxLevel; level >= 1; level--)
+    for (let b = 0; b < count; b++) {
+      if (lv[b] !== level) continue;
+      for (let t = 0; t < TEXELS; t++) {
+        const s = fs.subarray((cidx[b] * TEXELS + t) * 3, (cidx[b] * TEXELS + t) * 3 + 3);
+        if (stitched(b, t)) interpolateFrom(coarseIndex, coarseLevel, point, s);
+        else {
+          texelPoint(b, t, point);
+          decode(indexOf(point), s);
+        }
+      }
+    }
+  const atlas = new Uint8Array(4 * dims[0] * dims[1] * dims[2]);
+  for (let b = 0; b < count; b++) {
+    const slot = b + 1, base = [(slot % sx) * N, (Math.floor(slot / sx) % sy) * N, Math.floor(slot / (sx * sy)) * N];
+    for (let t = 0; t < TEXELS; t++) {
+      const o = 4 * (((base[2] + Math.floor(t / (N * N))) * dims[1] + base[1] + (Math.floor(t / N) % N)) * dims[0] +
+        base[0] + (t % N));
+      if (!stitched(b, t)) {
+        texelPoint(b, t, point);
+        const idx = indexOf(point);
+        if (idx >= 0) atlas.set(values.subarray(4 * idx, 4 * idx + 4), o);
+        continue;
+      }
+      if (cidx[b] >= 0) rgb.set(fs.subarray((cidx[b] * TEXELS + t) * 3, (cidx[b] * TEXELS + t) * 3 + 3));
+      else interpolateFrom(coarseIndex, coarseLevel, point, rgb);
+      if (rgbm) rgbmEncode(rgb, gi.rgbmRange, atlas, o);
+      else rgb9e5Encode(rgb, atlas, o);
+    }
+  }
+  return { indirection, atlas, storedPoints: points };
+}
