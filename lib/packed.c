@@ -537,24 +537,33 @@ static uint64_t *valid_bits(vdbgi_volume *v, const vdbgi_pack_plan *pl, const vd
     return bits;
 }
 
-static bool valid_near(const vdbgi_pack_plan *pl, const uint64_t *bits, const int32_t p[3])
+/*
+ * The valid bits grown by one point along an axis: a cell's 4^3 bits are
+ * x fastest (1 bit), then y (4), then z (16); the neighbour cells' faces
+ * carry in. Three passes grow them to the 26 neighbours.
+ */
+static void grow(const vdbgi_pack_plan *pl, const uint64_t *in, uint64_t *out, int axis)
 {
-    for (int dz = -1; dz <= 1; dz++)
-        for (int dy = -1; dy <= 1; dy++)
-            for (int dx = -1; dx <= 1; dx++) {
-                const int32_t q[3] = {p[0] + dx, p[1] + dy, p[2] + dz};
-                int32_t c[3];
-                bool inside = true;
-                for (int k = 0; k < 3; k++) {
-                    c[k] = q[k] >> 2;
-                    inside = inside && q[k] >= 0 && c[k] < (int32_t)pl->grid[k];
-                }
-                if (inside && bits[cell_index(pl->grid, c)] >>
-                                      (((q[2] & 3) * 4 + (q[1] & 3)) * 4 + (q[0] & 3)) &
-                                  1u)
-                    return true;
+    static const uint64_t low_face[3] = {UINT64_C(0x1111111111111111), UINT64_C(0x000F000F000F000F),
+                                         UINT64_C(0xFFFF)};
+    const int step = axis == 0 ? 1 : axis == 1 ? 4 : 16;
+    const uint64_t low = low_face[axis], high = low << (3 * step);
+    const size_t stride = axis == 0   ? 1
+                          : axis == 1 ? pl->grid[0]
+                                      : (size_t)pl->grid[0] * pl->grid[1];
+    for (int32_t z = 0; z < (int32_t)pl->grid[2]; z++)
+        for (int32_t y = 0; y < (int32_t)pl->grid[1]; y++)
+            for (int32_t x = 0; x < (int32_t)pl->grid[0]; x++) {
+                const int32_t c[3] = {x, y, z};
+                const size_t i = cell_index(pl->grid, c);
+                const uint64_t m = in[i];
+                uint64_t g = m | (m << step & ~low) | (m >> step & ~high);
+                if (c[axis] > 0)
+                    g |= in[i - stride] >> (3 * step) & low;
+                if (c[axis] + 1 < (int32_t)pl->grid[axis])
+                    g |= in[i + stride] << (3 * step) & high;
+                out[i] = g;
             }
-    return false;
 }
 
 vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count,
@@ -587,7 +596,7 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
     vdbgi_pack_plan pl;
     float(*samples)[TEXELS][3] = NULL;
     uint8_t *values = NULL, *written = NULL, *out = NULL;
-    uint64_t *valid = NULL;
+    uint64_t *valid = NULL, *near = NULL;
     vdbgi_result r = vdbgi_pack_plan_make(v, levels, "converter", &pl);
     if (r != VDBGI_OK) {
         vdbgi_free(ctx, levels);
@@ -599,7 +608,9 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
     written = vdbgi_calloc(ctx, n ? n : 1, 1); /* 1 stored, 2 also read by a coarse brick */
     out = vdbgi_alloc(ctx, cells + 4 * n);
     valid = valid_bits(v, &pl, probes);
-    if (!samples || !values || !written || !out || !valid) {
+    const size_t grid_cells = (size_t)pl.grid[0] * pl.grid[1] * pl.grid[2];
+    near = vdbgi_alloc(ctx, grid_cells * sizeof(*near));
+    if (!samples || !values || !written || !out || !valid || !near) {
         r = VDBGI_ERR_OUT_OF_MEMORY;
         goto done;
     }
@@ -640,13 +651,19 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
      * Residuals in storage order. A point no receiver reads takes the
      * prediction itself: its residual is zero, which gzip all but drops.
      */
+    /* Points with a valid probe among their 26 neighbours, or themselves valid. */
+    grow(&pl, valid, near, 0);
+    grow(&pl, near, valid, 1);
+    grow(&pl, valid, near, 2);
     memcpy(out, levels, cells);
     const bool rgbm = v->info.encoding == VDBGI_ENCODING_RGBM;
     size_t unread = 0;
     FOR_EACH_POINT(&pl, p, i, {
         int64_t nb[4];
         neighbours(&pl, p, nb);
-        const bool needed = written[i] == 2 || valid_near(&pl, valid, p);
+        const int32_t c[3] = {p[0] >> 2, p[1] >> 2, p[2] >> 2};
+        const int own = ((p[2] & 3) * 4 + (p[1] & 3)) * 4 + (p[0] & 3);
+        const bool needed = written[i] == 2 || near[cell_index(pl.grid, c)] >> own & 1u;
         unread += !needed;
         for (int o = 0; o < 4; o++) {
             const int k = byte_order[!rgbm][o];
@@ -674,5 +691,6 @@ done:
     vdbgi_free(ctx, written);
     vdbgi_free(ctx, out);
     vdbgi_free(ctx, valid);
+    vdbgi_free(ctx, near);
     return r;
 }

@@ -324,6 +324,76 @@ static void invalid_probes_never_leak_their_value(void)
     vdbgi_context_destroy(ctx);
 }
 
+/*
+ * The packed file leaves out (gives its predictor's value to) points no
+ * receiver reads: any position in a lattice cell with a valid corner must
+ * read the trilinear of the filled field at its 8 corners, within an
+ * encoding step, however deep the invalid region beside it.
+ */
+static void cells_with_a_valid_corner_read_the_filled_field(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_probes *p = test_slab(ctx, 24, 16, 24, smooth);
+    for (size_t i = 0; i < p->count; i++)
+        if (p->ijk[3 * i + 1] < 8) /* the lower half is inside geometry */
+            p->backface[i] = 1.0f;
+    const vdbgi_convert_desc d = {
+        .eps = VDBGI_ZERO,
+        .max_level = VDBGI_ZERO,
+        .encoding = VDBGI_ENCODING_RGB9E5, /* decoded before filtering: trilinear exactly */
+        .layout = VDBGI_LAYOUT_COMPACT};
+    vdbgi_volume *v = NULL;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
+    if (v) {
+        double worst = 0.0;
+        size_t tried = 0;
+        for (size_t i = 0; i < p->count; i++) {
+            if (p->backface[i] > p->invalid_threshold)
+                continue;
+            /* A point inside each of the 8 cells this valid probe is a corner of. */
+            for (int c = 0; c < 8; c++) {
+                int32_t lo[3];
+                double q[3];
+                for (int k = 0; k < 3; k++) {
+                    lo[k] = p->ijk[3 * i + k] - (c >> k & 1);
+                    q[k] = lo[k] + 0.3 + 0.15 * k;
+                }
+                float want[3] = {0.0f, 0.0f, 0.0f}, mx = 0.0f;
+                bool all = true;
+                for (int corner = 0; corner < 8 && all; corner++) {
+                    int32_t ijk[3];
+                    double w = 1.0;
+                    for (int k = 0; k < 3; k++) {
+                        ijk[k] = lo[k] + (corner >> k & 1);
+                        const double f = q[k] - lo[k];
+                        w *= corner >> k & 1 ? f : 1.0 - f;
+                    }
+                    const float *const at = vdbgi_field_at(&v->filled, ijk, NULL);
+                    all = at != NULL;
+                    for (int k = 0; all && k < 3; k++) {
+                        want[k] += (float)w * at[k];
+                        mx = fmaxf(mx, at[k]);
+                    }
+                }
+                if (!all)
+                    continue;
+                float pos[3], got[3];
+                world_of(p, q, pos);
+                vdbgi_volume_sample(v, pos, got);
+                const float step = mx / 512.0f; /* what RGB9E5 rounds a corner by, at most */
+                for (int k = 0; k < 3; k++)
+                    worst = fmax(worst, fabs(got[k] - want[k]) / step);
+                tried++;
+            }
+        }
+        CHECK(tried > 8000);
+        CHECK(worst <= 1.0);
+        vdbgi_volume_destroy(v);
+    }
+    vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+}
+
 /* A lit 16 m floor with a closed 8 m box on it, baked at 0.5 m on a lattice at origin. */
 static vdbgi_probes *boxed_floor(vdbgi_context *ctx, double origin, vdbgi_scene **s)
 {
@@ -700,6 +770,7 @@ int main(void)
     RUN(flat_field_becomes_a_few_level3_bricks);
     RUN(linear_ramp_stays_coarse_under_interpolation);
     RUN(invalid_probes_never_leak_their_value);
+    RUN(cells_with_a_valid_corner_read_the_filled_field);
     RUN(only_cells_whose_filter_reads_a_valid_probe_get_bricks);
     RUN(files_round_trip_and_are_deterministic);
     RUN(damaged_files_are_refused);

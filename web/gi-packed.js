@@ -178,11 +178,13 @@ export function rebuildPacked(gi, payload) {
   for (let b = 0; b < count; b++) {
     const span = 1 << lv[b];
     let near = false;
-    const lo = keys[b].map((k, a) => Math.max(k * span - 1, 0));
-    const hi = keys[b].map((k, a) => Math.min(k * span + span, d[a] - 1));
-    for (let z = lo[2]; z <= hi[2] && !near; z++)
-      for (let y = lo[1]; y <= hi[1] && !near; y++)
-        for (let x = lo[0]; x <= hi[0] && !near; x++) near = indirection[4 * cellAt(x, y, z) + 3] > lv[b] + 1;
+    const key = keys[b], top = lv[b] + 1;
+    const x0 = Math.max(key[0] * span - 1, 0), x1 = Math.min(key[0] * span + span, d[0] - 1);
+    const y0 = Math.max(key[1] * span - 1, 0), y1 = Math.min(key[1] * span + span, d[1] - 1);
+    const z0 = Math.max(key[2] * span - 1, 0), z1 = Math.min(key[2] * span + span, d[2] - 1);
+    for (let z = z0; z <= z1 && !near; z++)
+      for (let y = y0; y <= y1 && !near; y++)
+        for (let x = x0; x <= x1 && !near; x++) near = indirection[4 * cellAt(x, y, z) + 3] > top;
     if (!near) continue;
     for (let t = 0; t < TEXELS; t++) {
       if (t % N % 4 && Math.floor(t / N) % N % 4 && Math.floor(t / (N * N)) % 4) continue;
@@ -205,16 +207,20 @@ export function rebuildPacked(gi, payload) {
     return (cz * g[1] + cy) * g[0] + cx;
   };
   const bitOf = (p) => ((p[2] & 3) * 4 + (p[1] & 3)) * 4 + (p[0] & 3);
-  for (let b = 0; b < count; b++)
-    for (let t = 0; t < TEXELS; t++) {
-      if (stitched(b, t)) continue;
-      texelPoint(b, t, point);
-      const c = gridAt(point);
-      if (c < 0) continue;
-      const bit = bitOf(point);
-      if (bit < 32) lo32[c] |= 1 << bit;
-      else hi32[c] |= 1 << (bit - 32);
-    }
+  for (let b = 0; b < count; b++) {
+    const span = 1 << lv[b], key = keys[b], any = stitch[4 * b] | stitch[4 * b + 1] | stitch[4 * b + 2] | stitch[4 * b + 3];
+    for (let t = 0, qz = 0; qz < N; qz++)
+      for (let qy = 0; qy < N; qy++)
+        for (let qx = 0; qx < N; qx++, t++) {
+          if (any && stitched(b, t)) continue;
+          point[0] = (key[0] * 4 + qx) * span, point[1] = (key[1] * 4 + qy) * span, point[2] = (key[2] * 4 + qz) * span;
+          const c = gridAt(point);
+          if (c < 0) continue;
+          const bit = bitOf(point);
+          if (bit < 32) lo32[c] |= 1 << bit;
+          else hi32[c] |= 1 << (bit - 32);
+        }
+  }
   let points = 0;
   for (let c = 0; c < gcells; c++) {
     offset[c] = points;
@@ -222,10 +228,12 @@ export function rebuildPacked(gi, payload) {
   }
   if (points !== gi.storedPoints)
     throw new Error(`the bricks read ${points} points, the header says ${gi.storedPoints} are stored`);
-  const indexOf = (p) => {
-    const c = gridAt(p);
-    if (c < 0) return -1;
-    const bit = bitOf(p);
+  // The stored point at lattice point x, y, z, or -1.
+  const at3 = (x, y, z) => {
+    if (x < 0 || y < 0 || z < 0) return -1;
+    const cx = x >> 2, cy = y >> 2, cz = z >> 2;
+    if (cx >= g[0] || cy >= g[1] || cz >= g[2]) return -1;
+    const c = (cz * g[1] + cy) * g[0] + cx, bit = ((z & 3) * 4 + (y & 3)) * 4 + (x & 3);
     if (bit < 32) {
       if (!((lo32[c] >>> bit) & 1)) return -1;
       return offset[c] + popcount(lo32[c] & ((1 << bit) - 1));
@@ -233,6 +241,7 @@ export function rebuildPacked(gi, payload) {
     if (!((hi32[c] >>> (bit - 32)) & 1)) return -1;
     return offset[c] + popcount(lo32[c]) + popcount(hi32[c] & ((1 << (bit - 32)) - 1));
   };
+  const indexOf = (p) => at3(p[0], p[1], p[2]);
   // The values: residuals against a prediction from the -x, -y, -x-y and -z
   // neighbours (docs/format.md, step 4), plane by plane; an RGBM multiplier
   // before the colour bytes it rescales the neighbours' colours to.
@@ -244,7 +253,6 @@ export function rebuildPacked(gi, payload) {
     if (m === 0) return values[4 * j + k];
     return Math.min(Math.floor((2 * values[4 * j + k] * values[4 * j + 3] + m) / (2 * m)), 255);
   };
-  const q = [0, 0, 0];
   let i = 0;
   for (let cz = 0; cz < g[2]; cz++)
     for (let cy = 0; cy < g[1]; cy++)
@@ -254,15 +262,9 @@ export function rebuildPacked(gi, payload) {
         for (let bit = 0; bit < 64; bit++) {
           if (!(((bit < 32 ? lo32[c] : hi32[c]) >>> (bit & 31)) & 1)) continue;
           const x = cx * 4 + (bit & 3), y = cy * 4 + ((bit >> 2) & 3), z = cz * 4 + (bit >> 4);
-          q[0] = x - 1, q[1] = y, q[2] = z;
-          const a = indexOf(q);
-          q[0] = x, q[1] = y - 1;
-          const b = indexOf(q);
-          q[0] = x - 1;
-          const cc = indexOf(q);
-          q[0] = x, q[1] = y, q[2] = z - 1;
-          const e = indexOf(q);
-          for (const k of order) {
+          const a = at3(x - 1, y, z), b = at3(x, y - 1, z), cc = at3(x - 1, y - 1, z), e = at3(x, y, z - 1);
+          for (let o = 0; o < 4; o++) {
+            const k = order[o];
             const m = rgbm && k < 3 ? values[4 * i + 3] : 0;
             let pred = 0;
             if (a >= 0 && b >= 0 && cc >= 0) {
@@ -308,21 +310,24 @@ export function rebuildPacked(gi, payload) {
     }
   const atlas = new Uint8Array(4 * dims[0] * dims[1] * dims[2]);
   for (let b = 0; b < count; b++) {
-    const slot = b + 1, base = [(slot % sx) * N, (Math.floor(slot / sx) % sy) * N, Math.floor(slot / (sx * sy)) * N];
-    for (let t = 0; t < TEXELS; t++) {
-      const o = 4 * (((base[2] + Math.floor(t / (N * N))) * dims[1] + base[1] + (Math.floor(t / N) % N)) * dims[0] +
-        base[0] + (t % N));
-      if (!stitched(b, t)) {
-        texelPoint(b, t, point);
-        const idx = indexOf(point);
-        if (idx >= 0) atlas.set(values.subarray(4 * idx, 4 * idx + 4), o);
-        continue;
-      }
-      if (cidx[b] >= 0) rgb.set(fs.subarray((cidx[b] * TEXELS + t) * 3, (cidx[b] * TEXELS + t) * 3 + 3));
-      else interpolateFrom(coarseIndex, coarseLevel, point, rgb);
-      if (rgbm) rgbmEncode(rgb, gi.rgbmRange, atlas, o);
-      else rgb9e5Encode(rgb, atlas, o);
-    }
+    const slot = b + 1, bx = (slot % sx) * N, by = (Math.floor(slot / sx) % sy) * N, bz = Math.floor(slot / (sx * sy)) * N;
+    const span = 1 << lv[b], key = keys[b], any = stitch[4 * b] | stitch[4 * b + 1] | stitch[4 * b + 2] | stitch[4 * b + 3];
+    for (let t = 0, qz = 0; qz < N; qz++)
+      for (let qy = 0; qy < N; qy++)
+        for (let qx = 0; qx < N; qx++, t++) {
+          const o = 4 * (((bz + qz) * dims[1] + by + qy) * dims[0] + bx + qx);
+          if (!(any && stitched(b, t))) {
+            const idx = at3((key[0] * 4 + qx) * span, (key[1] * 4 + qy) * span, (key[2] * 4 + qz) * span);
+            if (idx >= 0)
+              atlas[o] = values[4 * idx], atlas[o + 1] = values[4 * idx + 1],
+              atlas[o + 2] = values[4 * idx + 2], atlas[o + 3] = values[4 * idx + 3];
+            continue;
+          }
+          if (cidx[b] >= 0) rgb.set(fs.subarray((cidx[b] * TEXELS + t) * 3, (cidx[b] * TEXELS + t) * 3 + 3));
+          else interpolateFrom(coarseIndex, coarseLevel, point, rgb);
+          if (rgbm) rgbmEncode(rgb, gi.rgbmRange, atlas, o);
+          else rgb9e5Encode(rgb, atlas, o);
+        }
   }
   return { indirection, atlas, storedPoints: points };
 }
