@@ -53,7 +53,8 @@ ASSIMP_LIBS = $(call pkg_libs,assimp)
 DEP_LIBS = $(VDB_LIBS) $(EMBREE_LIBS) $(ASSIMP_LIBS) -ldeflate -lz -ldl -lpthread -lm
 
 ALL_CFLAGS = -std=c11 $(WARN_C) $(OPT) -MMD -MP -fvisibility=hidden -DVDBGI_BUILDING \
-             -DVDBGI_MODULE_DIR='"$(PREFIX)/lib/vdbgi"' $(ASSIMP_CFLAGS) $(CFLAGS)
+             -DVDBGI_MODULE_DIR='"$(PREFIX)/lib/vdbgi"' $(ASSIMP_CFLAGS) $(call pkg_cflags,stb) \
+             $(CFLAGS)
 # No -fvisibility=hidden for the C++ shims: OpenVDB's registries rely on its template
 # statics being shared with libopenvdb.so, and initialize() crashes when they are hidden.
 ALL_CXXFLAGS = -std=c++17 $(WARN_CXX) $(OPT) -MMD -MP -DVDBGI_BUILDING \
@@ -81,7 +82,7 @@ TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 
 DEB_PACKAGES := gcc g++ make pkg-config libopenvdb-dev libboost-dev libimath-dev libtbb-dev \
                 libembree-dev libopenimageio-dev libassimp-dev zlib1g-dev libdeflate-dev libopenvdb-tools \
-                python3 python3-openvdb openimageio-tools gnuplot-nox clang-format chromium
+                python3 python3-openvdb openimageio-tools gnuplot-nox clang-format chromium libstb-dev
 
 # Keep object files of apps and tests (make would delete them as intermediates).
 .SECONDARY:

@@ -1,0 +1,281 @@
+/*
+ * test_unwrap.c: lightmap UVs. Every triangle mapped inside its atlas;
+ * no texel centre inside two triangles; no texel touched by two charts,
+ * and none within two gutters of another chart; texel density as asked
+ * where the atlas allows it; degenerate and sliver triangles; 50 000
+ * triangles; the same bytes twice.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "scene.h"
+#include "test_util.h"
+#include "unwrap.h"
+
+#include <math.h>
+
+/* Does the triangle (2D) overlap the closed square [x, x+1] x [y, y+1]? Separating axes. */
+static bool touches(const float *t, double x, double y)
+{
+    const double sq[4][2] = {{x, y}, {x + 1, y}, {x + 1, y + 1}, {x, y + 1}};
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (int k = 0; k < 3; k++)
+        for (int a = 0; a < 2; a++) {
+            lo[a] = fmin(lo[a], t[2 * k + a]);
+            hi[a] = fmax(hi[a], t[2 * k + a]);
+        }
+    if (hi[0] < x || lo[0] > x + 1 || hi[1] < y || lo[1] > y + 1)
+        return false;
+    for (int e = 0; e < 3; e++) {
+        const double ax = -(t[2 * ((e + 1) % 3) + 1] - t[2 * e + 1]),
+                     ay = t[2 * ((e + 1) % 3)] - t[2 * e];
+        double tl = INFINITY, th = -INFINITY, sl = INFINITY, sh = -INFINITY;
+        for (int k = 0; k < 3; k++) {
+            const double d = ax * t[2 * k] + ay * t[2 * k + 1];
+            tl = fmin(tl, d), th = fmax(th, d);
+        }
+        for (int k = 0; k < 4; k++) {
+            const double d = ax * sq[k][0] + ay * sq[k][1];
+            sl = fmin(sl, d), sh = fmax(sh, d);
+        }
+        if (th < sl || sh < tl)
+            return false;
+    }
+    return true;
+}
+
+/* Is point (x, y) strictly inside the triangle (either winding)? */
+static bool inside(const float *t, double x, double y)
+{
+    double s[3];
+    for (int e = 0; e < 3; e++) {
+        const float *a = &t[2 * e], *b = &t[2 * ((e + 1) % 3)];
+        s[e] = (b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0]);
+    }
+    const double eps = 1e-9;
+    return (s[0] > eps && s[1] > eps && s[2] > eps) || (s[0] < -eps && s[1] < -eps && s[2] < -eps);
+}
+
+/* Everything an unwrap promises, checked against the scene it came from. */
+static void check_unwrap(const vdbgi_scene *s, const vdbgi_unwrap *u, bool density_as_asked)
+{
+    const int size = u->size, reach = 2 * (int)u->gutter;
+    CHECK(u->triangle_count == s->triangle_count && u->page_count >= 1);
+    uint32_t *owner = calloc((size_t)size * size * u->page_count, sizeof(*owner));
+    uint8_t *centres = calloc((size_t)size * size * u->page_count, 1);
+    size_t bad_uv = 0, shared = 0, overlaps = 0, off_density = 0;
+    for (size_t t = 0; t < u->triangle_count; t++) {
+        const float *const uv = &u->uv[6 * t];
+        const uint32_t c = u->chart[t];
+        CHECK(c < u->chart_count && u->page[c] < u->page_count);
+        for (int k = 0; k < 6; k++)
+            bad_uv += !(uv[k] >= 0.0f && uv[k] <= (float)size);
+        const size_t page = (size_t)u->page[c] * size * size;
+        const int x0 = (int)floor(fmin(uv[0], fmin(uv[2], uv[4]))),
+                  x1 = (int)floor(fmax(uv[0], fmax(uv[2], uv[4]))),
+                  y0 = (int)floor(fmin(uv[1], fmin(uv[3], uv[5]))),
+                  y1 = (int)floor(fmax(uv[1], fmax(uv[3], uv[5])));
+        for (int y = y0 < 0 ? 0 : y0; y <= y1 && y < size; y++)
+            for (int x = x0 < 0 ? 0 : x0; x <= x1 && x < size; x++) {
+                if (touches(uv, x, y)) {
+                    uint32_t *const o = &owner[page + (size_t)y * size + x];
+                    shared += *o && *o != c + 1;
+                    *o = c + 1;
+                }
+                if (inside(uv, x + 0.5, y + 0.5))
+                    overlaps += centres[page + (size_t)y * size + x]++ > 0;
+            }
+        /* Texel density: the uv area against the world area at the chart's density. */
+        const double area =
+            fabs((uv[2] - uv[0]) * (uv[5] - uv[1]) - (uv[4] - uv[0]) * (uv[3] - uv[1])) / 2.0;
+        const double want = vdbgi_scene_triangle_area(s, t) * u->density[c] * u->density[c];
+        if (want > 1e-3)
+            off_density += fabs(area / want - 1.0) > 0.1;
+        if (density_as_asked)
+            CHECK(fabs(u->density[c] * u->texel - 1.0) < 1e-5);
+    }
+    /* Gutters: no texel of another chart within two gutters of a chart's texel. */
+    size_t close = 0;
+    for (size_t p = 0; p < u->page_count; p++)
+        for (int y = 0; y < size; y++)
+            for (int x = 0; x < size; x++) {
+                const uint32_t o = owner[p * size * size + (size_t)y * size + x];
+                if (!o)
+                    continue;
+                for (int dy = -reach; dy <= reach; dy++)
+                    for (int dx = -reach; dx <= reach; dx++) {
+                        const int xx = x + dx, yy = y + dy;
+                        if (xx < 0 || yy < 0 || xx >= size || yy >= size)
+                            continue;
+                        const uint32_t q = owner[p * size * size + (size_t)yy * size + xx];
+                        close += q && q != o;
+                    }
+            }
+    CHECK(bad_uv == 0);
+    CHECK(overlaps == 0);
+    CHECK(shared == 0);
+    CHECK(close == 0);
+    CHECK(off_density == 0);
+    free(owner);
+    free(centres);
+}
+
+static vdbgi_scene *scene_of(vdbgi_context *ctx, const float *pos, size_t nv, const uint32_t *idx,
+                             size_t nt)
+{
+    const vdbgi_mesh_desc d = {pos, nv, idx, nt, {0.5f, 0.5f, 0.5f}, 0};
+    vdbgi_scene *s = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &d, 1, &s), VDBGI_OK);
+    return s;
+}
+
+static void a_box_is_six_charts_at_the_texel_size(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    const float lo[3] = {0, 0, 0}, hi[3] = {4, 3, 2};
+    test_mesh_box(&m, lo, hi, 0);
+    vdbgi_scene *s = scene_of(ctx, m.pos, m.vertex_count, m.idx, m.triangle_count);
+    vdbgi_unwrap u;
+    const vdbgi_unwrap_params p = {.texel = 0.25f, .size = 128};
+    CHECK_RESULT(ctx, vdbgi_unwrap_build(ctx, s, &p, &u), VDBGI_OK);
+    CHECK(u.chart_count == 6 && u.page_count == 1);
+    check_unwrap(s, &u, true);
+    /* The 4 x 3 m faces span 16 x 12 texels. */
+    float w = 0, h = 0;
+    for (int k = 0; k < 6; k += 2) {
+        w = fmaxf(w, fabsf(u.uv[k] - u.uv[0]));
+        h = fmaxf(h, fabsf(u.uv[k + 1] - u.uv[1]));
+    }
+    CHECK((fabsf(w - 16) < 1e-3f && fabsf(h - 12) < 1e-3f) ||
+          (fabsf(w - 12) < 1e-3f && fabsf(h - 16) < 1e-3f));
+    vdbgi_unwrap_free(&u);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+/* An n x n terrain of 2 n^2 triangles with hills, and a sliver and a degenerate triangle. */
+static void terrain(int n, float cell, float **pos, size_t *nv, uint32_t **idx, size_t *nt)
+{
+    *nv = (size_t)(n + 1) * (n + 1) + 3;
+    *nt = 2 * (size_t)n * n + 2;
+    *pos = malloc(3 * *nv * sizeof(float));
+    *idx = malloc(3 * *nt * sizeof(uint32_t));
+    for (int z = 0; z <= n; z++)
+        for (int x = 0; x <= n; x++) {
+            float *const v = &(*pos)[3 * ((size_t)z * (n + 1) + x)];
+            v[0] = x * cell, v[2] = z * cell;
+            v[1] = 2.0f * sinf(0.3f * x * cell) * cosf(0.2f * z * cell);
+        }
+    size_t t = 0;
+    for (int z = 0; z < n; z++)
+        for (int x = 0; x < n; x++) {
+            const uint32_t a = (uint32_t)(z * (n + 1) + x), b = a + 1, c = a + (uint32_t)n + 1,
+                           d = c + 1;
+            const uint32_t q[6] = {a, c, b, b, c, d};
+            memcpy(&(*idx)[3 * t], q, sizeof(q));
+            t += 2;
+        }
+    /* A sliver 10 m long and 0.1 mm wide, and a triangle with two equal corners. */
+    float *const e = &(*pos)[3 * (*nv - 3)];
+    const float extra[9] = {-5, 1, -5, 5, 1, -5, 0, 1, -5.0001f};
+    memcpy(e, extra, sizeof(extra));
+    const uint32_t base = (uint32_t)(*nv - 3);
+    const uint32_t q[6] = {base, base + 2, base + 1, base, base, base + 1};
+    memcpy(&(*idx)[3 * t], q, sizeof(q));
+}
+
+static void fifty_thousand_triangles_slivers_and_determinism(void)
+{
+    vdbgi_context *ctx = test_context();
+    float *pos;
+    uint32_t *idx;
+    size_t nv, nt;
+    terrain(159, 0.25f, &pos, &nv, &idx, &nt);
+    vdbgi_scene *s = scene_of(ctx, pos, nv, idx, nt);
+    CHECK(s && s->triangle_count == nt - 1 && nt - 1 >= 50000); /* the degenerate one dropped */
+    vdbgi_unwrap a, b;
+    const vdbgi_unwrap_params p = {.texel = 0.1f, .size = 256};
+    CHECK_RESULT(ctx, vdbgi_unwrap_build(ctx, s, &p, &a), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_unwrap_build(ctx, s, &p, &b), VDBGI_OK);
+    CHECK(a.page_count > 1 && a.chart_count > 1);
+    check_unwrap(s, &a, true);
+    CHECK(memcmp(a.uv, b.uv, 6 * a.triangle_count * sizeof(float)) == 0 &&
+          memcmp(a.chart, b.chart, a.triangle_count * sizeof(uint32_t)) == 0);
+    vdbgi_unwrap_free(&a);
+    vdbgi_unwrap_free(&b);
+    vdbgi_scene_destroy(s);
+    free(pos);
+    free(idx);
+    vdbgi_context_destroy(ctx);
+}
+
+static void a_chart_larger_than_the_atlas_shrinks_to_fit(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    test_mesh_plane(&m, 100.0f, 0.0f);
+    vdbgi_scene *s = scene_of(ctx, m.pos, m.vertex_count, m.idx, m.triangle_count);
+    vdbgi_unwrap u;
+    const vdbgi_unwrap_params p = {.texel = 0.25f, .size = 64};
+    CHECK_RESULT(ctx, vdbgi_unwrap_build(ctx, s, &p, &u), VDBGI_OK);
+    CHECK(u.chart_count == 1 && u.page_count == 1 && u.density[0] < 4.0f);
+    check_unwrap(s, &u, false);
+    vdbgi_unwrap_free(&u);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+/* A ramp that turns twice round a column: one chart by its normals, folded over itself. */
+static void a_spiral_ramp_is_split_where_it_folds(void)
+{
+    vdbgi_context *ctx = test_context();
+    enum { STEPS = 192 };
+    float pos[2 * (STEPS + 1) * 3];
+    uint32_t idx[2 * STEPS * 3];
+    for (int i = 0; i <= STEPS; i++) {
+        const float a = 2.0f * 3.14159265f * 2.0f * i / STEPS, y = 2.0f * i / STEPS;
+        for (int r = 0; r < 2; r++) {
+            float *const v = &pos[3 * (2 * i + r)];
+            v[0] = (2.0f + 2.0f * r) * cosf(a), v[1] = y, v[2] = (2.0f + 2.0f * r) * sinf(a);
+        }
+    }
+    for (int i = 0; i < STEPS; i++) {
+        const uint32_t a = (uint32_t)(2 * i), q[6] = {a, a + 2, a + 1, a + 1, a + 2, a + 3};
+        memcpy(&idx[6 * i], q, sizeof(q));
+    }
+    vdbgi_scene *s = scene_of(ctx, pos, 2 * (STEPS + 1), idx, 2 * STEPS);
+    vdbgi_unwrap u;
+    const vdbgi_unwrap_params p = {.texel = 0.05f, .size = 512};
+    CHECK_RESULT(ctx, vdbgi_unwrap_build(ctx, s, &p, &u), VDBGI_OK);
+    CHECK(u.chart_count >= 2);
+    check_unwrap(s, &u, true);
+    vdbgi_unwrap_free(&u);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+static void bad_parameters_are_refused(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    test_mesh_plane(&m, 4.0f, 0.0f);
+    vdbgi_scene *s = scene_of(ctx, m.pos, m.vertex_count, m.idx, m.triangle_count);
+    const vdbgi_unwrap_params bad[] = {{.texel = -1},    {.texel = NAN},    {.size = 8},
+                                       {.size = 100000}, {.max_angle = 90}, {.gutter = -1}};
+    for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
+        vdbgi_unwrap u;
+        CHECK_RESULT(ctx, vdbgi_unwrap_build(ctx, s, &bad[i], &u), VDBGI_ERR_INVALID_ARG);
+        CHECK(u.uv == NULL);
+    }
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+int main(void)
+{
+    RUN(a_box_is_six_charts_at_the_texel_size);
+    RUN(fifty_thousand_triangles_slivers_and_determinism);
+    RUN(a_chart_larger_than_the_atlas_shrinks_to_fit);
+    RUN(a_spiral_ramp_is_split_where_it_folds);
+    RUN(bad_parameters_are_refused);
+    return CHECK_EXIT();
+}
