@@ -1,13 +1,15 @@
 /*
- * test_unwrap.c: lightmap UVs. Every triangle mapped inside its atlas;
- * no texel centre inside two triangles; no texel touched by two charts,
- * and none within two gutters of another chart; texel density as asked
- * where the atlas allows it; degenerate and sliver triangles; 50 000
- * triangles; the same bytes twice.
+ * test_unwrap.c: lightmap UVs and texels. Every triangle mapped inside its
+ * atlas; no texel centre inside two triangles; no texel touched by two
+ * charts, and none within two gutters of another chart; texel density as
+ * asked where the atlas allows it; degenerate and sliver triangles; 50 000
+ * triangles; the same bytes twice. Every triangle gets samples on itself,
+ * and dilation fills exactly the gutters' reach.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "scene.h"
 #include "test_util.h"
+#include "texels.h"
 #include "unwrap.h"
 
 #include <math.h>
@@ -253,6 +255,103 @@ static void a_spiral_ramp_is_split_where_it_folds(void)
     vdbgi_context_destroy(ctx);
 }
 
+/* Each triangle has a texel, and each sample lies on its triangle, ray_offset in front. */
+static void every_triangle_gets_samples_on_itself(void)
+{
+    vdbgi_context *ctx = test_context();
+    float *pos;
+    uint32_t *idx;
+    size_t nv, nt;
+    terrain(40, 0.5f, &pos, &nv, &idx, &nt);
+    vdbgi_scene *s = scene_of(ctx, pos, nv, idx, nt);
+    vdbgi_unwrap u;
+    vdbgi_texels tx;
+    const vdbgi_unwrap_params p = {.texel = 0.2f, .size = 256};
+    CHECK_RESULT(ctx, vdbgi_unwrap_build(ctx, s, &p, &u), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_texels_build(ctx, s, &u, &tx), VDBGI_OK);
+    size_t *per = calloc(s->triangle_count, sizeof(*per)), off = 0, outside = 0;
+    const size_t texels = (size_t)tx.size * tx.size * tx.page_count;
+    for (size_t i = 0; i < texels; i++) {
+        if (tx.tri[i] < 0)
+            continue;
+        const size_t t = (size_t)tx.tri[i];
+        per[t]++;
+        const float *const n = s->tris[t].normal, *const q = &tx.pos[3 * i];
+        const float *v[3];
+        for (int k = 0; k < 3; k++)
+            v[k] = &s->positions[3 * (size_t)s->indices[3 * t + (size_t)k]];
+        /* Height over the plane, and the side of each edge (in the plane). */
+        double h = 0.0;
+        for (int k = 0; k < 3; k++)
+            h += (q[k] - v[0][k]) * n[k];
+        off += fabs(h - s->ray_offset) > 1e-4;
+        for (int e = 0; e < 3; e++) {
+            const float *a = v[e], *b = v[(e + 1) % 3];
+            const double ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+                         aq[3] = {q[0] - a[0], q[1] - a[1], q[2] - a[2]};
+            const double cr[3] = {ab[1] * aq[2] - ab[2] * aq[1], ab[2] * aq[0] - ab[0] * aq[2],
+                                  ab[0] * aq[1] - ab[1] * aq[0]};
+            /* Distance inside the edge: float positions a few metres out round by ~1e-6 m. */
+            const double len = sqrt(ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2]);
+            outside += (cr[0] * n[0] + cr[1] * n[1] + cr[2] * n[2]) / len < -1e-5;
+        }
+    }
+    size_t empty = 0;
+    for (size_t t = 0; t < s->triangle_count; t++)
+        empty += per[t] == 0;
+    CHECK(empty == 0 && off == 0 && outside == 0);
+    CHECK(tx.sample_count > tx.centre_count && tx.centre_count > 0);
+    /* Dilation: ones spread exactly two rings from the samples, as means of ones. */
+    unsigned char *keep = calloc(texels, 1);
+    float *val = calloc(texels, sizeof(float));
+    for (size_t i = 0; i < texels; i++)
+        keep[i] = tx.tri[i] >= 0, val[i] = keep[i] ? 1.0f : 0.0f;
+    CHECK_RESULT(ctx, vdbgi_texels_dilate(&tx, val, 1, keep, 2), VDBGI_OK);
+    size_t wrong = 0;
+    for (size_t i = 0; i < texels; i++) {
+        const size_t page = i / ((size_t)tx.size * tx.size), y = i / tx.size % tx.size,
+                     x = i % tx.size;
+        bool near = false;
+        for (int dy = -2; dy <= 2 && !near; dy++)
+            for (int dx = -2; dx <= 2 && !near; dx++) {
+                const long xx = (long)x + dx, yy = (long)y + dy;
+                near = xx >= 0 && yy >= 0 && xx < tx.size && yy < tx.size &&
+                       tx.tri[(page * tx.size + (size_t)yy) * tx.size + (size_t)xx] >= 0;
+            }
+        wrong += keep[i] != near || (keep[i] && val[i] != 1.0f);
+    }
+    CHECK(wrong == 0);
+    free(keep);
+    free(val);
+    free(per);
+    vdbgi_texels_free(&tx);
+    vdbgi_unwrap_free(&u);
+    vdbgi_scene_destroy(s);
+    free(pos);
+    free(idx);
+    vdbgi_context_destroy(ctx);
+}
+
+static void a_box_face_of_16_by_12_texels_samples_17_by_13(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    const float lo[3] = {0, 0, 0}, hi[3] = {4, 3, 2};
+    test_mesh_box(&m, lo, hi, 0);
+    vdbgi_scene *s = scene_of(ctx, m.pos, m.vertex_count, m.idx, m.triangle_count);
+    vdbgi_unwrap u;
+    vdbgi_texels tx;
+    const vdbgi_unwrap_params p = {.texel = 0.25f, .size = 128};
+    CHECK_RESULT(ctx, vdbgi_unwrap_build(ctx, s, &p, &u), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_texels_build(ctx, s, &u, &tx), VDBGI_OK);
+    /* Faces of 16 x 12, 16 x 8 and 12 x 8 texels, half a texel in: one more each way. */
+    CHECK(tx.sample_count == 2 * (17 * 13 + 17 * 9 + 13 * 9));
+    vdbgi_texels_free(&tx);
+    vdbgi_unwrap_free(&u);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
 static void bad_parameters_are_refused(void)
 {
     vdbgi_context *ctx = test_context();
@@ -276,6 +375,8 @@ int main(void)
     RUN(fifty_thousand_triangles_slivers_and_determinism);
     RUN(a_chart_larger_than_the_atlas_shrinks_to_fit);
     RUN(a_spiral_ramp_is_split_where_it_folds);
+    RUN(every_triangle_gets_samples_on_itself);
+    RUN(a_box_face_of_16_by_12_texels_samples_17_by_13);
     RUN(bad_parameters_are_refused);
     return CHECK_EXIT();
 }
