@@ -217,13 +217,15 @@ static void trace_batch(vdbgi_estimator *th, const float pos[3], const float *di
             nf[0] * bp->sun_dir[0] + nf[1] * bp->sun_dir[1] + nf[2] * bp->sun_dir[2];
         float albedo_w[3] = {0.0f, 0.0f, 0.0f};
         if (th->shade) {
-            float albedo[3];
+            float albedo[3], extra[3] = {0.0f, 0.0f, 0.0f};
             vdbgi_scene_albedo(scene, h->prim, h->u, h->v, albedo);
+            if (th->hit_light)
+                th->hit_light(th->hit_user, h, extra);
             const float q = h->t / bp->falloff;
             const float w = 1.0f / (1.0f + q * q); /* q = 0 when falloff is infinite */
             for (int k = 0; k < 3; k++) {
                 albedo_w[k] = albedo[k] * w;
-                L[k] = albedo_w[k] * bp->ambient;
+                L[k] = albedo_w[k] * (bp->ambient + extra[k]);
             }
         }
         if (bp->sun_on && ndotl > 0.0f) {
@@ -342,6 +344,53 @@ void vdbgi_estimate_point(vdbgi_estimator *th, const float pos[3], uint64_t stre
                 out->cube[3 * side + k] = sums.cube_w[side] > 0.0
                                               ? (float)(sums.cube[side][k] / sums.cube_w[side])
                                               : 0.0f;
+}
+
+void vdbgi_estimate_hemisphere(vdbgi_estimator *th, const float pos[3], const float n[3],
+                               uint64_t stream, vdbgi_estimate *out)
+{
+    const vdbgi_bake_params *const bp = th->bp;
+    /* A frame (t, b, n); random sampling turns the set about n by an angle of its own. */
+    const float a[3] = {fabsf(n[0]) < 0.9f ? 1.0f : 0.0f, fabsf(n[0]) < 0.9f ? 0.0f : 1.0f, 0.0f};
+    float t[3] = {a[1] * n[2] - a[2] * n[1], a[2] * n[0] - a[0] * n[2], a[0] * n[1] - a[1] * n[0]};
+    const float l = sqrtf(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+    for (int k = 0; k < 3; k++)
+        t[k] /= l;
+    const float b[3] = {n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2],
+                        n[0] * t[1] - n[1] * t[0]};
+    float c = 1.0f, s = 0.0f;
+    if (bp->sampling == VDBGI_SAMPLING_RANDOM) {
+        const float turn = 2.0f * PI_F * (float)(vdbgi_splitmix64(&stream) >> 40) / 16777216.0f;
+        c = cosf(turn), s = sinf(turn);
+    }
+    for (int i = 0; i < bp->rays; i++) {
+        const float *const d = &th->base_dirs[3 * i];
+        const float x = c * d[0] - s * d[1], y = s * d[0] + c * d[1];
+        for (int k = 0; k < 3; k++)
+            th->dir[3 * i + k] = x * t[k] + y * b[k] + d[2] * n[k];
+    }
+    probe_sums sums;
+    memset(&sums, 0, sizeof(sums));
+    trace_batch(th, pos, th->dir, bp->rays, &sums);
+    memset(out, 0, sizeof(*out));
+    out->rays = (uint32_t)sums.rays;
+    out->shadow = sums.shadow;
+    out->hits = sums.hits;
+    out->backface = sums.hits ? (float)sums.back / (float)sums.hits : 0.0f;
+    for (int k = 0; k < 3 && th->shade; k++)
+        out->rgb[k] = (float)(sums.sum[k] / (double)sums.rays);
+    out->stderr_ = th->shade ? (float)standard_error(&sums) : 0.0f;
+}
+
+void vdbgi_hemisphere_directions(int n, float *dirs)
+{
+    const double golden = 3.14159265358979323846 * (3.0 - sqrt(5.0));
+    for (int i = 0; i < n; i++) {
+        const double r = sqrt((i + 0.5) / n), phi = golden * i;
+        dirs[3 * i] = (float)(r * cos(phi));
+        dirs[3 * i + 1] = (float)(r * sin(phi));
+        dirs[3 * i + 2] = (float)sqrt(fmax(0.0, 1.0 - r * r));
+    }
 }
 
 vdbgi_result vdbgi_estimator_directions(vdbgi_context *ctx, const vdbgi_bake_params *bp,

@@ -29,6 +29,12 @@ vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc
 
 /* Spherical Fibonacci set of n unit directions (3 floats each). */
 void vdbgi_fibonacci_directions(int n, float *dirs);
+/*
+ * n directions over the +z hemisphere, cosine-weighted (a Fibonacci spiral on
+ * the unit disk, lifted: Malley's method), so the mean of what they bring
+ * back is E / pi.
+ */
+void vdbgi_hemisphere_directions(int n, float *dirs);
 /* A sample point's random stream: from its lattice point (or index) and the seed only. */
 uint64_t vdbgi_point_stream(int32_t i, int32_t j, int32_t k, uint64_t seed);
 /* The direction set bp's points share, allocated through ctx: *count directions. */
@@ -47,6 +53,12 @@ typedef struct vdbgi_estimator {
     const float *base_dirs; /* from vdbgi_estimator_directions */
     bool shade;             /* false: rays and counts only (the bare benchmark loop) */
     bool cube;              /* also the ambient-cube sides */
+    /*
+     * Light a hit surface receives besides the fill and the sun, as the
+     * estimator's E / pi (a lightmap's previous pass), or NULL for none.
+     */
+    void (*hit_light)(const void *user, const vdbgi_hit *hit, float rgb[3]);
+    const void *hit_user;
     float *dir, *sorg;
     float *sun_weight;    /* per shadow ray: albedo x falloff x n.sun, RGB */
     float *radiance;      /* per ray, RGB: what the ray brings back */
@@ -76,5 +88,15 @@ typedef struct vdbgi_estimate {
  */
 void vdbgi_estimate_point(vdbgi_estimator *e, const float pos[3], uint64_t stream,
                           vdbgi_estimate *out);
+
+/*
+ * Estimate at a surface point pos with unit normal n over its hemisphere:
+ * e->base_dirs must be vdbgi_hemisphere_directions (bp->rays of them),
+ * turned about n by an angle from stream for random sampling. out->rgb is
+ * the cosine-weighted mean radiance (irradiance over pi); backface as for
+ * probes. Not adaptive.
+ */
+void vdbgi_estimate_hemisphere(vdbgi_estimator *e, const float pos[3], const float n[3],
+                               uint64_t stream, vdbgi_estimate *out);
 
 #endif /* VDBGI_ESTIMATE_H */

@@ -116,13 +116,27 @@ vdbgi_result vdbgi_texels_build(vdbgi_context *ctx, const vdbgi_scene *s, const 
                     continue;
                 score[i] = d;
                 out->tri[i] = (int32_t)t;
+                /*
+                 * On the triangle, then pulled towards its centroid by two ray offsets
+                 * (at most half the way): a point on an edge lies in the plane of the
+                 * face beyond it, and its rays would start on that face.
+                 */
+                double p[3], g[3], len = 0.0;
                 for (int k = 0; k < 3; k++) {
-                    double p = 0.0;
-                    for (int v = 0; v < 3; v++)
-                        p += b[v] *
-                             s->positions[3 * (size_t)s->indices[3 * t + (size_t)v] + (size_t)k];
-                    out->pos[3 * i + (size_t)k] = (float)(p + s->ray_offset * n[k]);
+                    p[k] = g[k] = 0.0;
+                    for (int v = 0; v < 3; v++) {
+                        const double corner =
+                            s->positions[3 * (size_t)s->indices[3 * t + (size_t)v] + (size_t)k];
+                        p[k] += b[v] * corner;
+                        g[k] += corner / 3.0;
+                    }
+                    len += (g[k] - p[k]) * (g[k] - p[k]);
                 }
+                len = sqrt(len);
+                const double pull = len > 0.0 ? fmin(2.0 * s->ray_offset, 0.5 * len) / len : 0.0;
+                for (int k = 0; k < 3; k++)
+                    out->pos[3 * i + (size_t)k] =
+                        (float)(p[k] + pull * (g[k] - p[k]) + s->ray_offset * n[k]);
             }
     }
     for (size_t i = 0; i < texels; i++) {

@@ -1,0 +1,210 @@
+/*
+ * lightmap.c: the passes of a lightmap bake over threads. Each pass gathers
+ * every sample texel's hemisphere with the probes' estimator, its hits lit
+ * by the fill, the sun and the previous pass's map; the map is dilated
+ * after each pass so the next one, and a GPU's filter, never read a gutter.
+ */
+#include "lightmap.h"
+#include "util.h"
+
+#include <math.h>
+#include <string.h>
+
+#define PI_F 3.14159265358979f
+
+void vdbgi_lightmap_free(vdbgi_lightmap *m)
+{
+    if (!m || !m->ctx)
+        return;
+    vdbgi_free(m->ctx, m->rgb);
+    vdbgi_free(m->ctx, m->valid);
+    memset(m, 0, sizeof(*m));
+}
+
+void vdbgi_lightmap_at(const vdbgi_lightmap *m, const vdbgi_unwrap *un, const vdbgi_texels *tx,
+                       uint32_t prim, float u, float v, float rgb[3])
+{
+    const float *const uv = &un->uv[6 * (size_t)prim];
+    const float w = 1.0f - u - v;
+    /* Texel centres stand at half-integers: filter from the one below and left. */
+    const float x = w * uv[0] + u * uv[2] + v * uv[4] - 0.5f,
+                y = w * uv[1] + u * uv[3] + v * uv[5] - 0.5f;
+    const int size = tx->size;
+    const size_t page = (size_t)un->page[un->chart[prim]] * (size_t)size * (size_t)size;
+    const float fx = floorf(x), fy = floorf(y);
+    const float ax = x - fx, ay = y - fy;
+    rgb[0] = rgb[1] = rgb[2] = 0.0f;
+    for (int c = 0; c < 4; c++) {
+        int xi = (int)fx + (c & 1), yi = (int)fy + (c >> 1);
+        xi = xi < 0 ? 0 : xi >= size ? size - 1 : xi;
+        yi = yi < 0 ? 0 : yi >= size ? size - 1 : yi;
+        const float wt = (c & 1 ? ax : 1.0f - ax) * (c >> 1 ? ay : 1.0f - ay);
+        const float *const e = &m->rgb[3 * (page + (size_t)yi * (size_t)size + (size_t)xi)];
+        for (int k = 0; k < 3; k++)
+            rgb[k] += wt * e[k];
+    }
+}
+
+typedef struct pass_shared {
+    const vdbgi_scene *scene;
+    const vdbgi_unwrap *un;
+    const vdbgi_texels *tx;
+    const vdbgi_bake_params *bp;
+    const vdbgi_lightmap *prev; /* NULL in the first pass */
+    const uint32_t *samples;    /* texel indices that sample a triangle */
+    size_t sample_count;
+    int pass;
+    bool direct;
+    float *out;           /* 3 per texel */
+    unsigned char *valid; /* per texel, written in the first pass */
+} pass_shared;
+
+typedef struct pass_thread {
+    pass_shared *sh;
+    vdbgi_estimator est;
+    size_t begin, end;
+    uint64_t rays;
+} pass_thread;
+
+/* What the previous pass's map lights a hit with: its E / pi, as the estimator adds light. */
+static void previous_light(const void *user, const vdbgi_hit *h, float rgb[3])
+{
+    const pass_shared *const sh = user;
+    vdbgi_lightmap_at(sh->prev, sh->un, sh->tx, h->prim, h->u, h->v, rgb);
+    for (int k = 0; k < 3; k++)
+        rgb[k] /= PI_F;
+}
+
+static void *run_pass(void *arg)
+{
+    pass_thread *const th = arg;
+    const pass_shared *const sh = th->sh;
+    const vdbgi_bake_params *const bp = sh->bp;
+    const size_t size = (size_t)sh->tx->size;
+    for (size_t s = th->begin; s < th->end; s++) {
+        const size_t i = sh->samples[s];
+        const int32_t tri = sh->tx->tri[i];
+        const float *const n = sh->scene->tris[tri].normal;
+        const float *const pos = &sh->tx->pos[3 * i];
+        const uint64_t stream = vdbgi_point_stream((int32_t)(i % size), (int32_t)(i / size % size),
+                                                   (int32_t)(i / (size * size)), bp->seed);
+        vdbgi_estimate e;
+        vdbgi_estimate_hemisphere(&th->est, pos, n, stream, &e);
+        th->rays += e.rays + e.shadow;
+        if (sh->pass == 0)
+            sh->valid[i] = e.backface <= bp->invalid_threshold;
+        if (!sh->valid[i])
+            continue;
+        float *const o = &sh->out[3 * i];
+        for (int k = 0; k < 3; k++)
+            o[k] = PI_F * e.rgb[k];
+        /* Fully baked: the texel's own sun, E = pi n.l sun (the estimator's sun is E / pi). */
+        const float nl = n[0] * bp->sun_dir[0] + n[1] * bp->sun_dir[1] + n[2] * bp->sun_dir[2];
+        if (sh->direct && bp->sun_on && nl > 0.0f) {
+            unsigned char blocked = 0;
+            const vdbgi_ray_batch ray = {pos, bp->sun_dir, 0, 0, 0.0f, INFINITY, 1};
+            vdbgi_tracer_occluded(th->est.tracer, bp->method, &ray, &blocked, th->est.scratch);
+            th->rays++;
+            if (!blocked)
+                for (int k = 0; k < 3; k++)
+                    o[k] += PI_F * nl * bp->sun_color[k];
+        }
+    }
+    return NULL;
+}
+
+vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                 const vdbgi_bake_params *bp, const vdbgi_unwrap *un,
+                                 const vdbgi_texels *tx, const vdbgi_lightmap_params *lp,
+                                 vdbgi_lightmap *out)
+{
+    memset(out, 0, sizeof(*out));
+    VDBGI_FAIL_IF(ctx, lp->passes < 1 || lp->passes > 16, VDBGI_ERR_INVALID_ARG,
+                  "passes must be 1..16 (got %d)", lp->passes);
+    VDBGI_FAIL_IF(ctx, bp->adaptive, VDBGI_ERR_INVALID_ARG,
+                  "lightmaps take a fixed ray count, not --rays auto");
+    const size_t texels = (size_t)tx->size * (size_t)tx->size * tx->page_count;
+    out->ctx = ctx;
+    out->texel_count = texels;
+    vdbgi_tracer *tracer = NULL;
+    float *dirs = NULL, *cur = NULL;
+    uint32_t *samples = NULL;
+    pass_thread *ths = NULL;
+    unsigned char *keep = NULL;
+    vdbgi_lightmap prev = {0};
+    int nth = bp->threads < 1 ? 1 : bp->threads > 64 ? 64 : bp->threads;
+    out->rgb = vdbgi_calloc(ctx, texels, 3 * sizeof(float));
+    out->valid = vdbgi_calloc(ctx, texels, 1);
+    cur = vdbgi_calloc(ctx, texels, 3 * sizeof(float));
+    keep = vdbgi_alloc(ctx, texels);
+    samples = vdbgi_alloc(ctx, (tx->sample_count ? tx->sample_count : 1) * sizeof(*samples));
+    dirs = vdbgi_calloc(ctx, (size_t)bp->rays, 3 * sizeof(float));
+    ths = vdbgi_calloc(ctx, (size_t)nth, sizeof(*ths));
+    vdbgi_result r = out->rgb && out->valid && cur && keep && samples && dirs && ths
+                         ? VDBGI_OK
+                         : VDBGI_ERR_OUT_OF_MEMORY;
+    if (r == VDBGI_OK)
+        r = vdbgi_tracer_create(ctx, scene->positions, scene->vertex_count, scene->indices,
+                                scene->triangle_count, &tracer);
+    if (r != VDBGI_OK)
+        goto done;
+    size_t n = 0;
+    for (size_t i = 0; i < texels; i++)
+        if (tx->tri[i] >= 0)
+            samples[n++] = (uint32_t)i;
+    vdbgi_hemisphere_directions(bp->rays, dirs);
+    pass_shared sh = {scene, un, tx, bp, NULL, samples, n, 0, false, cur, out->valid};
+    for (int t = 0; t < nth && r == VDBGI_OK; t++) {
+        ths[t].sh = &sh;
+        ths[t].est = (vdbgi_estimator){.scene = scene,
+                                       .tracer = tracer,
+                                       .bp = bp,
+                                       .base_dirs = dirs,
+                                       .shade = true,
+                                       .hit_user = &sh};
+        r = vdbgi_estimator_init(ctx, &ths[t].est, bp->rays);
+    }
+    for (int pass = 0; r == VDBGI_OK && pass < lp->passes; pass++) {
+        const double t0 = vdbgi_now();
+        sh.pass = pass;
+        sh.direct = lp->direct && pass == lp->passes - 1;
+        sh.prev = pass ? &prev : NULL;
+        sh.out = cur;
+        memset(cur, 0, texels * 3 * sizeof(float));
+        for (int t = 0; t < nth; t++) {
+            ths[t].est.hit_light = pass ? previous_light : NULL;
+            ths[t].begin = n * (size_t)t / (size_t)nth;
+            ths[t].end = n * (size_t)(t + 1) / (size_t)nth;
+        }
+        vdbgi_run_threads(nth, run_pass, ths, sizeof(*ths));
+        if ((r = vdbgi_tracer_check(tracer)) != VDBGI_OK)
+            break;
+        memcpy(keep, out->valid, texels);
+        if ((r = vdbgi_texels_dilate(tx, cur, 3, keep, lp->rings)) != VDBGI_OK)
+            break;
+        /* This pass's map becomes the previous one: swap the buffers. */
+        float *const done_map = cur;
+        cur = out->rgb;
+        out->rgb = done_map;
+        prev.rgb = out->rgb;
+        prev.texel_count = texels;
+        if (pass < (int)(sizeof(out->pass_seconds) / sizeof(out->pass_seconds[0])))
+            out->pass_seconds[pass] = vdbgi_now() - t0;
+    }
+    for (int t = 0; t < nth; t++)
+        out->rays += ths[t].rays;
+    for (size_t s = 0; s < n; s++)
+        out->invalid_count += !out->valid[samples[s]];
+done:
+    for (int t = 0; ths && t < nth; t++)
+        vdbgi_estimator_free(ctx, &ths[t].est);
+    vdbgi_free(ctx, ths);
+    vdbgi_free(ctx, dirs);
+    vdbgi_free(ctx, samples);
+    vdbgi_free(ctx, keep);
+    vdbgi_free(ctx, cur);
+    vdbgi_tracer_destroy(tracer);
+    if (r != VDBGI_OK)
+        vdbgi_lightmap_free(out);
+    return r;
+}

@@ -1,0 +1,150 @@
+/*
+ * test_lightmap.c: lightmap bakes against closed forms. A wall over a lit
+ * floor: the probes' plane form transposed to a texel. A closed box of
+ * uniform albedo and fill: pass N holds the Nth partial sum of the
+ * geometric series. And the same bytes on one thread and on two.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "lightmap.h"
+#include "scene.h"
+#include "test_util.h"
+
+#include <math.h>
+
+typedef struct baked {
+    vdbgi_scene *scene;
+    vdbgi_unwrap un;
+    vdbgi_texels tx;
+    vdbgi_lightmap map;
+} baked;
+
+static void bake(vdbgi_context *ctx, const vdbgi_mesh_desc *meshes, size_t mesh_count,
+                 const vdbgi_bake_desc *bd, float texel, const vdbgi_lightmap_params *lp, baked *b)
+{
+    memset(b, 0, sizeof(*b));
+    vdbgi_bake_params bp;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, meshes, mesh_count, &b->scene), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_bake_params_resolve(ctx, bd, &bp), VDBGI_OK);
+    const vdbgi_unwrap_params up = {.texel = texel, .size = 256};
+    CHECK_RESULT(ctx, vdbgi_unwrap_build(ctx, b->scene, &up, &b->un), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_texels_build(ctx, b->scene, &b->un, &b->tx), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_lightmap_bake(ctx, b->scene, &bp, &b->un, &b->tx, lp, &b->map),
+                 VDBGI_OK);
+}
+
+static void unbake(baked *b)
+{
+    vdbgi_lightmap_free(&b->map);
+    vdbgi_texels_free(&b->tx);
+    vdbgi_unwrap_free(&b->un);
+    vdbgi_scene_destroy(b->scene);
+}
+
+/*
+ * A wall texel at height h over an infinite floor of albedo rho, lit by an
+ * overhead sun of 1 and the fill a, sky black, no falloff, rays of length R:
+ * the floor's radiance rho (a + 1) reaches it along the directions that
+ * meet the floor within R, d_y < -h/R. Cosine-weighted, those are the part
+ * y < -c of the unit disk (Malley), so E = rho (a + 1) (acos c - c sqrt(1 - c^2)),
+ * c = h / R.
+ */
+static void a_wall_over_a_lit_floor_matches_the_closed_form(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh floor = {0}, wall = {0};
+    test_mesh_plane(&floor, 40.0f, 0.0f);
+    const float a[3] = {0, 0, 2}, b[3] = {0, 0, -2}, c[3] = {0, 4, -2}, d[3] = {0, 4, 2};
+    test_mesh_quad(&wall, a, b, c, d); /* facing +x */
+    const vdbgi_mesh_desc meshes[2] = {test_mesh_desc(&floor, 0.5f, 0),
+                                       test_mesh_desc(&wall, 0.8f, 0)};
+    const vdbgi_bake_desc bd = {.rays = 4096,
+                                .ray_dist = 10.0f,
+                                .sun_dir = {0, 1, 0},
+                                .sun_color = {1, 1, 1},
+                                .falloff = INFINITY,
+                                .threads = 2};
+    const vdbgi_lightmap_params lp = {.passes = 1, .rings = 3};
+    baked k;
+    bake(ctx, meshes, 2, &bd, 1.0f, &lp, &k);
+    double worst = 0.0;
+    size_t checked = 0;
+    for (size_t i = 0; k.map.rgb && i < k.map.texel_count; i++) {
+        const int32_t t = k.tx.tri[i];
+        if (t < 0 || k.scene->tris[t].normal[0] < 0.5f)
+            continue; /* wall texels only */
+        const double h = k.tx.pos[3 * i + 1], cc = h / 10.0;
+        const double want = 0.5 * (0.15 + 1.0) * (acos(cc) - cc * sqrt(1.0 - cc * cc));
+        CHECK(k.map.valid[i]);
+        for (int ch = 0; ch < 3; ch++)
+            worst = fmax(worst, fabs(k.map.rgb[3 * i + (size_t)ch] - want) / want);
+        checked++;
+    }
+    CHECK(checked >= 16);
+    CHECK(worst < 0.005);
+    unbake(&k);
+    vdbgi_context_destroy(ctx);
+}
+
+/* Inside a closed box of albedo rho with fill a and no sun, pass N gives pi rho a (1 - rho^N)/(1 - rho). */
+static void passes_add_the_terms_of_the_geometric_series(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh box = {0};
+    const float lo[3] = {0, 0, 0}, hi[3] = {4, 4, 4};
+    test_mesh_box(&box, lo, hi, 1);
+    const vdbgi_mesh_desc mesh = test_mesh_desc(&box, 0.6f, 0);
+    const vdbgi_bake_desc bd = {.rays = 64,
+                                .ray_dist = 20.0f,
+                                .ambient = 0.3f,
+                                .sun_color = {VDBGI_ZERO, VDBGI_ZERO, VDBGI_ZERO},
+                                .falloff = INFINITY,
+                                .threads = 2};
+    for (int passes = 1; passes <= 3; passes++) {
+        const vdbgi_lightmap_params lp = {.passes = passes, .rings = 3};
+        baked k;
+        bake(ctx, &mesh, 1, &bd, 0.5f, &lp, &k);
+        const double want = 3.14159265358979 * 0.6 * 0.3 * (1.0 - pow(0.6, passes)) / 0.4;
+        double worst = 0.0;
+        size_t n = 0;
+        for (size_t i = 0; k.map.rgb && i < k.map.texel_count; i++)
+            if (k.tx.tri[i] >= 0) {
+                CHECK(k.map.valid[i]);
+                worst = fmax(worst, fabs(k.map.rgb[3 * i] - want) / want);
+                n++;
+            }
+        CHECK(n > 0 && k.map.invalid_count == 0);
+        CHECK(worst < 1e-5);
+        unbake(&k);
+    }
+    vdbgi_context_destroy(ctx);
+}
+
+static void the_same_bytes_on_one_thread_and_two(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    test_mesh_plane(&m, 8.0f, 0.0f);
+    const float lo[3] = {-1, 0, -1}, hi[3] = {1, 2, 1};
+    test_mesh_box(&m, lo, hi, 0);
+    const vdbgi_mesh_desc mesh = test_mesh_desc(&m, 0.7f, 0);
+    baked k[2];
+    for (int t = 0; t < 2; t++) {
+        const vdbgi_bake_desc bd = {
+            .rays = 32, .sampling = VDBGI_SAMPLING_RANDOM, .threads = t + 1};
+        const vdbgi_lightmap_params lp = {.passes = 2, .direct = true, .rings = 3};
+        bake(ctx, &mesh, 1, &bd, 0.25f, &lp, &k[t]);
+    }
+    CHECK(k[0].map.rgb && k[1].map.rgb &&
+          memcmp(k[0].map.rgb, k[1].map.rgb, 3 * k[0].map.texel_count * sizeof(float)) == 0);
+    unbake(&k[0]);
+    unbake(&k[1]);
+    vdbgi_context_destroy(ctx);
+}
+
+int main(void)
+{
+    RUN(a_wall_over_a_lit_floor_matches_the_closed_form);
+    RUN(passes_add_the_terms_of_the_geometric_series);
+    RUN(the_same_bytes_on_one_thread_and_two);
+    return CHECK_EXIT();
+}
