@@ -297,6 +297,27 @@ static void rotate_dirs(uint64_t stream, const float *base, int n, float *out)
     }
 }
 
+/* What a point's sums say: the counts, the validity, and when shading, the values. */
+static void report(const vdbgi_estimator *th, const probe_sums *sums, vdbgi_estimate *out)
+{
+    memset(out, 0, sizeof(*out));
+    out->rays = (uint32_t)sums->rays;
+    out->shadow = sums->shadow;
+    out->hits = sums->hits;
+    out->backface = sums->hits ? (float)sums->back / (float)sums->hits : 0.0f;
+    if (!th->shade)
+        return;
+    for (int k = 0; k < 3; k++)
+        out->rgb[k] = (float)(sums->sum[k] / (double)sums->rays);
+    out->stderr_ = (float)standard_error(sums);
+    if (th->cube)
+        for (int side = 0; side < 6; side++)
+            for (int k = 0; k < 3; k++)
+                out->cube[3 * side + k] = sums->cube_w[side] > 0.0
+                                              ? (float)(sums->cube[side][k] / sums->cube_w[side])
+                                              : 0.0f;
+}
+
 void vdbgi_estimate_point(vdbgi_estimator *th, const float pos[3], uint64_t stream,
                           vdbgi_estimate *out)
 {
@@ -328,22 +349,7 @@ void vdbgi_estimate_point(vdbgi_estimator *th, const float pos[3], uint64_t stre
     } else {
         trace_batch(th, pos, th->base_dirs, bp->rays, &sums);
     }
-    memset(out, 0, sizeof(*out));
-    out->rays = (uint32_t)sums.rays;
-    out->shadow = sums.shadow;
-    out->hits = sums.hits;
-    out->backface = sums.hits ? (float)sums.back / (float)sums.hits : 0.0f;
-    if (!th->shade)
-        return;
-    for (int k = 0; k < 3; k++)
-        out->rgb[k] = (float)(sums.sum[k] / (double)sums.rays);
-    out->stderr_ = (float)standard_error(&sums);
-    if (th->cube)
-        for (int side = 0; side < 6; side++)
-            for (int k = 0; k < 3; k++)
-                out->cube[3 * side + k] = sums.cube_w[side] > 0.0
-                                              ? (float)(sums.cube[side][k] / sums.cube_w[side])
-                                              : 0.0f;
+    report(th, &sums, out);
 }
 
 void vdbgi_estimate_hemisphere(vdbgi_estimator *th, const float pos[3], const float n[3],
@@ -372,14 +378,7 @@ void vdbgi_estimate_hemisphere(vdbgi_estimator *th, const float pos[3], const fl
     probe_sums sums;
     memset(&sums, 0, sizeof(sums));
     trace_batch(th, pos, th->dir, bp->rays, &sums);
-    memset(out, 0, sizeof(*out));
-    out->rays = (uint32_t)sums.rays;
-    out->shadow = sums.shadow;
-    out->hits = sums.hits;
-    out->backface = sums.hits ? (float)sums.back / (float)sums.hits : 0.0f;
-    for (int k = 0; k < 3 && th->shade; k++)
-        out->rgb[k] = (float)(sums.sum[k] / (double)sums.rays);
-    out->stderr_ = th->shade ? (float)standard_error(&sums) : 0.0f;
+    report(th, &sums, out);
 }
 
 void vdbgi_hemisphere_directions(int n, float *dirs)
