@@ -50,7 +50,7 @@ OIIO_LIBS = $(call pkg_libs,OpenImageIO)
 ASSIMP_CFLAGS = $(call pkg_cflags,assimp)
 ASSIMP_LIBS = $(call pkg_libs,assimp)
 # OpenImageIO is not among them: it lives in the image module, opened on first use.
-DEP_LIBS = $(VDB_LIBS) $(EMBREE_LIBS) $(ASSIMP_LIBS) -ldeflate -lz -ldl -lpthread -lm
+DEP_LIBS = $(VDB_LIBS) $(EMBREE_LIBS) $(ASSIMP_LIBS) -ltinygltf -ldeflate -lz -ldl -lpthread -lm
 
 ALL_CFLAGS = -std=c11 $(WARN_C) $(OPT) -MMD -MP -fvisibility=hidden -DVDBGI_BUILDING \
              -DVDBGI_MODULE_DIR='"$(PREFIX)/lib/vdbgi"' $(ASSIMP_CFLAGS) $(call pkg_cflags,stb) \
@@ -64,14 +64,14 @@ ALL_LDFLAGS = $(OPT) $(LDFLAGS)
 # ---- sources ----------------------------------------------------------------
 
 LIB_C := $(wildcard lib/*.c)
-LIB_CXX := lib/vdb_shim.cpp lib/vdb_read.cpp
+LIB_CXX := lib/vdb_shim.cpp lib/vdb_read.cpp lib/gltf_shim.cpp
 LIB_OBJ := $(LIB_C:%.c=$(BUILD)/%.o) $(LIB_CXX:%.cpp=$(BUILD)/%.o)
 LIB_A := $(BUILD)/libvdbgi.a
 # The OpenImageIO shim as a module of its own (lib/image.c opens it).
 IMAGE_MODULE := $(BUILD)/lib/vdbgi/libvdbgi_image.so
 IMAGE_OBJ := $(BUILD)/lib/image_shim.pic.o
 
-APP_NAMES := gi-bake vdb-to-gi gi-inspect gi-bench
+APP_NAMES := gi-bake vdb-to-gi gi-inspect gi-bench gi-lightmap
 APPS := $(APP_NAMES:%=$(BUILD)/bin/%)
 # gi-bench is for measuring vdbgi itself: built, never installed.
 INSTALL_APPS := $(filter-out %/gi-bench,$(APPS))
@@ -82,7 +82,8 @@ TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 
 DEB_PACKAGES := gcc g++ make pkg-config libopenvdb-dev libboost-dev libimath-dev libtbb-dev \
                 libembree-dev libopenimageio-dev libassimp-dev zlib1g-dev libdeflate-dev libopenvdb-tools \
-                python3 python3-openvdb openimageio-tools gnuplot-nox clang-format chromium libstb-dev
+                python3 python3-openvdb openimageio-tools gnuplot-nox clang-format chromium libstb-dev \
+                libtinygltf-dev
 
 # Keep object files of apps and tests (make would delete them as intermediates).
 .SECONDARY:
@@ -166,8 +167,8 @@ deps:
 	    $$sudo apt-get update -qq && \
 	    DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq --no-install-recommends $$missing; \
 	fi; \
-	if [ ! -d tests/js/node_modules/ktx-parse ]; then \
-	    echo "deps: npm install (tests/js: ktx-parse, an independent KTX2 reader)"; \
+	if [ ! -d tests/js/node_modules/ktx-parse ] || [ ! -d tests/js/node_modules/gltf-validator ]; then \
+	    echo "deps: npm install (tests/js: ktx-parse and gltf-validator, independent readers)"; \
 	    (cd tests/js && npm install --no-audit --no-fund --loglevel=error >/dev/null); \
 	fi; \
 	if [ ! -d web/node_modules/three ] || [ ! -d web/node_modules/puppeteer-core ]; then \

@@ -75,6 +75,71 @@ int cli_bad_option(int c, char **argv)
                     : cli_usage_error("unknown option '%s'", argv[optind - 1]);
 }
 
+int cli_light_option(int c, const char *arg, vdbgi_bake_desc *b)
+{
+    double d = 0.0;
+    long long i = 0;
+    float v[3];
+    switch (c) {
+    case CLI_OPT_RAY_DIST:
+        if (!cli_parse_double(arg, &d) || !(d > 0.0) || !isfinite(d))
+            return cli_usage_error("--ray-dist must be a number > 0 (got '%s')", arg);
+        b->ray_dist = (float)d;
+        return -2;
+    case CLI_OPT_AMBIENT:
+        if (!cli_parse_double(arg, &d) || !(d >= 0.0) || !isfinite(d))
+            return cli_usage_error("--ambient must be a number >= 0 (got '%s')", arg);
+        b->ambient = d == 0.0 ? VDBGI_ZERO : (float)d;
+        return -2;
+    case CLI_OPT_SUN:
+        if (!cli_parse_vec3(arg, v) || (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f))
+            return cli_usage_error("--sun must be a non-zero direction x,y,z (got '%s')", arg);
+        memcpy(b->sun_dir, v, sizeof(v));
+        return -2;
+    case CLI_OPT_SUN_COLOR:
+        if (!cli_parse_vec3(arg, v) || v[0] < 0.0f || v[1] < 0.0f || v[2] < 0.0f)
+            return cli_usage_error("--sun-color must be r,g,b >= 0 (got '%s')", arg);
+        memcpy(b->sun_color, v, sizeof(v));
+        if (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f)
+            b->sun_color[0] = b->sun_color[1] = b->sun_color[2] = VDBGI_ZERO;
+        return -2;
+    case CLI_OPT_FALLOFF:
+        if (!cli_parse_double(arg, &d) || !(d > 0.0))
+            return cli_usage_error("--falloff must be a number > 0 or inf (got '%s')", arg);
+        b->falloff = (float)d;
+        return -2;
+    case CLI_OPT_SKY:
+        if (!cli_parse_vec3(arg, v) || v[0] < 0.0f || v[1] < 0.0f || v[2] < 0.0f)
+            return cli_usage_error("--sky must be r,g,b >= 0 (got '%s')", arg);
+        memcpy(b->sky, v, sizeof(v));
+        return -2;
+    case CLI_OPT_SAMPLING:
+        if (strcmp(arg, "fibonacci") == 0)
+            b->sampling = VDBGI_SAMPLING_FIBONACCI;
+        else if (strcmp(arg, "random") == 0)
+            b->sampling = VDBGI_SAMPLING_RANDOM;
+        else
+            return cli_usage_error("--sampling must be fibonacci or random (got '%s')", arg);
+        return -2;
+    case CLI_OPT_SEED:
+        if (!cli_parse_int(arg, &i) || i < 0)
+            return cli_usage_error("--seed must be an integer >= 0 (got '%s')", arg);
+        b->seed = (uint64_t)i;
+        return -2;
+    case CLI_OPT_THREADS:
+        if (!cli_parse_int(arg, &i) || i < 1 || i > 1024)
+            return cli_usage_error("--threads must be an integer in 1..1024 (got '%s')", arg);
+        b->threads = (int)i;
+        return -2;
+    case CLI_OPT_INVALID:
+        if (!cli_parse_double(arg, &d) || !(d > 0.0 && d <= 1.0))
+            return cli_usage_error("--invalid-threshold must be in (0, 1] (got '%s')", arg);
+        b->invalid_threshold = (float)d;
+        return -2;
+    default: return -1;
+    }
+}
+
 int cli_one_input(int argc, char **argv, const char *what, const char **out)
 {
     if (optind == argc)

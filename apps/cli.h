@@ -44,6 +44,39 @@ vdbgi_context *cli_context(void);
 /* Log callback for vdbgi_context_desc: prints by cli_verbosity. */
 void cli_log(void *user, vdbgi_log_level level, const char *message);
 
+/*
+ * The light model's options, shared by gi-bake and gi-lightmap: put
+ * CLI_LIGHT_LONG_OPTIONS in the getopt_long table and hand every option to
+ * cli_light_option first. Returns -1 when c is none of them, -2 when it was
+ * one and is set in *b, else the exit code of a usage error.
+ */
+enum {
+    CLI_OPT_RAY_DIST = 1000,
+    CLI_OPT_AMBIENT,
+    CLI_OPT_SUN,
+    CLI_OPT_SUN_COLOR,
+    CLI_OPT_FALLOFF,
+    CLI_OPT_SKY,
+    CLI_OPT_SAMPLING,
+    CLI_OPT_SEED,
+    CLI_OPT_THREADS,
+    CLI_OPT_INVALID
+};
+#define CLI_LIGHT_LONG_OPTIONS                                                                     \
+    {"ray-dist", required_argument, NULL, CLI_OPT_RAY_DIST},                                       \
+        {"ambient", required_argument, NULL, CLI_OPT_AMBIENT},                                     \
+        {"sun", required_argument, NULL, CLI_OPT_SUN},                                             \
+        {"sun-color", required_argument, NULL, CLI_OPT_SUN_COLOR},                                 \
+        {"falloff", required_argument, NULL, CLI_OPT_FALLOFF},                                     \
+        {"sky", required_argument, NULL, CLI_OPT_SKY},                                             \
+        {"sampling", required_argument, NULL, CLI_OPT_SAMPLING},                                   \
+        {"seed", required_argument, NULL, CLI_OPT_SEED},                                           \
+        {"threads", required_argument, NULL, CLI_OPT_THREADS},                                     \
+    {                                                                                              \
+        "invalid-threshold", required_argument, NULL, CLI_OPT_INVALID                              \
+    }
+int cli_light_option(int c, const char *arg, vdbgi_bake_desc *b);
+
 /* Whole-string parses; false on junk, overflow or an empty string. */
 bool cli_parse_int(const char *s, long long *out);
 bool cli_parse_double(const char *s, double *out); /* accepts "inf" */

@@ -63,16 +63,6 @@ enum {
     OPT_RAYS,
     OPT_NOISE,
     OPT_MAX_RAYS,
-    OPT_RAY_DIST,
-    OPT_AMBIENT,
-    OPT_SUN,
-    OPT_SUN_COLOR,
-    OPT_FALLOFF,
-    OPT_SKY,
-    OPT_SAMPLING,
-    OPT_SEED,
-    OPT_THREADS,
-    OPT_INVALID,
     OPT_TRACE,
     OPT_BASIS,
     OPT_VERSION
@@ -90,37 +80,31 @@ static const char *trace_names[] = {"auto", "single", "packet8", "packet16", "st
 /* Parse argv into o; returns -1 to go on, else the exit code. */
 static int parse_args(int argc, char **argv, options *o)
 {
-    static const struct option longs[] = {
-        {"output", required_argument, NULL, 'o'},
-        {"spacing", required_argument, NULL, OPT_SPACING},
-        {"margin", required_argument, NULL, OPT_MARGIN},
-        {"max-probes", required_argument, NULL, OPT_MAX_PROBES},
-        {"rays", required_argument, NULL, OPT_RAYS},
-        {"noise", required_argument, NULL, OPT_NOISE},
-        {"max-rays", required_argument, NULL, OPT_MAX_RAYS},
-        {"ray-dist", required_argument, NULL, OPT_RAY_DIST},
-        {"ambient", required_argument, NULL, OPT_AMBIENT},
-        {"sun", required_argument, NULL, OPT_SUN},
-        {"sun-color", required_argument, NULL, OPT_SUN_COLOR},
-        {"falloff", required_argument, NULL, OPT_FALLOFF},
-        {"sky", required_argument, NULL, OPT_SKY},
-        {"sampling", required_argument, NULL, OPT_SAMPLING},
-        {"seed", required_argument, NULL, OPT_SEED},
-        {"threads", required_argument, NULL, OPT_THREADS},
-        {"invalid-threshold", required_argument, NULL, OPT_INVALID},
-        {"trace", required_argument, NULL, OPT_TRACE},
-        {"basis", required_argument, NULL, OPT_BASIS},
-        {"quiet", no_argument, NULL, 'q'},
-        {"verbose", no_argument, NULL, 'v'},
-        {"help", no_argument, NULL, 'h'},
-        {"version", no_argument, NULL, OPT_VERSION},
-        {NULL, 0, NULL, 0}};
+    static const struct option longs[] = {{"output", required_argument, NULL, 'o'},
+                                          {"spacing", required_argument, NULL, OPT_SPACING},
+                                          {"margin", required_argument, NULL, OPT_MARGIN},
+                                          {"max-probes", required_argument, NULL, OPT_MAX_PROBES},
+                                          {"rays", required_argument, NULL, OPT_RAYS},
+                                          {"noise", required_argument, NULL, OPT_NOISE},
+                                          {"max-rays", required_argument, NULL, OPT_MAX_RAYS},
+                                          CLI_LIGHT_LONG_OPTIONS,
+                                          {"trace", required_argument, NULL, OPT_TRACE},
+                                          {"basis", required_argument, NULL, OPT_BASIS},
+                                          {"quiet", no_argument, NULL, 'q'},
+                                          {"verbose", no_argument, NULL, 'v'},
+                                          {"help", no_argument, NULL, 'h'},
+                                          {"version", no_argument, NULL, OPT_VERSION},
+                                          {NULL, 0, NULL, 0}};
     opterr = 0;
     int c;
     while ((c = getopt_long(argc, argv, ":o:qvh", longs, NULL)) != -1) {
         double d = 0.0;
         long long i = 0;
-        float v[3];
+        const int light = cli_light_option(c, optarg, &o->bake);
+        if (light == -2)
+            continue;
+        if (light >= 0)
+            return light;
         switch (c) {
         case 'o': o->output = optarg; break;
         case OPT_SPACING:
@@ -158,63 +142,6 @@ static int parse_args(int argc, char **argv, options *o)
                 return cli_usage_error(
                     "--max-rays must be a power of two in 64..1048576 (got '%s')", optarg);
             o->bake.max_rays = (int)i;
-            break;
-        case OPT_RAY_DIST:
-            if (!cli_parse_double(optarg, &d) || !(d > 0.0) || !isfinite(d))
-                return cli_usage_error("--ray-dist must be a number > 0 (got '%s')", optarg);
-            o->bake.ray_dist = (float)d;
-            break;
-        case OPT_AMBIENT:
-            if (!cli_parse_double(optarg, &d) || !(d >= 0.0) || !isfinite(d))
-                return cli_usage_error("--ambient must be a number >= 0 (got '%s')", optarg);
-            o->bake.ambient = d == 0.0 ? VDBGI_ZERO : (float)d;
-            break;
-        case OPT_SUN:
-            if (!cli_parse_vec3(optarg, v) || (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f))
-                return cli_usage_error("--sun must be a non-zero direction x,y,z (got '%s')",
-                                       optarg);
-            memcpy(o->bake.sun_dir, v, sizeof(v));
-            break;
-        case OPT_SUN_COLOR:
-            if (!cli_parse_vec3(optarg, v) || v[0] < 0.0f || v[1] < 0.0f || v[2] < 0.0f)
-                return cli_usage_error("--sun-color must be r,g,b >= 0 (got '%s')", optarg);
-            memcpy(o->bake.sun_color, v, sizeof(v));
-            if (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f)
-                o->bake.sun_color[0] = o->bake.sun_color[1] = o->bake.sun_color[2] = VDBGI_ZERO;
-            break;
-        case OPT_FALLOFF:
-            if (!cli_parse_double(optarg, &d) || !(d > 0.0))
-                return cli_usage_error("--falloff must be a number > 0 or inf (got '%s')", optarg);
-            o->bake.falloff = (float)d;
-            break;
-        case OPT_SKY:
-            if (!cli_parse_vec3(optarg, v) || v[0] < 0.0f || v[1] < 0.0f || v[2] < 0.0f)
-                return cli_usage_error("--sky must be r,g,b >= 0 (got '%s')", optarg);
-            memcpy(o->bake.sky, v, sizeof(v));
-            break;
-        case OPT_SAMPLING:
-            if (strcmp(optarg, "fibonacci") == 0)
-                o->bake.sampling = VDBGI_SAMPLING_FIBONACCI;
-            else if (strcmp(optarg, "random") == 0)
-                o->bake.sampling = VDBGI_SAMPLING_RANDOM;
-            else
-                return cli_usage_error("--sampling must be fibonacci or random (got '%s')", optarg);
-            break;
-        case OPT_SEED:
-            if (!cli_parse_int(optarg, &i) || i < 0)
-                return cli_usage_error("--seed must be an integer >= 0 (got '%s')", optarg);
-            o->bake.seed = (uint64_t)i;
-            break;
-        case OPT_THREADS:
-            if (!cli_parse_int(optarg, &i) || i < 1 || i > 1024)
-                return cli_usage_error("--threads must be an integer in 1..1024 (got '%s')",
-                                       optarg);
-            o->bake.threads = (int)i;
-            break;
-        case OPT_INVALID:
-            if (!cli_parse_double(optarg, &d) || !(d > 0.0 && d <= 1.0))
-                return cli_usage_error("--invalid-threshold must be in (0, 1] (got '%s')", optarg);
-            o->bake.invalid_threshold = (float)d;
             break;
         case OPT_TRACE: {
             int m = -1;

@@ -352,10 +352,9 @@ void vdbgi_estimate_point(vdbgi_estimator *th, const float pos[3], uint64_t stre
     report(th, &sums, out);
 }
 
-void vdbgi_estimate_hemisphere(vdbgi_estimator *th, const float pos[3], const float n[3],
-                               uint64_t stream, vdbgi_estimate *out)
+void vdbgi_hemisphere_turn(const float *base, int count, const float n[3], uint64_t stream,
+                           bool random, float *out)
 {
-    const vdbgi_bake_params *const bp = th->bp;
     /* A frame (t, b, n); random sampling turns the set about n by an angle of its own. */
     const float a[3] = {fabsf(n[0]) < 0.9f ? 1.0f : 0.0f, fabsf(n[0]) < 0.9f ? 0.0f : 1.0f, 0.0f};
     float t[3] = {a[1] * n[2] - a[2] * n[1], a[2] * n[0] - a[0] * n[2], a[0] * n[1] - a[1] * n[0]};
@@ -365,16 +364,24 @@ void vdbgi_estimate_hemisphere(vdbgi_estimator *th, const float pos[3], const fl
     const float b[3] = {n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2],
                         n[0] * t[1] - n[1] * t[0]};
     float c = 1.0f, s = 0.0f;
-    if (bp->sampling == VDBGI_SAMPLING_RANDOM) {
+    if (random) {
         const float turn = 2.0f * PI_F * (float)(vdbgi_splitmix64(&stream) >> 40) / 16777216.0f;
         c = cosf(turn), s = sinf(turn);
     }
-    for (int i = 0; i < bp->rays; i++) {
-        const float *const d = &th->base_dirs[3 * i];
+    for (int i = 0; i < count; i++) {
+        const float *const d = &base[3 * i];
         const float x = c * d[0] - s * d[1], y = s * d[0] + c * d[1];
         for (int k = 0; k < 3; k++)
-            th->dir[3 * i + k] = x * t[k] + y * b[k] + d[2] * n[k];
+            out[3 * i + k] = x * t[k] + y * b[k] + d[2] * n[k];
     }
+}
+
+void vdbgi_estimate_hemisphere(vdbgi_estimator *th, const float pos[3], const float n[3],
+                               uint64_t stream, vdbgi_estimate *out)
+{
+    const vdbgi_bake_params *const bp = th->bp;
+    vdbgi_hemisphere_turn(th->base_dirs, bp->rays, n, stream, bp->sampling == VDBGI_SAMPLING_RANDOM,
+                          th->dir);
     probe_sums sums;
     memset(&sums, 0, sizeof(sums));
     trace_batch(th, pos, th->dir, bp->rays, &sums);

@@ -35,6 +35,9 @@ void vdbgi_fibonacci_directions(int n, float *dirs);
  * back is E / pi.
  */
 void vdbgi_hemisphere_directions(int n, float *dirs);
+/* The +z set base (count directions) turned onto unit normal n, and about it when random. */
+void vdbgi_hemisphere_turn(const float *base, int count, const float n[3], uint64_t stream,
+                           bool random, float *out);
 /* A sample point's random stream: from its lattice point (or index) and the seed only. */
 uint64_t vdbgi_point_stream(int32_t i, int32_t j, int32_t k, uint64_t seed);
 /* The direction set bp's points share, allocated through ctx: *count directions. */

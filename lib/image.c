@@ -94,6 +94,16 @@ vdbgi_result vdbgi_image_decode(vdbgi_context *ctx, const char *path, const void
     return module.decode(ctx, path, data, data_size, format_hint, out);
 }
 
+vdbgi_result vdbgi_image_encode(vdbgi_context *ctx, const char *name, const char *ext, int width,
+                                int height, int channels, const float *pixels, bool data,
+                                uint8_t **bytes, size_t *size)
+{
+    *bytes = NULL;
+    *size = 0;
+    VDBGI_TRY(ready(ctx));
+    return module.encode(ctx, name, ext, width, height, channels, pixels, data, bytes, size);
+}
+
 vdbgi_result vdbgi_image_write(vdbgi_context *ctx, const char *path, int width, int height,
                                int channels, const float *pixels, bool data)
 {

@@ -113,8 +113,11 @@ extern "C" VDBGI_MODULE_API vdbgi_result vdbgi_image_module_encode(
         return host->fail(ctx, VDBGI_ERR_BACKEND,
                           "openimageio: the %s writer cannot write to memory", ext);
     ImageSpec spec(width, height, channels, exr ? TypeDesc::HALF : TypeDesc::UINT8);
-    if (exr)
+    if (exr) {
         spec.attribute("compression", "zip");
+        // The same pixels give the same bytes: no time of writing in the header.
+        spec.attribute("DateTime", "");
+    }
     if (data)
         spec.attribute("oiio:ColorSpace", "Linear");
     // Our alpha is data, not coverage: write RGB as given, never divided by it.

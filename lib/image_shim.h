@@ -41,6 +41,14 @@ vdbgi_result vdbgi_image_decode(vdbgi_context *ctx, const char *path, const void
 vdbgi_result vdbgi_image_write(vdbgi_context *ctx, const char *path, int width, int height,
                                int channels, const float *pixels, bool data);
 
+/*
+ * The same image encoded in memory ("png" or "exr") into *bytes, allocated
+ * through ctx; name is only for messages.
+ */
+vdbgi_result vdbgi_image_encode(vdbgi_context *ctx, const char *name, const char *ext, int width,
+                                int height, int channels, const float *pixels, bool data,
+                                uint8_t **bytes, size_t *size);
+
 /* What the module may call in the library: it links against none of it. */
 typedef struct vdbgi_image_host {
     vdbgi_result (*fail)(vdbgi_context *ctx, vdbgi_result code, const char *fmt, ...)

@@ -55,6 +55,7 @@ typedef struct pass_shared {
     size_t sample_count;
     int pass;
     bool direct;
+    float ao_dist;
     float *out;           /* 3 per texel */
     unsigned char *valid; /* per texel, written in the first pass */
 } pass_shared;
@@ -88,6 +89,23 @@ static void *run_pass(void *arg)
         const float *const pos = &sh->tx->pos[3 * i];
         const uint64_t stream = vdbgi_point_stream((int32_t)(i % size), (int32_t)(i / size % size),
                                                    (int32_t)(i / (size * size)), bp->seed);
+        if (sh->ao_dist > 0.0f) {
+            /* Ambient occlusion: the open part of the cosine-weighted hemisphere. */
+            vdbgi_hemisphere_turn(th->est.base_dirs, bp->rays, n, stream,
+                                  bp->sampling == VDBGI_SAMPLING_RANDOM, th->est.dir);
+            const vdbgi_ray_batch rays = {pos,         th->est.dir,     0, 3, 0.0f,
+                                          sh->ao_dist, (size_t)bp->rays};
+            vdbgi_tracer_occluded(th->est.tracer, bp->method, &rays, th->est.occluded,
+                                  th->est.scratch);
+            int open = 0;
+            for (int r = 0; r < bp->rays; r++)
+                open += !th->est.occluded[r];
+            th->rays += (uint64_t)bp->rays;
+            sh->valid[i] = 1;
+            for (int k = 0; k < 3; k++)
+                sh->out[3 * i + (size_t)k] = (float)open / (float)bp->rays;
+            continue;
+        }
         vdbgi_estimate e;
         vdbgi_estimate_hemisphere(&th->est, pos, n, stream, &e);
         th->rays += e.rays + e.shadow;
@@ -123,6 +141,8 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
                   "passes must be 1..16 (got %d)", lp->passes);
     VDBGI_FAIL_IF(ctx, bp->adaptive, VDBGI_ERR_INVALID_ARG,
                   "lightmaps take a fixed ray count, not --rays auto");
+    VDBGI_FAIL_IF(ctx, !(lp->ao_dist >= 0.0f) || !isfinite(lp->ao_dist), VDBGI_ERR_INVALID_ARG,
+                  "AO distance must be >= 0 and finite (got %g)", (double)lp->ao_dist);
     const size_t texels = (size_t)tx->size * (size_t)tx->size * tx->page_count;
     out->ctx = ctx;
     out->texel_count = texels;
@@ -153,7 +173,7 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
         if (tx->tri[i] >= 0)
             samples[n++] = (uint32_t)i;
     vdbgi_hemisphere_directions(bp->rays, dirs);
-    pass_shared sh = {scene, un, tx, bp, NULL, samples, n, 0, false, cur, out->valid};
+    pass_shared sh = {scene, un, tx, bp, NULL, samples, n, 0, false, lp->ao_dist, cur, out->valid};
     for (int t = 0; t < nth && r == VDBGI_OK; t++) {
         ths[t].sh = &sh;
         ths[t].est = (vdbgi_estimator){.scene = scene,
@@ -164,10 +184,11 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
                                        .hit_user = &sh};
         r = vdbgi_estimator_init(ctx, &ths[t].est, bp->rays);
     }
-    for (int pass = 0; r == VDBGI_OK && pass < lp->passes; pass++) {
+    const int passes = lp->ao_dist > 0.0f ? 1 : lp->passes; /* AO bounces nothing */
+    for (int pass = 0; r == VDBGI_OK && pass < passes; pass++) {
         const double t0 = vdbgi_now();
         sh.pass = pass;
-        sh.direct = lp->direct && pass == lp->passes - 1;
+        sh.direct = lp->direct && pass == passes - 1;
         sh.prev = pass ? &prev : NULL;
         sh.out = cur;
         memset(cur, 0, texels * 3 * sizeof(float));

@@ -10,9 +10,11 @@
 #include "texels.h"
 
 typedef struct vdbgi_lightmap_params {
-    int passes;  /* bounces: pass k lights the hits with pass k - 1's map; >= 1 */
-    bool direct; /* add the texel's own sun (fully baked lighting); else bounced light only */
-    int rings;   /* dilation rings after each pass (gutter + invalid texels) */
+    int passes;    /* bounces: pass k lights the hits with pass k - 1's map; >= 1 */
+    bool direct;   /* add the texel's own sun (fully baked lighting); else bounced light only */
+    int rings;     /* dilation rings after each pass (gutter + invalid texels) */
+    float ao_dist; /* > 0: ambient occlusion instead (seed 004's AO mode): the fraction of the
+                      cosine-weighted hemisphere open for this many metres, in every channel */
 } vdbgi_lightmap_params;
 
 typedef struct vdbgi_lightmap {
@@ -37,6 +39,27 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
                                  const vdbgi_texels *tx, const vdbgi_lightmap_params *lp,
                                  vdbgi_lightmap *out);
 void vdbgi_lightmap_free(vdbgi_lightmap *m);
+
+/* A bake's files: the .glb (scene, second UV set, maps) and each page's HDR map (EXR). */
+typedef struct vdbgi_lightmap_files {
+    uint8_t *glb;
+    size_t glb_size;
+    uint8_t *exr[64];
+    size_t exr_size[64];
+    size_t exr_count; /* pages (none for AO) */
+    float scale;      /* E = 8-bit map (linear, after sRGB decoding) x scale */
+} vdbgi_lightmap_files;
+
+/*
+ * Encode m: per page an 8-bit PNG (sRGB, E / scale with scale the largest E;
+ * AO: linear) and a half-float EXR of E, and the scene as a .glb whose
+ * materials carry the maps on TEXCOORD_1 (docs/lightmap.md). Base colour
+ * textures go in as sRGB PNGs on TEXCOORD_0.
+ */
+vdbgi_result vdbgi_lightmap_encode(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                   const vdbgi_unwrap *un, const vdbgi_texels *tx,
+                                   const vdbgi_lightmap *m, bool ao, vdbgi_lightmap_files *out);
+void vdbgi_lightmap_files_free(vdbgi_context *ctx, vdbgi_lightmap_files *f);
 
 /* The map's E at a triangle's barycentrics (Embree's u, v): bilinear, as a GPU filters it. */
 void vdbgi_lightmap_at(const vdbgi_lightmap *m, const vdbgi_unwrap *un, const vdbgi_texels *tx,

@@ -777,6 +777,62 @@ VDBGI_API vdbgi_result vdbgi_bevy_write_baked_gi(const vdbgi_bevy *volume, const
 VDBGI_API vdbgi_result vdbgi_bevy_write_json(const vdbgi_bevy *volume, const char *path,
                                              const char *texture, const char *layout);
 
+/* ---- surface lightmaps (seed 004) ------------------------------------------ */
+
+typedef struct vdbgi_lightmap_result vdbgi_lightmap_result;
+
+/*
+ * A lightmap bake of a whole scene. All-zero means the defaults.
+ *   texel:    metres a texel edge, > 0. 0 == 0.25.
+ *   size:     atlas edge in texels, 16..16384. 0 == 1024. More atlases when
+ *             the charts do not fit one; a chart larger than one shrinks.
+ *   passes:   bounces, 1..16: pass k lights the hits with pass k-1's map.
+ *             0 == 2.
+ *   direct:   non-zero: the map holds the texel's own sun too (fully
+ *             baked); else bounced light only, the lights staying on at
+ *             runtime (seed 004's default).
+ *   ao_dist:  > 0: an ambient-occlusion map instead, the open fraction of
+ *             the cosine-weighted hemisphere within this many metres.
+ *   bake:     the light model and sampling, as for probes (rays 0 == 64;
+ *             not VDBGI_RAYS_AUTO).
+ */
+typedef struct vdbgi_lightmap_desc {
+    float texel;
+    int size;
+    int passes;
+    int direct;
+    float ao_dist;
+    vdbgi_bake_desc bake;
+} vdbgi_lightmap_desc;
+
+typedef struct vdbgi_lightmap_stats {
+    size_t charts, atlases;
+    size_t texels;      /* atlas texels, all pages */
+    size_t samples;     /* texels that sample a triangle */
+    size_t invalid;     /* samples inside geometry or behind back faces (filled in) */
+    double utilisation; /* chart texels over atlas texels */
+    int passes;
+    double pass_seconds[16];
+    double seconds; /* the whole bake, unwrap included */
+    unsigned long long rays;
+} vdbgi_lightmap_stats;
+
+/* Unwrap scene, rasterise its texels and bake them; stats (may be NULL) says how it went. */
+VDBGI_API vdbgi_result vdbgi_lightmap_bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                                 const vdbgi_lightmap_desc *desc,
+                                                 vdbgi_lightmap_result **out,
+                                                 vdbgi_lightmap_stats *stats);
+VDBGI_API void vdbgi_lightmap_destroy(vdbgi_lightmap_result *result);
+
+/*
+ * Write the bake: the scene as a binary glTF at path (its second UV set,
+ * and per material the 8-bit map on TEXCOORD_1: an AO map as the core
+ * occlusionTexture, a lightmap in the material's extras, docs/lightmap.md),
+ * and beside it, for a lightmap, each atlas's irradiance as half floats
+ * (path without ".glb", then ".lightmap0.exr", ".lightmap1.exr", ...).
+ */
+VDBGI_API vdbgi_result vdbgi_lightmap_write(const vdbgi_lightmap_result *result, const char *path);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,0 +1,214 @@
+/* gi-lightmap: bake a scene's static surfaces into lightmaps (seed 004), as a .glb with its maps. */
+#define _POSIX_C_SOURCE 200809L
+#include "cli.h"
+#include "vdbgi.h"
+
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+static void usage(void)
+{
+    printf("Usage: gi-lightmap SCENE -o OUT.glb [options]\n"
+           "\n"
+           "Bake the light on SCENE's surfaces (any format assimp reads) into lightmaps:\n"
+           "unwrap it into charts, give every texel a sample point on its triangle, and\n"
+           "gather each point's hemisphere with the probes' light model, pass after pass,\n"
+           "each pass lighting the hits with the map before it. Writes OUT.glb (the\n"
+           "scene, its second UV set and each atlas as an 8-bit map on TEXCOORD_1) and,\n"
+           "beside it, OUT.lightmapN.exr (the irradiance, half floats).\n"
+           "\n"
+           "Options:\n"
+           "  -o, --output FILE        the .glb to write (required; replaced only on success)\n"
+           "      --texel M            metres a texel edge (0.25)\n"
+           "      --size N             atlas edge in texels (1024); more atlases if needed\n"
+           "      --passes N           bounces, 1..16 (2)\n"
+           "      --direct             add the direct sun (fully baked); default: bounced\n"
+           "                           light only, the lights stay on at runtime\n"
+           "      --mode M             lightmap or ao (ambient occlusion, the glTF\n"
+           "                           occlusionTexture) (lightmap)\n"
+           "      --ao-dist M          how far AO looks, metres (1)\n"
+           "      --rays N             rays per texel (64)\n"
+           "      --ray-dist M         longest ray in metres (40)\n"
+           "      --ambient A          ambient fill received at every hit (0.15)\n"
+           "      --sun X,Y,Z          direction towards the sun (0.4,0.8,0.3)\n"
+           "      --sun-color R,G,B    sun colour, linear; 0,0,0 turns the sun off (1,1,1)\n"
+           "      --falloff M          distance falloff 1/(1+(d/M)^2) in metres, or inf (4)\n"
+           "      --sky R,G,B          what a ray that hits nothing adds, linear (0,0,0)\n"
+           "      --sampling S         fibonacci or random (fibonacci)\n"
+           "      --seed N             seed of random sampling (0)\n"
+           "      --threads N          worker threads; results do not depend on it (all cores)\n"
+           "      --invalid-threshold F  back-face fraction above which a texel is invalid "
+           "(0.25)\n"
+           "  -q, --quiet              errors only\n"
+           "  -v, --verbose            more detail on stderr\n"
+           "  -h, --help               print this help and exit\n"
+           "      --version            print the version and exit\n"
+           "\n"
+           "Examples:\n"
+           "  gi-lightmap data/world.glb -o world-lit.glb\n"
+           "  gi-lightmap data/room.obj -o room-ao.glb --mode ao --ao-dist 0.5\n"
+           "  gi-lightmap data/world.glb -o world-baked.glb --direct --passes 3 --texel 0.1\n");
+}
+
+enum {
+    OPT_TEXEL = 256,
+    OPT_SIZE,
+    OPT_PASSES,
+    OPT_DIRECT,
+    OPT_MODE,
+    OPT_AO_DIST,
+    OPT_RAYS,
+    OPT_VERSION
+};
+
+typedef struct options {
+    const char *scene, *output;
+    bool ao;
+    vdbgi_lightmap_desc lm;
+} options;
+
+static int parse_args(int argc, char **argv, options *o)
+{
+    static const struct option longs[] = {{"output", required_argument, NULL, 'o'},
+                                          {"texel", required_argument, NULL, OPT_TEXEL},
+                                          {"size", required_argument, NULL, OPT_SIZE},
+                                          {"passes", required_argument, NULL, OPT_PASSES},
+                                          {"direct", no_argument, NULL, OPT_DIRECT},
+                                          {"mode", required_argument, NULL, OPT_MODE},
+                                          {"ao-dist", required_argument, NULL, OPT_AO_DIST},
+                                          {"rays", required_argument, NULL, OPT_RAYS},
+                                          CLI_LIGHT_LONG_OPTIONS,
+                                          {"quiet", no_argument, NULL, 'q'},
+                                          {"verbose", no_argument, NULL, 'v'},
+                                          {"help", no_argument, NULL, 'h'},
+                                          {"version", no_argument, NULL, OPT_VERSION},
+                                          {NULL, 0, NULL, 0}};
+    opterr = 0;
+    int c;
+    double ao_dist = 1.0;
+    while ((c = getopt_long(argc, argv, ":o:qvh", longs, NULL)) != -1) {
+        double d = 0.0;
+        long long i = 0;
+        const int light = cli_light_option(c, optarg, &o->lm.bake);
+        if (light == -2)
+            continue;
+        if (light >= 0)
+            return light;
+        switch (c) {
+        case 'o': o->output = optarg; break;
+        case OPT_TEXEL:
+            if (!cli_parse_double(optarg, &d) || !(d >= 1e-4 && d <= 1e4))
+                return cli_usage_error("--texel must be a number of metres in 1e-4..1e4 (got '%s')",
+                                       optarg);
+            o->lm.texel = (float)d;
+            break;
+        case OPT_SIZE:
+            if (!cli_parse_int(optarg, &i) || i < 16 || i > 16384)
+                return cli_usage_error("--size must be an integer in 16..16384 (got '%s')", optarg);
+            o->lm.size = (int)i;
+            break;
+        case OPT_PASSES:
+            if (!cli_parse_int(optarg, &i) || i < 1 || i > 16)
+                return cli_usage_error("--passes must be an integer in 1..16 (got '%s')", optarg);
+            o->lm.passes = (int)i;
+            break;
+        case OPT_DIRECT: o->lm.direct = 1; break;
+        case OPT_MODE:
+            if (strcmp(optarg, "lightmap") != 0 && strcmp(optarg, "ao") != 0)
+                return cli_usage_error("--mode must be lightmap or ao (got '%s')", optarg);
+            o->ao = strcmp(optarg, "ao") == 0;
+            break;
+        case OPT_AO_DIST:
+            if (!cli_parse_double(optarg, &ao_dist) || !(ao_dist > 0.0) || !isfinite(ao_dist))
+                return cli_usage_error("--ao-dist must be a number > 0 (got '%s')", optarg);
+            break;
+        case OPT_RAYS:
+            if (!cli_parse_int(optarg, &i) || i < 1 || i > 65536)
+                return cli_usage_error("--rays must be an integer in 1..65536 (got '%s')", optarg);
+            o->lm.bake.rays = (int)i;
+            break;
+        case 'q': cli_verbosity = 1; break;
+        case 'v': cli_verbosity++; break;
+        case 'h': usage(); return CLI_OK;
+        case OPT_VERSION: printf("gi-lightmap %s\n", vdbgi_version_string()); return CLI_OK;
+        default: return cli_bad_option(c, argv);
+        }
+    }
+    if (o->ao)
+        o->lm.ao_dist = (float)ao_dist;
+    const int taken = cli_one_input(argc, argv, "scene", &o->scene);
+    if (taken >= 0)
+        return taken;
+    if (!o->output)
+        return cli_usage_error("no output given: use -o OUT.glb");
+    const size_t len = strlen(o->output);
+    if (len < 5 || strcmp(o->output + len - 4, ".glb") != 0)
+        return cli_usage_error("the output must end in .glb (got '%s')", o->output);
+    return -1;
+}
+
+int main(int argc, char **argv)
+{
+    cli_init("gi-lightmap");
+    options o = {0};
+    const int parsed = parse_args(argc, argv, &o);
+    if (parsed >= 0)
+        return parsed;
+    /* The scene, and no file of another kind, is ever replaced. */
+    const char *const inputs[1] = {o.scene};
+    const cli_file out = {o.output, "glTF binary", "glTF", 4};
+    const int clash = cli_check_files(inputs, 1, &out, 1);
+    if (clash >= 0)
+        return clash;
+    vdbgi_context *const ctx = cli_context();
+    if (!ctx)
+        return CLI_FAILED;
+    /* The .glb and its EXR maps, or nothing: each waits under its temporary name. */
+    vdbgi_context_hold_outputs(ctx, 1);
+    vdbgi_scene *scene = NULL;
+    vdbgi_lightmap_result *lm = NULL;
+    vdbgi_lightmap_stats st = {0};
+    const double t0 = cli_now();
+    vdbgi_result r = vdbgi_output_check(ctx, o.output);
+    if (r == VDBGI_OK)
+        r = vdbgi_scene_load(ctx, o.scene, &scene);
+    const double t1 = cli_now();
+    if (r == VDBGI_OK)
+        r = vdbgi_lightmap_bake_scene(ctx, scene, &o.lm, &lm, &st);
+    const double t2 = cli_now();
+    if (r == VDBGI_OK)
+        r = vdbgi_lightmap_write(lm, o.output);
+    if (r == VDBGI_OK)
+        r = vdbgi_context_commit_outputs(ctx);
+    const double t3 = cli_now();
+    int code = CLI_OK;
+    if (r != VDBGI_OK) {
+        code = cli_fail(ctx, r);
+    } else if (cli_verbosity >= 2) {
+        vdbgi_scene_info si;
+        vdbgi_scene_get_info(scene, &si);
+        struct stat fs;
+        char size[32];
+        printf("scene    %s: %zu triangles\n", si.name, si.triangle_count);
+        printf("charts   %zu in %zu atlas%s of %d texels, %.1f %% used\n", st.charts, st.atlases,
+               st.atlases == 1 ? "" : "es", o.lm.size ? o.lm.size : 1024, 100.0 * st.utilisation);
+        printf("texels   %zu samples (%zu invalid, filled from neighbours)\n", st.samples,
+               st.invalid);
+        printf("passes   %d:", st.passes);
+        for (int p = 0; p < st.passes && p < 16; p++)
+            printf(" %.2f s", st.pass_seconds[p]);
+        printf(", %.1f Mrays/s\n", st.seconds > 0.0 ? (double)st.rays / (t2 - t1) * 1e-6 : 0.0);
+        printf("time     %.2f s: load %.2f, bake %.2f, write %.2f\n", t3 - t0, t1 - t0, t2 - t1,
+               t3 - t2);
+        printf("output   %s (%s)\n", o.output,
+               stat(o.output, &fs) == 0 ? cli_bytes((double)fs.st_size, size, sizeof(size)) : "?");
+    }
+    vdbgi_lightmap_destroy(lm);
+    vdbgi_scene_destroy(scene);
+    vdbgi_context_destroy(ctx);
+    return code;
+}

@@ -1,0 +1,176 @@
+/*
+ * gltf_shim.cpp: a binary glTF (.glb) through tinygltf, built from plain C
+ * arrays. Lightmaps travel in each material's extras ("vdbgi_lightmap":
+ * texture index, texCoord 1, scale), since glTF has no lightmap slot;
+ * AO maps are the core occlusionTexture on texCoord 1.
+ */
+#include "gltf_shim.h"
+
+#include <tiny_gltf.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <sstream>
+
+namespace
+{
+
+// Append bytes to the one buffer as a view of their own, 4-byte aligned.
+int add_view(tinygltf::Model &m, const void *data, size_t size, int target)
+{
+    std::vector<unsigned char> &buf = m.buffers[0].data;
+    while (buf.size() % 4)
+        buf.push_back(0);
+    tinygltf::BufferView v;
+    v.buffer = 0;
+    v.byteOffset = buf.size();
+    v.byteLength = size;
+    v.target = target;
+    const unsigned char *p = static_cast<const unsigned char *>(data);
+    buf.insert(buf.end(), p, p + size);
+    m.bufferViews.push_back(v);
+    return int(m.bufferViews.size() - 1);
+}
+
+int add_accessor(tinygltf::Model &m, const float *data, size_t count, int components, bool bounds)
+{
+    tinygltf::Accessor a;
+    a.bufferView =
+        add_view(m, data, count * components * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
+    a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+    a.count = count;
+    a.type = components == 3 ? TINYGLTF_TYPE_VEC3 : TINYGLTF_TYPE_VEC2;
+    if (bounds) { // POSITION must carry min and max
+        a.minValues.assign(components, 1e30);
+        a.maxValues.assign(components, -1e30);
+        for (size_t i = 0; i < count; i++)
+            for (int k = 0; k < components; k++) {
+                a.minValues[k] = std::min(a.minValues[k], double(data[i * components + k]));
+                a.maxValues[k] = std::max(a.maxValues[k], double(data[i * components + k]));
+            }
+    }
+    m.accessors.push_back(a);
+    return int(m.accessors.size() - 1);
+}
+
+int add_texture(tinygltf::Model &m, int image)
+{
+    tinygltf::Texture t;
+    t.source = image;
+    t.sampler = 0;
+    m.textures.push_back(t);
+    return int(m.textures.size() - 1);
+}
+
+} // namespace
+
+extern "C" bool vdbgi_gltf_encode(const vdbgi_gltf_desc *d, uint8_t **out, size_t *size, char *err,
+                                  size_t err_size)
+{
+    *out = nullptr;
+    *size = 0;
+    try {
+        tinygltf::Model m;
+        m.asset.version = "2.0";
+        m.asset.generator = d->generator ? d->generator : "vdbgi";
+        m.buffers.resize(1);
+        tinygltf::Sampler s; // linear, clamped: the maps' gutters are made for it
+        s.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+        s.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+        s.wrapS = s.wrapT = TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+        m.samplers.push_back(s);
+        for (size_t i = 0; i < d->image_count; i++) {
+            tinygltf::Image im;
+            im.mimeType = "image/png";
+            im.bufferView = add_view(m, d->images[i].png, d->images[i].size, 0);
+            m.images.push_back(im);
+        }
+        for (size_t i = 0; i < d->material_count; i++) {
+            const vdbgi_gltf_material &src = d->materials[i];
+            tinygltf::Material mat;
+            mat.pbrMetallicRoughness.baseColorFactor = {src.base[0], src.base[1], src.base[2], 1.0};
+            mat.pbrMetallicRoughness.metallicFactor = 0.0;
+            mat.pbrMetallicRoughness.roughnessFactor = 1.0;
+            mat.doubleSided = src.double_sided;
+            if (src.base_texture >= 0) {
+                mat.pbrMetallicRoughness.baseColorTexture.index = add_texture(m, src.base_texture);
+                mat.pbrMetallicRoughness.baseColorTexture.texCoord = 0;
+            }
+            if (src.map >= 0) {
+                const int tex = add_texture(m, src.map);
+                if (d->ao) {
+                    mat.occlusionTexture.index = tex;
+                    mat.occlusionTexture.texCoord = 1;
+                } else {
+                    tinygltf::Value::Object lm;
+                    lm["texture"] = tinygltf::Value(tex);
+                    lm["texCoord"] = tinygltf::Value(1);
+                    lm["scale"] = tinygltf::Value(double(d->map_scale));
+                    tinygltf::Value::Object extras;
+                    extras["vdbgi_lightmap"] = tinygltf::Value(lm);
+                    mat.extras = tinygltf::Value(extras);
+                }
+            }
+            m.materials.push_back(mat);
+        }
+        const int pos = add_accessor(m, d->positions, d->vertex_count, 3, true);
+        const int nrm = add_accessor(m, d->normals, d->vertex_count, 3, false);
+        const int uv0 = d->uv0 ? add_accessor(m, d->uv0, d->vertex_count, 2, false) : -1;
+        const int uv1 = add_accessor(m, d->uv1, d->vertex_count, 2, false);
+        tinygltf::Mesh mesh;
+        for (size_t i = 0; i < d->primitive_count; i++) {
+            const vdbgi_gltf_primitive &p = d->primitives[i];
+            // Each primitive reads its own range of the shared vertex arrays through indices.
+            std::vector<uint32_t> idx(p.count);
+            for (uint32_t k = 0; k < p.count; k++)
+                idx[k] = p.first + k;
+            tinygltf::Accessor ia;
+            ia.bufferView =
+                add_view(m, idx.data(), idx.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+            ia.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+            ia.count = idx.size();
+            ia.type = TINYGLTF_TYPE_SCALAR;
+            m.accessors.push_back(ia);
+            tinygltf::Primitive prim;
+            prim.attributes["POSITION"] = pos;
+            prim.attributes["NORMAL"] = nrm;
+            if (uv0 >= 0)
+                prim.attributes["TEXCOORD_0"] = uv0;
+            prim.attributes["TEXCOORD_1"] = uv1;
+            prim.indices = int(m.accessors.size() - 1);
+            prim.material = int(p.material);
+            prim.mode = TINYGLTF_MODE_TRIANGLES;
+            mesh.primitives.push_back(prim);
+        }
+        m.meshes.push_back(mesh);
+        tinygltf::Node node;
+        node.mesh = 0;
+        m.nodes.push_back(node);
+        tinygltf::Scene scene;
+        scene.nodes.push_back(0);
+        m.scenes.push_back(scene);
+        m.defaultScene = 0;
+        std::ostringstream os;
+        tinygltf::TinyGLTF writer;
+        if (!writer.WriteGltfSceneToStream(&m, os, false, true)) {
+            std::snprintf(err, err_size, "tinygltf could not write the .glb");
+            return false;
+        }
+        const std::string bytes = os.str();
+        *out = static_cast<uint8_t *>(std::malloc(bytes.size() ? bytes.size() : 1));
+        if (!*out) {
+            std::snprintf(err, err_size, "out of memory for a %zu-byte .glb", bytes.size());
+            return false;
+        }
+        std::memcpy(*out, bytes.data(), bytes.size());
+        *size = bytes.size();
+        return true;
+    } catch (const std::exception &e) {
+        std::snprintf(err, err_size, "glTF: %s", e.what());
+    } catch (...) {
+        std::snprintf(err, err_size, "glTF: unknown error");
+    }
+    return false;
+}

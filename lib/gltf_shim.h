@@ -1,0 +1,59 @@
+/*
+ * gltf_shim.h: C interface to the only code that includes tinygltf
+ * (Debian's libtinygltf-dev): a scene with its lightmap UVs and maps, as a
+ * binary glTF in memory. No tinygltf type crosses it.
+ */
+#ifndef VDBGI_GLTF_SHIM_H
+#define VDBGI_GLTF_SHIM_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* One primitive: count unindexed vertices from first, one material. */
+typedef struct vdbgi_gltf_primitive {
+    uint32_t first, count, material;
+} vdbgi_gltf_primitive;
+
+typedef struct vdbgi_gltf_material {
+    float base[3];    /* linear baseColorFactor */
+    int base_texture; /* image index (sRGB PNG, TEXCOORD_0), or -1 */
+    int map;          /* image index of its lightmap or AO map (TEXCOORD_1), or -1 */
+    bool double_sided;
+} vdbgi_gltf_material;
+
+typedef struct vdbgi_gltf_image {
+    const uint8_t *png;
+    size_t size;
+} vdbgi_gltf_image;
+
+typedef struct vdbgi_gltf_desc {
+    size_t vertex_count;
+    const float *positions, *normals, *uv0, *uv1; /* 3, 3, 2, 2 floats a vertex; uv0 may be NULL */
+    const vdbgi_gltf_primitive *primitives;
+    size_t primitive_count;
+    const vdbgi_gltf_material *materials;
+    size_t material_count;
+    const vdbgi_gltf_image *images;
+    size_t image_count;
+    bool ao;         /* maps are occlusion: occlusionTexture, texCoord 1 */
+    float map_scale; /* lightmaps: E = map (linear) x map_scale, in extras */
+    const char *generator;
+} vdbgi_gltf_desc;
+
+/*
+ * The .glb's bytes into *out (malloc'd; the caller frees it with free()),
+ * or false with a message in err.
+ */
+bool vdbgi_gltf_encode(const vdbgi_gltf_desc *d, uint8_t **out, size_t *size, char *err,
+                       size_t err_size);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* VDBGI_GLTF_SHIM_H */

@@ -1,0 +1,260 @@
+/*
+ * lightmap_io.c: a lightmap bake as files: each page's maps (8-bit PNG in
+ * the .glb, half-float EXR beside it) and the scene with its second UV set
+ * as a .glb (through gltf_shim.cpp).
+ */
+#include "gltf_shim.h"
+#include "lightmap.h"
+#include "util.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void vdbgi_lightmap_files_free(vdbgi_context *ctx, vdbgi_lightmap_files *f)
+{
+    free(f->glb); /* the shim's malloc */
+    for (size_t p = 0; p < f->exr_count; p++)
+        vdbgi_free(ctx, f->exr[p]);
+    memset(f, 0, sizeof(*f));
+}
+
+static float srgb(float c)
+{
+    c = c < 0.0f ? 0.0f : c > 1.0f ? 1.0f : c;
+    return c <= 0.0031308f ? 12.92f * c : 1.055f * powf(c, 1.0f / 2.4f) - 0.055f;
+}
+
+/* Triangles sorted by (material, page): one glTF primitive and material each. */
+typedef struct keyed {
+    uint32_t key, tri;
+} keyed;
+
+static int by_key(const void *pa, const void *pb)
+{
+    const keyed *a = pa, *b = pb;
+    return a->key != b->key ? (a->key < b->key ? -1 : 1) : (a->tri < b->tri ? -1 : a->tri > b->tri);
+}
+
+vdbgi_result vdbgi_lightmap_encode(vdbgi_context *ctx, const vdbgi_scene *s, const vdbgi_unwrap *un,
+                                   const vdbgi_texels *tx, const vdbgi_lightmap *m, bool ao,
+                                   vdbgi_lightmap_files *out)
+{
+    memset(out, 0, sizeof(*out));
+    const size_t pages = tx->page_count, size = (size_t)tx->size, per = size * size;
+    VDBGI_FAIL_IF(ctx, pages > 64, VDBGI_ERR_INVALID_ARG,
+                  "%zu atlases: at most 64 (raise --size or --texel)", pages);
+    const size_t n = s->triangle_count, images = pages + s->texture_count;
+    float *pix = vdbgi_alloc(ctx, 4 * per * sizeof(float));
+    vdbgi_gltf_image *img = vdbgi_calloc(ctx, images, sizeof(*img));
+    uint8_t **png = vdbgi_calloc(ctx, images, sizeof(*png));
+    keyed *order = vdbgi_alloc(ctx, n * sizeof(*order));
+    float *v = vdbgi_alloc(ctx, 3 * n * 10 * sizeof(float)); /* pos, normal, uv0, uv1 */
+    vdbgi_gltf_primitive *prims = vdbgi_alloc(ctx, n * sizeof(*prims));
+    vdbgi_gltf_material *mats = vdbgi_alloc(ctx, n * sizeof(*mats));
+    int *slot = vdbgi_alloc(ctx, images * sizeof(*slot));
+    vdbgi_result r = pix && img && png && order && v && prims && mats && slot
+                         ? VDBGI_OK
+                         : VDBGI_ERR_OUT_OF_MEMORY;
+    /* The 8-bit maps' scale: the largest E a valid texel holds (AO is 0..1 already). */
+    float scale = 1.0f;
+    if (!ao) {
+        scale = 0.0f;
+        for (size_t i = 0; i < m->texel_count; i++)
+            for (int k = 0; k < 3 && m->valid[i]; k++)
+                scale = fmaxf(scale, m->rgb[3 * i + (size_t)k]);
+        scale = scale > 0.0f ? scale : 1.0f;
+    }
+    out->scale = scale;
+    for (size_t p = 0; r == VDBGI_OK && p < pages; p++) {
+        const float *const e = &m->rgb[3 * p * per];
+        for (size_t i = 0; i < per; i++)
+            for (int k = 0; k < 4; k++)
+                pix[4 * i + (size_t)k] = k == 3 ? 1.0f
+                                         : ao   ? e[3 * i]
+                                                : srgb(e[3 * i + (size_t)k] / scale);
+        r = vdbgi_image_encode(ctx, "lightmap", "png", (int)size, (int)size, 4, pix, ao, &png[p],
+                               &img[p].size);
+        img[p].png = png[p];
+        if (r == VDBGI_OK && !ao) {
+            r = vdbgi_image_encode(ctx, "lightmap", "exr", (int)size, (int)size, 3, e, true,
+                                   &out->exr[p], &out->exr_size[p]);
+            out->exr_count = p + 1;
+        }
+    }
+    /* Base colour textures, linear in the scene, sRGB in the file. */
+    for (size_t t = 0; r == VDBGI_OK && t < s->texture_count; t++) {
+        const vdbgi_texture *const tex = &s->textures[t];
+        const size_t count = (size_t)tex->width * (size_t)tex->height;
+        if (count == 0)
+            continue; /* a texture that did not load: its materials keep their factor */
+        float *const rgba = vdbgi_alloc(ctx, 4 * (count ? count : 1) * sizeof(float));
+        if (!rgba) {
+            r = VDBGI_ERR_OUT_OF_MEMORY;
+            break;
+        }
+        for (size_t i = 0; i < 4 * count; i++)
+            rgba[i] = i % 4 == 3 ? tex->rgba[i] : srgb(tex->rgba[i]);
+        r = vdbgi_image_encode(ctx, "texture", "png", tex->width, tex->height, 4, rgba, false,
+                               &png[pages + t], &img[pages + t].size);
+        img[pages + t].png = png[pages + t];
+        vdbgi_free(ctx, rgba);
+    }
+    if (r != VDBGI_OK)
+        goto done;
+    for (size_t t = 0; t < n; t++)
+        order[t] =
+            (keyed){s->tris[t].material * (uint32_t)pages + un->page[un->chart[t]], (uint32_t)t};
+    qsort(order, n, sizeof(*order), by_key);
+    /* The images that exist, packed: slot[i] is image i's index in the .glb, or -1. */
+    size_t used = 0;
+    for (size_t i = 0; i < images; i++) {
+        slot[i] = img[i].size ? (int)used : -1;
+        if (img[i].size)
+            img[used++] = img[i];
+    }
+    float *const pos = v, *const nrm = v + 9 * n, *const uv0 = v + 18 * n, *const uv1 = v + 24 * n;
+    size_t prim_count = 0;
+    for (size_t i = 0; i < n; i++) {
+        const uint32_t t = order[i].tri;
+        if (i == 0 || order[i].key != order[i - 1].key) {
+            const uint32_t mat = s->tris[t].material, page = un->page[un->chart[t]];
+            const vdbgi_material *const sm = &s->materials[mat];
+            mats[prim_count] =
+                (vdbgi_gltf_material){{sm->base[0], sm->base[1], sm->base[2]},
+                                      sm->texture >= 0 ? slot[pages + (size_t)sm->texture] : -1,
+                                      slot[page],
+                                      sm->double_sided};
+            prims[prim_count] = (vdbgi_gltf_primitive){(uint32_t)(3 * i), 0, (uint32_t)prim_count};
+            prim_count++;
+        }
+        prims[prim_count - 1].count += 3;
+        for (int c = 0; c < 3; c++) {
+            const size_t vi = s->indices[3 * (size_t)t + (size_t)c], o = 3 * i + (size_t)c;
+            memcpy(&pos[3 * o], &s->positions[3 * vi], 3 * sizeof(float));
+            memcpy(&nrm[3 * o], s->tris[t].normal, 3 * sizeof(float));
+            memcpy(&uv0[2 * o], &s->uvs[2 * vi], 2 * sizeof(float));
+            uv1[2 * o] = un->uv[6 * (size_t)t + 2 * (size_t)c] / (float)size;
+            uv1[2 * o + 1] = un->uv[6 * (size_t)t + 2 * (size_t)c + 1] / (float)size;
+        }
+    }
+    const vdbgi_gltf_desc d = {3 * n,      pos,
+                               nrm,        s->texture_count ? uv0 : NULL,
+                               uv1,        prims,
+                               prim_count, mats,
+                               prim_count, img,
+                               used,       ao,
+                               scale,      "vdbgi gi-lightmap"};
+    char err[256] = "";
+    if (!vdbgi_gltf_encode(&d, &out->glb, &out->glb_size, err, sizeof(err)))
+        r = vdbgi_fail(ctx, VDBGI_ERR_BACKEND, "%s", err);
+done:
+    for (size_t i = 0; png && i < images; i++)
+        vdbgi_free(ctx, png[i]);
+    vdbgi_free(ctx, png);
+    vdbgi_free(ctx, img);
+    vdbgi_free(ctx, pix);
+    vdbgi_free(ctx, order);
+    vdbgi_free(ctx, v);
+    vdbgi_free(ctx, prims);
+    vdbgi_free(ctx, mats);
+    vdbgi_free(ctx, slot);
+    if (r != VDBGI_OK)
+        vdbgi_lightmap_files_free(ctx, out);
+    return r;
+}
+
+/* ---- the public API ------------------------------------------------------------- */
+
+struct vdbgi_lightmap_result {
+    vdbgi_context *ctx;
+    const vdbgi_scene *scene;
+    vdbgi_unwrap un;
+    vdbgi_texels tx;
+    vdbgi_lightmap map;
+    bool ao;
+};
+
+void vdbgi_lightmap_destroy(vdbgi_lightmap_result *r)
+{
+    if (!r)
+        return;
+    vdbgi_lightmap_free(&r->map);
+    vdbgi_texels_free(&r->tx);
+    vdbgi_unwrap_free(&r->un);
+    vdbgi_free(r->ctx, r);
+}
+
+vdbgi_result vdbgi_lightmap_bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                       const vdbgi_lightmap_desc *desc, vdbgi_lightmap_result **out,
+                                       vdbgi_lightmap_stats *stats)
+{
+    VDBGI_FAIL_IF(ctx, !out || !scene, VDBGI_ERR_INVALID_ARG, "no scene or no output pointer");
+    *out = NULL;
+    const vdbgi_lightmap_desc none = {0};
+    const vdbgi_lightmap_desc *const d = desc ? desc : &none;
+    const double t0 = vdbgi_now();
+    vdbgi_bake_desc bd = d->bake;
+    bd.rays = bd.rays == 0 ? 64 : bd.rays;
+    vdbgi_bake_params bp;
+    VDBGI_TRY(vdbgi_bake_params_resolve(ctx, &bd, &bp));
+    const int passes = d->passes == 0 ? 2 : d->passes;
+    VDBGI_FAIL_IF(ctx, passes < 1 || passes > 16, VDBGI_ERR_INVALID_ARG,
+                  "passes must be 1..16 (got %d)", d->passes);
+    vdbgi_lightmap_result *const r = vdbgi_calloc(ctx, 1, sizeof(*r));
+    if (!r)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    r->ctx = ctx;
+    r->scene = scene;
+    r->ao = d->ao_dist > 0.0f;
+    const vdbgi_unwrap_params up = {.texel = d->texel, .size = d->size};
+    vdbgi_result res = vdbgi_unwrap_build(ctx, scene, &up, &r->un);
+    if (res == VDBGI_OK)
+        res = vdbgi_texels_build(ctx, scene, &r->un, &r->tx);
+    /* Dilate past the gutters on both sides of a chart edge, and over invalid texels. */
+    const vdbgi_lightmap_params lp = {passes, d->direct != 0, 2 * (int)r->un.gutter + 2,
+                                      d->ao_dist};
+    if (res == VDBGI_OK)
+        res = vdbgi_lightmap_bake(ctx, scene, &bp, &r->un, &r->tx, &lp, &r->map);
+    if (res != VDBGI_OK) {
+        vdbgi_lightmap_destroy(r);
+        return res;
+    }
+    if (stats) {
+        memset(stats, 0, sizeof(*stats));
+        stats->charts = r->un.chart_count;
+        stats->atlases = r->un.page_count;
+        stats->texels = r->map.texel_count;
+        stats->samples = r->tx.sample_count;
+        stats->invalid = r->map.invalid_count;
+        stats->utilisation = r->un.chart_texels / (double)r->map.texel_count;
+        stats->passes = r->ao ? 1 : passes;
+        memcpy(stats->pass_seconds, r->map.pass_seconds, sizeof(stats->pass_seconds));
+        stats->rays = r->map.rays;
+        stats->seconds = vdbgi_now() - t0;
+    }
+    *out = r;
+    return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_lightmap_write(const vdbgi_lightmap_result *r, const char *path)
+{
+    vdbgi_context *const ctx = r->ctx;
+    const size_t len = strlen(path);
+    VDBGI_FAIL_IF(ctx, len < 5 || strcmp(path + len - 4, ".glb") != 0, VDBGI_ERR_INVALID_ARG,
+                  "%s: the output is a .glb", path);
+    vdbgi_lightmap_files f;
+    VDBGI_TRY(vdbgi_lightmap_encode(ctx, r->scene, &r->un, &r->tx, &r->map, r->ao, &f));
+    char *const name = vdbgi_alloc(ctx, len + 32);
+    vdbgi_result res = name ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
+    for (size_t p = 0; res == VDBGI_OK && p < f.exr_count; p++) {
+        snprintf(name, len + 32, "%.*s.lightmap%zu.exr", (int)(len - 4), path, p);
+        res = vdbgi_write_bytes_atomic(ctx, name, f.exr[p], f.exr_size[p]);
+    }
+    if (res == VDBGI_OK)
+        res = vdbgi_write_bytes_atomic(ctx, path, f.glb, f.glb_size);
+    vdbgi_free(ctx, name);
+    vdbgi_lightmap_files_free(ctx, &f);
+    return res;
+}

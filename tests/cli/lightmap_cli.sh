@@ -1,0 +1,25 @@
+# gi-lightmap end to end on the bundled room: a lightmap (two passes, direct sun)
+# and an AO map, each a .glb the Khronos validator passes with no error; the EXR
+# beside a lightmap; the same bytes on one thread and two; bad input refused
+# with one line, a non-zero exit and no file written.
+"$BIN/gi-lightmap" --help | head -1
+"$BIN/gi-lightmap" -q "$DATA/room.obj" -o room.glb --texel 0.1 --size 256 --direct --threads 1
+echo "lightmap exit $?: $(ls room.* | tr '\n' ' ')"
+node "$ROOT/tests/js/check_gltf.mjs" room.glb
+"$BIN/gi-lightmap" -q "$DATA/room.obj" -o room2.glb --texel 0.1 --size 256 --direct --threads 2
+cmp room.glb room2.glb && cmp room.lightmap0.exr room2.lightmap0.exr && echo "1 and 2 threads: same bytes"
+oiiotool --info room.lightmap0.exr | sed 's/^room.lightmap0.exr *: *//'
+"$BIN/gi-lightmap" -q "$DATA/room.obj" -o ao.glb --mode ao --ao-dist 0.5 --texel 0.1 --size 256
+echo "ao exit $?: $(ls ao.* | tr '\n' ' ')"
+node "$ROOT/tests/js/check_gltf.mjs" ao.glb
+# Bad input: each one line on stderr, the exit code, nothing written.
+mkdir bad && cd bad
+"$BIN/gi-lightmap" missing.obj -o x.glb 2> err.txt; echo "missing scene: exit $?, $(wc -l < err.txt) line"
+"$BIN/gi-lightmap" "$DATA/room.obj" -o x.glb --passes 0 2> err.txt; echo "passes 0: exit $?, $(cat err.txt | head -1)"
+"$BIN/gi-lightmap" "$DATA/room.obj" -o x.gltf 2> err.txt; echo "not .glb: exit $?, $(head -1 err.txt)"
+"$BIN/gi-lightmap" "$DATA/room.obj" -o x.glb --mode bake 2> err.txt; echo "mode: exit $?, $(head -1 err.txt)"
+echo "keep me" > notes.glb
+"$BIN/gi-lightmap" "$DATA/room.obj" -o notes.glb 2> err.txt; echo "not a glTF in the way: exit $?, $(cat notes.glb)"
+printf 'v 0 0 0\nv 1 0 0\nv 0 0 nan\nf 1 2 3\n' > nan.obj
+"$BIN/gi-lightmap" nan.obj -o y.glb 2> err.txt; echo "only a NaN triangle: exit $?, $(tail -1 err.txt)"
+echo "files left: $(ls | grep -v -e err.txt -e notes.glb -e nan.obj | wc -l)"
