@@ -198,11 +198,13 @@ demo:
 	@mkdir -p out
 	$(BUILD)/bin/gi-bake data/world.glb -o out/world.vdb
 	$(BUILD)/bin/vdb-to-gi out/world.vdb -o out/world.gi.gz --slices out/slices --stats out/world.json
+	$(BUILD)/bin/gi-lightmap data/world.glb -o out/world-lit.glb
 	@echo
 	@echo "demo: out/world.vdb      baked probes (vdb_print -l out/world.vdb, or Blender)"
 	@echo "      out/world.gi.gz    bricks for the runtime (gi-inspect out/world.gi.gz --at 0,1,0)"
 	@echo "      out/world.json     conversion statistics"
 	@echo "      out/slices/*.png   the baked field, the bricks, their difference, levels, atlas"
+	@echo "      out/world-lit.glb  the world with its lightmap (any glTF viewer; docs/lightmap.md)"
 	@echo "      make view          serves web/viewer.html on 127.0.0.1 with this world and its GI"
 
 ## view: serve the viewer on 127.0.0.1 (PORT=8080) with the demo's world, or drop files on it
