@@ -52,7 +52,9 @@ ASSIMP_LIBS = $(call pkg_libs,assimp)
 # OpenImageIO is not among them: it lives in the image module, opened on first use.
 DEP_LIBS = $(VDB_LIBS) $(EMBREE_LIBS) $(ASSIMP_LIBS) -ltinygltf -ldeflate -lz -ldl -lpthread -lm
 
-ALL_CFLAGS = -std=c11 $(WARN_C) $(OPT) -MMD -MP -fvisibility=hidden -DVDBGI_BUILDING \
+# -ffp-contract=off: no fused multiply-adds, so float results are the same on every CPU and
+# compiler (the packed .gi's JavaScript reader rebuilds the C one's bytes, docs/format.md).
+ALL_CFLAGS = -std=c11 $(WARN_C) $(OPT) -ffp-contract=off -MMD -MP -fvisibility=hidden -DVDBGI_BUILDING \
              -DVDBGI_MODULE_DIR='"$(PREFIX)/lib/vdbgi"' $(ASSIMP_CFLAGS) $(call pkg_cflags,stb) \
              $(CFLAGS)
 # No -fvisibility=hidden for the C++ shims: OpenVDB's registries rely on its template

@@ -140,6 +140,8 @@ static int parse_args(int argc, char **argv, options *o)
     }
     if (o->ao)
         o->lm.ao_dist = (float)ao_dist;
+    else if (ao_dist != 1.0)
+        return cli_usage_error("--ao-dist is for --mode ao");
     const int taken = cli_one_input(argc, argv, "scene", &o->scene);
     if (taken >= 0)
         return taken;

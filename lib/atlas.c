@@ -14,17 +14,23 @@ vdbgi_result vdbgi_atlas_dims(vdbgi_context *ctx, size_t slots, vdbgi_layout lay
                               uint32_t dims[3])
 {
     const uint32_t b = (uint32_t)vdbgi_slot_texels(layout);
-    uint32_t sx = (uint32_t)ceil(cbrt((double)slots));
-    sx = sx > 256 ? 256 : sx;
-    uint32_t sy = (uint32_t)ceil(sqrt((double)slots / sx));
-    sy = sy > 256 ? 256 : sy;
-    const uint64_t sz = (slots + (uint64_t)sx * sy - 1) / ((uint64_t)sx * sy);
+    /*
+     * In integers: the smallest sx with sx^3 >= slots, then the smallest sy
+     * with sx sy^2 >= slots. (glibc's cbrt(27) is 3.0000000000000004, so a
+     * floating ceil gave 4 where a reader's cube root gives 3.)
+     */
+    uint64_t sx = 1, sy = 1;
+    while (sx < 256 && sx * sx * sx < slots)
+        sx++;
+    while (sy < 256 && sx * sy * sy < slots)
+        sy++;
+    const uint64_t sz = (slots + sx * sy - 1) / (sx * sy);
     VDBGI_FAIL_IF(ctx, sz > 256, VDBGI_ERR_OUT_OF_MEMORY,
                   "%zu bricks do not fit an atlas of 256^3 slots (%u texels a side): raise eps or "
                   "the probe spacing",
                   slots, 256 * b);
-    dims[0] = sx * b;
-    dims[1] = sy * b;
+    dims[0] = (uint32_t)sx * b;
+    dims[1] = (uint32_t)sy * b;
     dims[2] = (uint32_t)sz * b;
     return VDBGI_OK;
 }

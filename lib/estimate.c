@@ -220,7 +220,7 @@ static void trace_batch(vdbgi_estimator *th, const float pos[3], const float *di
             float albedo[3], extra[3] = {0.0f, 0.0f, 0.0f};
             vdbgi_scene_albedo(scene, h->prim, h->u, h->v, albedo);
             if (th->hit_light)
-                th->hit_light(th->hit_user, h, extra);
+                th->hit_light(th->hit_user, h, facing > 0.0f, extra);
             const float q = h->t / bp->falloff;
             const float w = 1.0f / (1.0f + q * q); /* q = 0 when falloff is infinite */
             for (int k = 0; k < 3; k++) {

@@ -58,9 +58,10 @@ typedef struct vdbgi_estimator {
     bool cube;              /* also the ambient-cube sides */
     /*
      * Light a hit surface receives besides the fill and the sun, as the
-     * estimator's E / pi (a lightmap's previous pass), or NULL for none.
+     * estimator's E / pi (a lightmap's previous pass), or NULL for none;
+     * back says the ray met the triangle's back face.
      */
-    void (*hit_light)(const void *user, const vdbgi_hit *hit, float rgb[3]);
+    void (*hit_light)(const void *user, const vdbgi_hit *hit, bool back, float rgb[3]);
     const void *hit_user;
     float *dir, *sorg;
     float *sun_weight;    /* per shadow ray: albedo x falloff x n.sun, RGB */

@@ -55,11 +55,11 @@ int add_accessor(tinygltf::Model &m, const float *data, size_t count, int compon
     return int(m.accessors.size() - 1);
 }
 
-int add_texture(tinygltf::Model &m, int image)
+int add_texture(tinygltf::Model &m, int image, int sampler)
 {
     tinygltf::Texture t;
     t.source = image;
-    t.sampler = 0;
+    t.sampler = sampler;
     m.textures.push_back(t);
     return int(m.textures.size() - 1);
 }
@@ -81,6 +81,8 @@ extern "C" bool vdbgi_gltf_encode(const vdbgi_gltf_desc *d, uint8_t **out, size_
         s.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
         s.wrapS = s.wrapT = TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
         m.samplers.push_back(s);
+        s.wrapS = s.wrapT = TINYGLTF_TEXTURE_WRAP_REPEAT; // base colour tiles, as the bake read it
+        m.samplers.push_back(s);
         for (size_t i = 0; i < d->image_count; i++) {
             tinygltf::Image im;
             im.mimeType = "image/png";
@@ -95,11 +97,12 @@ extern "C" bool vdbgi_gltf_encode(const vdbgi_gltf_desc *d, uint8_t **out, size_
             mat.pbrMetallicRoughness.roughnessFactor = 1.0;
             mat.doubleSided = src.double_sided;
             if (src.base_texture >= 0) {
-                mat.pbrMetallicRoughness.baseColorTexture.index = add_texture(m, src.base_texture);
+                mat.pbrMetallicRoughness.baseColorTexture.index =
+                    add_texture(m, src.base_texture, 1);
                 mat.pbrMetallicRoughness.baseColorTexture.texCoord = 0;
             }
             if (src.map >= 0) {
-                const int tex = add_texture(m, src.map);
+                const int tex = add_texture(m, src.map, 0);
                 if (d->ao) {
                     mat.occlusionTexture.index = tex;
                     mat.occlusionTexture.texCoord = 1;
@@ -119,6 +122,7 @@ extern "C" bool vdbgi_gltf_encode(const vdbgi_gltf_desc *d, uint8_t **out, size_
         const int nrm = add_accessor(m, d->normals, d->vertex_count, 3, false);
         const int uv0 = d->uv0 ? add_accessor(m, d->uv0, d->vertex_count, 2, false) : -1;
         const int uv1 = add_accessor(m, d->uv1, d->vertex_count, 2, false);
+        const int col = d->colors ? add_accessor(m, d->colors, d->vertex_count, 3, false) : -1;
         tinygltf::Mesh mesh;
         for (size_t i = 0; i < d->primitive_count; i++) {
             const vdbgi_gltf_primitive &p = d->primitives[i];
@@ -139,6 +143,8 @@ extern "C" bool vdbgi_gltf_encode(const vdbgi_gltf_desc *d, uint8_t **out, size_
             if (uv0 >= 0)
                 prim.attributes["TEXCOORD_0"] = uv0;
             prim.attributes["TEXCOORD_1"] = uv1;
+            if (col >= 0)
+                prim.attributes["COLOR_0"] = col;
             prim.indices = int(m.accessors.size() - 1);
             prim.material = int(p.material);
             prim.mode = TINYGLTF_MODE_TRIANGLES;

@@ -34,6 +34,7 @@ typedef struct vdbgi_gltf_image {
 typedef struct vdbgi_gltf_desc {
     size_t vertex_count;
     const float *positions, *normals, *uv0, *uv1; /* 3, 3, 2, 2 floats a vertex; uv0 may be NULL */
+    const float *colors;                          /* 3 floats a vertex (COLOR_0), or NULL */
     const vdbgi_gltf_primitive *primitives;
     size_t primitive_count;
     const vdbgi_gltf_material *materials;

@@ -67,10 +67,18 @@ typedef struct pass_thread {
     uint64_t rays;
 } pass_thread;
 
-/* What the previous pass's map lights a hit with: its E / pi, as the estimator adds light. */
-static void previous_light(const void *user, const vdbgi_hit *h, float rgb[3])
+/*
+ * What the previous pass's map lights a hit with: its E / pi, as the
+ * estimator adds light. The map holds the front face's light (its samples
+ * stand in front): a back face gets none of it, double-sided or not.
+ */
+static void previous_light(const void *user, const vdbgi_hit *h, bool back, float rgb[3])
 {
     const pass_shared *const sh = user;
+    if (back) {
+        rgb[0] = rgb[1] = rgb[2] = 0.0f;
+        return;
+    }
     vdbgi_lightmap_at(sh->prev, sh->un, sh->tx, h->prim, h->u, h->v, rgb);
     for (int k = 0; k < 3; k++)
         rgb[k] /= PI_F;

@@ -50,7 +50,7 @@ vdbgi_result vdbgi_lightmap_encode(vdbgi_context *ctx, const vdbgi_scene *s, con
     vdbgi_gltf_image *img = vdbgi_calloc(ctx, images, sizeof(*img));
     uint8_t **png = vdbgi_calloc(ctx, images, sizeof(*png));
     keyed *order = vdbgi_alloc(ctx, n * sizeof(*order));
-    float *v = vdbgi_alloc(ctx, 3 * n * 10 * sizeof(float)); /* pos, normal, uv0, uv1 */
+    float *v = vdbgi_alloc(ctx, 3 * n * 13 * sizeof(float)); /* pos, normal, uv0, uv1, colour */
     vdbgi_gltf_primitive *prims = vdbgi_alloc(ctx, n * sizeof(*prims));
     vdbgi_gltf_material *mats = vdbgi_alloc(ctx, n * sizeof(*mats));
     int *slot = vdbgi_alloc(ctx, images * sizeof(*slot));
@@ -114,7 +114,11 @@ vdbgi_result vdbgi_lightmap_encode(vdbgi_context *ctx, const vdbgi_scene *s, con
         if (img[i].size)
             img[used++] = img[i];
     }
-    float *const pos = v, *const nrm = v + 9 * n, *const uv0 = v + 18 * n, *const uv1 = v + 24 * n;
+    float *const pos = v, *const nrm = v + 9 * n, *const uv0 = v + 18 * n, *const uv1 = v + 24 * n,
+                 *const col = v + 30 * n;
+    bool coloured = false; /* vertex colours other than white: the bake used them */
+    for (size_t i = 0; i < 3 * s->vertex_count && !coloured; i++)
+        coloured = s->colors[i] != 1.0f;
     size_t prim_count = 0;
     for (size_t i = 0; i < n; i++) {
         const uint32_t t = order[i].tri;
@@ -134,18 +138,29 @@ vdbgi_result vdbgi_lightmap_encode(vdbgi_context *ctx, const vdbgi_scene *s, con
             const size_t vi = s->indices[3 * (size_t)t + (size_t)c], o = 3 * i + (size_t)c;
             memcpy(&pos[3 * o], &s->positions[3 * vi], 3 * sizeof(float));
             memcpy(&nrm[3 * o], s->tris[t].normal, 3 * sizeof(float));
-            memcpy(&uv0[2 * o], &s->uvs[2 * vi], 2 * sizeof(float));
+            /* The scene's v runs up the image (row 0 at v = 1), glTF's down. */
+            uv0[2 * o] = s->uvs[2 * vi];
+            uv0[2 * o + 1] = 1.0f - s->uvs[2 * vi + 1];
+            memcpy(&col[3 * o], &s->colors[3 * vi], 3 * sizeof(float));
             uv1[2 * o] = un->uv[6 * (size_t)t + 2 * (size_t)c] / (float)size;
             uv1[2 * o + 1] = un->uv[6 * (size_t)t + 2 * (size_t)c + 1] / (float)size;
         }
     }
-    const vdbgi_gltf_desc d = {3 * n,      pos,
-                               nrm,        s->texture_count ? uv0 : NULL,
-                               uv1,        prims,
-                               prim_count, mats,
-                               prim_count, img,
-                               used,       ao,
-                               scale,      "vdbgi gi-lightmap"};
+    const vdbgi_gltf_desc d = {.vertex_count = 3 * n,
+                               .positions = pos,
+                               .normals = nrm,
+                               .uv0 = s->texture_count ? uv0 : NULL,
+                               .uv1 = uv1,
+                               .colors = coloured ? col : NULL,
+                               .primitives = prims,
+                               .primitive_count = prim_count,
+                               .materials = mats,
+                               .material_count = prim_count,
+                               .images = img,
+                               .image_count = used,
+                               .ao = ao,
+                               .map_scale = scale,
+                               .generator = "vdbgi gi-lightmap"};
     char err[256] = "";
     if (!vdbgi_gltf_encode(&d, &out->glb, &out->glb_size, err, sizeof(err)))
         r = vdbgi_fail(ctx, VDBGI_ERR_BACKEND, "%s", err);
@@ -210,6 +225,13 @@ vdbgi_result vdbgi_lightmap_bake_scene(vdbgi_context *ctx, const vdbgi_scene *sc
     r->ao = d->ao_dist > 0.0f;
     const vdbgi_unwrap_params up = {.texel = d->texel, .size = d->size};
     vdbgi_result res = vdbgi_unwrap_build(ctx, scene, &up, &r->un);
+    /* Limits before the texels' memory (about 60 bytes each) is spent. */
+    const double texels = (double)r->un.size * r->un.size * (double)r->un.page_count;
+    if (res == VDBGI_OK && (r->un.page_count > 64 || texels > (double)(1 << 26)))
+        res = vdbgi_fail(ctx, VDBGI_ERR_INVALID_ARG,
+                         "the charts take %zu atlases of %d texels (%.0f M texels; at most 64 "
+                         "atlases and 67 M texels): raise --texel or lower --size",
+                         r->un.page_count, r->un.size, texels * 1e-6);
     if (res == VDBGI_OK)
         res = vdbgi_texels_build(ctx, scene, &r->un, &r->tx);
     /* Dilate past the gutters on both sides of a chart edge, and over invalid texels. */

@@ -192,6 +192,8 @@ static vdbgi_result scan_bricks(vdbgi_context *ctx, const uint32_t d[3], const u
                     for (int k = 0; k < 3; k++)
                         pl->key[n][k] = c[k] / span;
                     pl->level[n] = (uint8_t)(b - 1);
+                } else {
+                    pl->per_level[b - 1]++;
                 }
                 n++;
             }
@@ -221,7 +223,8 @@ static void mark_indirection(vdbgi_volume *v, const vdbgi_pack_plan *pl, size_t 
             }
 }
 
-vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels, const char *name,
+vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels,
+                                  const vdbgi_volume_info *expect, const char *name,
                                   vdbgi_pack_plan *pl)
 {
     vdbgi_context *const ctx = v->ctx;
@@ -239,6 +242,12 @@ vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels, const 
     vdbgi_result r = vdbgi_atlas_dims(ctx, count + 1, VDBGI_LAYOUT_COMPACT, info->atlas_dims);
     if (r != VDBGI_OK)
         return r;
+    /* A reader's header must count these bricks before anything is allocated for them. */
+    VDBGI_FAIL_IF(
+        ctx,
+        expect && (memcmp(expect->bricks, pl->per_level, sizeof(pl->per_level)) != 0 ||
+                   memcmp(expect->atlas_dims, info->atlas_dims, sizeof(info->atlas_dims)) != 0),
+        VDBGI_ERR_FORMAT, "%s: the level bytes hold other bricks than the header counts", name);
     pl->key = vdbgi_alloc(ctx, (count ? count : 1) * sizeof(*pl->key));
     pl->level = vdbgi_alloc(ctx, count ? count : 1);
     pl->stitch = vdbgi_alloc(ctx, (count ? count : 1) * sizeof(*pl->stitch));
@@ -250,6 +259,7 @@ vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels, const 
     }
     scan_bricks(ctx, pl->dims, levels, info->max_level, name, pl);
     memset(info->bricks, 0, sizeof(info->bricks));
+    memset(pl->per_level, 0, sizeof(pl->per_level));
     for (size_t b = 0; b < count; b++)
         info->bricks[pl->level[b]]++;
     memcpy(pl->per_level, info->bricks, sizeof(pl->per_level));
@@ -459,7 +469,7 @@ static const int byte_order[2][4] = {{3, 0, 1, 2}, {0, 1, 2, 3}};
 vdbgi_result vdbgi_pack_rebuild(vdbgi_volume *v, const vdbgi_pack_plan *pl, const uint8_t *planes,
                                 size_t *clamped)
 {
-    uint8_t *const values = vdbgi_alloc(v->ctx, 4 * (pl->points ? pl->points : 1));
+    uint8_t *const values = vdbgi_calloc(v->ctx, pl->points ? pl->points : 1, 4);
     if (!values)
         return VDBGI_ERR_OUT_OF_MEMORY;
     const size_t n = pl->points;
@@ -597,7 +607,7 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
     float(*samples)[TEXELS][3] = NULL;
     uint8_t *values = NULL, *written = NULL, *out = NULL;
     uint64_t *valid = NULL, *near = NULL;
-    vdbgi_result r = vdbgi_pack_plan_make(v, levels, "converter", &pl);
+    vdbgi_result r = vdbgi_pack_plan_make(v, levels, NULL, "converter", &pl);
     if (r != VDBGI_OK) {
         vdbgi_free(ctx, levels);
         return r;

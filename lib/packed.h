@@ -14,7 +14,7 @@
  * The bricks a level array describes, in slot order, and which lattice
  * points their texels read unstitched: those, and only those, the file
  * stores. Points are owned by the level-0 cell holding them; the owner grid
- * reaches 8 cells past the indirection so a level-3 brick's border has one.
+ * reaches 2 cells past the indirection, as far as a position inside it reads.
  */
 typedef struct vdbgi_pack_plan {
     uint32_t dims[3];      /* indirection cells */
@@ -34,10 +34,12 @@ typedef struct vdbgi_pack_plan {
  * the bricks, v's indirection (slots, levels), v->info's atlas size and brick
  * counts, v->raw allocated, and the stored points. A level array no
  * converter writes (a level above max_level, a coarse block whose cells
- * disagree, more bricks than an atlas holds) is VDBGI_ERR_FORMAT, with what
- * is wrong in the message after `name: `.
+ * disagree, more bricks than an atlas holds, or with expect, a reader's
+ * header, other bricks than it counts: refused before anything is
+ * allocated) is VDBGI_ERR_FORMAT, with what is wrong after `name: `.
  */
-vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels, const char *name,
+vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels,
+                                  const vdbgi_volume_info *expect, const char *name,
                                   vdbgi_pack_plan *plan);
 void vdbgi_pack_plan_free(vdbgi_context *ctx, vdbgi_pack_plan *plan);
 

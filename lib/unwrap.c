@@ -118,7 +118,7 @@ static void smallest_box(double (*pts)[2], size_t n, double *c, double *s)
     if (n < 3)
         return;
     qsort(pts, n, sizeof(*pts), by_xy);
-    double(*h)[2] = pts + n; /* room for 2n + 1 after the points (caller allocated) */
+    double(*h)[2] = pts + n; /* the hull: at most n + 1 points after them (caller allocated) */
     size_t k = 0;
     for (size_t i = 0; i < n; i++) { /* Andrew's monotone chain: lower hull */
         while (k >= 2 && cross2(h[k - 2], h[k - 1], pts[i]) <= 0.0)
@@ -351,7 +351,12 @@ vdbgi_result vdbgi_unwrap_build(vdbgi_context *ctx, const vdbgi_scene *s,
             /* A chart larger than an atlas (gutters included) shrinks to fit one. */
             const double room = size - 2 * gutter - 1;
             const double want = fmax(box[c][2] - box[c][0], box[c][3] - box[c][1]) / texel;
-            u->density[c] = (float)(want > room ? room / want / texel : 1.0 / texel);
+            const double exact = want > room ? room / want / texel : 1.0 / texel;
+            /* Rounded down to a float: rounded up, a chart that fills the atlas overflows it. */
+            float density = (float)exact;
+            if ((double)density > exact)
+                density = nextafterf(density, 0.0f);
+            u->density[c] = density;
             bool fold = false;
             if (first[c + 1] - first[c] > 1 &&
                 (r = folds(ctx, s, &order[first[c]], first[c + 1] - first[c], frame[c], box[c],

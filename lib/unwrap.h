@@ -32,8 +32,8 @@ typedef struct vdbgi_unwrap {
 /*
  * Unwrap every triangle of scene. Charts grow from the lowest unassigned
  * triangle across edges shared by exactly two triangles whose normals lie
- * within max_angle of the seed's, so a chart never folds over itself on its
- * plane; the result depends only on the scene. A chart larger than an atlas
+ * within max_angle of the seed's; a chart that still folds over itself on
+ * its plane (a spiral ramp) is split. The result depends only on the scene. A chart larger than an atlas
  * is scaled down to fit one, alone. VDBGI_ERR_INVALID_ARG for absurd
  * parameters.
  */

@@ -223,6 +223,17 @@ static void a_chart_larger_than_the_atlas_shrinks_to_fit(void)
     check_unwrap(s, &u, false);
     vdbgi_unwrap_free(&u);
     vdbgi_scene_destroy(s);
+    /* Sizes whose shrunk density rounded up as a float overflowed the atlas by a texel. */
+    for (float side = 290.0f; side <= 310.0f; side += 2.5f) {
+        test_mesh q = {0};
+        test_mesh_plane(&q, side, 0.0f);
+        s = scene_of(ctx, q.pos, q.vertex_count, q.idx, q.triangle_count);
+        const vdbgi_unwrap_params big = {.texel = 0.25f, .size = 1024};
+        CHECK_RESULT(ctx, vdbgi_unwrap_build(ctx, s, &big, &u), VDBGI_OK);
+        CHECK(u.page_count == 1);
+        vdbgi_unwrap_free(&u);
+        vdbgi_scene_destroy(s);
+    }
     vdbgi_context_destroy(ctx);
 }
 

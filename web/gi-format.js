@@ -19,6 +19,22 @@ export function layoutGeometry(layout) {
   return layout === LAYOUT_COMPACT ? { brick: 5, pad: 0, centre: 0 } : { brick: 6, pad: 1, centre: 0.5 };
 }
 
+// CRC-32 (IEEE, as gzip's trailer), table-driven.
+let crcTable = null;
+export function crc32(bytes) {
+  if (!crcTable) {
+    crcTable = new Uint32Array(256);
+    for (let n = 0; n < 256; n++) {
+      let c = n;
+      for (let k = 0; k < 8; k++) c = c & 1 ? 0xedb88320 ^ (c >>> 1) : c >>> 1;
+      crcTable[n] = c >>> 0;
+    }
+  }
+  let c = 0xffffffff;
+  for (let i = 0; i < bytes.length; i++) c = crcTable[(c ^ bytes[i]) & 255] ^ (c >>> 8);
+  return (c ^ 0xffffffff) >>> 0;
+}
+
 // Gunzip with the platform's DecompressionStream (browsers, node >= 18),
 // stopping as soon as the output passes `limit` bytes.
 export async function gunzip(bytes, limit = Infinity) {
@@ -92,6 +108,11 @@ export function parseGi(buf) {
     throw new Error('texture sizes disagree with their dimensions');
   if (version < 3 && u32(108) !== 0) throw new Error('reserved header field is not 0');
   gi.storedPoints = version === 3 ? u32(108) : 0;
+  // Every brick stores inner points of its own (27 at levels 0 and 1, 8 at 2, 1 at 3):
+  // the bricks are bounded by what the file holds.
+  const least = 27 * (gi.bricks[0] + gi.bricks[1]) + 8 * gi.bricks[2] + gi.bricks[3];
+  if (version === 3 && least > gi.storedPoints)
+    throw new Error(`the header's bricks need at least ${least} stored points, it has ${gi.storedPoints}`);
   // Version 3 stores a level byte a cell and 4 bytes a stored point, not the textures.
   const stored = version === 3 ? indBytes / 4 + 4 * gi.storedPoints : indBytes + atlasBytes;
   if (buf.length !== headerSize + stored)
@@ -136,8 +157,10 @@ export async function decodeGi(fileBytes, timings = {}) {
   }
   timings.gunzip = now() - t;
   t = now();
-  // DecompressionStream ignores bytes after the stream; its trailer's length must end the file.
-  if (isize !== buf.length >>> 0) throw new Error('bytes after the gzip stream');
+  // DecompressionStream ignores bytes after the stream: the file's last 8 bytes must be the
+  // trailer of what it unpacked, its CRC-32 and length, or something follows the stream.
+  if (isize !== buf.length >>> 0 || tail.getUint32(fileBytes.length - 8, true) !== crc32(buf))
+    throw new Error('bytes after the gzip stream');
   const gi = parseGi(buf);
   timings.parse = now() - t;
   return gi;

@@ -9,8 +9,10 @@ const f = Math.fround;
 
 // The atlas's size in texels for `slots` slots: near-cubic, at most 256 an axis.
 export function atlasDims(slots) {
-  const sx = Math.min(Math.ceil(Math.cbrt(slots)), 256);
-  const sy = Math.min(Math.ceil(Math.sqrt(slots / sx)), 256);
+  // In integers, as lib/atlas.c: the smallest sx with sx^3 >= slots, then sy with sx sy^2 >= slots.
+  let sx = 1, sy = 1;
+  while (sx < 256 && sx * sx * sx < slots) sx++;
+  while (sy < 256 && sx * sy * sy < slots) sy++;
   const sz = Math.ceil(slots / (sx * sy));
   if (sz > 256) throw new Error(`${slots} bricks do not fit an atlas of 256^3 slots`);
   return [sx * N, sy * N, sz * N];
@@ -109,8 +111,8 @@ export function rebuildPacked(gi, payload) {
   const d = gi.indDims, cells = d[0] * d[1] * d[2];
   const levels = payload.subarray(0, cells);
   const cellAt = (x, y, z) => (z * d[1] + y) * d[0] + x;
-  // The bricks, in slot order: each met at its block's first cell.
-  const keys = [], lv = [];
+  // The bricks, in slot order: each met at its block's first cell; no more than the header counts.
+  const keys = [], lv = [], most = gi.bricks.reduce((a, b) => a + b, 0);
   for (let z = 0; z < d[2]; z++)
     for (let y = 0; y < d[1]; y++)
       for (let x = 0; x < d[0]; x++) {
@@ -130,6 +132,7 @@ export function rebuildPacked(gi, payload) {
             for (let i = x; i < Math.min(x + span, d[0]); i++)
               if (levels[cellAt(i, j, k)] !== b)
                 throw new Error(`the level-${b - 1} block at cell ${x},${y},${z} has a cell of another level`);
+        if (keys.length === most) throw new Error('the level bytes hold other bricks than the header counts');
         keys.push([x / span, y / span, z / span]);
         lv.push(b - 1);
       }

@@ -35,6 +35,7 @@ write('block-with-a-cell-of-another-level', (b) => { b[at(coarse[0] + 1, coarse[
 write('coarse-cell-outside-its-block', (b) => { b[at(...fine)] = 2; });
 write('one-brick-fewer', (b) => { b[at(...fine)] = 0; });
 write('header-counts-another-brick', (b, v) => { v.setUint32(80, u32(80) + 1, true); });
+write('more-bricks-than-stored-points-allow', (b, v) => { v.setUint32(84, u32(108), true); });
 write('one-stored-point-more', (b, v) => { v.setUint32(108, u32(108) + 1, true); }, 4);
 write('stored-points-without-their-bytes', (b, v) => { v.setUint32(108, u32(108) + 1, true); });
 write('packed-in-the-seed-layout', (b, v) => { v.setUint32(104, 0, true); });
