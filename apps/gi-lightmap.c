@@ -196,8 +196,13 @@ int main(int argc, char **argv)
         struct stat fs;
         char size[32];
         printf("scene    %s: %zu triangles\n", si.name, si.triangle_count);
-        printf("charts   %zu in %zu atlas%s of %d texels, %.1f %% used\n", st.charts, st.atlases,
-               st.atlases == 1 ? "" : "es", o.lm.size ? o.lm.size : 1024, 100.0 * st.utilisation);
+        if (st.kept_uv1)
+            printf("charts   the scene's own second UV set, one atlas of %d texels\n",
+                   o.lm.size ? o.lm.size : 1024);
+        else
+            printf("charts   %zu in %zu atlas%s of %d texels, %.1f %% used\n", st.charts,
+                   st.atlases, st.atlases == 1 ? "" : "es", o.lm.size ? o.lm.size : 1024,
+                   100.0 * st.utilisation);
         printf("texels   %zu samples (%zu invalid, filled from neighbours)\n", st.samples,
                st.invalid);
         printf("passes   %d:", st.passes);

@@ -159,6 +159,11 @@ static void walk_nodes(walk_state *w, const struct aiNode *node, const struct ai
                 s->uvs[2 * (base + v) + 0] = mesh->mTextureCoords[0][v].x;
                 s->uvs[2 * (base + v) + 1] = mesh->mTextureCoords[0][v].y;
             }
+            if (mesh->mTextureCoords[1]) {
+                s->uvs1[2 * (base + v) + 0] = mesh->mTextureCoords[1][v].x;
+                s->uvs1[2 * (base + v) + 1] = mesh->mTextureCoords[1][v].y;
+                s->uv1_count++;
+            }
             if (mesh->mColors[0]) {
                 const struct aiColor4D c = mesh->mColors[0][v];
                 const float rgb[3] = {c.r, c.g, c.b};

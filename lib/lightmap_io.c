@@ -224,7 +224,17 @@ vdbgi_result vdbgi_lightmap_bake_scene(vdbgi_context *ctx, const vdbgi_scene *sc
     r->scene = scene;
     r->ao = d->ao_dist > 0.0f;
     const vdbgi_unwrap_params up = {.texel = d->texel, .size = d->size};
-    vdbgi_result res = vdbgi_unwrap_build(ctx, scene, &up, &r->un);
+    /* The scene's own second UV set where it is usable; else a new unwrap, and why. */
+    bool kept = false;
+    const char *why = NULL;
+    vdbgi_result res = vdbgi_unwrap_from_uv1(ctx, scene, &up, &r->un, &kept, &why);
+    if (res == VDBGI_OK && kept)
+        vdbgi_log(ctx, VDBGI_LOG_INFO, "keeping the scene's second UV set");
+    else if (res == VDBGI_OK && scene->uv1_count)
+        vdbgi_log(ctx, VDBGI_LOG_WARNING,
+                  "the scene's second UV set is not usable (%s): unwrapping anew", why);
+    if (res == VDBGI_OK && !kept)
+        res = vdbgi_unwrap_build(ctx, scene, &up, &r->un);
     /* Limits before the texels' memory (about 60 bytes each) is spent. */
     const double texels = (double)r->un.size * r->un.size * (double)r->un.page_count;
     if (res == VDBGI_OK && (r->un.page_count > 64 || texels > (double)(1 << 26)))
@@ -246,6 +256,7 @@ vdbgi_result vdbgi_lightmap_bake_scene(vdbgi_context *ctx, const vdbgi_scene *sc
     if (stats) {
         memset(stats, 0, sizeof(*stats));
         stats->charts = r->un.chart_count;
+        stats->kept_uv1 = kept;
         stats->atlases = r->un.page_count;
         stats->texels = r->map.texel_count;
         stats->samples = r->tx.sample_count;

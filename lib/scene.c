@@ -12,6 +12,7 @@ static void scene_free_arrays(vdbgi_scene *s)
     vdbgi_context *const ctx = s->ctx;
     vdbgi_free(ctx, s->positions);
     vdbgi_free(ctx, s->uvs);
+    vdbgi_free(ctx, s->uvs1);
     vdbgi_free(ctx, s->colors);
     vdbgi_free(ctx, s->indices);
     vdbgi_free(ctx, s->tris);
@@ -45,14 +46,15 @@ vdbgi_result vdbgi_scene_alloc(vdbgi_context *ctx, const char *name, size_t vert
     /* Embree reads vertices with 16-byte loads: one spare vertex keeps the last in bounds. */
     s->positions = vdbgi_calloc(ctx, vertex_count + 1, 3 * sizeof(float));
     s->uvs = vdbgi_calloc(ctx, vertex_count, 2 * sizeof(float));
+    s->uvs1 = vdbgi_calloc(ctx, vertex_count ? vertex_count : 1, 2 * sizeof(float));
     s->colors = vdbgi_calloc(ctx, vertex_count, 3 * sizeof(float));
     s->indices = vdbgi_calloc(ctx, triangle_capacity, 3 * sizeof(uint32_t));
     s->tris = vdbgi_calloc(ctx, triangle_capacity, sizeof(vdbgi_tri));
     s->materials = vdbgi_calloc(ctx, material_count, sizeof(vdbgi_material));
     s->textures = vdbgi_calloc(ctx, texture_count, sizeof(vdbgi_texture));
     s->name = vdbgi_strdup(ctx, name);
-    if (!s->positions || !s->uvs || !s->colors || !s->indices || !s->tris || !s->materials ||
-        !s->textures || !s->name) {
+    if (!s->positions || !s->uvs || !s->uvs1 || !s->colors || !s->indices || !s->tris ||
+        !s->materials || !s->textures || !s->name) {
         vdbgi_scene_destroy(s);
         return VDBGI_ERR_OUT_OF_MEMORY;
     }

@@ -34,6 +34,8 @@ struct vdbgi_scene {
     size_t vertex_count, triangle_count, skipped_count;
     float *positions;  /* 3 per vertex */
     float *uvs;        /* 2 per vertex (0 where the mesh has none) */
+    float *uvs1;       /* 2 per vertex: the second UV set (lightmaps), 0 where none */
+    size_t uv1_count;  /* vertices that have one */
     float *colors;     /* 3 per vertex (1 where the mesh has none) */
     uint32_t *indices; /* 3 per triangle */
     vdbgi_tri *tris;

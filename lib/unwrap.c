@@ -433,3 +433,79 @@ done:
         vdbgi_unwrap_free(u);
     return r;
 }
+
+vdbgi_result vdbgi_unwrap_from_uv1(vdbgi_context *ctx, const vdbgi_scene *s,
+                                   const vdbgi_unwrap_params *params, vdbgi_unwrap *u, bool *usable,
+                                   const char **why)
+{
+    memset(u, 0, sizeof(*u));
+    *usable = false;
+    const int size = params && params->size ? params->size : 1024;
+    const size_t n = s->triangle_count;
+    if (s->uv1_count != s->vertex_count || n == 0) {
+        *why = "not every mesh has one";
+        return VDBGI_OK;
+    }
+    u->ctx = ctx;
+    u->triangle_count = n;
+    u->size = size;
+    u->texel = 0.0f; /* unknown: the set's own */
+    u->gutter = (float)(params && params->gutter ? params->gutter : 2);
+    u->uv = vdbgi_alloc(ctx, 6 * n * sizeof(*u->uv));
+    u->chart = vdbgi_calloc(ctx, n, sizeof(*u->chart));
+    u->page = vdbgi_calloc(ctx, 1, sizeof(*u->page));
+    u->density = vdbgi_calloc(ctx, 1, sizeof(*u->density));
+    uint8_t *const hit = vdbgi_calloc(ctx, (size_t)size * (size_t)size, 1);
+    if (!u->uv || !u->chart || !u->page || !u->density || !hit) {
+        vdbgi_free(ctx, hit);
+        vdbgi_unwrap_free(u);
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    }
+    u->chart_count = u->page_count = 1;
+    *why = NULL;
+    for (size_t t = 0; t < n && !*why; t++) {
+        double tri[3][2];
+        for (int k = 0; k < 3; k++) {
+            const float *const uv = &s->uvs1[2 * (size_t)s->indices[3 * t + (size_t)k]];
+            if (!(uv[0] >= 0.0f && uv[0] <= 1.0f && uv[1] >= 0.0f && uv[1] <= 1.0f)) {
+                *why = "a corner lies outside [0, 1]";
+                break;
+            }
+            tri[k][0] = (double)uv[0] * size;
+            tri[k][1] = (1.0 - (double)uv[1]) * size;
+            u->uv[6 * t + 2 * (size_t)k] = (float)tri[k][0];
+            u->uv[6 * t + 2 * (size_t)k + 1] = (float)tri[k][1];
+        }
+        if (*why)
+            break;
+        const double area = cross2(tri[0], tri[1], tri[2]);
+        if (area == 0.0) {
+            *why = "a triangle has no area in it";
+            break;
+        }
+        /* Texel centres strictly inside: a second triangle there is an overlap. */
+        const double sign = area > 0.0 ? 1.0 : -1.0, eps = 1e-9 * fabs(area);
+        const int x0 = (int)floor(fmin(tri[0][0], fmin(tri[1][0], tri[2][0])));
+        const int y0 = (int)floor(fmin(tri[0][1], fmin(tri[1][1], tri[2][1])));
+        const int x1 = (int)floor(fmax(tri[0][0], fmax(tri[1][0], tri[2][0])));
+        const int y1 = (int)floor(fmax(tri[0][1], fmax(tri[1][1], tri[2][1])));
+        for (int y = y0 < 0 ? 0 : y0; y <= y1 && y < size && !*why; y++)
+            for (int x = x0 < 0 ? 0 : x0; x <= x1 && x < size; x++) {
+                const double c[2] = {x + 0.5, y + 0.5};
+                if (sign * cross2(tri[0], tri[1], c) > eps &&
+                    sign * cross2(tri[1], tri[2], c) > eps &&
+                    sign * cross2(tri[2], tri[0], c) > eps && hit[(size_t)y * size + x]++) {
+                    *why = "two triangles overlap in it";
+                    break;
+                }
+            }
+    }
+    vdbgi_free(ctx, hit);
+    if (*why) {
+        vdbgi_unwrap_free(u);
+        return VDBGI_OK;
+    }
+    u->chart_texels = (double)size * size;
+    *usable = true;
+    return VDBGI_OK;
+}

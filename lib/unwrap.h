@@ -41,4 +41,16 @@ vdbgi_result vdbgi_unwrap_build(vdbgi_context *ctx, const vdbgi_scene *scene,
                                 const vdbgi_unwrap_params *params, vdbgi_unwrap *out);
 void vdbgi_unwrap_free(vdbgi_unwrap *u);
 
+/*
+ * The scene's own second UV set as the unwrap, one chart in one atlas of
+ * params->size texels, if it is usable: every vertex has one, every corner
+ * is finite and inside [0, 1], every triangle covers some area, and no texel
+ * centre lies inside two triangles. *usable says whether it was; when not,
+ * *why says what failed (for a message) and out is left empty. Its v runs
+ * up the image, as assimp gives it (row 0 at v = 1).
+ */
+vdbgi_result vdbgi_unwrap_from_uv1(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                   const vdbgi_unwrap_params *params, vdbgi_unwrap *out,
+                                   bool *usable, const char **why);
+
 #endif /* VDBGI_UNWRAP_H */

@@ -795,6 +795,9 @@ typedef struct vdbgi_lightmap_result vdbgi_lightmap_result;
  *             the cosine-weighted hemisphere within this many metres.
  *   bake:     the light model and sampling, as for probes (rays 0 == 64;
  *             not VDBGI_RAYS_AUTO).
+ * A scene whose every mesh has a second UV set inside [0, 1] with no
+ * overlapping triangles keeps it (texel ignored); otherwise a warning says
+ * why not, and the scene is unwrapped anew.
  */
 typedef struct vdbgi_lightmap_desc {
     float texel;
@@ -806,6 +809,7 @@ typedef struct vdbgi_lightmap_desc {
 } vdbgi_lightmap_desc;
 
 typedef struct vdbgi_lightmap_stats {
+    int kept_uv1; /* the scene's own second UV set was usable and kept */
     size_t charts, atlases;
     size_t texels;      /* atlas texels, all pages */
     size_t samples;     /* texels that sample a triangle */

@@ -12,6 +12,14 @@ oiiotool --info room.lightmap0.exr | sed 's/^room.lightmap0.exr *: *//'
 "$BIN/gi-lightmap" -q "$DATA/room.obj" -o ao.glb --mode ao --ao-dist 0.5 --texel 0.1 --size 256
 echo "ao exit $?: $(ls ao.* | tr '\n' ' ')"
 node "$ROOT/tests/js/check_gltf.mjs" ao.glb
+# A scene with a usable second UV set keeps it (gi-lightmap's own output, baked again);
+# one whose set leaves [0, 1] or overlaps itself is unwrapped anew, with a warning.
+"$BIN/gi-lightmap" room.glb -o again.glb --size 256 --threads 1 | grep -e charts -e texels
+node "$ROOT/tests/js/check_gltf.mjs" again.glb
+for how in outside overlap; do
+    node "$ROOT/tests/js/edit_uv1.mjs" room.glb spoilt.glb $how
+    "$BIN/gi-lightmap" spoilt.glb -o re.glb --size 256 --texel 0.1 2>&1 >/dev/null | grep 'second UV'
+done
 # Bad input: each one line on stderr, the exit code, nothing written.
 mkdir bad && cd bad
 "$BIN/gi-lightmap" missing.obj -o x.glb 2> err.txt; echo "missing scene: exit $?, $(wc -l < err.txt) line"
