@@ -31,6 +31,8 @@ static void usage(void)
            "      --mode M             lightmap or ao (ambient occlusion, the glTF\n"
            "                           occlusionTexture) (lightmap)\n"
            "      --ao-dist M          how far AO looks, metres (1)\n"
+           "      --slices DIR         pictures of each atlas: the map, and its charts\n"
+           "                           (gutters black, texels inside geometry red)\n"
            "      --rays N             rays per texel (64)\n"
            "      --ray-dist M         longest ray in metres (40)\n"
            "      --ambient A          ambient fill received at every hit (0.15)\n"
@@ -51,7 +53,8 @@ static void usage(void)
            "Examples:\n"
            "  gi-lightmap data/world.glb -o world-lit.glb\n"
            "  gi-lightmap data/room.obj -o room-ao.glb --mode ao --ao-dist 0.5\n"
-           "  gi-lightmap data/world.glb -o world-baked.glb --direct --passes 3 --texel 0.1\n");
+           "  gi-lightmap data/world.glb -o world-baked.glb --direct --passes 3 --texel 0.1\n"
+           "  gi-lightmap data/world.glb -o world-lit.glb --slices slices\n");
 }
 
 enum {
@@ -62,11 +65,12 @@ enum {
     OPT_MODE,
     OPT_AO_DIST,
     OPT_RAYS,
+    OPT_SLICES,
     OPT_VERSION
 };
 
 typedef struct options {
-    const char *scene, *output;
+    const char *scene, *output, *slices;
     bool ao;
     vdbgi_lightmap_desc lm;
 } options;
@@ -81,6 +85,7 @@ static int parse_args(int argc, char **argv, options *o)
                                           {"mode", required_argument, NULL, OPT_MODE},
                                           {"ao-dist", required_argument, NULL, OPT_AO_DIST},
                                           {"rays", required_argument, NULL, OPT_RAYS},
+                                          {"slices", required_argument, NULL, OPT_SLICES},
                                           CLI_LIGHT_LONG_OPTIONS,
                                           {"quiet", no_argument, NULL, 'q'},
                                           {"verbose", no_argument, NULL, 'v'},
@@ -131,6 +136,7 @@ static int parse_args(int argc, char **argv, options *o)
                 return cli_usage_error("--rays must be an integer in 1..65536 (got '%s')", optarg);
             o->lm.bake.rays = (int)i;
             break;
+        case OPT_SLICES: o->slices = optarg; break;
         case 'q': cli_verbosity = 1; break;
         case 'v': cli_verbosity++; break;
         case 'h': usage(); return CLI_OK;
@@ -184,6 +190,8 @@ int main(int argc, char **argv)
     const double t2 = cli_now();
     if (r == VDBGI_OK)
         r = vdbgi_lightmap_write(lm, o.output);
+    if (r == VDBGI_OK && o.slices)
+        r = vdbgi_lightmap_write_slices(lm, o.slices);
     if (r == VDBGI_OK)
         r = vdbgi_context_commit_outputs(ctx);
     const double t3 = cli_now();

@@ -3,14 +3,17 @@
  * the .glb, half-float EXR beside it) and the scene with its second UV set
  * as a .glb (through gltf_shim.cpp).
  */
+#define _POSIX_C_SOURCE 200809L
 #include "gltf_shim.h"
 #include "lightmap.h"
 #include "util.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 void vdbgi_lightmap_files_free(vdbgi_context *ctx, vdbgi_lightmap_files *f)
 {
@@ -24,6 +27,16 @@ static float srgb(float c)
 {
     c = c < 0.0f ? 0.0f : c > 1.0f ? 1.0f : c;
     return c <= 0.0031308f ? 12.92f * c : 1.055f * powf(c, 1.0f / 2.4f) - 0.055f;
+}
+
+/* The 8-bit maps' scale: the largest E a valid texel holds (AO is 0..1 already). */
+static float map_scale(const vdbgi_lightmap *m, bool ao)
+{
+    float scale = 0.0f;
+    for (size_t i = 0; !ao && i < m->texel_count; i++)
+        for (int k = 0; k < 3 && m->valid[i]; k++)
+            scale = fmaxf(scale, m->rgb[3 * i + (size_t)k]);
+    return scale > 0.0f ? scale : 1.0f;
 }
 
 /* Triangles sorted by (material, page): one glTF primitive and material each. */
@@ -57,15 +70,7 @@ vdbgi_result vdbgi_lightmap_encode(vdbgi_context *ctx, const vdbgi_scene *s, con
     vdbgi_result r = pix && img && png && order && v && prims && mats && slot
                          ? VDBGI_OK
                          : VDBGI_ERR_OUT_OF_MEMORY;
-    /* The 8-bit maps' scale: the largest E a valid texel holds (AO is 0..1 already). */
-    float scale = 1.0f;
-    if (!ao) {
-        scale = 0.0f;
-        for (size_t i = 0; i < m->texel_count; i++)
-            for (int k = 0; k < 3 && m->valid[i]; k++)
-                scale = fmaxf(scale, m->rgb[3 * i + (size_t)k]);
-        scale = scale > 0.0f ? scale : 1.0f;
-    }
+    const float scale = map_scale(m, ao);
     out->scale = scale;
     for (size_t p = 0; r == VDBGI_OK && p < pages; p++) {
         const float *const e = &m->rgb[3 * p * per];
@@ -289,5 +294,49 @@ vdbgi_result vdbgi_lightmap_write(const vdbgi_lightmap_result *r, const char *pa
         res = vdbgi_write_bytes_atomic(ctx, path, f.glb, f.glb_size);
     vdbgi_free(ctx, name);
     vdbgi_lightmap_files_free(ctx, &f);
+    return res;
+}
+
+vdbgi_result vdbgi_lightmap_write_slices(const vdbgi_lightmap_result *r, const char *dir)
+{
+    vdbgi_context *const ctx = r->ctx;
+    VDBGI_FAIL_IF(ctx, !dir || !*dir, VDBGI_ERR_INVALID_ARG, "no slice directory given");
+    VDBGI_FAIL_IF(ctx, mkdir(dir, 0777) != 0 && errno != EEXIST, VDBGI_ERR_IO,
+                  "%s: cannot make directory: %s", dir, strerror(errno));
+    const size_t size = (size_t)r->tx.size, per = size * size;
+    const float scale = map_scale(&r->map, r->ao);
+    float *const pix = vdbgi_alloc(ctx, 3 * per * sizeof(float));
+    char *const name = vdbgi_alloc(ctx, strlen(dir) + 32);
+    vdbgi_result res = pix && name ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
+    for (size_t p = 0; res == VDBGI_OK && p < r->tx.page_count; p++) {
+        for (size_t i = 0; i < per; i++)
+            for (int k = 0; k < 3; k++) {
+                const float e = r->map.rgb[3 * (p * per + i) + (size_t)k];
+                pix[3 * i + (size_t)k] = r->ao ? e : srgb(e / scale);
+            }
+        snprintf(name, strlen(dir) + 32, "%s/map%zu.png", dir, p);
+        res = vdbgi_image_write(ctx, name, (int)size, (int)size, 3, pix, r->ao);
+        /* Charts: a colour from each chart's number (golden-ratio hues), invalid samples red. */
+        for (size_t i = 0; res == VDBGI_OK && i < per; i++) {
+            const int32_t t = r->tx.tri[p * per + i];
+            float *const o = &pix[3 * i];
+            if (t < 0) {
+                o[0] = o[1] = o[2] = 0.0f;
+                continue;
+            }
+            if (!r->map.valid[p * per + i]) {
+                o[0] = 1.0f, o[1] = o[2] = 0.0f;
+                continue;
+            }
+            const double h = fmod(r->un.chart[t] * 0.618033988749895, 1.0);
+            for (int k = 0; k < 3; k++)
+                o[k] = (float)(0.35 + 0.3 * cos(6.283185307179586 * (h + k / 3.0)));
+        }
+        snprintf(name, strlen(dir) + 32, "%s/charts%zu.png", dir, p);
+        if (res == VDBGI_OK)
+            res = vdbgi_image_write(ctx, name, (int)size, (int)size, 3, pix, true);
+    }
+    vdbgi_free(ctx, pix);
+    vdbgi_free(ctx, name);
     return res;
 }

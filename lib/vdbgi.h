@@ -837,6 +837,15 @@ VDBGI_API void vdbgi_lightmap_destroy(vdbgi_lightmap_result *result);
  */
 VDBGI_API vdbgi_result vdbgi_lightmap_write(const vdbgi_lightmap_result *result, const char *path);
 
+/*
+ * Pictures for people, into directory dir (made if missing), per atlas N:
+ * mapN.png, the map as the .glb holds it (sRGB, E / scale; AO as grey), and
+ * chartsN.png, each chart in a colour of its own, gutters black, and the
+ * samples found inside geometry (filled from their neighbours) red.
+ */
+VDBGI_API vdbgi_result vdbgi_lightmap_write_slices(const vdbgi_lightmap_result *result,
+                                                   const char *dir);
+
 #ifdef __cplusplus
 }
 #endif

@@ -6,6 +6,8 @@
 "$BIN/gi-lightmap" -q "$DATA/room.obj" -o room.glb --texel 0.1 --size 256 --direct --threads 1
 echo "lightmap exit $?: $(ls room.* | tr '\n' ' ')"
 node "$ROOT/tests/js/check_gltf.mjs" room.glb
+"$BIN/gi-lightmap" -q "$DATA/room.obj" -o sliced.glb --texel 0.1 --size 256 --slices slices
+for f in slices/*.png; do echo "$f: $(oiiotool --info "$f" | sed 's/^[^:]*: *//')"; done
 "$BIN/gi-lightmap" -q "$DATA/room.obj" -o room2.glb --texel 0.1 --size 256 --direct --threads 2
 cmp room.glb room2.glb && cmp room.lightmap0.exr room2.lightmap0.exr && echo "1 and 2 threads: same bytes"
 oiiotool --info room.lightmap0.exr | sed 's/^room.lightmap0.exr *: *//'
