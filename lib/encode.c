@@ -106,6 +106,12 @@ void vdbgi_sharedexp8_decode(const uint8_t in[4], float rgb[3])
         rgb[k] = (float)in[k] * scale;
 }
 
+float vdbgi_srgb_from_linear(float c)
+{
+    c = c > 0.0f ? (c < 1.0f ? c : 1.0f) : 0.0f;
+    return c <= 0.0031308f ? 12.92f * c : 1.055f * powf(c, 1.0f / 2.4f) - 0.055f;
+}
+
 uint16_t vdbgi_half_from_float(float f)
 {
     uint32_t x;

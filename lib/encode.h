@@ -37,6 +37,10 @@ bool vdbgi_sharedexp8_encode(const float rgb[3], uint8_t out[4]);
 void vdbgi_sharedexp8_decode(const uint8_t in[4], float rgb[3]);
 
 /* IEEE 754 binary16, round to nearest even; overflow goes to infinity. */
+/* The sRGB transfer function of a linear value clamped to [0, 1] (NaN gives 0), for 8-bit
+   images people look at. */
+float vdbgi_srgb_from_linear(float c);
+
 uint16_t vdbgi_half_from_float(float f);
 float vdbgi_half_to_float(uint16_t h);
 

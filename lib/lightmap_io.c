@@ -4,6 +4,7 @@
  * as a .glb (through gltf_shim.cpp).
  */
 #define _POSIX_C_SOURCE 200809L
+#include "encode.h"
 #include "gltf_shim.h"
 #include "lightmap.h"
 #include "util.h"
@@ -21,12 +22,6 @@ void vdbgi_lightmap_files_free(vdbgi_context *ctx, vdbgi_lightmap_files *f)
     for (size_t p = 0; p < f->exr_count; p++)
         vdbgi_free(ctx, f->exr[p]);
     memset(f, 0, sizeof(*f));
-}
-
-static float srgb(float c)
-{
-    c = c < 0.0f ? 0.0f : c > 1.0f ? 1.0f : c;
-    return c <= 0.0031308f ? 12.92f * c : 1.055f * powf(c, 1.0f / 2.4f) - 0.055f;
 }
 
 /* The 8-bit maps' scale: the largest E a valid texel holds (AO is 0..1 already). */
@@ -77,8 +72,9 @@ vdbgi_result vdbgi_lightmap_encode(vdbgi_context *ctx, const vdbgi_scene *s, con
         for (size_t i = 0; i < per; i++)
             for (int k = 0; k < 4; k++)
                 pix[4 * i + (size_t)k] = k == 3 ? 1.0f
-                                         : ao   ? e[3 * i]
-                                                : srgb(e[3 * i + (size_t)k] / scale);
+                                         : ao
+                                             ? e[3 * i]
+                                             : vdbgi_srgb_from_linear(e[3 * i + (size_t)k] / scale);
         r = vdbgi_image_encode(ctx, "lightmap", "png", (int)size, (int)size, 4, pix, ao, &png[p],
                                &img[p].size);
         img[p].png = png[p];
@@ -100,7 +96,7 @@ vdbgi_result vdbgi_lightmap_encode(vdbgi_context *ctx, const vdbgi_scene *s, con
             break;
         }
         for (size_t i = 0; i < 4 * count; i++)
-            rgba[i] = i % 4 == 3 ? tex->rgba[i] : srgb(tex->rgba[i]);
+            rgba[i] = i % 4 == 3 ? tex->rgba[i] : vdbgi_srgb_from_linear(tex->rgba[i]);
         r = vdbgi_image_encode(ctx, "texture", "png", tex->width, tex->height, 4, rgba, false,
                                &png[pages + t], &img[pages + t].size);
         img[pages + t].png = png[pages + t];
@@ -312,7 +308,7 @@ vdbgi_result vdbgi_lightmap_write_slices(const vdbgi_lightmap_result *r, const c
         for (size_t i = 0; i < per; i++)
             for (int k = 0; k < 3; k++) {
                 const float e = r->map.rgb[3 * (p * per + i) + (size_t)k];
-                pix[3 * i + (size_t)k] = r->ao ? e : srgb(e / scale);
+                pix[3 * i + (size_t)k] = r->ao ? e : vdbgi_srgb_from_linear(e / scale);
             }
         snprintf(name, strlen(dir) + 32, "%s/map%zu.png", dir, p);
         res = vdbgi_image_write(ctx, name, (int)size, (int)size, 3, pix, r->ao);

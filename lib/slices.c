@@ -12,12 +12,6 @@
 #include <string.h>
 #include <sys/stat.h>
 
-static float linear_to_srgb(float c)
-{
-    c = c > 0.0f ? (c < 1.0f ? c : 1.0f) : 0.0f;
-    return c <= 0.0031308f ? 12.92f * c : 1.055f * powf(c, 1.0f / 2.4f) - 0.055f;
-}
-
 /* Write name.exr (linear, scaled) and name.png (exposed, sRGB) from RGB pixels. */
 static vdbgi_result write_pair(vdbgi_context *ctx, const char *dir, const char *name, int w, int h,
                                float *rgb, float scale, float exposure)
@@ -30,7 +24,7 @@ static vdbgi_result write_pair(vdbgi_context *ctx, const char *dir, const char *
     VDBGI_TRY(vdbgi_image_write(ctx, path, w, h, 3, rgb, false));
     const float gain = exp2f(exposure);
     for (size_t i = 0; i < n; i++)
-        rgb[i] = linear_to_srgb(rgb[i] * gain);
+        rgb[i] = vdbgi_srgb_from_linear(rgb[i] * gain);
     snprintf(path, sizeof(path), "%s/%s.png", dir, name);
     return vdbgi_image_write(ctx, path, w, h, 3, rgb, false);
 }
