@@ -200,6 +200,31 @@ static void place(const vdbgi_scene *s, const uint32_t *tris, size_t count, doub
         }
 }
 
+/*
+ * Count, in hit (w x h texels), the texel centres strictly inside triangle t
+ * (texel units, either winding; none if it has no area): true if one of them
+ * was counted before, where another triangle covers it too.
+ */
+static bool covers_again(const double t[3][2], uint8_t *hit, size_t w, size_t h)
+{
+    const double area = cross2(t[0], t[1], t[2]);
+    if (area == 0.0)
+        return false;
+    const double sign = area > 0.0 ? 1.0 : -1.0, eps = 1e-9 * fabs(area);
+    const size_t x0 = (size_t)fmax(0.0, floor(fmin(t[0][0], fmin(t[1][0], t[2][0])))),
+                 y0 = (size_t)fmax(0.0, floor(fmin(t[0][1], fmin(t[1][1], t[2][1]))));
+    const double x1 = fmax(t[0][0], fmax(t[1][0], t[2][0])),
+                 y1 = fmax(t[0][1], fmax(t[1][1], t[2][1]));
+    for (size_t y = y0; y < h && (double)y <= y1; y++)
+        for (size_t x = x0; x < w && (double)x <= x1; x++) {
+            const double c[2] = {x + 0.5, y + 0.5};
+            if (sign * cross2(t[0], t[1], c) > eps && sign * cross2(t[1], t[2], c) > eps &&
+                sign * cross2(t[2], t[0], c) > eps && hit[y * w + x]++)
+                return true;
+        }
+    return false;
+}
+
 /* Does the chart, laid out at density, cover some texel centre with two triangles? */
 static vdbgi_result folds(vdbgi_context *ctx, const vdbgi_scene *s, const uint32_t *tris,
                           size_t count, const double frame[8], const double box[4], double density,
@@ -217,21 +242,7 @@ static vdbgi_result folds(vdbgi_context *ctx, const vdbgi_scene *s, const uint32
             project(frame, corner(s, tris[i], k), t[k]);
             t[k][0] = (t[k][0] - box[0]) * density, t[k][1] = (t[k][1] - box[1]) * density;
         }
-        const double area = cross2(t[0], t[1], t[2]);
-        if (area == 0.0)
-            continue;
-        const double sign = area > 0.0 ? 1.0 : -1.0, eps = 1e-9 * fabs(area);
-        const size_t x0 = (size_t)fmax(0.0, floor(fmin(t[0][0], fmin(t[1][0], t[2][0])))),
-                     y0 = (size_t)fmax(0.0, floor(fmin(t[0][1], fmin(t[1][1], t[2][1]))));
-        const double x1 = fmax(t[0][0], fmax(t[1][0], t[2][0])),
-                     y1 = fmax(t[0][1], fmax(t[1][1], t[2][1]));
-        for (size_t y = y0; y < h && (double)y <= y1; y++)
-            for (size_t x = x0; x < w && (double)x <= x1; x++) {
-                const double c[2] = {x + 0.5, y + 0.5};
-                if (sign * cross2(t[0], t[1], c) > eps && sign * cross2(t[1], t[2], c) > eps &&
-                    sign * cross2(t[2], t[0], c) > eps && hit[y * w + x]++)
-                    *fold = true;
-            }
+        *fold = covers_again(t, hit, w, h);
     }
     vdbgi_free(ctx, hit);
     return VDBGI_OK;
@@ -483,22 +494,8 @@ vdbgi_result vdbgi_unwrap_from_uv1(vdbgi_context *ctx, const vdbgi_scene *s,
             *why = "a triangle has no area in it";
             break;
         }
-        /* Texel centres strictly inside: a second triangle there is an overlap. */
-        const double sign = area > 0.0 ? 1.0 : -1.0, eps = 1e-9 * fabs(area);
-        const int x0 = (int)floor(fmin(tri[0][0], fmin(tri[1][0], tri[2][0])));
-        const int y0 = (int)floor(fmin(tri[0][1], fmin(tri[1][1], tri[2][1])));
-        const int x1 = (int)floor(fmax(tri[0][0], fmax(tri[1][0], tri[2][0])));
-        const int y1 = (int)floor(fmax(tri[0][1], fmax(tri[1][1], tri[2][1])));
-        for (int y = y0 < 0 ? 0 : y0; y <= y1 && y < size && !*why; y++)
-            for (int x = x0 < 0 ? 0 : x0; x <= x1 && x < size; x++) {
-                const double c[2] = {x + 0.5, y + 0.5};
-                if (sign * cross2(tri[0], tri[1], c) > eps &&
-                    sign * cross2(tri[1], tri[2], c) > eps &&
-                    sign * cross2(tri[2], tri[0], c) > eps && hit[(size_t)y * size + x]++) {
-                    *why = "two triangles overlap in it";
-                    break;
-                }
-            }
+        if (covers_again(tri, hit, (size_t)size, (size_t)size))
+            *why = "two triangles overlap in it";
     }
     vdbgi_free(ctx, hit);
     if (*why) {
