@@ -30,23 +30,33 @@ static size_t cell_index(const uint32_t d[3], const int32_t c[3])
     return ((size_t)c[2] * d[1] + (size_t)c[1]) * d[0] + (size_t)c[0];
 }
 
-/* The stored point at relative lattice point p, or -1 if the file holds none there. */
-static int64_t point_index(const vdbgi_pack_plan *pl, const int32_t p[3])
+/*
+ * Where lattice point p sits in the owner grid: its cell and its bit there
+ * (z, then y, then x, 4 a side). False when p lies outside the grid.
+ */
+static bool grid_slot(const vdbgi_pack_plan *pl, const int32_t p[3], size_t *cell, int *bit)
 {
     int32_t c[3];
     for (int k = 0; k < 3; k++) {
         if (p[k] < 0)
-            return -1;
+            return false;
         c[k] = p[k] >> 2;
         if (c[k] >= (int32_t)pl->grid[k])
-            return -1;
+            return false;
     }
-    const uint64_t m = pl->mask[cell_index(pl->grid, c)];
-    const int bit = ((p[2] & 3) * 4 + (p[1] & 3)) * 4 + (p[0] & 3);
-    if (!(m >> bit & 1u))
+    *cell = cell_index(pl->grid, c);
+    *bit = ((p[2] & 3) * 4 + (p[1] & 3)) * 4 + (p[0] & 3);
+    return true;
+}
+
+/* The stored point at relative lattice point p, or -1 if the file holds none there. */
+static int64_t point_index(const vdbgi_pack_plan *pl, const int32_t p[3])
+{
+    size_t c;
+    int bit;
+    if (!grid_slot(pl, p, &c, &bit) || !(pl->mask[c] >> bit & 1u))
         return -1;
-    return (int64_t)pl->offset[cell_index(pl->grid, c)] +
-           __builtin_popcountll(m & ((UINT64_C(1) << bit) - 1u));
+    return (int64_t)pl->offset[c] + __builtin_popcountll(pl->mask[c] & ((UINT64_C(1) << bit) - 1u));
 }
 
 /* Texel q of brick b stands at relative fine lattice point p. */
@@ -280,17 +290,12 @@ vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels,
             int cl;
             if (stitched(v, pl, b, t, &j, &cl))
                 continue;
-            int32_t p[3], c[3];
+            int32_t p[3];
+            size_t c;
+            int bit;
             texel_point(pl, b, t, p);
-            bool inside = true;
-            for (int k = 0; k < 3; k++) {
-                c[k] = p[k] >> 2;
-                inside = inside && c[k] < (int32_t)pl->grid[k];
-            }
-            if (!inside)
-                continue;
-            pl->mask[cell_index(pl->grid, c)] |=
-                UINT64_C(1) << (((p[2] & 3) * 4 + (p[1] & 3)) * 4 + (p[0] & 3));
+            if (grid_slot(pl, p, &c, &bit))
+                pl->mask[c] |= UINT64_C(1) << bit;
         }
     size_t sum = 0;
     for (size_t c = 0; c < grid_cells; c++) {
@@ -533,16 +538,13 @@ static uint64_t *valid_bits(vdbgi_volume *v, const vdbgi_pack_plan *pl, const vd
     for (size_t i = 0; i < pr->count; i++) {
         if (pr->backface[i] > pr->invalid_threshold)
             continue;
-        int32_t p[3], c[3];
-        bool inside = true;
-        for (int k = 0; k < 3; k++) {
+        int32_t p[3];
+        size_t c;
+        int bit;
+        for (int k = 0; k < 3; k++)
             p[k] = pr->ijk[3 * i + k] - v->origin_cell[k] * VDBGI_BRICK;
-            c[k] = p[k] >> 2;
-            inside = inside && p[k] >= 0 && c[k] < (int32_t)pl->grid[k];
-        }
-        if (inside)
-            bits[cell_index(pl->grid, c)] |= UINT64_C(1)
-                                             << (((p[2] & 3) * 4 + (p[1] & 3)) * 4 + (p[0] & 3));
+        if (grid_slot(pl, p, &c, &bit))
+            bits[c] |= UINT64_C(1) << bit;
     }
     return bits;
 }
@@ -671,9 +673,10 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
     FOR_EACH_POINT(&pl, p, i, {
         int64_t nb[4];
         neighbours(&pl, p, nb);
-        const int32_t c[3] = {p[0] >> 2, p[1] >> 2, p[2] >> 2};
-        const int own = ((p[2] & 3) * 4 + (p[1] & 3)) * 4 + (p[0] & 3);
-        const bool needed = written[i] == 2 || near[cell_index(pl.grid, c)] >> own & 1u;
+        size_t c;
+        int own;
+        grid_slot(&pl, p, &c, &own); /* every stored point is in the grid */
+        const bool needed = written[i] == 2 || near[c] >> own & 1u;
         unread += !needed;
         for (int o = 0; o < 4; o++) {
             const int k = byte_order[!rgbm][o];
