@@ -335,3 +335,19 @@ int cli_check_files(const char *const *inputs, int input_count, const cli_file *
     }
     return -1;
 }
+
+/* A path as a JSON string body: quotes, backslashes and control characters escaped. */
+void cli_json_string(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s; s++) {
+        const unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\')
+            fprintf(f, "\\%c", c);
+        else if (c < 0x20)
+            fprintf(f, "\\u%04x", c);
+        else
+            fputc(c, f);
+    }
+    fputc('"', f);
+}

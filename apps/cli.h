@@ -5,6 +5,7 @@
 #include "vdbgi.h"
 
 #include <stdbool.h>
+#include <stdio.h>
 
 #if defined(__GNUC__)
 #define CLI_PRINTF(f, a) __attribute__((format(printf, f, a)))
@@ -119,5 +120,7 @@ void cli_progress_end(cli_progress *p);
 
 /* Human sizes: "12.3 MB". Returns buf. */
 const char *cli_bytes(double bytes, char *buf, size_t cap);
+/* s as a JSON string: quoted, quotes, backslashes and control characters escaped. */
+void cli_json_string(FILE *f, const char *s);
 
 #endif /* VDBGI_CLI_H */

@@ -8,7 +8,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 static void usage(void)
 {
@@ -31,8 +30,12 @@ static void usage(void)
            "      --mode M             lightmap or ao (ambient occlusion, the glTF\n"
            "                           occlusionTexture) (lightmap)\n"
            "      --ao-dist M          how far AO looks, metres (1)\n"
+           "      --layers             also one map per light (sun, ambient, sky, each\n"
+           "                           emissive material), each alone: they add up to the\n"
+           "                           map; in the .glb's extras and as OUT.NAME.lightmapN.exr\n"
            "      --slices DIR         pictures of each atlas: the map, and its charts\n"
            "                           (gutters black, texels inside geometry red)\n"
+           "      --stats FILE         also write the figures -v prints as JSON\n"
            "      --rays N             rays per texel (64)\n"
            "      --ray-dist M         longest ray in metres (40)\n"
            "      --ambient A          ambient fill received at every hit (0.15)\n"
@@ -54,7 +57,11 @@ static void usage(void)
            "  gi-lightmap data/world.glb -o world-lit.glb\n"
            "  gi-lightmap data/room.obj -o room-ao.glb --mode ao --ao-dist 0.5\n"
            "  gi-lightmap data/world.glb -o world-baked.glb --direct --passes 3 --texel 0.1\n"
-           "  gi-lightmap data/world.glb -o world-lit.glb --slices slices\n");
+           "  gi-lightmap data/world.glb -o world-lit.glb --slices slices --stats stats.json\n"
+           "  gi-lightmap data/world.glb -o world-layers.glb --layers\n"
+           "\n"
+           "Emissive materials (glTF emissiveFactor, emissiveTexture,\n"
+           "KHR_materials_emissive_strength; OBJ Ke) light the scene.\n");
 }
 
 enum {
@@ -66,11 +73,13 @@ enum {
     OPT_AO_DIST,
     OPT_RAYS,
     OPT_SLICES,
+    OPT_LAYERS,
+    OPT_STATS,
     OPT_VERSION
 };
 
 typedef struct options {
-    const char *scene, *output, *slices;
+    const char *scene, *output, *slices, *stats;
     bool ao;
     vdbgi_lightmap_desc lm;
 } options;
@@ -86,6 +95,8 @@ static int parse_args(int argc, char **argv, options *o)
                                           {"ao-dist", required_argument, NULL, OPT_AO_DIST},
                                           {"rays", required_argument, NULL, OPT_RAYS},
                                           {"slices", required_argument, NULL, OPT_SLICES},
+                                          {"layers", no_argument, NULL, OPT_LAYERS},
+                                          {"stats", required_argument, NULL, OPT_STATS},
                                           CLI_LIGHT_LONG_OPTIONS,
                                           {"quiet", no_argument, NULL, 'q'},
                                           {"verbose", no_argument, NULL, 'v'},
@@ -137,6 +148,8 @@ static int parse_args(int argc, char **argv, options *o)
             o->lm.bake.rays = (int)i;
             break;
         case OPT_SLICES: o->slices = optarg; break;
+        case OPT_LAYERS: o->lm.layers = 1; break;
+        case OPT_STATS: o->stats = optarg; break;
         case 'q': cli_verbosity = 1; break;
         case 'v': cli_verbosity++; break;
         case 'h': usage(); return CLI_OK;
@@ -144,6 +157,8 @@ static int parse_args(int argc, char **argv, options *o)
         default: return cli_bad_option(c, argv);
         }
     }
+    if (o->ao && o->lm.layers)
+        return cli_usage_error("--layers is for lightmaps, not --mode ao");
     if (o->ao)
         o->lm.ao_dist = (float)ao_dist;
     else if (ao_dist != 1.0)
@@ -159,6 +174,78 @@ static int parse_args(int argc, char **argv, options *o)
     return -1;
 }
 
+/* What a run gave: a few lines for people (-v), or JSON (--stats). */
+typedef struct run_figures {
+    const options *o;
+    vdbgi_scene_info si;
+    vdbgi_lightmap_stats st;
+    double load, bake, write, glb_bytes;
+} run_figures;
+
+static void print_figures(FILE *f, const run_figures *g, bool json)
+{
+    const vdbgi_lightmap_stats *const st = &g->st;
+    const int size = g->o->lm.size ? g->o->lm.size : 1024;
+    const double mrays = g->bake > 0.0 ? (double)st->rays / g->bake * 1e-6 : 0.0;
+    if (json) {
+        fputs("{\n  \"scene\": ", f);
+        cli_json_string(f, g->o->scene);
+        fputs(",\n  \"output\": ", f);
+        cli_json_string(f, g->o->output);
+        fprintf(f,
+                ",\n  \"mode\": \"%s\",\n  \"triangles\": %zu,\n  \"kept_uv1\": %s,\n"
+                "  \"charts\": %zu,\n  \"atlases\": %zu,\n  \"atlas_size\": %d,\n"
+                "  \"texels\": %zu,\n  \"utilisation\": %.4f,\n  \"samples\": %zu,\n"
+                "  \"invalid\": %zu,\n  \"layers\": %zu,\n  \"passes\": %d,\n"
+                "  \"pass_seconds\": [",
+                g->o->ao ? "ao" : "lightmap", g->si.triangle_count, st->kept_uv1 ? "true" : "false",
+                st->charts, st->atlases, size, st->texels, st->utilisation, st->samples,
+                st->invalid, st->layers, st->passes);
+        for (int p = 0; p < st->passes && p < 16; p++)
+            fprintf(f, "%s%.4f", p ? ", " : "", st->pass_seconds[p]);
+        fprintf(f,
+                "],\n  \"rays\": %llu,\n  \"mrays_per_second\": %.3f,\n"
+                "  \"load_seconds\": %.4f,\n  \"bake_seconds\": %.4f,\n"
+                "  \"write_seconds\": %.4f,\n  \"glb_bytes\": %.0f\n}\n",
+                st->rays, mrays, g->load, g->bake, g->write, g->glb_bytes);
+        return;
+    }
+    char bytes[32];
+    fprintf(f, "scene    %s: %zu triangles\n", g->si.name, g->si.triangle_count);
+    if (st->kept_uv1)
+        fprintf(f, "charts   the scene's own second UV set, one atlas of %d texels\n", size);
+    else
+        fprintf(f, "charts   %zu in %zu atlas%s of %d texels, %.1f %% used\n", st->charts,
+                st->atlases, st->atlases == 1 ? "" : "es", size, 100.0 * st->utilisation);
+    fprintf(f, "texels   %zu samples (%zu invalid, filled from neighbours)\n", st->samples,
+            st->invalid);
+    if (st->layers)
+        fprintf(f, "layers   %zu, one light each, adding up to the map\n", st->layers);
+    fprintf(f, "passes   %d:", st->passes);
+    for (int p = 0; p < st->passes && p < 16; p++)
+        fprintf(f, " %.2f s", st->pass_seconds[p]);
+    fprintf(f, ", %.1f Mrays/s\n", mrays);
+    fprintf(f, "time     %.2f s: load %.2f, bake %.2f, write %.2f\n", g->load + g->bake + g->write,
+            g->load, g->bake, g->write);
+    fprintf(f, "output   %s (%s)\n", g->o->output, cli_bytes(g->glb_bytes, bytes, sizeof(bytes)));
+}
+
+/* The JSON figures, written as the library writes its files (held with the .glb). */
+static vdbgi_result write_stats(vdbgi_context *ctx, const run_figures *g)
+{
+    char *text = NULL;
+    size_t size = 0;
+    FILE *const f = open_memstream(&text, &size);
+    if (!f)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    print_figures(f, g, true);
+    const bool ok = !ferror(f) & (fclose(f) == 0);
+    const vdbgi_result r =
+        ok ? vdbgi_context_write_file(ctx, g->o->stats, text, size) : VDBGI_ERR_OUT_OF_MEMORY;
+    free(text);
+    return r;
+}
+
 int main(int argc, char **argv)
 {
     cli_init("gi-lightmap");
@@ -168,60 +255,47 @@ int main(int argc, char **argv)
         return parsed;
     /* The scene, and no file of another kind, is ever replaced. */
     const char *const inputs[1] = {o.scene};
-    const cli_file out = {o.output, "glTF binary", "glTF", 4};
-    const int clash = cli_check_files(inputs, 1, &out, 1);
+    const cli_file outs[2] = {{o.output, "glTF binary", "glTF", 4}, {o.stats, "JSON", "{", 1}};
+    const int clash = cli_check_files(inputs, 1, outs, o.stats ? 2 : 1);
     if (clash >= 0)
         return clash;
     vdbgi_context *const ctx = cli_context();
     if (!ctx)
         return CLI_FAILED;
-    /* The .glb and its EXR maps, or nothing: each waits under its temporary name. */
+    /* The .glb, its EXR maps and the figures, or nothing: each waits under a temporary name. */
     vdbgi_context_hold_outputs(ctx, 1);
     vdbgi_scene *scene = NULL;
     vdbgi_lightmap_result *lm = NULL;
-    vdbgi_lightmap_stats st = {0};
+    run_figures g = {.o = &o};
     const double t0 = cli_now();
     vdbgi_result r = vdbgi_output_check(ctx, o.output);
+    if (r == VDBGI_OK && o.stats)
+        r = vdbgi_output_check(ctx, o.stats);
     if (r == VDBGI_OK)
         r = vdbgi_scene_load(ctx, o.scene, &scene);
     const double t1 = cli_now();
     if (r == VDBGI_OK)
-        r = vdbgi_lightmap_bake_scene(ctx, scene, &o.lm, &lm, &st);
+        r = vdbgi_lightmap_bake_scene(ctx, scene, &o.lm, &lm, &g.st);
     const double t2 = cli_now();
     if (r == VDBGI_OK)
         r = vdbgi_lightmap_write(lm, o.output);
     if (r == VDBGI_OK && o.slices)
         r = vdbgi_lightmap_write_slices(lm, o.slices);
+    const double t3 = cli_now();
+    if (r == VDBGI_OK) {
+        vdbgi_scene_get_info(scene, &g.si);
+        g.load = t1 - t0, g.bake = t2 - t1, g.write = t3 - t2;
+        g.glb_bytes = (double)vdbgi_lightmap_glb_size(lm);
+    }
+    if (r == VDBGI_OK && o.stats)
+        r = write_stats(ctx, &g);
     if (r == VDBGI_OK)
         r = vdbgi_context_commit_outputs(ctx);
-    const double t3 = cli_now();
     int code = CLI_OK;
-    if (r != VDBGI_OK) {
+    if (r != VDBGI_OK)
         code = cli_fail(ctx, r);
-    } else if (cli_verbosity >= 2) {
-        vdbgi_scene_info si;
-        vdbgi_scene_get_info(scene, &si);
-        struct stat fs;
-        char size[32];
-        printf("scene    %s: %zu triangles\n", si.name, si.triangle_count);
-        if (st.kept_uv1)
-            printf("charts   the scene's own second UV set, one atlas of %d texels\n",
-                   o.lm.size ? o.lm.size : 1024);
-        else
-            printf("charts   %zu in %zu atlas%s of %d texels, %.1f %% used\n", st.charts,
-                   st.atlases, st.atlases == 1 ? "" : "es", o.lm.size ? o.lm.size : 1024,
-                   100.0 * st.utilisation);
-        printf("texels   %zu samples (%zu invalid, filled from neighbours)\n", st.samples,
-               st.invalid);
-        printf("passes   %d:", st.passes);
-        for (int p = 0; p < st.passes && p < 16; p++)
-            printf(" %.2f s", st.pass_seconds[p]);
-        printf(", %.1f Mrays/s\n", st.seconds > 0.0 ? (double)st.rays / (t2 - t1) * 1e-6 : 0.0);
-        printf("time     %.2f s: load %.2f, bake %.2f, write %.2f\n", t3 - t0, t1 - t0, t2 - t1,
-               t3 - t2);
-        printf("output   %s (%s)\n", o.output,
-               stat(o.output, &fs) == 0 ? cli_bytes((double)fs.st_size, size, sizeof(size)) : "?");
-    }
+    else if (cli_verbosity >= 2)
+        print_figures(stdout, &g, false);
     vdbgi_lightmap_destroy(lm);
     vdbgi_scene_destroy(scene);
     vdbgi_context_destroy(ctx);

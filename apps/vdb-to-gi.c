@@ -291,22 +291,6 @@ static double busiest_plane(const vdbgi_probes *p, vdbgi_axis axis)
     return pi.origin[axis] + pi.spacing * best;
 }
 
-/* A path as a JSON string body: quotes, backslashes and control characters escaped. */
-static void json_string(FILE *f, const char *s)
-{
-    fputc('"', f);
-    for (; *s; s++) {
-        const unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            fprintf(f, "\\%c", c);
-        else if (c < 0x20)
-            fprintf(f, "\\u%04x", c);
-        else
-            fputc(c, f);
-    }
-    fputc('"', f);
-}
-
 static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
                         const vdbgi_probes_info *pi, double read_seconds, bool json)
 {
@@ -314,9 +298,9 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
     const double mean = vi->mean_irradiance > 0.0 ? vi->mean_irradiance : 1.0;
     if (json) {
         fputs("{\n  \"input\": ", f);
-        json_string(f, o->input);
+        cli_json_string(f, o->input);
         fputs(",\n  \"output\": ", f);
-        json_string(f, o->output);
+        cli_json_string(f, o->output);
         fprintf(
             f,
             ",\n  \"probes\": %zu,\n"

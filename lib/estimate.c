@@ -227,6 +227,15 @@ static void trace_batch(vdbgi_estimator *th, const float pos[3], const float *di
                 albedo_w[k] = albedo[k] * w;
                 L[k] = albedo_w[k] * (bp->ambient + extra[k]);
             }
+            /* An emitter's own light, from its front (both sides when double-sided). */
+            if ((tri->flags & VDBGI_TRI_EMISSIVE) &&
+                (flip > 0.0f || tri->flags & VDBGI_TRI_DOUBLE_SIDED) &&
+                (bp->emission == 0 || bp->emission == tri->material + 1)) {
+                float e[3];
+                vdbgi_scene_emission(scene, h->prim, h->u, h->v, e);
+                for (int k = 0; k < 3; k++)
+                    L[k] += w * e[k];
+            }
         }
         if (bp->sun_on && ndotl > 0.0f) {
             float *const so = &th->sorg[3 * shadow_count];

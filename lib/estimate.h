@@ -8,6 +8,8 @@
 /* Rays per batch of an adaptive bake: one spherical Fibonacci set, rotated anew each batch. */
 #define VDBGI_ADAPTIVE_BATCH 32
 
+#define VDBGI_EMISSION_NONE UINT32_MAX
+
 /* Resolved estimator settings (defaults applied, sun normalised). */
 typedef struct vdbgi_bake_params {
     int rays;
@@ -17,6 +19,9 @@ typedef struct vdbgi_bake_params {
     float ray_dist, ambient, falloff, invalid_threshold;
     float sun_dir[3], sun_color[3], sky[3];
     bool sun_on;
+    /* Which materials' emission lights the hits: 0 every one, m + 1 material m alone (a
+       lightmap layer), VDBGI_EMISSION_NONE none. */
+    uint32_t emission;
     vdbgi_sampling sampling;
     uint64_t seed;
     int threads;

@@ -8,6 +8,8 @@
 
 #include <tiny_gltf.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -89,6 +91,7 @@ extern "C" bool vdbgi_gltf_encode(const vdbgi_gltf_desc *d, uint8_t **out, size_
             im.bufferView = add_view(m, d->images[i].png, d->images[i].size, 0);
             m.images.push_back(im);
         }
+        bool strength_used = false;
         for (size_t i = 0; i < d->material_count; i++) {
             const vdbgi_gltf_material &src = d->materials[i];
             tinygltf::Material mat;
@@ -101,6 +104,22 @@ extern "C" bool vdbgi_gltf_encode(const vdbgi_gltf_desc *d, uint8_t **out, size_
                     add_texture(m, src.base_texture, 1);
                 mat.pbrMetallicRoughness.baseColorTexture.texCoord = 0;
             }
+            const float peak = std::max({src.emissive[0], src.emissive[1], src.emissive[2]});
+            if (peak > 0.0f) {
+                const float f = peak > 1.0f ? peak : 1.0f;
+                mat.emissiveFactor = {src.emissive[0] / f, src.emissive[1] / f,
+                                      src.emissive[2] / f};
+                if (f > 1.0f) {
+                    tinygltf::Value::Object strength;
+                    strength["emissiveStrength"] = tinygltf::Value(double(f));
+                    mat.extensions["KHR_materials_emissive_strength"] = tinygltf::Value(strength);
+                    strength_used = true;
+                }
+                if (src.emissive_texture >= 0) {
+                    mat.emissiveTexture.index = add_texture(m, src.emissive_texture, 1);
+                    mat.emissiveTexture.texCoord = 0;
+                }
+            }
             if (src.map >= 0) {
                 const int tex = add_texture(m, src.map, 0);
                 if (d->ao) {
@@ -111,6 +130,16 @@ extern "C" bool vdbgi_gltf_encode(const vdbgi_gltf_desc *d, uint8_t **out, size_
                     lm["texture"] = tinygltf::Value(tex);
                     lm["texCoord"] = tinygltf::Value(1);
                     lm["scale"] = tinygltf::Value(double(d->map_scale));
+                    tinygltf::Value::Array layers;
+                    for (size_t l = 0; src.layer_maps && l < d->layer_count; l++) {
+                        tinygltf::Value::Object layer;
+                        layer["name"] = tinygltf::Value(std::string(d->layer_names[l]));
+                        layer["texture"] = tinygltf::Value(add_texture(m, src.layer_maps[l], 0));
+                        layer["scale"] = tinygltf::Value(double(d->layer_scales[l]));
+                        layers.push_back(tinygltf::Value(layer));
+                    }
+                    if (!layers.empty())
+                        lm["layers"] = tinygltf::Value(layers);
                     tinygltf::Value::Object extras;
                     extras["vdbgi_lightmap"] = tinygltf::Value(lm);
                     mat.extras = tinygltf::Value(extras);
@@ -118,6 +147,8 @@ extern "C" bool vdbgi_gltf_encode(const vdbgi_gltf_desc *d, uint8_t **out, size_
             }
             m.materials.push_back(mat);
         }
+        if (strength_used)
+            m.extensionsUsed.push_back("KHR_materials_emissive_strength");
         const int pos = add_accessor(m, d->positions, d->vertex_count, 3, true);
         const int nrm = add_accessor(m, d->normals, d->vertex_count, 3, false);
         const int uv0 = d->uv0 ? add_accessor(m, d->uv0, d->vertex_count, 2, false) : -1;
@@ -172,6 +203,62 @@ extern "C" bool vdbgi_gltf_encode(const vdbgi_gltf_desc *d, uint8_t **out, size_
         }
         std::memcpy(*out, bytes.data(), bytes.size());
         *size = bytes.size();
+        return true;
+    } catch (const std::exception &e) {
+        std::snprintf(err, err_size, "glTF: %s", e.what());
+    } catch (...) {
+        std::snprintf(err, err_size, "glTF: unknown error");
+    }
+    return false;
+}
+
+namespace
+{
+// The strengths need only the JSON: images are not decoded.
+bool skip_image(tinygltf::Image *, const int, std::string *, std::string *, int, int,
+                const unsigned char *, int, void *)
+{
+    return true;
+}
+
+bool ends_with(const std::string &s, const char *tail)
+{
+    const size_t n = std::strlen(tail);
+    return s.size() >= n && s.compare(s.size() - n, n, tail) == 0;
+}
+} // namespace
+
+extern "C" bool vdbgi_gltf_emissive_strength(const char *path, float *strength, size_t count,
+                                             char *err, size_t err_size)
+{
+    for (size_t i = 0; i < count; i++)
+        strength[i] = 1.0f;
+    try {
+        std::string name(path);
+        for (char &c : name)
+            c = char(std::tolower(static_cast<unsigned char>(c)));
+        const bool glb = ends_with(name, ".glb"), gltf = ends_with(name, ".gltf");
+        if (!glb && !gltf)
+            return true;
+        tinygltf::Model m;
+        tinygltf::TinyGLTF loader;
+        loader.SetImageLoader(skip_image, nullptr);
+        std::string error, warning;
+        const bool ok = glb ? loader.LoadBinaryFromFile(&m, &error, &warning, path)
+                            : loader.LoadASCIIFromFile(&m, &error, &warning, path);
+        if (!ok) {
+            std::snprintf(err, err_size, "%s",
+                          error.empty() ? "tinygltf cannot read it" : error.c_str());
+            return false;
+        }
+        for (size_t i = 0; i < count && i < m.materials.size(); i++) {
+            const auto ext = m.materials[i].extensions.find("KHR_materials_emissive_strength");
+            if (ext == m.materials[i].extensions.end())
+                continue;
+            const tinygltf::Value &v = ext->second.Get("emissiveStrength");
+            const double d = v.IsNumber() ? v.GetNumberAsDouble() : 1.0;
+            strength[i] = d >= 0.0 && d < 1e6 ? float(d) : 1.0f;
+        }
         return true;
     } catch (const std::exception &e) {
         std::snprintf(err, err_size, "glTF: %s", e.what());

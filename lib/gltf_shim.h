@@ -20,9 +20,12 @@ typedef struct vdbgi_gltf_primitive {
 } vdbgi_gltf_primitive;
 
 typedef struct vdbgi_gltf_material {
-    float base[3];    /* linear baseColorFactor */
-    int base_texture; /* image index (sRGB PNG, TEXCOORD_0), or -1 */
-    int map;          /* image index of its lightmap or AO map (TEXCOORD_1), or -1 */
+    float base[3];         /* linear baseColorFactor */
+    int base_texture;      /* image index (sRGB PNG, TEXCOORD_0), or -1 */
+    float emissive[3];     /* linear; past 1 through KHR_materials_emissive_strength */
+    int emissive_texture;  /* image index (sRGB PNG, TEXCOORD_0), or -1 */
+    int map;               /* image index of its lightmap or AO map (TEXCOORD_1), or -1 */
+    const int *layer_maps; /* image index of each layer's map (layer_count), or NULL */
     bool double_sided;
 } vdbgi_gltf_material;
 
@@ -43,6 +46,9 @@ typedef struct vdbgi_gltf_desc {
     size_t image_count;
     bool ao;         /* maps are occlusion: occlusionTexture, texCoord 1 */
     float map_scale; /* lightmaps: E = map (linear) x map_scale, in extras */
+    size_t layer_count;
+    const char *const *layer_names;
+    const float *layer_scales;
     const char *generator;
 } vdbgi_gltf_desc;
 
@@ -52,6 +58,15 @@ typedef struct vdbgi_gltf_desc {
  */
 bool vdbgi_gltf_encode(const vdbgi_gltf_desc *d, uint8_t **out, size_t *size, char *err,
                        size_t err_size);
+
+/*
+ * Each of count materials' KHR_materials_emissive_strength (1 where it has
+ * none) from the glTF file at path, into strength. A file that is not glTF
+ * (by its name) gives all ones; false with a message in err when a glTF
+ * file does not parse.
+ */
+bool vdbgi_gltf_emissive_strength(const char *path, float *strength, size_t count, char *err,
+                                  size_t err_size);
 
 #ifdef __cplusplus
 }

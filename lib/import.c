@@ -1,6 +1,7 @@
 /* import.c: any assimp format into the triangle soup: meshes under their node transforms,
    materials, embedded and external textures. */
 #define _POSIX_C_SOURCE 200809L
+#include "gltf_shim.h"
 #include "image_shim.h"
 #include "scene.h"
 
@@ -55,17 +56,22 @@ static vdbgi_result load_embedded(vdbgi_context *ctx, const struct aiTexture *at
     return VDBGI_OK;
 }
 
-/* Find the base-colour texture of a material and decode it into slot t. */
-static void load_material_texture(vdbgi_scene *s, const struct aiScene *as,
-                                  const struct aiMaterial *am, const char *dir, size_t m)
+/*
+ * Find a material's texture of the first of types (two) it has and decode it
+ * into texture slot `slot`; returns the slot, or -1 when it has none or it
+ * does not load.
+ */
+static int load_material_texture(vdbgi_scene *s, const struct aiScene *as,
+                                 const struct aiMaterial *am, const char *dir,
+                                 const enum aiTextureType types[2], size_t slot)
 {
     vdbgi_context *const ctx = s->ctx;
     struct aiString tex_path;
-    if (aiGetMaterialTexture(am, aiTextureType_BASE_COLOR, 0, &tex_path, NULL, NULL, NULL, NULL,
-                             NULL, NULL) != aiReturn_SUCCESS &&
-        aiGetMaterialTexture(am, aiTextureType_DIFFUSE, 0, &tex_path, NULL, NULL, NULL, NULL, NULL,
-                             NULL) != aiReturn_SUCCESS)
-        return;
+    if (aiGetMaterialTexture(am, types[0], 0, &tex_path, NULL, NULL, NULL, NULL, NULL, NULL) !=
+            aiReturn_SUCCESS &&
+        aiGetMaterialTexture(am, types[1], 0, &tex_path, NULL, NULL, NULL, NULL, NULL, NULL) !=
+            aiReturn_SUCCESS)
+        return -1;
     const char *const p = tex_path.data;
     const struct aiTexture *embedded = NULL;
     if (p[0] == '*') {
@@ -77,7 +83,7 @@ static void load_material_texture(vdbgi_scene *s, const struct aiScene *as,
             if (strcmp(as->mTextures[i]->mFilename.data, p) == 0)
                 embedded = as->mTextures[i];
     }
-    vdbgi_texture *const tex = &s->textures[m];
+    vdbgi_texture *const tex = &s->textures[slot];
     char error_copy[sizeof(ctx->error)];
     memcpy(error_copy, ctx->error, sizeof(error_copy));
     vdbgi_result r;
@@ -88,7 +94,7 @@ static void load_material_texture(vdbgi_scene *s, const struct aiScene *as,
         const size_t dir_len = p[0] == '/' ? 0 : strlen(dir);
         char *const full = vdbgi_alloc(ctx, dir_len + strlen(p) + 1);
         if (!full)
-            return; /* the scene allocation that follows will fail the same way */
+            return -1; /* the scene allocation that follows will fail the same way */
         memcpy(full, dir, dir_len);
         strcpy(full + dir_len, p);
         r = vdbgi_input_check(ctx, full);
@@ -100,14 +106,31 @@ static void load_material_texture(vdbgi_scene *s, const struct aiScene *as,
         /* A missing texture should not sink a bake: warn, keep the base colour. */
         vdbgi_log(ctx, VDBGI_LOG_WARNING, "%s: texture '%s' ignored: %s", s->name, p, ctx->error);
         memcpy(ctx->error, error_copy, sizeof(error_copy));
-        return;
+        return -1;
     }
     texture_to_linear(tex);
-    s->materials[m].texture = (int)m;
+    return (int)slot;
 }
 
-static void load_materials(vdbgi_scene *s, const struct aiScene *as, const char *dir)
+static float clamp01(float c)
 {
+    return isfinite(c) ? fminf(fmaxf(c, 0.0f), 1.0f) : 0.0f;
+}
+
+/*
+ * Base colour, sidedness, emission and their textures. Texture slot m holds
+ * material m's base colour, slot material_count + m its emission. Emission
+ * is glTF's emissiveFactor times KHR_materials_emissive_strength (which
+ * Debian's assimp 5.2 does not read: the glTF shim does), or OBJ's Ke.
+ */
+static void load_materials(vdbgi_scene *s, const struct aiScene *as, const char *path,
+                           const char *dir)
+{
+    static const enum aiTextureType base_types[2] = {aiTextureType_BASE_COLOR,
+                                                     aiTextureType_DIFFUSE};
+    static const enum aiTextureType emissive_types[2] = {aiTextureType_EMISSIVE,
+                                                         aiTextureType_EMISSION_COLOR};
+    bool emits = false;
     for (size_t m = 0; m < as->mNumMaterials; m++) {
         const struct aiMaterial *const am = as->mMaterials[m];
         vdbgi_material *const mat = &s->materials[m];
@@ -115,16 +138,37 @@ static void load_materials(vdbgi_scene *s, const struct aiScene *as, const char 
         if (aiGetMaterialColor(am, AI_MATKEY_BASE_COLOR, &c) != aiReturn_SUCCESS &&
             aiGetMaterialColor(am, AI_MATKEY_COLOR_DIFFUSE, &c) != aiReturn_SUCCESS)
             c.r = c.g = c.b = 1.0f; /* glTF's default base colour */
-        const float rgb[3] = {c.r, c.g, c.b};
-        for (int k = 0; k < 3; k++)
-            mat->base[k] = isfinite(rgb[k]) ? fminf(fmaxf(rgb[k], 0.0f), 1.0f) : 0.0f;
+        mat->base[0] = clamp01(c.r), mat->base[1] = clamp01(c.g), mat->base[2] = clamp01(c.b);
         int two_sided = 0;
         unsigned int max = 1;
         if (aiGetMaterialIntegerArray(am, AI_MATKEY_TWOSIDED, &two_sided, &max) == aiReturn_SUCCESS)
             mat->double_sided = two_sided != 0;
-        mat->texture = -1;
-        load_material_texture(s, as, am, dir, m);
+        mat->texture = load_material_texture(s, as, am, dir, base_types, m);
+        if (aiGetMaterialColor(am, AI_MATKEY_COLOR_EMISSIVE, &c) == aiReturn_SUCCESS) {
+            /* OBJ's Ke may pass 1 to carry a strength; glTF's factor may not. */
+            const float e[3] = {c.r, c.g, c.b};
+            for (int k = 0; k < 3; k++)
+                mat->emissive[k] = e[k] > 0.0f && e[k] < 1e6f ? e[k] : 0.0f;
+        }
+        if (mat->emissive[0] > 0.0f || mat->emissive[1] > 0.0f || mat->emissive[2] > 0.0f) {
+            emits = true;
+            mat->emissive_texture =
+                load_material_texture(s, as, am, dir, emissive_types, s->material_count + m);
+        }
     }
+    if (!emits)
+        return;
+    /* Strengths past 1 (glTF's KHR_materials_emissive_strength), per glTF material. */
+    float *const strength = vdbgi_alloc(s->ctx, as->mNumMaterials * sizeof(float));
+    char err[256] = "";
+    if (strength &&
+        vdbgi_gltf_emissive_strength(path, strength, as->mNumMaterials, err, sizeof(err)))
+        for (size_t m = 0; m < as->mNumMaterials; m++)
+            for (int k = 0; k < 3; k++)
+                s->materials[m].emissive[k] *= strength[m];
+    else if (err[0])
+        vdbgi_log(s->ctx, VDBGI_LOG_WARNING, "%s: emissive strength ignored: %s", s->name, err);
+    vdbgi_free(s->ctx, strength);
 }
 
 typedef struct walk_state {
@@ -221,7 +265,7 @@ vdbgi_result vdbgi_scene_load(vdbgi_context *ctx, const char *path, vdbgi_scene 
     vdbgi_scene *s = NULL;
     vdbgi_result r = vdbgi_scene_alloc(ctx, base_name(path), w.vertex_count, w.triangle_count,
                                        as->mNumMaterials ? as->mNumMaterials : 1,
-                                       as->mNumMaterials ? as->mNumMaterials : 1, &s);
+                                       2 * (as->mNumMaterials ? as->mNumMaterials : 1), &s);
     if (r != VDBGI_OK) {
         aiReleaseImport(as);
         return r;
@@ -235,11 +279,9 @@ vdbgi_result vdbgi_scene_load(vdbgi_context *ctx, const char *path, vdbgi_scene 
     }
     memcpy(dir, path, dir_len);
     dir[dir_len] = '\0';
-    for (size_t m = 0; m < s->material_count; m++) {
+    for (size_t m = 0; m < s->material_count; m++)
         s->materials[m].base[0] = s->materials[m].base[1] = s->materials[m].base[2] = 1.0f;
-        s->materials[m].texture = -1;
-    }
-    load_materials(s, as, dir);
+    load_materials(s, as, path, dir);
     vdbgi_free(ctx, dir);
     w = (walk_state){.s = s, .as = as, .fill = true};
     walk_nodes(&w, as->mRootNode, &identity);

@@ -40,26 +40,42 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
                                  vdbgi_lightmap *out);
 void vdbgi_lightmap_free(vdbgi_lightmap *m);
 
-/* A bake's files: the .glb (scene, second UV set, maps) and each page's HDR map (EXR). */
+/* A bake's files: the .glb (scene, second UV set, maps) and each map's HDR form (EXR). */
 typedef struct vdbgi_lightmap_files {
     uint8_t *glb;
     size_t glb_size;
-    uint8_t *exr[64];
-    size_t exr_size[64];
-    size_t exr_count; /* pages (none for AO) */
-    float scale;      /* E = 8-bit map (linear, after sRGB decoding) x scale */
+    uint8_t **exr; /* map l of page p at l x pages + p: the map, then each layer */
+    size_t *exr_size;
+    size_t exr_count; /* pages x (1 + layers); none for AO */
+    float scale;      /* E = the map's 8 bits (linear, after sRGB decoding) x scale */
 } vdbgi_lightmap_files;
+
+/* Per-light maps (seed 004's layers) beside the map they add up to. */
+typedef struct vdbgi_lightmap_layers {
+    const vdbgi_lightmap *maps;
+    const char (*names)[32]; /* "sun", "ambient", "sky", "emissive<material>" */
+    size_t count;
+} vdbgi_lightmap_layers;
 
 /*
  * Encode m: per page an 8-bit PNG (sRGB, E / scale with scale the largest E;
- * AO: linear) and a half-float EXR of E, and the scene as a .glb whose
- * materials carry the maps on TEXCOORD_1 (docs/lightmap.md). Base colour
- * textures go in as sRGB PNGs on TEXCOORD_0.
+ * AO: linear) and a half-float EXR of E, the same for each layer of ly (may
+ * be NULL), and the scene as a .glb whose materials carry the maps on
+ * TEXCOORD_1 (docs/lightmap.md). Base colour and emissive textures go in as
+ * sRGB PNGs on TEXCOORD_0.
  */
 vdbgi_result vdbgi_lightmap_encode(vdbgi_context *ctx, const vdbgi_scene *scene,
                                    const vdbgi_unwrap *un, const vdbgi_texels *tx,
-                                   const vdbgi_lightmap *m, bool ao, vdbgi_lightmap_files *out);
+                                   const vdbgi_lightmap *m, bool ao,
+                                   const vdbgi_lightmap_layers *ly, vdbgi_lightmap_files *out);
 void vdbgi_lightmap_files_free(vdbgi_context *ctx, vdbgi_lightmap_files *f);
+
+/*
+ * What a vdbgi_lightmap_bake_scene result holds (for tests and tools): map
+ * 0 is the map, 1.. its layers (NULL past them), with the layer's name.
+ */
+const vdbgi_lightmap *vdbgi_lightmap_result_map(const vdbgi_lightmap_result *r, size_t i,
+                                                const char **name);
 
 /* The map's E at a triangle's barycentrics (Embree's u, v): bilinear, as a GPU filters it. */
 void vdbgi_lightmap_at(const vdbgi_lightmap *m, const vdbgi_unwrap *un, const vdbgi_texels *tx,

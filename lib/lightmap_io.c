@@ -19,8 +19,10 @@
 void vdbgi_lightmap_files_free(vdbgi_context *ctx, vdbgi_lightmap_files *f)
 {
     free(f->glb); /* the shim's malloc */
-    for (size_t p = 0; p < f->exr_count; p++)
+    for (size_t p = 0; f->exr && p < f->exr_count; p++)
         vdbgi_free(ctx, f->exr[p]);
+    vdbgi_free(ctx, f->exr);
+    vdbgi_free(ctx, f->exr_size);
     memset(f, 0, sizeof(*f));
 }
 
@@ -45,15 +47,38 @@ static int by_key(const void *pa, const void *pb)
     return a->key != b->key ? (a->key < b->key ? -1 : 1) : (a->tri < b->tri ? -1 : a->tri > b->tri);
 }
 
+/* Page p of map m as an 8-bit PNG (sRGB of E / scale; AO linear) and, for light, an EXR. */
+static vdbgi_result encode_page(vdbgi_context *ctx, const vdbgi_lightmap *m, size_t p, size_t size,
+                                bool ao, float scale, float *pix, uint8_t **png, size_t *png_size,
+                                uint8_t **exr, size_t *exr_size)
+{
+    const size_t per = size * size;
+    const float *const e = &m->rgb[3 * p * per];
+    for (size_t i = 0; i < per; i++)
+        for (int k = 0; k < 4; k++)
+            pix[4 * i + (size_t)k] = k == 3 ? 1.0f
+                                     : ao   ? e[3 * i]
+                                            : vdbgi_srgb_from_linear(e[3 * i + (size_t)k] / scale);
+    VDBGI_TRY(vdbgi_image_encode(ctx, "lightmap", "png", (int)size, (int)size, 4, pix, ao, png,
+                                 png_size));
+    return ao ? VDBGI_OK
+              : vdbgi_image_encode(ctx, "lightmap", "exr", (int)size, (int)size, 3, e, true, exr,
+                                   exr_size);
+}
+
 vdbgi_result vdbgi_lightmap_encode(vdbgi_context *ctx, const vdbgi_scene *s, const vdbgi_unwrap *un,
                                    const vdbgi_texels *tx, const vdbgi_lightmap *m, bool ao,
-                                   vdbgi_lightmap_files *out)
+                                   const vdbgi_lightmap_layers *ly, vdbgi_lightmap_files *out)
 {
     memset(out, 0, sizeof(*out));
     const size_t pages = tx->page_count, size = (size_t)tx->size, per = size * size;
+    const size_t layers = ly && !ao ? ly->count : 0, maps = pages * (1 + layers);
     VDBGI_FAIL_IF(ctx, pages > 64, VDBGI_ERR_INVALID_ARG,
                   "%zu atlases: at most 64 (raise --size or --texel)", pages);
-    const size_t n = s->triangle_count, images = pages + s->texture_count;
+    VDBGI_FAIL_IF(ctx, layers > VDBGI_LIGHTMAP_MAX_LAYERS, VDBGI_ERR_INVALID_ARG,
+                  "%zu layers: at most %d", layers, VDBGI_LIGHTMAP_MAX_LAYERS);
+    /* Images: each map's pages (the map, then its layers), then the scene's textures. */
+    const size_t n = s->triangle_count, images = maps + s->texture_count;
     float *pix = vdbgi_alloc(ctx, 4 * per * sizeof(float));
     vdbgi_gltf_image *img = vdbgi_calloc(ctx, images, sizeof(*img));
     uint8_t **png = vdbgi_calloc(ctx, images, sizeof(*png));
@@ -62,29 +87,30 @@ vdbgi_result vdbgi_lightmap_encode(vdbgi_context *ctx, const vdbgi_scene *s, con
     vdbgi_gltf_primitive *prims = vdbgi_alloc(ctx, n * sizeof(*prims));
     vdbgi_gltf_material *mats = vdbgi_alloc(ctx, n * sizeof(*mats));
     int *slot = vdbgi_alloc(ctx, images * sizeof(*slot));
-    vdbgi_result r = pix && img && png && order && v && prims && mats && slot
+    int *layer_slots = vdbgi_calloc(ctx, n * (layers ? layers : 1), sizeof(int));
+    float scales[1 + VDBGI_LIGHTMAP_MAX_LAYERS];
+    const char *names[VDBGI_LIGHTMAP_MAX_LAYERS];
+    out->exr = vdbgi_calloc(ctx, maps, sizeof(*out->exr));
+    out->exr_size = vdbgi_calloc(ctx, maps, sizeof(*out->exr_size));
+    vdbgi_result r = pix && img && png && order && v && prims && mats && slot && layer_slots &&
+                             out->exr && out->exr_size
                          ? VDBGI_OK
                          : VDBGI_ERR_OUT_OF_MEMORY;
-    const float scale = map_scale(m, ao);
-    out->scale = scale;
-    for (size_t p = 0; r == VDBGI_OK && p < pages; p++) {
-        const float *const e = &m->rgb[3 * p * per];
-        for (size_t i = 0; i < per; i++)
-            for (int k = 0; k < 4; k++)
-                pix[4 * i + (size_t)k] = k == 3 ? 1.0f
-                                         : ao
-                                             ? e[3 * i]
-                                             : vdbgi_srgb_from_linear(e[3 * i + (size_t)k] / scale);
-        r = vdbgi_image_encode(ctx, "lightmap", "png", (int)size, (int)size, 4, pix, ao, &png[p],
-                               &img[p].size);
-        img[p].png = png[p];
-        if (r == VDBGI_OK && !ao) {
-            r = vdbgi_image_encode(ctx, "lightmap", "exr", (int)size, (int)size, 3, e, true,
-                                   &out->exr[p], &out->exr_size[p]);
-            out->exr_count = p + 1;
+    for (size_t l = 0; r == VDBGI_OK && l <= layers; l++) {
+        const vdbgi_lightmap *const map = l ? &ly->maps[l - 1] : m;
+        scales[l] = map_scale(map, ao);
+        if (l)
+            names[l - 1] = ly->names[l - 1];
+        for (size_t p = 0; r == VDBGI_OK && p < pages; p++) {
+            const size_t i = l * pages + p;
+            r = encode_page(ctx, map, p, size, ao, scales[l], pix, &png[i], &img[i].size,
+                            &out->exr[i], &out->exr_size[i]);
+            img[i].png = png[i];
         }
     }
-    /* Base colour textures, linear in the scene, sRGB in the file. */
+    out->exr_count = ao ? 0 : maps;
+    out->scale = scales[0];
+    /* Base colour and emissive textures, linear in the scene, sRGB in the file. */
     for (size_t t = 0; r == VDBGI_OK && t < s->texture_count; t++) {
         const vdbgi_texture *const tex = &s->textures[t];
         const size_t count = (size_t)tex->width * (size_t)tex->height;
@@ -98,8 +124,8 @@ vdbgi_result vdbgi_lightmap_encode(vdbgi_context *ctx, const vdbgi_scene *s, con
         for (size_t i = 0; i < 4 * count; i++)
             rgba[i] = i % 4 == 3 ? tex->rgba[i] : vdbgi_srgb_from_linear(tex->rgba[i]);
         r = vdbgi_image_encode(ctx, "texture", "png", tex->width, tex->height, 4, rgba, false,
-                               &png[pages + t], &img[pages + t].size);
-        img[pages + t].png = png[pages + t];
+                               &png[maps + t], &img[maps + t].size);
+        img[maps + t].png = png[maps + t];
         vdbgi_free(ctx, rgba);
     }
     if (r != VDBGI_OK)
@@ -126,11 +152,17 @@ vdbgi_result vdbgi_lightmap_encode(vdbgi_context *ctx, const vdbgi_scene *s, con
         if (i == 0 || order[i].key != order[i - 1].key) {
             const uint32_t mat = s->tris[t].material, page = un->page[un->chart[t]];
             const vdbgi_material *const sm = &s->materials[mat];
-            mats[prim_count] =
-                (vdbgi_gltf_material){{sm->base[0], sm->base[1], sm->base[2]},
-                                      sm->texture >= 0 ? slot[pages + (size_t)sm->texture] : -1,
-                                      slot[page],
-                                      sm->double_sided};
+            int *const ls = &layer_slots[prim_count * layers];
+            for (size_t l = 0; l < layers; l++)
+                ls[l] = slot[(l + 1) * pages + page];
+            mats[prim_count] = (vdbgi_gltf_material){
+                {sm->base[0], sm->base[1], sm->base[2]},
+                sm->texture >= 0 ? slot[maps + (size_t)sm->texture] : -1,
+                {sm->emissive[0], sm->emissive[1], sm->emissive[2]},
+                sm->emissive_texture >= 0 ? slot[maps + (size_t)sm->emissive_texture] : -1,
+                slot[page],
+                layers ? ls : NULL,
+                sm->double_sided};
             prims[prim_count] = (vdbgi_gltf_primitive){(uint32_t)(3 * i), 0, (uint32_t)prim_count};
             prim_count++;
         }
@@ -150,7 +182,7 @@ vdbgi_result vdbgi_lightmap_encode(vdbgi_context *ctx, const vdbgi_scene *s, con
     const vdbgi_gltf_desc d = {.vertex_count = 3 * n,
                                .positions = pos,
                                .normals = nrm,
-                               .uv0 = s->texture_count ? uv0 : NULL,
+                               .uv0 = uv0, /* TEXCOORD_1 needs a TEXCOORD_0 before it */
                                .uv1 = uv1,
                                .colors = coloured ? col : NULL,
                                .primitives = prims,
@@ -160,7 +192,10 @@ vdbgi_result vdbgi_lightmap_encode(vdbgi_context *ctx, const vdbgi_scene *s, con
                                .images = img,
                                .image_count = used,
                                .ao = ao,
-                               .map_scale = scale,
+                               .map_scale = scales[0],
+                               .layer_count = layers,
+                               .layer_names = names,
+                               .layer_scales = &scales[1],
                                .generator = "vdbgi gi-lightmap"};
     char err[256] = "";
     if (!vdbgi_gltf_encode(&d, &out->glb, &out->glb_size, err, sizeof(err)))
@@ -176,6 +211,7 @@ done:
     vdbgi_free(ctx, prims);
     vdbgi_free(ctx, mats);
     vdbgi_free(ctx, slot);
+    vdbgi_free(ctx, layer_slots);
     if (r != VDBGI_OK)
         vdbgi_lightmap_files_free(ctx, out);
     return r;
@@ -188,7 +224,11 @@ struct vdbgi_lightmap_result {
     const vdbgi_scene *scene;
     vdbgi_unwrap un;
     vdbgi_texels tx;
-    vdbgi_lightmap map;
+    vdbgi_lightmap map; /* with layers: their sum */
+    vdbgi_lightmap layers[VDBGI_LIGHTMAP_MAX_LAYERS];
+    char layer_names[VDBGI_LIGHTMAP_MAX_LAYERS][32];
+    size_t layer_count;
+    size_t glb_size; /* of the last .glb written */
     bool ao;
 };
 
@@ -196,10 +236,110 @@ void vdbgi_lightmap_destroy(vdbgi_lightmap_result *r)
 {
     if (!r)
         return;
+    for (size_t l = 0; l < r->layer_count; l++)
+        vdbgi_lightmap_free(&r->layers[l]);
     vdbgi_lightmap_free(&r->map);
     vdbgi_texels_free(&r->tx);
     vdbgi_unwrap_free(&r->un);
     vdbgi_free(r->ctx, r);
+}
+
+/* The next layer: the light model with every light off, named name; NULL past the limit. */
+static vdbgi_bake_params *next_layer(const vdbgi_bake_params *bp, vdbgi_bake_params *out,
+                                     char (*names)[32], size_t *n, const char *name)
+{
+    if (*n == VDBGI_LIGHTMAP_MAX_LAYERS)
+        return NULL;
+    vdbgi_bake_params *const l = &out[*n];
+    *l = *bp;
+    l->ambient = 0.0f;
+    l->sun_on = false;
+    memset(l->sun_color, 0, sizeof(l->sun_color));
+    memset(l->sky, 0, sizeof(l->sky));
+    l->emission = VDBGI_EMISSION_NONE;
+    snprintf(names[*n], sizeof(names[*n]), "%s", name);
+    (*n)++;
+    return l;
+}
+
+/*
+ * The lights that are on in bp, each as bp with that light alone: the sun,
+ * the ambient fill, the sky, and each emissive material some triangle uses.
+ */
+static vdbgi_result light_layers(vdbgi_context *ctx, const vdbgi_scene *s,
+                                 const vdbgi_bake_params *bp, vdbgi_bake_params *out,
+                                 char (*names)[32], size_t *count)
+{
+    size_t n = 0;
+    vdbgi_bake_params *l;
+    bool full = false;
+    if (bp->sun_on && !(full = !(l = next_layer(bp, out, names, &n, "sun")))) {
+        l->sun_on = true;
+        memcpy(l->sun_color, bp->sun_color, sizeof(l->sun_color));
+    }
+    if (bp->ambient > 0.0f && !(full = !(l = next_layer(bp, out, names, &n, "ambient"))))
+        l->ambient = bp->ambient;
+    if ((bp->sky[0] > 0.0f || bp->sky[1] > 0.0f || bp->sky[2] > 0.0f) &&
+        !(full = !(l = next_layer(bp, out, names, &n, "sky"))))
+        memcpy(l->sky, bp->sky, sizeof(l->sky));
+    for (size_t m = 0; !full && bp->emission != VDBGI_EMISSION_NONE && m < s->material_count; m++) {
+        bool used = false;
+        for (size_t t = 0; t < s->triangle_count && !used; t++)
+            used = s->tris[t].material == m && (s->tris[t].flags & VDBGI_TRI_EMISSIVE);
+        char name[32];
+        snprintf(name, sizeof(name), "emissive%zu", m);
+        if (used && !(full = !(l = next_layer(bp, out, names, &n, name))))
+            l->emission = (uint32_t)m + 1;
+    }
+    VDBGI_FAIL_IF(ctx, full, VDBGI_ERR_INVALID_ARG, "more than %d lights for layers",
+                  VDBGI_LIGHTMAP_MAX_LAYERS);
+    *count = n;
+    return VDBGI_OK;
+}
+
+/* Add map b into a (the same texels): layers sum to the whole map. */
+static void lightmap_add(vdbgi_lightmap *a, const vdbgi_lightmap *b)
+{
+    for (size_t i = 0; i < 3 * a->texel_count; i++)
+        a->rgb[i] += b->rgb[i];
+    for (int p = 0; p < 16; p++)
+        a->pass_seconds[p] += b->pass_seconds[p];
+    a->rays += b->rays;
+}
+
+/* Bake the map, or with layers each light's map and their sum as the map. */
+static vdbgi_result bake_maps(vdbgi_context *ctx, vdbgi_lightmap_result *r,
+                              const vdbgi_bake_params *bp, const vdbgi_lightmap_params *lp,
+                              bool layers)
+{
+    if (!layers)
+        return vdbgi_lightmap_bake(ctx, r->scene, bp, &r->un, &r->tx, lp, &r->map);
+    vdbgi_bake_params lights[VDBGI_LIGHTMAP_MAX_LAYERS];
+    size_t n = 0;
+    VDBGI_TRY(light_layers(ctx, r->scene, bp, lights, r->layer_names, &n));
+    if (n == 0) {
+        vdbgi_log(ctx, VDBGI_LOG_WARNING, "no light is on: --layers has no map to write");
+        return vdbgi_lightmap_bake(ctx, r->scene, bp, &r->un, &r->tx, lp, &r->map);
+    }
+    for (size_t l = 0; l < n; l++) {
+        vdbgi_log(ctx, VDBGI_LOG_INFO, "layer %zu of %zu: %s", l + 1, n, r->layer_names[l]);
+        VDBGI_TRY(
+            vdbgi_lightmap_bake(ctx, r->scene, &lights[l], &r->un, &r->tx, lp, &r->layers[l]));
+        r->layer_count = l + 1;
+    }
+    /* The sum, in a map of its own: validity does not depend on the light. */
+    vdbgi_lightmap *const m = &r->map;
+    *m = (vdbgi_lightmap){.ctx = ctx,
+                          .texel_count = r->layers[0].texel_count,
+                          .invalid_count = r->layers[0].invalid_count};
+    m->rgb = vdbgi_calloc(ctx, m->texel_count, 3 * sizeof(float));
+    m->valid = vdbgi_alloc(ctx, m->texel_count);
+    if (!m->rgb || !m->valid)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    memcpy(m->valid, r->layers[0].valid, m->texel_count);
+    for (size_t l = 0; l < n; l++)
+        lightmap_add(m, &r->layers[l]);
+    return VDBGI_OK;
 }
 
 vdbgi_result vdbgi_lightmap_bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
@@ -218,6 +358,8 @@ vdbgi_result vdbgi_lightmap_bake_scene(vdbgi_context *ctx, const vdbgi_scene *sc
     const int passes = d->passes == 0 ? 2 : d->passes;
     VDBGI_FAIL_IF(ctx, passes < 1 || passes > 16, VDBGI_ERR_INVALID_ARG,
                   "passes must be 1..16 (got %d)", d->passes);
+    VDBGI_FAIL_IF(ctx, d->layers && d->ao_dist > 0.0f, VDBGI_ERR_INVALID_ARG,
+                  "layers are for lightmaps, not AO");
     vdbgi_lightmap_result *const r = vdbgi_calloc(ctx, 1, sizeof(*r));
     if (!r)
         return VDBGI_ERR_OUT_OF_MEMORY;
@@ -249,7 +391,7 @@ vdbgi_result vdbgi_lightmap_bake_scene(vdbgi_context *ctx, const vdbgi_scene *sc
     const vdbgi_lightmap_params lp = {passes, d->direct != 0, 2 * (int)r->un.gutter + 2,
                                       d->ao_dist};
     if (res == VDBGI_OK)
-        res = vdbgi_lightmap_bake(ctx, scene, &bp, &r->un, &r->tx, &lp, &r->map);
+        res = bake_maps(ctx, r, &bp, &lp, d->layers != 0);
     if (res != VDBGI_OK) {
         vdbgi_lightmap_destroy(r);
         return res;
@@ -258,6 +400,7 @@ vdbgi_result vdbgi_lightmap_bake_scene(vdbgi_context *ctx, const vdbgi_scene *sc
         memset(stats, 0, sizeof(*stats));
         stats->charts = r->un.chart_count;
         stats->kept_uv1 = kept;
+        stats->layers = r->layer_count;
         stats->atlases = r->un.page_count;
         stats->texels = r->map.texel_count;
         stats->samples = r->tx.sample_count;
@@ -272,22 +415,42 @@ vdbgi_result vdbgi_lightmap_bake_scene(vdbgi_context *ctx, const vdbgi_scene *sc
     return VDBGI_OK;
 }
 
-vdbgi_result vdbgi_lightmap_write(const vdbgi_lightmap_result *r, const char *path)
+const vdbgi_lightmap *vdbgi_lightmap_result_map(const vdbgi_lightmap_result *r, size_t i,
+                                                const char **name)
+{
+    if (name)
+        *name = i ? (i <= r->layer_count ? r->layer_names[i - 1] : NULL) : "map";
+    return i == 0 ? &r->map : i <= r->layer_count ? &r->layers[i - 1] : NULL;
+}
+
+size_t vdbgi_lightmap_glb_size(const vdbgi_lightmap_result *r)
+{
+    return r ? r->glb_size : 0;
+}
+
+vdbgi_result vdbgi_lightmap_write(vdbgi_lightmap_result *r, const char *path)
 {
     vdbgi_context *const ctx = r->ctx;
     const size_t len = strlen(path);
     VDBGI_FAIL_IF(ctx, len < 5 || strcmp(path + len - 4, ".glb") != 0, VDBGI_ERR_INVALID_ARG,
                   "%s: the output is a .glb", path);
     vdbgi_lightmap_files f;
-    VDBGI_TRY(vdbgi_lightmap_encode(ctx, r->scene, &r->un, &r->tx, &r->map, r->ao, &f));
-    char *const name = vdbgi_alloc(ctx, len + 32);
+    const vdbgi_lightmap_layers ly = {r->layers, (const char(*)[32])r->layer_names, r->layer_count};
+    VDBGI_TRY(vdbgi_lightmap_encode(ctx, r->scene, &r->un, &r->tx, &r->map, r->ao, &ly, &f));
+    char *const name = vdbgi_alloc(ctx, len + 64);
     vdbgi_result res = name ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
-    for (size_t p = 0; res == VDBGI_OK && p < f.exr_count; p++) {
-        snprintf(name, len + 32, "%.*s.lightmap%zu.exr", (int)(len - 4), path, p);
-        res = vdbgi_write_bytes_atomic(ctx, name, f.exr[p], f.exr_size[p]);
+    const size_t pages = r->tx.page_count;
+    for (size_t i = 0; res == VDBGI_OK && i < f.exr_count; i++) {
+        /* OUT.lightmapP.exr, and each layer's OUT.NAME.lightmapP.exr */
+        const size_t l = i / pages, p = i % pages;
+        snprintf(name, len + 64, "%.*s%s%s.lightmap%zu.exr", (int)(len - 4), path, l ? "." : "",
+                 l ? r->layer_names[l - 1] : "", p);
+        res = vdbgi_write_bytes_atomic(ctx, name, f.exr[i], f.exr_size[i]);
     }
     if (res == VDBGI_OK)
         res = vdbgi_write_bytes_atomic(ctx, path, f.glb, f.glb_size);
+    if (res == VDBGI_OK)
+        r->glb_size = f.glb_size;
     vdbgi_free(ctx, name);
     vdbgi_lightmap_files_free(ctx, &f);
     return res;

@@ -60,6 +60,8 @@ vdbgi_result vdbgi_scene_alloc(vdbgi_context *ctx, const char *name, size_t vert
     }
     for (size_t i = 0; i < vertex_count * 3; i++)
         s->colors[i] = 1.0f;
+    for (size_t m = 0; m < material_count; m++)
+        s->materials[m].texture = s->materials[m].emissive_texture = -1;
     *out = s;
     return VDBGI_OK;
 }
@@ -106,8 +108,10 @@ static void classify_triangles(vdbgi_scene *s)
         const float *const c2 = &s->colors[3 * s->indices[3 * t + 2]];
         const bool varies = mat->texture >= 0 || memcmp(c0, c1, 3 * sizeof(float)) != 0 ||
                             memcmp(c0, c2, 3 * sizeof(float)) != 0;
-        tri->flags =
-            (mat->double_sided ? VDBGI_TRI_DOUBLE_SIDED : 0u) | (varies ? VDBGI_TRI_VARIES : 0u);
+        const bool emits =
+            mat->emissive[0] > 0.0f || mat->emissive[1] > 0.0f || mat->emissive[2] > 0.0f;
+        tri->flags = (mat->double_sided ? VDBGI_TRI_DOUBLE_SIDED : 0u) |
+                     (varies ? VDBGI_TRI_VARIES : 0u) | (emits ? VDBGI_TRI_EMISSIVE : 0u);
         for (int k = 0; k < 3; k++)
             tri->albedo[k] = mat->base[k] * c0[k];
     }
@@ -165,10 +169,14 @@ vdbgi_result vdbgi_scene_create(vdbgi_context *ctx, const vdbgi_mesh_desc *meshe
             VDBGI_FAIL_IF(ctx, d->indices[i] >= d->vertex_count, VDBGI_ERR_INVALID_ARG,
                           "mesh %zu: index %u out of range (%zu vertices)", m, d->indices[i],
                           d->vertex_count);
-        for (int k = 0; k < 3; k++)
+        for (int k = 0; k < 3; k++) {
             VDBGI_FAIL_IF(ctx, !(d->albedo[k] >= 0.0f && d->albedo[k] <= 1.0f),
                           VDBGI_ERR_INVALID_ARG, "mesh %zu: albedo must be in [0, 1] (got %g)", m,
                           (double)d->albedo[k]);
+            VDBGI_FAIL_IF(
+                ctx, !(d->emissive[k] >= 0.0f) || !isfinite(d->emissive[k]), VDBGI_ERR_INVALID_ARG,
+                "mesh %zu: emissive must be >= 0 and finite (got %g)", m, (double)d->emissive[k]);
+        }
         vertex_count += d->vertex_count;
         triangle_count += d->triangle_count;
     }
@@ -182,7 +190,8 @@ vdbgi_result vdbgi_scene_create(vdbgi_context *ctx, const vdbgi_mesh_desc *meshe
         memcpy(&s->positions[3 * base], d->positions, d->vertex_count * 3 * sizeof(float));
         vdbgi_material *const mat = &s->materials[m];
         memcpy(mat->base, d->albedo, sizeof(mat->base));
-        mat->texture = -1;
+        memcpy(mat->emissive, d->emissive, sizeof(mat->emissive));
+        mat->texture = mat->emissive_texture = -1;
         mat->double_sided = d->double_sided != 0;
         for (size_t t = 0; t < d->triangle_count; t++) {
             const uint32_t *const i = &d->indices[3 * t];
@@ -268,6 +277,24 @@ void vdbgi_scene_albedo(const vdbgi_scene *scene, uint32_t prim, float u, float 
         for (int k = 0; k < 3; k++)
             rgb[k] *= tex[k];
     }
+}
+
+void vdbgi_scene_emission(const vdbgi_scene *scene, uint32_t prim, float u, float v, float rgb[3])
+{
+    const vdbgi_material *const mat = &scene->materials[scene->tris[prim].material];
+    memcpy(rgb, mat->emissive, 3 * sizeof(float));
+    if (mat->emissive_texture < 0)
+        return;
+    const uint32_t *const idx = &scene->indices[3 * prim];
+    const float w = 1.0f - u - v;
+    const float *const t0 = &scene->uvs[2 * idx[0]];
+    const float *const t1 = &scene->uvs[2 * idx[1]];
+    const float *const t2 = &scene->uvs[2 * idx[2]];
+    float tex[3];
+    texture_sample(&scene->textures[mat->emissive_texture], w * t0[0] + u * t1[0] + v * t2[0],
+                   w * t0[1] + u * t1[1] + v * t2[1], tex);
+    for (int k = 0; k < 3; k++)
+        rgb[k] *= tex[k];
 }
 
 /* ---- receivers ------------------------------------------------------------ */

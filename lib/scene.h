@@ -13,8 +13,10 @@ extern "C" {
 typedef vdbgi_image vdbgi_texture;
 
 typedef struct vdbgi_material {
-    float base[3]; /* linear */
-    int texture;   /* index into textures, -1 for none */
+    float base[3];        /* linear */
+    int texture;          /* index into textures, -1 for none */
+    float emissive[3];    /* radiance it emits, linear, strength included (0: none) */
+    int emissive_texture; /* index into textures (sRGB decoded), -1 for none */
     bool double_sided;
 } vdbgi_material;
 
@@ -27,7 +29,8 @@ typedef struct vdbgi_tri {
 } vdbgi_tri;
 
 #define VDBGI_TRI_DOUBLE_SIDED 1u
-#define VDBGI_TRI_VARIES 2u /* textured, or vertex colours differ: interpolate per hit */
+#define VDBGI_TRI_VARIES 2u   /* textured, or vertex colours differ: interpolate per hit */
+#define VDBGI_TRI_EMISSIVE 4u /* its material emits light */
 
 struct vdbgi_scene {
     vdbgi_context *ctx;
@@ -63,6 +66,11 @@ vdbgi_result vdbgi_scene_finish(vdbgi_scene *s, size_t nonfinite_count);
 
 /* Albedo of triangle prim at barycentrics (u, v) (Embree's: p = (1-u-v) v0 + u v1 + v v2). */
 void vdbgi_scene_albedo(const vdbgi_scene *scene, uint32_t prim, float u, float v, float rgb[3]);
+/*
+ * Radiance triangle prim emits at (u, v) towards its front (both sides when
+ * double-sided): the material's emissive colour times its emissive texture.
+ */
+void vdbgi_scene_emission(const vdbgi_scene *scene, uint32_t prim, float u, float v, float rgb[3]);
 /* Area of triangle t, square metres. */
 double vdbgi_scene_triangle_area(const vdbgi_scene *scene, size_t t);
 

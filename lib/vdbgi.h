@@ -208,6 +208,7 @@ typedef struct vdbgi_mesh_desc {
     size_t triangle_count;
     float albedo[3];
     int double_sided;
+    float emissive[3]; /* radiance its front emits, linear (0: none); lights the scene */
 } vdbgi_mesh_desc;
 
 /* Build a scene from meshes in memory; same checks and result codes as load. */
@@ -793,8 +794,13 @@ typedef struct vdbgi_lightmap_result vdbgi_lightmap_result;
  *             runtime (seed 004's default).
  *   ao_dist:  > 0: an ambient-occlusion map instead, the open fraction of
  *             the cosine-weighted hemisphere within this many metres.
+ *   layers:   non-zero: besides the map, one map per light that is on (sun,
+ *             ambient fill, sky, each emissive material; at most
+ *             VDBGI_LIGHTMAP_MAX_LAYERS), each baked with that light alone,
+ *             so a game can dim or switch them and add them at runtime;
+ *             they sum to the map. Not with ao_dist.
  *   bake:     the light model and sampling, as for probes (rays 0 == 64;
- *             not VDBGI_RAYS_AUTO).
+ *             not VDBGI_RAYS_AUTO). Emissive materials light the scene.
  * A scene whose every mesh has a second UV set inside [0, 1] with no
  * overlapping triangles keeps it (texel ignored); otherwise a warning says
  * why not, and the scene is unwrapped anew.
@@ -805,11 +811,15 @@ typedef struct vdbgi_lightmap_desc {
     int passes;
     int direct;
     float ao_dist;
+    int layers; /* non-zero: also one map per light (seed 004's layers), which sum to the map */
     vdbgi_bake_desc bake;
 } vdbgi_lightmap_desc;
 
+#define VDBGI_LIGHTMAP_MAX_LAYERS 16
+
 typedef struct vdbgi_lightmap_stats {
-    int kept_uv1; /* the scene's own second UV set was usable and kept */
+    int kept_uv1;  /* the scene's own second UV set was usable and kept */
+    size_t layers; /* maps per light (0 without layers) */
     size_t charts, atlases;
     size_t texels;      /* atlas texels, all pages */
     size_t samples;     /* texels that sample a triangle */
@@ -835,7 +845,9 @@ VDBGI_API void vdbgi_lightmap_destroy(vdbgi_lightmap_result *result);
  * and beside it, for a lightmap, each atlas's irradiance as half floats
  * (path without ".glb", then ".lightmap0.exr", ".lightmap1.exr", ...).
  */
-VDBGI_API vdbgi_result vdbgi_lightmap_write(const vdbgi_lightmap_result *result, const char *path);
+VDBGI_API vdbgi_result vdbgi_lightmap_write(vdbgi_lightmap_result *result, const char *path);
+/* Bytes of the .glb vdbgi_lightmap_write wrote last (0 before it has). */
+VDBGI_API size_t vdbgi_lightmap_glb_size(const vdbgi_lightmap_result *result);
 
 /*
  * Pictures for people, into directory dir (made if missing), per atlas N:

@@ -66,6 +66,55 @@ static void probe_above_plane_matches_closed_form_fibonacci(void)
     vdbgi_context_destroy(ctx);
 }
 
+/*
+ * An emitting plane is the lit plane's closed form with its radiance in
+ * place of rho (ambient + sun): a probe at distance h under a ceiling of
+ * radiance Le (albedo 0, every other light off) reads Le / 2 x the bracket.
+ */
+static void probe_under_an_emitting_ceiling_matches_the_closed_form(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    const float a[3] = {-50, 0, -50}, b[3] = {50, 0, -50}, c[3] = {50, 0, 50}, d[3] = {-50, 0, 50};
+    test_mesh_quad(&m, a, b, c, d); /* at y = 0, facing down */
+    vdbgi_mesh_desc md = test_mesh_desc(&m, 0.0f, 0);
+    const float le[3] = {3.0f, 2.0f, 1.0f};
+    memcpy(md.emissive, le, sizeof(le));
+    vdbgi_scene *s = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &s), VDBGI_OK);
+    const float falloffs[2] = {4.0f, INFINITY};
+    for (int f = 0; s && f < 2; f++) {
+        vdbgi_bake_desc bd = plane_desc(16384, 40.0f, falloffs[f], VDBGI_SAMPLING_FIBONACCI);
+        bd.ambient = VDBGI_ZERO;
+        bd.sun_color[0] = bd.sun_color[1] = bd.sun_color[2] = VDBGI_ZERO;
+        const float heights[3] = {0.5f, 2.0f, 8.0f};
+        float pts[9], rgb[9];
+        for (int i = 0; i < 3; i++)
+            pts[3 * i] = 0.2f, pts[3 * i + 1] = -heights[i], pts[3 * i + 2] = 0.1f;
+        CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &bd, pts, 3, rgb, NULL), VDBGI_OK);
+        for (int i = 0; i < 3; i++) {
+            const double h = heights[i], fo = falloffs[f];
+            double bracket = 1.0 - h / 40.0;
+            if (isfinite(fo))
+                bracket -= (h / fo) * (atan(fo / h) - atan(fo / 40.0));
+            for (int k = 0; k < 3; k++) {
+                const double want = le[k] / 2.0 * bracket;
+                CHECK_NEAR(rgb[3 * i + k], want, 2e-3 * want + 2e-4);
+            }
+        }
+    }
+    /* From above, the ceiling's back: no light. */
+    const float above[3] = {0.2f, 1.0f, 0.1f};
+    float rgb[3] = {1, 1, 1};
+    vdbgi_bake_desc bd = plane_desc(1024, 40.0f, INFINITY, VDBGI_SAMPLING_FIBONACCI);
+    bd.ambient = VDBGI_ZERO;
+    bd.sun_color[0] = bd.sun_color[1] = bd.sun_color[2] = VDBGI_ZERO;
+    CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &bd, above, 1, rgb, NULL), VDBGI_OK);
+    CHECK(rgb[0] == 0.0f && rgb[1] == 0.0f && rgb[2] == 0.0f);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
 static void probe_above_plane_matches_closed_form_random(void)
 {
     vdbgi_context *ctx = test_context();
@@ -690,6 +739,7 @@ static void standard_error_tracks_the_actual_error(void)
 int main(void)
 {
     RUN(probe_above_plane_matches_closed_form_fibonacci);
+    RUN(probe_under_an_emitting_ceiling_matches_the_closed_form);
     RUN(probe_above_plane_matches_closed_form_random);
     RUN(lattice_probes_above_plane_match_and_below_are_invalid);
     RUN(closed_box_reads_albedo_times_ambient_at_any_scale);

@@ -2,7 +2,8 @@
  * test_lightmap.c: lightmap bakes against closed forms. A wall over a lit
  * floor: the probes' plane form transposed to a texel. A closed box of
  * uniform albedo and fill: pass N holds the Nth partial sum of the
- * geometric series. And the same bytes on one thread and on two.
+ * geometric series. A floor under an emitting ceiling. Layers that add up
+ * to the map. And the same bytes on one thread and on two.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "lightmap.h"
@@ -141,8 +142,125 @@ static void the_same_bytes_on_one_thread_and_two(void)
     vdbgi_context_destroy(ctx);
 }
 
+/*
+ * A floor texel under an emitting ceiling of radiance Le at height h (albedo
+ * 0, so nothing bounces), rays of length R, no falloff, every other light
+ * off: the ceiling is met along directions with d_y > h/R, the disk's
+ * r^2 < 1 - c^2 under Malley's method, so E = pi Le (1 - c^2), c = h / R.
+ */
+static void a_floor_under_an_emitting_ceiling_matches_the_closed_form(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh floor = {0}, ceiling = {0};
+    test_mesh_plane(&floor, 4.0f, 0.0f);
+    const float a[3] = {-60, 3, -60}, b[3] = {60, 3, -60}, c[3] = {60, 3, 60}, d[3] = {-60, 3, 60};
+    test_mesh_quad(&ceiling, a, b, c, d); /* facing down */
+    vdbgi_mesh_desc meshes[2] = {test_mesh_desc(&floor, 0.5f, 0),
+                                 test_mesh_desc(&ceiling, 0.0f, 0)};
+    const float le[3] = {2.0f, 1.0f, 0.5f};
+    memcpy(meshes[1].emissive, le, sizeof(le));
+    const vdbgi_bake_desc bd = {.rays = 4096,
+                                .ray_dist = 6.0f,
+                                .ambient = VDBGI_ZERO,
+                                .sun_color = {VDBGI_ZERO, VDBGI_ZERO, VDBGI_ZERO},
+                                .falloff = INFINITY,
+                                .threads = 2};
+    const vdbgi_lightmap_params lp = {.passes = 2, .rings = 3};
+    baked k;
+    bake(ctx, meshes, 2, &bd, 0.5f, &lp, &k);
+    const double cc = 3.0 / 6.0, open = 1.0 - cc * cc;
+    double worst = 0.0;
+    size_t checked = 0;
+    for (size_t i = 0; k.map.rgb && i < k.map.texel_count; i++) {
+        const int32_t t = k.tx.tri[i];
+        if (t < 0 || k.scene->tris[t].normal[1] < 0.5f)
+            continue; /* floor texels only */
+        CHECK(k.map.valid[i]);
+        for (int ch = 0; ch < 3; ch++) {
+            const double want = 3.14159265358979 * le[ch] * open;
+            worst = fmax(worst, fabs(k.map.rgb[3 * i + (size_t)ch] - want) / want);
+        }
+        checked++;
+    }
+    CHECK(checked >= 16);
+    CHECK(worst < 0.005);
+    unbake(&k);
+    vdbgi_context_destroy(ctx);
+}
+
+/*
+ * Light adds: with --layers each light (sun, ambient, sky, each emissive
+ * material) gets a map of its own, and they sum to the map a bake with all
+ * of them on gives, texel by texel, through every pass.
+ */
+static void layers_add_up_to_the_whole_map(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh ground = {0}, lamp = {0}, box = {0};
+    test_mesh_plane(&ground, 8.0f, 0.0f);
+    const float lo[3] = {-1, 0, -1}, hi[3] = {1, 2, 1};
+    test_mesh_box(&box, lo, hi, 0);
+    const float a[3] = {2, 0.5f, -1}, b[3] = {2, 0.5f, 1}, c[3] = {2, 1.5f, 1},
+                d[3] = {2, 1.5f, -1};
+    test_mesh_quad(&lamp, a, b, c, d); /* facing -x, towards the box */
+    vdbgi_mesh_desc meshes[3] = {test_mesh_desc(&ground, 0.6f, 0), test_mesh_desc(&lamp, 0.2f, 0),
+                                 test_mesh_desc(&box, 0.7f, 0)};
+    meshes[1].emissive[0] = 4.0f, meshes[1].emissive[1] = 3.0f;
+    vdbgi_scene *scene = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, meshes, 3, &scene), VDBGI_OK);
+    vdbgi_lightmap_desc desc = {.texel = 0.25f,
+                                .size = 128,
+                                .passes = 3,
+                                .direct = 1,
+                                .bake = {.rays = 32, .sky = {0.2f, 0.3f, 0.5f}, .threads = 2}};
+    vdbgi_lightmap_result *whole = NULL, *split = NULL;
+    vdbgi_lightmap_stats st;
+    CHECK_RESULT(ctx, vdbgi_lightmap_bake_scene(ctx, scene, &desc, &whole, NULL), VDBGI_OK);
+    desc.layers = 1;
+    CHECK_RESULT(ctx, vdbgi_lightmap_bake_scene(ctx, scene, &desc, &split, &st), VDBGI_OK);
+    CHECK(st.layers == 4);
+    static const char *const want[4] = {"sun", "ambient", "sky", "emissive1"};
+    const vdbgi_lightmap *const m = whole ? vdbgi_lightmap_result_map(whole, 0, NULL) : NULL;
+    const vdbgi_lightmap *layer[4] = {NULL};
+    for (size_t l = 0; split && l < 4; l++) {
+        const char *name = NULL;
+        layer[l] = vdbgi_lightmap_result_map(split, l + 1, &name);
+        CHECK(layer[l] && name && strcmp(name, want[l]) == 0);
+    }
+    CHECK(split && vdbgi_lightmap_result_map(split, 5, NULL) == NULL);
+    double worst = 0.0, peak = 0.0, least = INFINITY;
+    size_t n = 0;
+    for (size_t i = 0; m && layer[3] && i < m->texel_count; i++) {
+        if (!m->valid[i])
+            continue;
+        for (int k = 0; k < 3; k++) {
+            double sum = 0.0;
+            for (int l = 0; l < 4; l++)
+                sum += layer[l]->rgb[3 * i + (size_t)k];
+            worst = fmax(worst, fabs(sum - m->rgb[3 * i + (size_t)k]));
+            peak = fmax(peak, m->rgb[3 * i + (size_t)k]);
+        }
+        n++;
+    }
+    /* Every layer lights something. */
+    for (int l = 0; l < 4 && layer[3]; l++) {
+        double most = 0.0;
+        for (size_t i = 0; i < 3 * layer[l]->texel_count; i++)
+            most = fmax(most, layer[l]->rgb[i]);
+        least = fmin(least, most);
+    }
+    CHECK(n > 100 && peak > 0.0 && least > 0.01 * peak);
+    CHECK(worst <= 1e-5 * peak);
+    vdbgi_lightmap_destroy(whole);
+    vdbgi_lightmap_destroy(split);
+    vdbgi_scene_destroy(scene);
+    vdbgi_context_destroy(ctx);
+}
+
 int main(void)
 {
+    RUN(a_floor_under_an_emitting_ceiling_matches_the_closed_form);
+    RUN(layers_add_up_to_the_whole_map);
     RUN(a_wall_over_a_lit_floor_matches_the_closed_form);
     RUN(passes_add_the_terms_of_the_geometric_series);
     RUN(the_same_bytes_on_one_thread_and_two);

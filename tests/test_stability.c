@@ -71,8 +71,11 @@ static void buf_box(mesh_buf *b, const float lo[3], const float hi[3], int inwar
 
 static vdbgi_mesh_desc buf_desc(const mesh_buf *b, float albedo)
 {
-    const vdbgi_mesh_desc d = {
-        b->pos, b->vertex_count, b->idx, b->triangle_count, {albedo, albedo, albedo}, 0};
+    const vdbgi_mesh_desc d = {.positions = b->pos,
+                               .vertex_count = b->vertex_count,
+                               .indices = b->idx,
+                               .triangle_count = b->triangle_count,
+                               .albedo = {albedo, albedo, albedo}};
     return d;
 }
 
@@ -608,7 +611,11 @@ static void a_single_triangle_bakes_and_converts(void)
     vdbgi_context *ctx = test_context();
     const float pos[9] = {0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 0.0f, -1.0f};
     const uint32_t idx[3] = {0, 1, 2};
-    const vdbgi_mesh_desc m = {pos, 3, idx, 1, {0.8f, 0.8f, 0.8f}, 0};
+    const vdbgi_mesh_desc m = {.positions = pos,
+                               .vertex_count = 3,
+                               .indices = idx,
+                               .triangle_count = 1,
+                               .albedo = {0.8f, 0.8f, 0.8f}};
     vdbgi_scene *s = NULL;
     CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &m, 1, &s), VDBGI_OK);
     vdbgi_probes *p = NULL;

@@ -55,8 +55,12 @@ static inline void test_mesh_box(test_mesh *m, const float lo[3], const float hi
 
 static inline vdbgi_mesh_desc test_mesh_desc(const test_mesh *m, float albedo, int double_sided)
 {
-    vdbgi_mesh_desc d = {
-        m->pos, m->vertex_count, m->idx, m->triangle_count, {albedo, albedo, albedo}, double_sided};
+    vdbgi_mesh_desc d = {.positions = m->pos,
+                         .vertex_count = m->vertex_count,
+                         .indices = m->idx,
+                         .triangle_count = m->triangle_count,
+                         .albedo = {albedo, albedo, albedo},
+                         .double_sided = double_sided};
     return d;
 }
 
