@@ -169,8 +169,9 @@ deps:
 	    $$sudo apt-get update -qq && \
 	    DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq --no-install-recommends $$missing; \
 	fi; \
-	if [ ! -d tests/js/node_modules/ktx-parse ] || [ ! -d tests/js/node_modules/gltf-validator ]; then \
-	    echo "deps: npm install (tests/js: ktx-parse and gltf-validator, independent readers)"; \
+	if [ ! -d tests/js/node_modules/ktx-parse ] || [ ! -d tests/js/node_modules/gltf-validator ] || \
+	   [ ! -d tests/js/node_modules/potpack ]; then \
+	    echo "deps: npm install (tests/js: ktx-parse and gltf-validator, independent readers; potpack, seed 004's packer)"; \
 	    (cd tests/js && npm install --no-audit --no-fund --loglevel=error >/dev/null); \
 	fi; \
 	if [ ! -d web/node_modules/three ] || [ ! -d web/node_modules/puppeteer-core ]; then \

@@ -4,6 +4,7 @@
  * by the fill, the sun and the previous pass's map; the map is dilated
  * after each pass so the next one, and a GPU's filter, never read a gutter.
  */
+#define VDBGI_BENCHMARK_API /* vdbgi_scene_bake_surface */
 #include "lightmap.h"
 #include "util.h"
 
@@ -188,7 +189,7 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
                                        .tracer = tracer,
                                        .bp = bp,
                                        .base_dirs = dirs,
-                                       .shade = true,
+                                       .shade = !lp->bare,
                                        .hit_user = &sh};
         r = vdbgi_estimator_init(ctx, &ths[t].est, bp->rays);
     }
@@ -209,7 +210,7 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
         if ((r = vdbgi_tracer_check(tracer)) != VDBGI_OK)
             break;
         memcpy(keep, out->valid, texels);
-        if ((r = vdbgi_texels_dilate(tx, cur, 3, keep, lp->rings)) != VDBGI_OK)
+        if (!lp->bare && (r = vdbgi_texels_dilate(tx, cur, 3, keep, lp->rings)) != VDBGI_OK)
             break;
         /* This pass's map becomes the previous one: swap the buffers. */
         float *const done_map = cur;
@@ -235,5 +236,53 @@ done:
     vdbgi_tracer_destroy(tracer);
     if (r != VDBGI_OK)
         vdbgi_lightmap_free(out);
+    return r;
+}
+
+vdbgi_result vdbgi_scene_bake_surface(const vdbgi_scene *scene, const vdbgi_bake_desc *desc,
+                                      const uint32_t *prims, const float *uv, size_t count,
+                                      float *rgb, float *backface)
+{
+    vdbgi_context *const ctx = scene->ctx;
+    VDBGI_FAIL_IF(ctx, count && (!prims || !uv || !rgb), VDBGI_ERR_INVALID_ARG,
+                  "no receivers or output given");
+    for (size_t i = 0; i < count; i++)
+        VDBGI_FAIL_IF(ctx, prims[i] >= scene->triangle_count, VDBGI_ERR_INVALID_ARG,
+                      "receiver %zu: no triangle %u", i, prims[i]);
+    vdbgi_bake_params bp;
+    VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, &bp));
+    VDBGI_FAIL_IF(ctx, bp.adaptive, VDBGI_ERR_INVALID_ARG, "a fixed ray count, not auto");
+    vdbgi_tracer *tracer = NULL;
+    float *const dirs = vdbgi_calloc(ctx, (size_t)bp.rays, 3 * sizeof(float));
+    vdbgi_estimator e = {.scene = scene, .bp = &bp, .base_dirs = dirs, .shade = true};
+    vdbgi_result r = dirs ? vdbgi_estimator_init(ctx, &e, bp.rays) : VDBGI_ERR_OUT_OF_MEMORY;
+    if (r == VDBGI_OK)
+        r = vdbgi_tracer_create(ctx, scene->positions, scene->vertex_count, scene->indices,
+                                scene->triangle_count, &tracer);
+    if (r == VDBGI_OK) {
+        e.tracer = tracer;
+        vdbgi_hemisphere_directions(bp.rays, dirs);
+    }
+    for (size_t i = 0; r == VDBGI_OK && i < count; i++) {
+        /* On the triangle, lifted off its front face as a texel's sample is. */
+        const uint32_t *const idx = &scene->indices[3 * (size_t)prims[i]];
+        const float *const n = scene->tris[prims[i]].normal;
+        const float u = uv[2 * i], v = uv[2 * i + 1], w = 1.0f - u - v;
+        float pos[3];
+        for (int k = 0; k < 3; k++)
+            pos[k] = w * scene->positions[3 * idx[0] + k] + u * scene->positions[3 * idx[1] + k] +
+                     v * scene->positions[3 * idx[2] + k] + scene->ray_offset * n[k];
+        vdbgi_estimate est;
+        vdbgi_estimate_hemisphere(&e, pos, n, vdbgi_point_stream((int32_t)i, 0, 0, bp.seed), &est);
+        for (int k = 0; k < 3; k++)
+            rgb[3 * i + (size_t)k] = PI_F * est.rgb[k];
+        if (backface)
+            backface[i] = est.backface;
+    }
+    if (r == VDBGI_OK)
+        r = vdbgi_tracer_check(tracer);
+    vdbgi_estimator_free(ctx, &e);
+    vdbgi_tracer_destroy(tracer);
+    vdbgi_free(ctx, dirs);
     return r;
 }

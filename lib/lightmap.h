@@ -15,6 +15,7 @@ typedef struct vdbgi_lightmap_params {
     int rings;     /* dilation rings after each pass (gutter + invalid texels) */
     float ao_dist; /* > 0: ambient occlusion instead (seed 004's AO mode): the fraction of the
                       cosine-weighted hemisphere open for this many metres, in every channel */
+    bool bare;     /* the same rays, nothing shaded nor dilated (the benchmark's bare loop) */
 } vdbgi_lightmap_params;
 
 typedef struct vdbgi_lightmap {

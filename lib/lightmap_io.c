@@ -4,6 +4,7 @@
  * as a .glb (through gltf_shim.cpp).
  */
 #define _POSIX_C_SOURCE 200809L
+#define VDBGI_BENCHMARK_API /* vdbgi_lightmap_trace_bare, vdbgi_lightmap_result_boxes */
 #include "encode.h"
 #include "gltf_shim.h"
 #include "lightmap.h"
@@ -342,9 +343,9 @@ static vdbgi_result bake_maps(vdbgi_context *ctx, vdbgi_lightmap_result *r,
     return VDBGI_OK;
 }
 
-vdbgi_result vdbgi_lightmap_bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
-                                       const vdbgi_lightmap_desc *desc, vdbgi_lightmap_result **out,
-                                       vdbgi_lightmap_stats *stats)
+static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
+                               const vdbgi_lightmap_desc *desc, bool bare,
+                               vdbgi_lightmap_result **out, vdbgi_lightmap_stats *stats)
 {
     VDBGI_FAIL_IF(ctx, !out || !scene, VDBGI_ERR_INVALID_ARG, "no scene or no output pointer");
     *out = NULL;
@@ -366,7 +367,8 @@ vdbgi_result vdbgi_lightmap_bake_scene(vdbgi_context *ctx, const vdbgi_scene *sc
     r->ctx = ctx;
     r->scene = scene;
     r->ao = d->ao_dist > 0.0f;
-    const vdbgi_unwrap_params up = {.texel = d->texel, .size = d->size};
+    const vdbgi_unwrap_params up = {
+        .texel = d->texel, .size = d->size, .max_angle = d->chart_angle};
     /* The scene's own second UV set where it is usable; else a new unwrap, and why. */
     bool kept = false;
     const char *why = NULL;
@@ -388,8 +390,8 @@ vdbgi_result vdbgi_lightmap_bake_scene(vdbgi_context *ctx, const vdbgi_scene *sc
     if (res == VDBGI_OK)
         res = vdbgi_texels_build(ctx, scene, &r->un, &r->tx);
     /* Dilate past the gutters on both sides of a chart edge, and over invalid texels. */
-    const vdbgi_lightmap_params lp = {passes, d->direct != 0, 2 * (int)r->un.gutter + 2,
-                                      d->ao_dist};
+    const vdbgi_lightmap_params lp = {passes, d->direct != 0, 2 * (int)r->un.gutter + 2, d->ao_dist,
+                                      bare};
     if (res == VDBGI_OK)
         res = bake_maps(ctx, r, &bp, &lp, d->layers != 0);
     if (res != VDBGI_OK) {
@@ -413,6 +415,36 @@ vdbgi_result vdbgi_lightmap_bake_scene(vdbgi_context *ctx, const vdbgi_scene *sc
     }
     *out = r;
     return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_lightmap_bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                       const vdbgi_lightmap_desc *desc, vdbgi_lightmap_result **out,
+                                       vdbgi_lightmap_stats *stats)
+{
+    return bake_scene(ctx, scene, desc, false, out, stats);
+}
+
+vdbgi_result vdbgi_lightmap_trace_bare(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                       const vdbgi_lightmap_desc *desc, vdbgi_lightmap_stats *stats)
+{
+    vdbgi_lightmap_result *r = NULL;
+    const vdbgi_result res = bake_scene(ctx, scene, desc, true, &r, stats);
+    vdbgi_lightmap_destroy(r);
+    return res;
+}
+
+void vdbgi_lightmap_result_sample(const vdbgi_lightmap_result *r, uint32_t prim, float u, float v,
+                                  float rgb[3])
+{
+    vdbgi_lightmap_at(&r->map, &r->un, &r->tx, prim, u, v, rgb);
+}
+
+const int32_t *vdbgi_lightmap_result_boxes(const vdbgi_lightmap_result *r, const uint32_t **pages,
+                                           size_t *count)
+{
+    *pages = r->un.page;
+    *count = r->un.chart_count;
+    return r->un.rect;
 }
 
 const vdbgi_lightmap *vdbgi_lightmap_result_map(const vdbgi_lightmap_result *r, size_t i,

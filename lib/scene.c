@@ -1,4 +1,5 @@
 /* scene.c: the triangle soup: building it, albedo at a hit, points on its surfaces. */
+#define VDBGI_BENCHMARK_API /* vdbgi_scene_sample_triangles */
 #include "scene.h"
 #include "util.h"
 
@@ -311,12 +312,11 @@ double vdbgi_scene_triangle_area(const vdbgi_scene *scene, size_t t)
     return 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
 }
 
-vdbgi_result vdbgi_scene_sample_surface(const vdbgi_scene *scene, size_t point_count, float offset,
-                                        uint64_t seed, float *points)
+/* count points spread by area: triangles and barycentrics into prims and uv. */
+static vdbgi_result spread(const vdbgi_scene *scene, size_t point_count, uint64_t seed,
+                           uint32_t *prims, double *uv)
 {
     vdbgi_context *const ctx = scene->ctx;
-    VDBGI_FAIL_IF(ctx, point_count && !points, VDBGI_ERR_INVALID_ARG, "no output given");
-    VDBGI_FAIL_IF(ctx, !isfinite(offset), VDBGI_ERR_INVALID_ARG, "offset must be finite");
     /* Cumulative areas, then a binary search per point. */
     double *const cdf = vdbgi_calloc(ctx, scene->triangle_count, sizeof(double));
     if (!cdf)
@@ -341,14 +341,47 @@ vdbgi_result vdbgi_scene_sample_surface(const vdbgi_scene *scene, size_t point_c
         double u = vdbgi_uniform01(&state), v = vdbgi_uniform01(&state);
         if (u + v > 1.0)
             u = 1.0 - u, v = 1.0 - v;
-        const uint32_t *const idx = &scene->indices[3 * lo];
+        prims[i] = (uint32_t)lo;
+        uv[2 * i] = u, uv[2 * i + 1] = v;
+    }
+    vdbgi_free(ctx, cdf);
+    return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_scene_sample_surface(const vdbgi_scene *scene, size_t point_count, float offset,
+                                        uint64_t seed, float *points)
+{
+    vdbgi_context *const ctx = scene->ctx;
+    VDBGI_FAIL_IF(ctx, point_count && !points, VDBGI_ERR_INVALID_ARG, "no output given");
+    VDBGI_FAIL_IF(ctx, !isfinite(offset), VDBGI_ERR_INVALID_ARG, "offset must be finite");
+    uint32_t *const prims = vdbgi_alloc(ctx, (point_count ? point_count : 1) * sizeof(uint32_t));
+    double *const uv = vdbgi_alloc(ctx, (point_count ? point_count : 1) * 2 * sizeof(double));
+    vdbgi_result r =
+        prims && uv ? spread(scene, point_count, seed, prims, uv) : VDBGI_ERR_OUT_OF_MEMORY;
+    for (size_t i = 0; r == VDBGI_OK && i < point_count; i++) {
+        const double u = uv[2 * i], v = uv[2 * i + 1];
+        const uint32_t *const idx = &scene->indices[3 * (size_t)prims[i]];
         const float *const p0 = &scene->positions[3 * idx[0]];
         const float *const p1 = &scene->positions[3 * idx[1]];
         const float *const p2 = &scene->positions[3 * idx[2]];
         for (int k = 0; k < 3; k++)
             points[3 * i + k] = (float)((1.0 - u - v) * p0[k] + u * p1[k] + v * p2[k]) +
-                                offset * scene->tris[lo].normal[k];
+                                offset * scene->tris[prims[i]].normal[k];
     }
-    vdbgi_free(ctx, cdf);
-    return VDBGI_OK;
+    vdbgi_free(ctx, prims);
+    vdbgi_free(ctx, uv);
+    return r;
+}
+
+vdbgi_result vdbgi_scene_sample_triangles(const vdbgi_scene *scene, size_t count, uint64_t seed,
+                                          uint32_t *prims, float *uv)
+{
+    vdbgi_context *const ctx = scene->ctx;
+    VDBGI_FAIL_IF(ctx, count && (!prims || !uv), VDBGI_ERR_INVALID_ARG, "no output given");
+    double *const d = vdbgi_alloc(ctx, (count ? count : 1) * 2 * sizeof(double));
+    const vdbgi_result r = d ? spread(scene, count, seed, prims, d) : VDBGI_ERR_OUT_OF_MEMORY;
+    for (size_t i = 0; r == VDBGI_OK && i < 2 * count; i++)
+        uv[i] = (float)d[i];
+    vdbgi_free(ctx, d);
+    return r;
 }

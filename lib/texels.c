@@ -147,54 +147,86 @@ vdbgi_result vdbgi_texels_build(vdbgi_context *ctx, const vdbgi_scene *s, const 
     return VDBGI_OK;
 }
 
+/* Queue texel i's neighbours on its page that are neither kept nor queued yet. */
+static void queue_neighbours(size_t i, size_t size, const unsigned char *keep,
+                             unsigned char *queued, size_t *list, size_t *count)
+{
+    const size_t page = i / (size * size), y = i / size % size, x = i % size;
+    for (int dy = -1; dy <= 1; dy++)
+        for (int dx = -1; dx <= 1; dx++) {
+            const long xx = (long)x + dx, yy = (long)y + dy;
+            if ((dx || dy) && xx >= 0 && yy >= 0 && xx < (long)size && yy < (long)size) {
+                const size_t j = (page * size + (size_t)yy) * size + (size_t)xx;
+                if (!keep[j] && !queued[j]) {
+                    queued[j] = 1;
+                    list[(*count)++] = j;
+                }
+            }
+        }
+}
+
 vdbgi_result vdbgi_texels_dilate(const vdbgi_texels *t, float *values, int channels,
                                  unsigned char *keep, int rings)
 {
     const size_t size = (size_t)t->size, texels = size * size * t->page_count;
-    size_t *const fresh = vdbgi_alloc(t->ctx, (texels ? texels : 1) * sizeof(*fresh));
-    float *const sum = vdbgi_alloc(t->ctx, (texels ? texels : 1) * (size_t)channels * sizeof(*sum));
-    if (!fresh || !sum) {
-        vdbgi_free(t->ctx, fresh);
+    const size_t nch = (size_t)channels;
+    /*
+     * Ring by ring, only the texels next to what is kept: the first ring's
+     * candidates are the neighbours of the kept texels, each later ring's
+     * the neighbours of the ring before (every other texel is as far from a
+     * kept one as it was).
+     */
+    size_t *const cand = vdbgi_alloc(t->ctx, (texels ? texels : 1) * sizeof(*cand));
+    size_t *const next = vdbgi_alloc(t->ctx, (texels ? texels : 1) * sizeof(*next));
+    unsigned char *const queued = vdbgi_calloc(t->ctx, texels ? texels : 1, 1);
+    float *const sum = vdbgi_alloc(t->ctx, (texels ? texels : 1) * nch * sizeof(*sum));
+    if (!cand || !next || !queued || !sum) {
+        vdbgi_free(t->ctx, cand);
+        vdbgi_free(t->ctx, next);
+        vdbgi_free(t->ctx, queued);
         vdbgi_free(t->ctx, sum);
         return VDBGI_ERR_OUT_OF_MEMORY;
     }
-    for (int ring = 0; ring < rings; ring++) {
-        size_t count = 0;
-        for (size_t i = 0; i < texels; i++) {
-            if (keep[i])
-                continue;
+    size_t count = 0;
+    for (size_t i = 0; rings > 0 && i < texels; i++)
+        if (keep[i] == 1)
+            queue_neighbours(i, size, keep, queued, cand, &count);
+    for (int ring = 0; ring < rings && count > 0; ring++) {
+        for (size_t c = 0; c < count; c++) {
+            const size_t i = cand[c];
             const size_t page = i / (size * size), y = i / size % size, x = i % size;
             int n = 0;
-            float *const acc = &sum[count * (size_t)channels];
-            memset(acc, 0, (size_t)channels * sizeof(*acc));
+            float *const acc = &sum[c * nch];
+            memset(acc, 0, nch * sizeof(*acc));
             for (int dy = -1; dy <= 1; dy++)
                 for (int dx = -1; dx <= 1; dx++) {
                     const long xx = (long)x + dx, yy = (long)y + dy;
                     if ((dx || dy) && xx >= 0 && yy >= 0 && xx < (long)size && yy < (long)size) {
                         const size_t j = (page * size + (size_t)yy) * size + (size_t)xx;
                         if (keep[j] == 1) {
-                            for (int k = 0; k < channels; k++)
-                                acc[k] += values[j * (size_t)channels + (size_t)k];
+                            for (size_t k = 0; k < nch; k++)
+                                acc[k] += values[j * nch + k];
                             n++;
                         }
                     }
                 }
-            if (n == 0)
-                continue;
-            for (int k = 0; k < channels; k++)
-                acc[k] /= (float)n;
-            fresh[count++] = i;
+            for (size_t k = 0; k < nch; k++)
+                acc[k] /= (float)n; /* n > 0: a candidate touches a kept texel */
         }
-        if (count == 0)
-            break;
         /* Applied after the scan: a ring reads only what the rings before it made. */
-        for (size_t f = 0; f < count; f++) {
-            memcpy(&values[fresh[f] * (size_t)channels], &sum[f * (size_t)channels],
-                   (size_t)channels * sizeof(*sum));
-            keep[fresh[f]] = 1;
+        for (size_t c = 0; c < count; c++) {
+            memcpy(&values[cand[c] * nch], &sum[c * nch], nch * sizeof(*sum));
+            keep[cand[c]] = 1;
         }
+        size_t n_next = 0;
+        for (size_t c = 0; ring + 1 < rings && c < count; c++)
+            queue_neighbours(cand[c], size, keep, queued, next, &n_next);
+        memcpy(cand, next, n_next * sizeof(*cand));
+        count = n_next;
     }
-    vdbgi_free(t->ctx, fresh);
+    vdbgi_free(t->ctx, cand);
+    vdbgi_free(t->ctx, next);
+    vdbgi_free(t->ctx, queued);
     vdbgi_free(t->ctx, sum);
     return VDBGI_OK;
 }

@@ -256,6 +256,7 @@ void vdbgi_unwrap_free(vdbgi_unwrap *u)
     vdbgi_free(u->ctx, u->chart);
     vdbgi_free(u->ctx, u->page);
     vdbgi_free(u->ctx, u->density);
+    vdbgi_free(u->ctx, u->rect);
     memset(u, 0, sizeof(*u));
 }
 
@@ -343,8 +344,9 @@ vdbgi_result vdbgi_unwrap_build(vdbgi_context *ctx, const vdbgi_scene *s,
     nodes = vdbgi_alloc(ctx, (size_t)size * sizeof(*nodes));
     u->page = vdbgi_alloc(ctx, n * sizeof(*u->page));
     u->density = vdbgi_alloc(ctx, n * sizeof(*u->density));
+    u->rect = vdbgi_alloc(ctx, 4 * n * sizeof(*u->rect));
     if (!first || !order || !pts || !box || !frame || !rects || !wh || !nodes || !u->page ||
-        !u->density) {
+        !u->density || !u->rect) {
         r = VDBGI_ERR_OUT_OF_MEMORY;
         goto done;
     }
@@ -408,6 +410,8 @@ vdbgi_result vdbgi_unwrap_build(vdbgi_context *ctx, const vdbgi_scene *s,
                 continue;
             const size_t c = (size_t)rects[i].id;
             u->page[c] = (uint32_t)u->page_count;
+            const int32_t rect[4] = {rects[i].x, rects[i].y, rects[i].w, rects[i].h};
+            memcpy(&u->rect[4 * c], rect, sizeof(rect));
             placed++;
             for (uint32_t j = first[c]; j < first[c + 1]; j++) {
                 const size_t t = order[j];
@@ -465,14 +469,16 @@ vdbgi_result vdbgi_unwrap_from_uv1(vdbgi_context *ctx, const vdbgi_scene *s,
     u->uv = vdbgi_alloc(ctx, 6 * n * sizeof(*u->uv));
     u->chart = vdbgi_calloc(ctx, n, sizeof(*u->chart));
     u->page = vdbgi_calloc(ctx, 1, sizeof(*u->page));
+    u->rect = vdbgi_calloc(ctx, 4, sizeof(*u->rect));
     u->density = vdbgi_calloc(ctx, 1, sizeof(*u->density));
     uint8_t *const hit = vdbgi_calloc(ctx, (size_t)size * (size_t)size, 1);
-    if (!u->uv || !u->chart || !u->page || !u->density || !hit) {
+    if (!u->uv || !u->chart || !u->page || !u->density || !u->rect || !hit) {
         vdbgi_free(ctx, hit);
         vdbgi_unwrap_free(u);
         return VDBGI_ERR_OUT_OF_MEMORY;
     }
     u->chart_count = u->page_count = 1;
+    u->rect[2] = u->rect[3] = size;
     *why = NULL;
     for (size_t t = 0; t < n && !*why; t++) {
         double tri[3][2];

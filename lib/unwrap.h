@@ -23,6 +23,7 @@ typedef struct vdbgi_unwrap {
     uint32_t *chart; /* per triangle */
     uint32_t *page;  /* per chart: which atlas */
     float *density;  /* per chart: texels a metre it got (1 / texel unless it had to shrink) */
+    int32_t *rect;   /* 4 per chart: x, y, w, h of its box in its atlas, gutters included */
     size_t chart_count, page_count;
     int size;
     float texel, gutter;

@@ -812,6 +812,7 @@ typedef struct vdbgi_lightmap_desc {
     int direct;
     float ao_dist;
     int layers; /* non-zero: also one map per light (seed 004's layers), which sum to the map */
+    float chart_angle; /* degrees a chart's triangles may turn from its first, (0, 90); 0 == 15 */
     vdbgi_bake_desc bake;
 } vdbgi_lightmap_desc;
 
@@ -836,6 +837,42 @@ VDBGI_API vdbgi_result vdbgi_lightmap_bake_scene(vdbgi_context *ctx, const vdbgi
                                                  const vdbgi_lightmap_desc *desc,
                                                  vdbgi_lightmap_result **out,
                                                  vdbgi_lightmap_stats *stats);
+#ifdef VDBGI_BENCHMARK_API
+/*
+ * For benchmarks: a lightmap bake's rays, pass after pass, with nothing
+ * shaded (no albedo, no previous map at the hits) nor dilated; stats as
+ * the bake's.
+ */
+VDBGI_API vdbgi_result vdbgi_lightmap_trace_bare(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                                 const vdbgi_lightmap_desc *desc,
+                                                 vdbgi_lightmap_stats *stats);
+/*
+ * Receivers on the surfaces, for lightmap error: count points spread by
+ * area as vdbgi_scene_sample_surface spreads them (same seed, same points
+ * at offset 0), each as its triangle prims[i] and barycentrics uv[2 i],
+ * uv[2 i + 1] (p = (1-u-v) v0 + u v1 + v v2).
+ */
+VDBGI_API vdbgi_result vdbgi_scene_sample_triangles(const vdbgi_scene *scene, size_t count,
+                                                    uint64_t seed, uint32_t *prims, float *uv);
+/*
+ * The lightmap estimator at those receivers (one ray offset off the front
+ * face, over its cosine-weighted hemisphere; one bounce: the bake's first
+ * pass): E into 3 floats each, the back-face fraction into backface.
+ */
+VDBGI_API vdbgi_result vdbgi_scene_bake_surface(const vdbgi_scene *scene,
+                                                const vdbgi_bake_desc *desc, const uint32_t *prims,
+                                                const float *uv, size_t count, float *rgb,
+                                                float *backface);
+/* A lightmap's E (map 0, bilinear as a GPU filters it) at triangle prim, barycentrics u, v. */
+VDBGI_API void vdbgi_lightmap_result_sample(const vdbgi_lightmap_result *result, uint32_t prim,
+                                            float u, float v, float rgb[3]);
+/*
+ * The charts' boxes as packed, gutters included: 4 ints per chart (x, y, w,
+ * h), each in atlas (*pages)[chart], *count charts; owned by result.
+ */
+VDBGI_API const int32_t *vdbgi_lightmap_result_boxes(const vdbgi_lightmap_result *result,
+                                                     const uint32_t **pages, size_t *count);
+#endif
 VDBGI_API void vdbgi_lightmap_destroy(vdbgi_lightmap_result *result);
 
 /*

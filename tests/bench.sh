@@ -1,7 +1,8 @@
 #!/bin/sh
 # bench.sh: `make bench`. On the bundled world and a generated 200 x 200 m world:
 # bake throughput against a bare Embree loop over the same rays, then conversion
-# size, error and time against reading the .vdb; then where the bytes of the
+# size, error and time against reading the .vdb; then gi-lightmap against a
+# bare loop over its rays, per pass, and its packing against potpack; then where the bytes of the
 # default volume go on those two and the town (tests/breakdown.py, Debian's
 # python3); then the browser runtime's load and frame times in headless
 # Chromium (tests/web/bench_web.mjs, docs/web.md). Writes build/bench/bench.md.
@@ -21,6 +22,14 @@ mkdir -p "$OUT"
     "$BUILD/bin/gi-bench" convert "$OUT/world.vdb" --repeat 3
     "$BUILD/bin/gi-bench" convert "$OUT/world200.vdb" --repeat 3
     "$BUILD/bin/gi-bake" -q "$OUT/town.glb" -o "$OUT/town.vdb" >/dev/null
+    echo "### Lightmaps: gi-lightmap against a bare Embree loop, and packing (docs/lightmap.md)"
+    echo
+    "$BUILD/bin/gi-bench" lightmap data/world.glb --repeat 3 --out "$OUT/lightmap"
+    node tests/js/potpack.mjs "$OUT/lightmap/lightmap_boxes.json"
+    echo
+    "$BUILD/bin/gi-bench" lightmap "$OUT/world200.glb" --repeat 1
+    node tests/js/potpack.mjs build/chart/lightmap_boxes.json
+    echo
     echo "### Where the bytes go (default conversion; docs/converter.md, section 10)"
     echo
     /usr/bin/python3 -c 'import sys; sys.path.insert(0, "tests"); import breakdown; print(breakdown.HEADER)'
