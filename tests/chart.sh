@@ -4,7 +4,8 @@
 # long stability cases (tests/test_stability.c --full) into docs/data/stability.csv;
 # then memory against the error a player sees (gi-bench memory) on the bundled
 # world, and with ALL=1 on the 200 m world and the town too (about 40 minutes
-# on 2 cores), into docs/data/memory_*.csv and docs/img/chart_memory_*.png.
+# on 2 cores), into docs/data/memory_*.csv and docs/img/chart_memory_*.png; and
+# lightmap against probe volume at surface receivers (gi-bench lightmap).
 set -eu
 BUILD=${BUILD:-build/release}
 OUT=build/chart
@@ -25,6 +26,10 @@ fi
 cp "$OUT/stability.csv" docs/data/stability.csv
 "$BUILD/bin/gi-bench" memory data/world.glb --out "$OUT"
 cp "$OUT/memory.csv" docs/data/memory_world.csv
+# Lightmap against probe volume at the same surface receivers (docs/lightmap.md).
+"$BUILD/bin/gi-bench" lightmap data/world.glb --repeat 1 --out "$OUT" >/dev/null
+cp "$OUT/lightmap.csv" docs/data/lightmap_world.csv
+gnuplot -e "lm='docs/data/lightmap_world.csv'; mem='docs/data/memory_world.csv'; out='docs/img/chart_lightmap_world.png'; name='Bundled 48 m world'" docs/charts/lightmap.gp
 if [ "${ALL:-0}" = 1 ]; then
     [ -f build/bench/world200.glb ] || python3 data/make_scenes.py --world 200 build/bench/world200.glb
     [ -f build/bench/town.glb ] || python3 data/make_scenes.py --town build/bench/town.glb
@@ -42,4 +47,4 @@ for w in world:"Bundled 48 m world" world200:"Generated 200 m world" town:"Town,
     f=docs/data/memory_${w%%:*}.csv
     [ -f "$f" ] && gnuplot -e "csv='$f'; out='docs/img/chart_memory_${w%%:*}.png'; name='${w#*:}'" docs/charts/memory.gp
 done
-echo "chart: docs/img/chart_rays.png, chart_size.png, chart_spacing.png, chart_memory_*.png (tables in docs/data/, stability.csv among them)"
+echo "chart: docs/img/chart_rays.png, chart_size.png, chart_spacing.png, chart_memory_*.png, chart_lightmap_world.png (tables in docs/data/, stability.csv among them)"

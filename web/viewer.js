@@ -1,6 +1,9 @@
 // viewer.js: the vdbgi viewer page (viewer.html). A scene lit by the bake's
 // default lights (gi-bake: sun towards 0.4,0.8,0.3, ambient 0.15) plus the
-// probe volume as indirect diffuse, with seed 000's knobs as sliders.
+// probe volume as indirect diffuse, with seed 000's knobs as sliders. A scene
+// from gi-lightmap shows its lightmaps (material.lightMap on TEXCOORD_1) on its
+// static surfaces, which then take no light from the volume: the volume lights
+// what moves (the character), as engines do.
 // window.vdbgiViewer exposes its state to the browser tests.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
@@ -14,7 +17,7 @@ const canvas = document.getElementById('view');
 const errorBox = document.getElementById('error');
 const figures = document.getElementById('figures');
 
-const state = { status: 'starting', error: null, frames: 0, scene: null, gi: null, figures: null };
+const state = { status: 'starting', error: null, frames: 0, scene: null, gi: null, figures: null, lightmaps: 0 };
 window.vdbgiViewer = state;
 
 let renderer, webgpu = null;
@@ -27,7 +30,8 @@ if (backend === 'webgpu') {
   renderer = new THREE.WebGLRenderer({ canvas, antialias: params.get('aa') !== '0', preserveDrawingBuffer: true });
 }
 renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
-renderer.toneMapping = THREE.NeutralToneMapping;
+// tone=0: no tone mapping (the tests', since Neutral's desaturation can lower a channel as light is added).
+renderer.toneMapping = params.get('tone') === '0' ? THREE.NoToneMapping : THREE.NeutralToneMapping;
 renderer.shadowMap.enabled = params.get('shadows') !== '0';
 renderer.shadowMap.type = backend === 'webgpu' ? THREE.PCFShadowMap : THREE.PCFSoftShadowMap;
 
@@ -54,7 +58,8 @@ const setSun = () => {
 setSun();
 
 const gi = new GiRuntime();
-const settings = { gi: true, perVertex: params.get('vertex') !== '0', debug: 'off', sun: Math.PI, ambient: 0.15 };
+const settings = { gi: true, perVertex: params.get('vertex') !== '0', debug: 'off', sun: Math.PI, ambient: 0.15,
+  lightmap: params.get('lightmap') !== '0' };
 let root = null; // the scene's root object
 let character = null;
 const meshes = []; // { mesh, original, vertex, fragment }
@@ -66,10 +71,40 @@ function showError(message) {
 }
 
 // Every material gets a per-vertex and a per-fragment variant; the toggle swaps them.
+// A lightmapped one keeps its map instead of the volume's light (both would count the bounce twice).
 function prepare(mesh, set) {
-  const make = (perFragment) => (webgpu ? webgpu.applyGi(webgpu.toNodeMaterial(mesh.material), gi, { set, perFragment })
-                                        : gi.patchMaterial(mesh.material.clone(), { set, perFragment }));
-  meshes.push({ mesh, vertex: make(false), fragment: make(true) });
+  const lit = !!mesh.material.lightMap;
+  const make = (perFragment) => {
+    if (lit) return webgpu ? webgpu.toNodeMaterial(mesh.material) : mesh.material.clone();
+    return webgpu ? webgpu.applyGi(webgpu.toNodeMaterial(mesh.material), gi, { set, perFragment })
+                  : gi.patchMaterial(mesh.material.clone(), { set, perFragment });
+  };
+  const vertex = make(false);
+  meshes.push({ mesh, vertex, fragment: lit ? vertex : make(true), scale: lit ? mesh.material.lightMapIntensity : 0 });
+}
+
+// gi-lightmap's maps: the material's extras name the texture, on TEXCOORD_1, and E's scale (docs/lightmap.md).
+async function attachLightmaps(gltf) {
+  let count = 0;
+  const jobs = [];
+  gltf.scene.traverse((o) => {
+    const lm = o.isMesh && o.material.userData.vdbgi_lightmap;
+    if (!lm) return;
+    jobs.push(gltf.parser.getDependency('texture', lm.texture).then((map) => {
+      map.colorSpace = THREE.SRGBColorSpace; // the PNG holds sRGB-encoded E / scale
+      map.channel = lm.texCoord;
+      o.material.lightMap = map;
+      o.material.lightMapIntensity = lm.scale;
+      count++;
+    }));
+  });
+  await Promise.all(jobs);
+  return count;
+}
+
+function applyLightmaps() {
+  for (const m of meshes)
+    if (m.scale) for (const mat of [m.vertex, m.fragment]) mat.lightMapIntensity = settings.lightmap ? m.scale : 0;
 }
 
 function applyMode() {
@@ -109,6 +144,7 @@ async function loadScene(source, name) {
   const loader = new GLTFLoader();
   const gltf = typeof source === 'string' ? await loader.loadAsync(source)
                                           : await loader.parseAsync(source, '');
+  const lightmaps = await attachLightmaps(gltf);
   if (token !== sceneToken) return; // a later load won
   if (root) scene.remove(root);
   if (character) scene.remove(character);
@@ -126,6 +162,8 @@ async function loadScene(source, name) {
   scene.add(character);
   prepare(character, 'character');
   applyMode();
+  applyLightmaps();
+  state.lightmaps = lightmaps;
   // Frame the scene, unless the URL says where to look from (cam=x,y,z&at=x,y,z).
   const size = box.getSize(new THREE.Vector3()).length();
   const vec = (name) => params.get(name) && new THREE.Vector3(...params.get(name).split(',').map(Number));
@@ -163,7 +201,8 @@ async function loadVolume(source, name) {
 function showFigures(volume, name) {
   if (!volume) {
     state.figures = null;
-    figures.textContent = `${state.scene ?? 'no scene'} — no GI volume`;
+    figures.textContent = `${state.scene ?? 'no scene'} — no GI volume` +
+      (state.lightmaps ? `, lightmaps on ${state.lightmaps} materials` : '');
     return;
   }
   const h = volume.header, t = volume.timings;
@@ -195,6 +234,7 @@ async function run(task) {
 const gui = new GUI({ title: 'vdbgi' });
 gui.add(settings, 'gi').name('GI on').onChange((v) => { gi.enabled = v; });
 gui.add(settings, 'perVertex').name('per vertex').onChange(applyMode);
+gui.add(settings, 'lightmap').name('lightmaps').onChange(applyLightmaps);
 gui.add(settings, 'debug', { off: 'off', 'probe colour': 'probe', 'brick level': 'level', 'brick boundaries': 'bricks' })
   .name('view').onChange((v) => { gi.debug = { off: DebugView.OFF, probe: DebugView.PROBE, level: DebugView.LEVEL, bricks: DebugView.BRICKS }[v]; });
 for (const set of ['world', 'character']) {
@@ -252,6 +292,7 @@ if (!params.get('gi')) showFigures(null);
 state.api = {
   setGi: (on) => { settings.gi = on; gi.enabled = on; gui.controllersRecursive().forEach((c) => c.updateDisplay()); },
   setPerVertex: (on) => { settings.perVertex = on; applyMode(); },
+  setLightmap: (on) => { settings.lightmap = on; applyLightmaps(); },
   setDebug: (view) => { gi.debug = view; },
   // Draw a frame and copy it in the same task (a WebGPU canvas is blank once presented).
   snapshot: () => {

@@ -1,0 +1,80 @@
+// check_lightmap.mjs LIT.glb: web/viewer.html in headless Chromium with a scene
+// from gi-lightmap and no probe volume. The viewer finds the lightmaps (one on
+// every material), says so, and the map only adds light: with lightmaps on no
+// channel is darker than with them off, and most of the frame is brighter.
+// The same with the WebGPU backend (the frame's mean light within 5 % of
+// WebGL2's). --save DIR writes viewer_lightmap_off.png and viewer_lightmap_on.png.
+import { copyFileSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import { withPage } from './browser.mjs';
+
+const args = process.argv.slice(2);
+const save = args.includes('--save') ? args[args.indexOf('--save') + 1] : null;
+const dir = mkdtempSync(join(tmpdir(), 'vdbgi-lightmap-'));
+copyFileSync(args[0], join(dir, 'lit.glb'));
+const bytes = readFileSync(args[0]);
+const json = JSON.parse(bytes.subarray(20, 20 + bytes.readUInt32LE(12)).toString());
+const materials = json.materials.filter((m) => m.extras?.vdbgi_lightmap).length;
+// No tone mapping: Neutral's desaturation can lower one channel of a pixel as light is added.
+const view = process.env.VIEW ?? 'cam=-2,7,20&at=20,2,-2&gui=0&tone=0';
+let failed = 0;
+const check = (ok, what) => {
+  console.log(`${ok ? 'ok' : 'FAILED'}: ${what}`);
+  if (!ok) failed++;
+};
+const grab = (page) => page.evaluate(() => {
+  const c = window.vdbgiViewer.api.snapshot();
+  return { png: c.toDataURL('image/png'), px: Array.from(c.getContext('2d').getImageData(0, 0, c.width, c.height).data) };
+});
+async function open(browser, url, extra = '') {
+  const page = await browser.newPage();
+  await page.setViewport({ width: 800, height: 600 });
+  await page.goto(`${url}/web/viewer.html?scene=/files/lit.glb&${view}${extra}`);
+  await page.waitForFunction('window.vdbgiViewer?.status === "ready"', { timeout: 60000 });
+  await page.evaluate(() => window.vdbgiViewer.api.frame());
+  return page;
+}
+const mean = (px) => px.reduce((a, v, i) => (i % 4 === 3 ? a : a + v), 0) / (px.length * 0.75);
+
+try {
+  await withPage({ '/files': dir }, async ({ browser, url }) => {
+    const page = await open(browser, url);
+    const s = await page.evaluate(() => ({ error: window.vdbgiViewer.error, lightmaps: window.vdbgiViewer.lightmaps,
+      text: document.getElementById('figures').textContent }));
+    check(!s.error && s.lightmaps === materials && materials > 0 && s.text.includes(`lightmaps on ${materials} materials`),
+      `the viewer finds the lightmap of each of the ${materials} materials and says so`);
+    const on = await grab(page);
+    await page.evaluate(() => window.vdbgiViewer.api.setLightmap(false));
+    await page.evaluate(() => window.vdbgiViewer.api.frame());
+    const off = await grab(page);
+    let darker = 0, brighter = 0;
+    for (let i = 0; i < on.px.length; i += 4) {
+      let up = false;
+      for (let k = 0; k < 3; k++) {
+        const d = on.px[i + k] - off.px[i + k];
+        if (d < -1) darker++;
+        if (d > 1) up = true;
+      }
+      brighter += up;
+    }
+    const pixels = on.px.length / 4;
+    check(darker === 0, `the lightmap darkens no channel beyond rounding (${darker} channels)`);
+    check(brighter > pixels / 2, `the lightmap lights most of the frame (${(100 * brighter / pixels).toFixed(0)} % of pixels)`);
+    console.error(`mean 8-bit light: ${mean(off.px).toFixed(1)} without the lightmap, ${mean(on.px).toFixed(1)} with it`);
+    if (save) {
+      writeFileSync(join(save, 'viewer_lightmap_off.png'), Buffer.from(off.png.split(',')[1], 'base64'));
+      writeFileSync(join(save, 'viewer_lightmap_on.png'), Buffer.from(on.png.split(',')[1], 'base64'));
+    }
+    const g = await open(browser, url, '&backend=webgpu');
+    const gs = await g.evaluate(() => ({ error: window.vdbgiViewer.error, lightmaps: window.vdbgiViewer.lightmaps }));
+    const gpu = await grab(g);
+    await g.close();
+    const ratio = mean(gpu.px) / mean(on.px);
+    check(!gs.error && gs.lightmaps === materials && Math.abs(ratio - 1) < 0.05,
+      `WebGPU: the lightmaps found, the frame's mean light within 5 % of WebGL2's (${ratio.toFixed(3)})`);
+  });
+} finally {
+  rmSync(dir, { recursive: true, force: true });
+}
+process.exit(failed ? 1 : 0);
