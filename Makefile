@@ -208,13 +208,14 @@ demo:
 	@echo "      out/world.json     conversion statistics"
 	@echo "      out/slices/*.png   the baked field, the bricks, their difference, levels, atlas"
 	@echo "      out/world-lit.glb  the world with its lightmap (any glTF viewer; docs/lightmap.md)"
-	@echo "      make view          serves web/viewer.html on 127.0.0.1 with this world and its GI"
+	@echo "      make view          serves web/viewer.html on 127.0.0.1: the lit world, its GI on the character"
 
-## view: serve the viewer on 127.0.0.1 (PORT=8080) with the demo's world, or drop files on it
+## view: serve the viewer on 127.0.0.1 (PORT=8080) with the demo's lightmapped world and volume, or drop files on it
 PORT ?= 8080
 view:
 	$(Q)$(MAKE) --no-print-directory deps
-	@if [ -f out/world.gi.gz ]; then q="scene=/data/world.glb&gi=/out/world.gi.gz"; \
+	@scene=/data/world.glb; [ -f out/world-lit.glb ] && scene=/out/world-lit.glb; \
+	 if [ -f out/world.gi.gz ]; then q="scene=$$scene&gi=/out/world.gi.gz"; \
 	 else echo "view: no out/world.gi.gz yet (make demo makes it); drop a .glb and a .gi.gz on the page"; q=""; fi; \
 	 node web/serve.mjs --port $(PORT) $${q:+--query "$$q"}
 
