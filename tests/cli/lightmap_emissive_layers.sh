@@ -5,6 +5,7 @@
 # as emissiveFactor with KHR_materials_emissive_strength 4, so baking that
 # .glb again lights the room as brightly (Debian's assimp does not read the
 # strength: without the glTF shim the lamp's layer would be 4 times darker).
+# An emissive texture (OBJ map_Ke) scales the lamp's light and goes into the .glb.
 cat > lamp.mtl <<'MTL'
 newmtl wall
 Kd 0.7 0.7 0.7
@@ -39,6 +40,16 @@ oiiotool lamp.ambient.lightmap0.exr lamp.emissive2.lightmap0.exr --add lamp.ligh
 "$BIN/gi-lightmap" -q lamp.glb -o again.glb --size 256 --sun-color 0,0,0 --layers
 echo "again.glb: $(ls again.*.exr | tr '\n' ' ')"
 echo "again.emissive1.lightmap0.exr max E: $(max again.emissive1.lightmap0.exr)"
+# An emissive texture scales the lamp: a grey one (sRGB 128, linear 0.2158) on
+# the lamp's own UVs (OBJ map_Ke) gives its layer 0.2158 of the largest E.
+oiiotool --create 4x4 3 --fill:color=0.5,0.5,0.5 0,0,4,4 -d uint8 --nosoftwareattrib -o grey.png
+sed 's/^mtllib lamp.mtl/mtllib grey.mtl/; s/^usemtl lamp/vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl lamp/; s/^f 9 11 10/f 9\/1 11\/3 10\/2/; s/^f 9 12 11/f 9\/1 12\/4 11\/3/' lamp.obj > grey.obj
+{ cat lamp.mtl; echo "map_Ke grey.png"; } > grey.mtl
+"$BIN/gi-lightmap" -q grey.obj -o grey.glb --texel 0.1 --size 256 --sun-color 0,0,0 --layers
+echo "map_Ke grey.png: max E $(max grey.emissive2.lightmap0.exr); emissiveTexture in the .glb: $(node -e '
+const b = require("fs").readFileSync("grey.glb"), j = JSON.parse(b.subarray(20, 20 + b.readUInt32LE(12)));
+console.log(j.materials.some((m) => m.emissiveTexture) ? "yes" : "no")')"
+node "$ROOT/tests/js/check_gltf.mjs" grey.glb
 # Without the lamp's Ke the room has only its fill.
 sed -i '/^Ke/d' lamp.mtl
 "$BIN/gi-lightmap" -q lamp.obj -o dark.glb --texel 0.1 --size 256 --sun-color 0,0,0 --layers
