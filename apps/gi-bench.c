@@ -845,6 +845,7 @@ static int bench_lightmap(const options *o, const char *argv0)
         const double t = time_process(lm_argv);
         if (t < 0.0) {
             cli_error("%s failed on %s", tool, o->scene);
+            unlink(glb);
             goto done;
         }
         process = rep == 0 || t < process ? t : process;
@@ -887,7 +888,9 @@ static int bench_lightmap(const options *o, const char *argv0)
         cli_error("%s: cannot write: %s", path, strerror(errno));
         goto done;
     }
-    fprintf(json, "{\n  \"scene\": \"%s\",\n  \"sets\": [\n", si.name);
+    fputs("{\n  \"scene\": ", json);
+    cli_json_string(json, si.name);
+    fputs(",\n  \"sets\": [\n", json);
     const double ours =
         boxes_json(json, "vdbgi: 15 degree charts, smallest boxes, stb_rect_pack", res, &bake);
     vdbgi_lightmap_destroy(res);
@@ -956,6 +959,10 @@ static int bench_lightmap(const options *o, const char *argv0)
         }
         if (r != VDBGI_OK) {
             code = cli_fail(ctx, r);
+            goto done;
+        }
+        if (ls.atlases != 1) {
+            cli_error("%g m texels do not fit one atlas of 8192", (double)texels[t]);
             goto done;
         }
         double rmse, p99;

@@ -228,11 +228,11 @@ bool ends_with(const std::string &s, const char *tail)
 }
 } // namespace
 
-extern "C" bool vdbgi_gltf_emissive_strength(const char *path, float *strength, size_t count,
-                                             char *err, size_t err_size)
+extern "C" bool vdbgi_gltf_materials(const char *path, vdbgi_gltf_material_info **out,
+                                     size_t *count, char *err, size_t err_size)
 {
-    for (size_t i = 0; i < count; i++)
-        strength[i] = 1.0f;
+    *out = nullptr;
+    *count = 0;
     try {
         std::string name(path);
         for (char &c : name)
@@ -251,13 +251,35 @@ extern "C" bool vdbgi_gltf_emissive_strength(const char *path, float *strength, 
                           error.empty() ? "tinygltf cannot read it" : error.c_str());
             return false;
         }
-        for (size_t i = 0; i < count && i < m.materials.size(); i++) {
-            const auto ext = m.materials[i].extensions.find("KHR_materials_emissive_strength");
-            if (ext == m.materials[i].extensions.end())
-                continue;
-            const tinygltf::Value &v = ext->second.Get("emissiveStrength");
-            const double d = v.IsNumber() ? v.GetNumberAsDouble() : 1.0;
-            strength[i] = d >= 0.0 && d < 1e6 ? float(d) : 1.0f;
+        if (m.materials.empty())
+            return true;
+        vdbgi_gltf_material_info *const info = static_cast<vdbgi_gltf_material_info *>(
+            std::calloc(m.materials.size(), sizeof(vdbgi_gltf_material_info)));
+        if (!info) {
+            std::snprintf(err, err_size, "out of memory for %zu materials", m.materials.size());
+            return false;
+        }
+        *out = info;
+        *count = m.materials.size();
+        for (size_t i = 0; i < m.materials.size(); i++) {
+            const tinygltf::Material &src = m.materials[i];
+            vdbgi_gltf_material_info &o = info[i];
+            o = vdbgi_gltf_material_info{};
+            if (src.name.size() < sizeof(o.name))
+                std::memcpy(o.name, src.name.c_str(), src.name.size() + 1);
+            for (int k = 0; k < 3; k++) {
+                o.emissive[k] =
+                    k < int(src.emissiveFactor.size()) ? float(src.emissiveFactor[k]) : 0.0f;
+                const auto &b = src.pbrMetallicRoughness.baseColorFactor;
+                o.base[k] = k < int(b.size()) ? float(b[k]) : 1.0f;
+            }
+            o.strength = 1.0f;
+            const auto ext = src.extensions.find("KHR_materials_emissive_strength");
+            if (ext != src.extensions.end()) {
+                const tinygltf::Value &v = ext->second.Get("emissiveStrength");
+                const double d = v.IsNumber() ? v.GetNumberAsDouble() : 1.0;
+                o.strength = d >= 0.0 && d <= 1e6 ? float(d) : 1.0f;
+            }
         }
         return true;
     } catch (const std::exception &e) {

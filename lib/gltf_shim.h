@@ -59,14 +59,22 @@ typedef struct vdbgi_gltf_desc {
 bool vdbgi_gltf_encode(const vdbgi_gltf_desc *d, uint8_t **out, size_t *size, char *err,
                        size_t err_size);
 
+/* A glTF material as the file has it: what the import needs to find it again. */
+typedef struct vdbgi_gltf_material_info {
+    char name[64];     /* empty when unnamed or longer */
+    float emissive[3]; /* emissiveFactor */
+    float base[3];     /* baseColorFactor's RGB */
+    float strength;    /* KHR_materials_emissive_strength, 1 without it */
+} vdbgi_gltf_material_info;
+
 /*
- * Each of count materials' KHR_materials_emissive_strength (1 where it has
- * none) from the glTF file at path, into strength. A file that is not glTF
- * (by its name) gives all ones; false with a message in err when a glTF
- * file does not parse.
+ * The materials of the glTF file at path (by its name: .gltf or .glb) into
+ * *out (malloc'd, the caller frees it with free()), *count of them; a file
+ * of another kind gives none. False with a message in err when a glTF file
+ * does not parse. Its images are not decoded.
  */
-bool vdbgi_gltf_emissive_strength(const char *path, float *strength, size_t count, char *err,
-                                  size_t err_size);
+bool vdbgi_gltf_materials(const char *path, vdbgi_gltf_material_info **out, size_t *count,
+                          char *err, size_t err_size);
 
 #ifdef __cplusplus
 }

@@ -117,6 +117,70 @@ static float clamp01(float c)
     return isfinite(c) ? fminf(fmaxf(c, 0.0f), 1.0f) : 0.0f;
 }
 
+/* Whether any glTF material has a strength other than 1 (else there is nothing to find). */
+static bool info_has_strength(const vdbgi_gltf_material_info *info, size_t count)
+{
+    for (size_t g = 0; g < count; g++)
+        if (info[g].strength != 1.0f)
+            return true;
+    return false;
+}
+
+static bool same3(const float a[3], const float b[3])
+{
+    return fabsf(a[0] - b[0]) < 1e-6f && fabsf(a[1] - b[1]) < 1e-6f && fabsf(a[2] - b[2]) < 1e-6f;
+}
+
+/*
+ * glTF's KHR_materials_emissive_strength, which Debian's assimp 5.2 drops:
+ * each emitting material takes the strength of the glTF material it came
+ * from. Assimp orders materials as meshes first use them and drops unused
+ * ones, so a material is found by its name where that is unique in the
+ * file, else by its factors (emissive and base colour) where every glTF
+ * material with those factors has the same strength; else it keeps 1, with
+ * a warning.
+ */
+static void apply_emissive_strength(vdbgi_scene *s, const struct aiScene *as, const char *path)
+{
+    vdbgi_gltf_material_info *info = NULL;
+    size_t count = 0;
+    char err[256] = "";
+    if (!vdbgi_gltf_materials(path, &info, &count, err, sizeof(err))) {
+        vdbgi_log(s->ctx, VDBGI_LOG_WARNING, "%s: emissive strength ignored: %s", s->name, err);
+        return;
+    }
+    for (size_t m = 0; m < as->mNumMaterials && count; m++) {
+        vdbgi_material *const mat = &s->materials[m];
+        if (!(mat->emissive[0] > 0.0f || mat->emissive[1] > 0.0f || mat->emissive[2] > 0.0f))
+            continue;
+        struct aiString name;
+        const bool named =
+            aiGetMaterialString(as->mMaterials[m], AI_MATKEY_NAME, &name) == aiReturn_SUCCESS &&
+            name.length > 0;
+        size_t by_name = 0, by_factors = 0, hit = 0;
+        bool agree = true;
+        for (size_t g = 0; g < count; g++)
+            if (named && strcmp(info[g].name, name.data) == 0)
+                by_name++, hit = g;
+        if (by_name != 1)
+            for (size_t g = 0; g < count; g++)
+                if (same3(info[g].emissive, mat->emissive) && same3(info[g].base, mat->base)) {
+                    agree = agree && (by_factors == 0 || info[g].strength == info[hit].strength);
+                    by_factors++, hit = by_factors == 1 ? g : hit;
+                }
+        if (by_name == 1 || (by_factors > 0 && agree)) {
+            for (int k = 0; k < 3; k++)
+                mat->emissive[k] = fminf(mat->emissive[k] * info[hit].strength, VDBGI_MAX_EMISSION);
+        } else if (info_has_strength(info, count)) {
+            vdbgi_log(s->ctx, VDBGI_LOG_WARNING,
+                      "%s: cannot tell which glTF material '%s' is: its emissive strength is taken "
+                      "as 1",
+                      s->name, named ? name.data : "(unnamed)");
+        }
+    }
+    free(info); /* the shim's calloc */
+}
+
 /*
  * Base colour, sidedness, emission and their textures. Texture slot m holds
  * material m's base colour, slot material_count + m its emission. Emission
@@ -148,7 +212,7 @@ static void load_materials(vdbgi_scene *s, const struct aiScene *as, const char 
             /* OBJ's Ke may pass 1 to carry a strength; glTF's factor may not. */
             const float e[3] = {c.r, c.g, c.b};
             for (int k = 0; k < 3; k++)
-                mat->emissive[k] = e[k] > 0.0f && e[k] < 1e6f ? e[k] : 0.0f;
+                mat->emissive[k] = e[k] > 0.0f && e[k] <= VDBGI_MAX_EMISSION ? e[k] : 0.0f;
         }
         if (mat->emissive[0] > 0.0f || mat->emissive[1] > 0.0f || mat->emissive[2] > 0.0f) {
             emits = true;
@@ -156,19 +220,8 @@ static void load_materials(vdbgi_scene *s, const struct aiScene *as, const char 
                 load_material_texture(s, as, am, dir, emissive_types, s->material_count + m);
         }
     }
-    if (!emits)
-        return;
-    /* Strengths past 1 (glTF's KHR_materials_emissive_strength), per glTF material. */
-    float *const strength = vdbgi_alloc(s->ctx, as->mNumMaterials * sizeof(float));
-    char err[256] = "";
-    if (strength &&
-        vdbgi_gltf_emissive_strength(path, strength, as->mNumMaterials, err, sizeof(err)))
-        for (size_t m = 0; m < as->mNumMaterials; m++)
-            for (int k = 0; k < 3; k++)
-                s->materials[m].emissive[k] *= strength[m];
-    else if (err[0])
-        vdbgi_log(s->ctx, VDBGI_LOG_WARNING, "%s: emissive strength ignored: %s", s->name, err);
-    vdbgi_free(s->ctx, strength);
+    if (emits)
+        apply_emissive_strength(s, as, path);
 }
 
 typedef struct walk_state {

@@ -89,7 +89,7 @@ vdbgi_result vdbgi_lightmap_encode(vdbgi_context *ctx, const vdbgi_scene *s, con
     vdbgi_gltf_material *mats = vdbgi_alloc(ctx, n * sizeof(*mats));
     int *slot = vdbgi_alloc(ctx, images * sizeof(*slot));
     int *layer_slots = vdbgi_calloc(ctx, n * (layers ? layers : 1), sizeof(int));
-    float scales[1 + VDBGI_LIGHTMAP_MAX_LAYERS];
+    float scales[1 + VDBGI_LIGHTMAP_MAX_LAYERS] = {0};
     const char *names[VDBGI_LIGHTMAP_MAX_LAYERS];
     out->exr = vdbgi_calloc(ctx, maps, sizeof(*out->exr));
     out->exr_size = vdbgi_calloc(ctx, maps, sizeof(*out->exr_size));
@@ -283,15 +283,20 @@ static vdbgi_result light_layers(vdbgi_context *ctx, const vdbgi_scene *s,
     if ((bp->sky[0] > 0.0f || bp->sky[1] > 0.0f || bp->sky[2] > 0.0f) &&
         !(full = !(l = next_layer(bp, out, names, &n, "sky"))))
         memcpy(l->sky, bp->sky, sizeof(l->sky));
+    /* The emitters some triangle uses, found in one pass over the triangles. */
+    bool *const used = vdbgi_calloc(ctx, s->material_count ? s->material_count : 1, sizeof(bool));
+    if (!used)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    for (size_t t = 0; t < s->triangle_count; t++)
+        if (s->tris[t].flags & VDBGI_TRI_EMISSIVE)
+            used[s->tris[t].material] = true;
     for (size_t m = 0; !full && bp->emission != VDBGI_EMISSION_NONE && m < s->material_count; m++) {
-        bool used = false;
-        for (size_t t = 0; t < s->triangle_count && !used; t++)
-            used = s->tris[t].material == m && (s->tris[t].flags & VDBGI_TRI_EMISSIVE);
         char name[32];
         snprintf(name, sizeof(name), "emissive%zu", m);
-        if (used && !(full = !(l = next_layer(bp, out, names, &n, name))))
+        if (used[m] && !(full = !(l = next_layer(bp, out, names, &n, name))))
             l->emission = (uint32_t)m + 1;
     }
+    vdbgi_free(ctx, used);
     VDBGI_FAIL_IF(ctx, full, VDBGI_ERR_INVALID_ARG, "more than %d lights for layers",
                   VDBGI_LIGHTMAP_MAX_LAYERS);
     *count = n;

@@ -174,9 +174,9 @@ vdbgi_result vdbgi_scene_create(vdbgi_context *ctx, const vdbgi_mesh_desc *meshe
             VDBGI_FAIL_IF(ctx, !(d->albedo[k] >= 0.0f && d->albedo[k] <= 1.0f),
                           VDBGI_ERR_INVALID_ARG, "mesh %zu: albedo must be in [0, 1] (got %g)", m,
                           (double)d->albedo[k]);
-            VDBGI_FAIL_IF(
-                ctx, !(d->emissive[k] >= 0.0f) || !isfinite(d->emissive[k]), VDBGI_ERR_INVALID_ARG,
-                "mesh %zu: emissive must be >= 0 and finite (got %g)", m, (double)d->emissive[k]);
+            VDBGI_FAIL_IF(ctx, !(d->emissive[k] >= 0.0f && d->emissive[k] <= VDBGI_MAX_EMISSION),
+                          VDBGI_ERR_INVALID_ARG, "mesh %zu: emissive must be in [0, %g] (got %g)",
+                          m, (double)VDBGI_MAX_EMISSION, (double)d->emissive[k]);
         }
         vertex_count += d->vertex_count;
         triangle_count += d->triangle_count;
@@ -354,8 +354,8 @@ vdbgi_result vdbgi_scene_sample_surface(const vdbgi_scene *scene, size_t point_c
     vdbgi_context *const ctx = scene->ctx;
     VDBGI_FAIL_IF(ctx, point_count && !points, VDBGI_ERR_INVALID_ARG, "no output given");
     VDBGI_FAIL_IF(ctx, !isfinite(offset), VDBGI_ERR_INVALID_ARG, "offset must be finite");
-    uint32_t *const prims = vdbgi_alloc(ctx, (point_count ? point_count : 1) * sizeof(uint32_t));
-    double *const uv = vdbgi_alloc(ctx, (point_count ? point_count : 1) * 2 * sizeof(double));
+    uint32_t *const prims = vdbgi_calloc(ctx, point_count ? point_count : 1, sizeof(uint32_t));
+    double *const uv = vdbgi_calloc(ctx, point_count ? point_count : 1, 2 * sizeof(double));
     vdbgi_result r =
         prims && uv ? spread(scene, point_count, seed, prims, uv) : VDBGI_ERR_OUT_OF_MEMORY;
     for (size_t i = 0; r == VDBGI_OK && i < point_count; i++) {
@@ -378,7 +378,7 @@ vdbgi_result vdbgi_scene_sample_triangles(const vdbgi_scene *scene, size_t count
 {
     vdbgi_context *const ctx = scene->ctx;
     VDBGI_FAIL_IF(ctx, count && (!prims || !uv), VDBGI_ERR_INVALID_ARG, "no output given");
-    double *const d = vdbgi_alloc(ctx, (count ? count : 1) * 2 * sizeof(double));
+    double *const d = vdbgi_calloc(ctx, count ? count : 1, 2 * sizeof(double));
     const vdbgi_result r = d ? spread(scene, count, seed, prims, d) : VDBGI_ERR_OUT_OF_MEMORY;
     for (size_t i = 0; r == VDBGI_OK && i < 2 * count; i++)
         uv[i] = (float)d[i];

@@ -9,6 +9,9 @@
 extern "C" {
 #endif
 
+/* The brightest emission a material may have (radiance, linear): a cap that keeps sums finite. */
+#define VDBGI_MAX_EMISSION 1e6f
+
 /* A material's texture, decoded and turned into linear values when loaded. */
 typedef vdbgi_image vdbgi_texture;
 

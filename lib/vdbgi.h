@@ -208,7 +208,7 @@ typedef struct vdbgi_mesh_desc {
     size_t triangle_count;
     float albedo[3];
     int double_sided;
-    float emissive[3]; /* radiance its front emits, linear (0: none); lights the scene */
+    float emissive[3]; /* radiance its front emits, linear, 0..1e6 (0: none); lights the scene */
 } vdbgi_mesh_desc;
 
 /* Build a scene from meshes in memory; same checks and result codes as load. */
@@ -883,6 +883,7 @@ VDBGI_API void vdbgi_lightmap_destroy(vdbgi_lightmap_result *result);
  * (path without ".glb", then ".lightmap0.exr", ".lightmap1.exr", ...).
  */
 VDBGI_API vdbgi_result vdbgi_lightmap_write(vdbgi_lightmap_result *result, const char *path);
+/* (It records the .glb's size in result: one thread at a time per result.) */
 /* Bytes of the .glb vdbgi_lightmap_write wrote last (0 before it has). */
 VDBGI_API size_t vdbgi_lightmap_glb_size(const vdbgi_lightmap_result *result);
 

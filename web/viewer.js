@@ -85,7 +85,7 @@ function prepare(mesh, set) {
 
 // gi-lightmap's maps: the material's extras name the texture, on TEXCOORD_1, and E's scale (docs/lightmap.md).
 async function attachLightmaps(gltf) {
-  let count = 0;
+  const materials = new Set();
   const jobs = [];
   gltf.scene.traverse((o) => {
     const lm = o.isMesh && o.material.userData.vdbgi_lightmap;
@@ -95,11 +95,11 @@ async function attachLightmaps(gltf) {
       map.channel = lm.texCoord;
       o.material.lightMap = map;
       o.material.lightMapIntensity = lm.scale;
-      count++;
+      materials.add(o.material);
     }));
   });
   await Promise.all(jobs);
-  return count;
+  return materials.size;
 }
 
 function applyLightmaps() {

@@ -2,7 +2,7 @@
 # is refused: exit 1 within 20 s under a 4 GB address-space limit, one line on
 # stderr naming the file, no output left. The originals still convert, and a
 # texture that is a device or claims 20000^2 pixels is a warning, not a hang or
-# 6 GB. Prints what it checked and every deviation.
+# 6 GB, in gi-bake and gi-lightmap, as a base colour or as emission. Prints what it checked and every deviation.
 H="$ROOT/tests/hostile"
 limit="ulimit -v 4000000"
 case "$BIN" in
@@ -54,4 +54,18 @@ for f in "$H"/scenes/*.obj; do
     ($limit; timeout 20 "$BIN/gi-bake" "$f" -o out.vdb --spacing 2 --rays 8) >/dev/null 2>err
     echo "$(basename "$f"): exit $?, $(sed -e 's/^gi-bake: warning: //' -e "s|$H/||g" err)"
     rm -f out.*
+done
+# The same scenes through gi-lightmap; and their textures as emission (map_Ke), through both.
+for f in "$H"/scenes/*.obj; do
+    ($limit; timeout 20 "$BIN/gi-lightmap" "$f" -o out.glb --size 64 --texel 0.5) >/dev/null 2>err
+    echo "gi-lightmap $(basename "$f"): exit $?, $(sed -e 's/^gi-lightmap: warning: //' -e "s|$H/||g" err)"
+    rm -f out.*
+    cp "$H"/scenes/*.png .
+    sed 's/^map_Kd/Ke 1 1 1\nmap_Ke/' "$H/scenes/$(sed -n 's/^mtllib //p' "$f")" > ke.mtl
+    sed 's/^mtllib .*/mtllib ke.mtl/' "$f" > ke.obj
+    ($limit; timeout 20 "$BIN/gi-bake" ke.obj -o out.vdb --spacing 2 --rays 8) >/dev/null 2>err
+    echo "emissive $(basename "$f"), gi-bake: exit $?, $(sed 's/^gi-bake: warning: //' err)"
+    ($limit; timeout 20 "$BIN/gi-lightmap" ke.obj -o out.glb --size 64 --texel 0.5) >/dev/null 2>err
+    echo "emissive $(basename "$f"), gi-lightmap: exit $?, $(sed 's/^gi-lightmap: warning: //' err)"
+    rm -f out.* ke.* ./*.png
 done

@@ -40,6 +40,12 @@ oiiotool lamp.ambient.lightmap0.exr lamp.emissive2.lightmap0.exr --add lamp.ligh
 "$BIN/gi-lightmap" -q lamp.glb -o again.glb --size 256 --sun-color 0,0,0 --layers
 echo "again.glb: $(ls again.*.exr | tr '\n' ' ')"
 echo "again.emissive1.lightmap0.exr max E: $(max again.emissive1.lightmap0.exr)"
+# Assimp numbers materials as meshes first use them, not as the file lists
+# them: with an unused emitter of strength 50 put first, the lamp still finds
+# its own strength (by its factors: these materials have no names).
+node "$ROOT/tests/js/shuffle_materials.mjs" lamp.glb shuffled.glb
+"$BIN/gi-lightmap" -q shuffled.glb -o shuffled-lit.glb --size 256 --sun-color 0,0,0 --layers
+echo "shuffled.glb: $(ls shuffled-lit.*.exr | tr '\n' ' ')max E $(max shuffled-lit.emissive1.lightmap0.exr)"
 # An emissive texture scales the lamp: a grey one (sRGB 128, linear 0.2158) on
 # the lamp's own UVs (OBJ map_Ke) gives its layer 0.2158 of the largest E.
 oiiotool --create 4x4 3 --fill:color=0.5,0.5,0.5 0,0,4,4 -d uint8 --nosoftwareattrib -o grey.png
