@@ -383,7 +383,11 @@ static void memory_scenes_check_their_input(void)
     /* Zero-area triangles only: nothing to trace. */
     const float flat[9] = {0, 0, 0, 1, 0, 0, 2, 0, 0};
     const uint32_t tri[3] = {0, 1, 2};
-    const vdbgi_mesh_desc line = {flat, 3, tri, 1, {0.5f, 0.5f, 0.5f}, 0};
+    const vdbgi_mesh_desc line = {.positions = flat,
+                                  .vertex_count = 3,
+                                  .indices = tri,
+                                  .triangle_count = 1,
+                                  .albedo = {0.5f, 0.5f, 0.5f}};
     CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &line, 1, &s), VDBGI_ERR_FORMAT);
     CHECK(s == NULL);
     vdbgi_context_destroy(ctx);

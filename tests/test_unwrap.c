@@ -123,7 +123,11 @@ static void check_unwrap(const vdbgi_scene *s, const vdbgi_unwrap *u, bool densi
 static vdbgi_scene *scene_of(vdbgi_context *ctx, const float *pos, size_t nv, const uint32_t *idx,
                              size_t nt)
 {
-    const vdbgi_mesh_desc d = {pos, nv, idx, nt, {0.5f, 0.5f, 0.5f}, 0};
+    const vdbgi_mesh_desc d = {.positions = pos,
+                               .vertex_count = nv,
+                               .indices = idx,
+                               .triangle_count = nt,
+                               .albedo = {0.5f, 0.5f, 0.5f}};
     vdbgi_scene *s = NULL;
     CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &d, 1, &s), VDBGI_OK);
     return s;
