@@ -10,6 +10,7 @@ import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import GUI from 'three/addons/libs/lil-gui.module.min.js';
 import { GiRuntime, loadGi, DebugView, LAYOUT_COMPACT, ENCODING_RGB9E5 } from './vdbgi.js';
+import { LayerCompositor } from './lightmap-layers.js';
 
 const params = new URLSearchParams(location.search);
 const backend = params.get('backend') === 'webgpu' ? 'webgpu' : 'webgl';
@@ -17,7 +18,8 @@ const canvas = document.getElementById('view');
 const errorBox = document.getElementById('error');
 const figures = document.getElementById('figures');
 
-const state = { status: 'starting', error: null, frames: 0, scene: null, gi: null, figures: null, lightmaps: 0 };
+const state = { status: 'starting', error: null, frames: 0, scene: null, gi: null, figures: null, lightmaps: 0,
+  layers: [] };
 window.vdbgiViewer = state;
 
 let renderer, webgpu = null;
@@ -84,22 +86,48 @@ function prepare(mesh, set) {
 }
 
 // gi-lightmap's maps: the material's extras name the texture, on TEXCOORD_1, and E's scale (docs/lightmap.md).
+// With per-light layers (--layers) and WebGL2, each atlas's map is their weighted sum instead, drawn by
+// the compositor, so the panel can dim or switch each light (layers=0 shows the baked sum).
+let compositor = null;
 async function attachLightmaps(gltf) {
   const materials = new Set();
   const jobs = [];
+  const texture = async (i) => {
+    const t = await gltf.parser.getDependency('texture', i);
+    t.colorSpace = THREE.SRGBColorSpace; // the PNGs hold sRGB-encoded E / scale
+    return t;
+  };
   gltf.scene.traverse((o) => {
     const lm = o.isMesh && o.material.userData.vdbgi_lightmap;
     if (!lm) return;
-    jobs.push(gltf.parser.getDependency('texture', lm.texture).then((map) => {
-      map.colorSpace = THREE.SRGBColorSpace; // the PNG holds sRGB-encoded E / scale
+    jobs.push((async () => {
+      const map = await texture(lm.texture);
       map.channel = lm.texCoord;
       o.material.lightMap = map;
       o.material.lightMapIntensity = lm.scale;
+      if (lm.layers?.length && !webgpu && params.get('layers') !== '0') {
+        const layers = await Promise.all(lm.layers.map(async (l) => ({ name: l.name, scale: l.scale, map: await texture(l.texture) })));
+        compositor ??= new LayerCompositor(renderer);
+        o.material.lightMap = compositor.target(gltf.parser.json.textures[lm.texture].source, layers);
+        o.material.lightMapIntensity = 1;
+      }
       materials.add(o.material);
-    }));
+    })());
   });
   await Promise.all(jobs);
   return materials.size;
+}
+
+// One slider a light, 0..2, when the scene's lightmaps have layers.
+let layerFolder = null;
+function showLayers() {
+  layerFolder?.destroy();
+  layerFolder = null;
+  state.layers = compositor ? compositor.names() : [];
+  if (!state.layers.length) return;
+  layerFolder = gui.addFolder('light layers');
+  const w = Object.fromEntries(state.layers.map((n) => [n, 1]));
+  for (const name of state.layers) layerFolder.add(w, name, 0, 2, 0.01).onChange((v) => compositor.setWeight(name, v));
 }
 
 function applyLightmaps() {
@@ -144,8 +172,15 @@ async function loadScene(source, name) {
   const loader = new GLTFLoader();
   const gltf = typeof source === 'string' ? await loader.loadAsync(source)
                                           : await loader.parseAsync(source, '');
+  const previous = compositor;
+  compositor = null; // this scene's layers only
   const lightmaps = await attachLightmaps(gltf);
-  if (token !== sceneToken) return; // a later load won
+  if (token !== sceneToken) {
+    compositor?.dispose();
+    compositor = previous;
+    return; // a later load won
+  }
+  previous?.dispose();
   if (root) scene.remove(root);
   if (character) scene.remove(character);
   disposeScene();
@@ -164,6 +199,7 @@ async function loadScene(source, name) {
   applyMode();
   applyLightmaps();
   state.lightmaps = lightmaps;
+  showLayers();
   // Frame the scene, unless the URL says where to look from (cam=x,y,z&at=x,y,z).
   const size = box.getSize(new THREE.Vector3()).length();
   const vec = (name) => params.get(name) && new THREE.Vector3(...params.get(name).split(',').map(Number));
@@ -293,6 +329,7 @@ state.api = {
   setGi: (on) => { settings.gi = on; gi.enabled = on; gui.controllersRecursive().forEach((c) => c.updateDisplay()); },
   setPerVertex: (on) => { settings.perVertex = on; applyMode(); },
   setLightmap: (on) => { settings.lightmap = on; applyLightmaps(); },
+  setLayer: (name, weight) => compositor?.setWeight(name, weight),
   setDebug: (view) => { gi.debug = view; },
   // Draw a frame and copy it in the same task (a WebGPU canvas is blank once presented).
   snapshot: () => {

@@ -1,9 +1,11 @@
 # web/viewer.html in headless Chromium with a scene from gi-lightmap and no
 # probe volume: it finds the lightmap on every material, and the map only adds
-# light (WebGL2, untone-mapped), in WebGPU too.
+# light (WebGL2, untone-mapped), in WebGPU too; with --layers, the panel's
+# compositor weighs each light (WebGL2).
 if [ ! -x "${CHROMIUM:-/usr/bin/chromium}" ] || [ ! -d "$ROOT/web/node_modules/puppeteer-core" ]; then
     echo "chromium or web/node_modules missing (make deps installs both)"
     exit 77
 fi
 "$BIN/gi-lightmap" -q "$DATA/world.glb" -o lit.glb --texel 0.5 --size 512
-node "$ROOT/tests/web/check_lightmap.mjs" lit.glb 2>/dev/null
+"$BIN/gi-lightmap" -q "$DATA/world.glb" -o layers.glb --texel 0.5 --size 512 --layers
+node "$ROOT/tests/web/check_lightmap.mjs" lit.glb layers.glb 2>/dev/null

@@ -3,7 +3,11 @@
 // every material), says so, and the map only adds light: with lightmaps on no
 // channel is darker than with them off, and most of the frame is brighter.
 // The same with the WebGPU backend (the frame's mean light within 5 % of
-// WebGL2's). --save DIR writes viewer_lightmap_off.png and viewer_lightmap_on.png.
+// WebGL2's). With LAYERS.glb (gi-lightmap --layers): the panel has a slider a
+// light; at weight 1 each the composite carries the baked sum's light (the mean
+// within 1 %); a light at 0 only takes light away; every light at 0 gives the
+// frame without lightmaps, byte for byte.
+// --save DIR writes viewer_lightmap_off.png and viewer_lightmap_on.png.
 import { copyFileSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
@@ -11,8 +15,10 @@ import { withPage } from './browser.mjs';
 
 const args = process.argv.slice(2);
 const save = args.includes('--save') ? args[args.indexOf('--save') + 1] : null;
+const layered = args[1] && !args[1].startsWith('--') ? args[1] : null;
 const dir = mkdtempSync(join(tmpdir(), 'vdbgi-lightmap-'));
 copyFileSync(args[0], join(dir, 'lit.glb'));
+if (layered) copyFileSync(layered, join(dir, 'layers.glb'));
 const bytes = readFileSync(args[0]);
 const json = JSON.parse(bytes.subarray(20, 20 + bytes.readUInt32LE(12)).toString());
 const materials = json.materials.filter((m) => m.extras?.vdbgi_lightmap).length;
@@ -27,10 +33,10 @@ const grab = (page) => page.evaluate(() => {
   const c = window.vdbgiViewer.api.snapshot();
   return { png: c.toDataURL('image/png'), px: Array.from(c.getContext('2d').getImageData(0, 0, c.width, c.height).data) };
 });
-async function open(browser, url, extra = '') {
+async function open(browser, url, extra = '', file = 'lit.glb') {
   const page = await browser.newPage();
   await page.setViewport({ width: 800, height: 600 });
-  await page.goto(`${url}/web/viewer.html?scene=/files/lit.glb&${view}${extra}`);
+  await page.goto(`${url}/web/viewer.html?scene=/files/${file}&${view}${extra}`);
   await page.waitForFunction('window.vdbgiViewer?.status === "ready"', { timeout: 60000 });
   await page.evaluate(() => window.vdbgiViewer.api.frame());
   return page;
@@ -73,6 +79,40 @@ try {
     const ratio = mean(gpu.px) / mean(on.px);
     check(!gs.error && gs.lightmaps === materials && Math.abs(ratio - 1) < 0.05,
       `WebGPU: the lightmaps found, the frame's mean light within 5 % of WebGL2's (${ratio.toFixed(3)})`);
+    if (layered) {
+      const sum = await open(browser, url, '&layers=0', 'layers.glb');
+      const baked = await grab(sum);
+      const none = await sum.evaluate(() => window.vdbgiViewer.layers.length);
+      await sum.close();
+      const p = await open(browser, url, '', 'layers.glb');
+      const names = await p.evaluate(() => window.vdbgiViewer.layers);
+      const all = await grab(p);
+      const ratio = mean(all.px) / mean(baked.px);
+      check(none === 0 && names.join(' ') === 'sun ambient' && Math.abs(ratio - 1) < 0.01,
+        `layers: sliders for ${names.join(', ')}; at weight 1 the composite's mean light within 1 % of the baked sum's (${ratio.toFixed(4)})`);
+      await p.evaluate(() => window.vdbgiViewer.api.setLayer('sun', 0));
+      await p.evaluate(() => window.vdbgiViewer.api.frame());
+      const dim = await grab(p);
+      let brighter = 0, darker = 0;
+      for (let i = 0; i < all.px.length; i += 4) {
+        let down = false;
+        for (let k = 0; k < 3; k++) {
+          const d = dim.px[i + k] - all.px[i + k];
+          if (d > 1) brighter++;
+          if (d < -1) down = true;
+        }
+        darker += down;
+      }
+      check(brighter === 0 && darker > 0, `layers: the sun's at 0 takes light away only (${darker} pixels darker, ${brighter} channels brighter)`);
+      await p.evaluate(() => window.vdbgiViewer.api.setLayer('ambient', 0));
+      await p.evaluate(() => window.vdbgiViewer.api.frame());
+      const dark = await grab(p);
+      await p.evaluate(() => window.vdbgiViewer.api.setLightmap(false));
+      await p.evaluate(() => window.vdbgiViewer.api.frame());
+      const unlit = await grab(p);
+      await p.close();
+      check(dark.png === unlit.png, 'layers: every light at 0 gives the frame without lightmaps, byte for byte');
+    }
   });
 } finally {
   rmSync(dir, { recursive: true, force: true });
