@@ -86,12 +86,14 @@ function prepare(mesh, set) {
 }
 
 // gi-lightmap's maps: the material's extras name the texture, on TEXCOORD_1, and E's scale (docs/lightmap.md).
-// With per-light layers (--layers) and WebGL2, each atlas's map is their weighted sum instead, drawn by
-// the compositor, so the panel can dim or switch each light (layers=0 shows the baked sum).
+// With per-light layers (--layers), each atlas's map is their weighted sum instead, drawn by the
+// compositor (WebGL2 or WebGPU), so the panel can dim or switch each light (layers=0: the baked sum).
 let compositor = null;
 async function attachLightmaps(gltf) {
   const materials = new Set();
   const jobs = [];
+  // Before the jobs: a compositor made after an await in each would be made several times.
+  const gpu = webgpu && { webgpu: await import('three/webgpu'), tsl: await import('three/tsl') };
   const texture = async (i) => {
     const t = await gltf.parser.getDependency('texture', i);
     t.colorSpace = THREE.SRGBColorSpace; // the PNGs hold sRGB-encoded E / scale
@@ -105,9 +107,9 @@ async function attachLightmaps(gltf) {
       map.channel = lm.texCoord;
       o.material.lightMap = map;
       o.material.lightMapIntensity = lm.scale;
-      if (lm.layers?.length && !webgpu && params.get('layers') !== '0') {
+      if (lm.layers?.length && params.get('layers') !== '0') {
         const layers = await Promise.all(lm.layers.map(async (l) => ({ name: l.name, scale: l.scale, map: await texture(l.texture) })));
-        compositor ??= new LayerCompositor(renderer);
+        compositor ??= new LayerCompositor(renderer, gpu);
         o.material.lightMap = compositor.target(gltf.parser.json.textures[lm.texture].source, layers);
         o.material.lightMapIntensity = 1;
       }

@@ -1,7 +1,7 @@
 # web/viewer.html in headless Chromium with a scene from gi-lightmap and no
 # probe volume: it finds the lightmap on every material, and the map only adds
 # light (WebGL2, untone-mapped), in WebGPU too; with --layers, the panel's
-# compositor weighs each light (WebGL2).
+# compositor weighs each light (WebGL2 and WebGPU).
 if [ ! -x "${CHROMIUM:-/usr/bin/chromium}" ] || [ ! -d "$ROOT/web/node_modules/puppeteer-core" ]; then
     echo "chromium or web/node_modules missing (make deps installs both)"
     exit 77

@@ -6,7 +6,8 @@
 // WebGL2's). With LAYERS.glb (gi-lightmap --layers): the panel has a slider a
 // light; at weight 1 each the composite carries the baked sum's light (the mean
 // within 1 %); a light at 0 only takes light away; every light at 0 gives the
-// frame without lightmaps, byte for byte.
+// frame without lightmaps, byte for byte; WebGPU's composite (TSL) carries the
+// same light and loses the same share of it with the sun at 0.
 // --save DIR writes viewer_lightmap_off.png and viewer_lightmap_on.png.
 import { copyFileSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -112,6 +113,18 @@ try {
       const unlit = await grab(p);
       await p.close();
       check(dark.png === unlit.png, 'layers: every light at 0 gives the frame without lightmaps, byte for byte');
+      // WebGPU composites in TSL: the same light as WebGL2's composite, and the sun's weight takes the same share.
+      const g = await open(browser, url, '&backend=webgpu', 'layers.glb');
+      const gNames = await g.evaluate(() => window.vdbgiViewer.layers);
+      const gAll = await grab(g);
+      await g.evaluate(() => window.vdbgiViewer.api.setLayer('sun', 0));
+      await g.evaluate(() => window.vdbgiViewer.api.frame());
+      const gDim = await grab(g);
+      await g.close();
+      const gRatio = mean(gAll.px) / mean(all.px), gDrop = 1 - mean(gDim.px) / mean(gAll.px), glDrop = 1 - mean(dim.px) / mean(all.px);
+      check(gNames.join(' ') === 'sun ambient' && Math.abs(gRatio - 1) < 0.05 && glDrop > 0.005 && Math.abs(gDrop / glDrop - 1) < 0.2,
+        `layers, WebGPU: the composite's light within 5 % of WebGL2's (${gRatio.toFixed(3)}); the sun at 0 takes ` +
+        `${(100 * gDrop).toFixed(2)} % of the light away, WebGL2 ${(100 * glDrop).toFixed(2)} %`);
     }
   });
 } finally {
