@@ -253,6 +253,22 @@ static void texture_sample(const vdbgi_texture *t, float u, float v, float rgb[3
     }
 }
 
+/* rgb times texture `texture` at triangle prim's barycentrics (u, v), through its first UV set. */
+static void times_texture(const vdbgi_scene *scene, uint32_t prim, float u, float v, int texture,
+                          float rgb[3])
+{
+    const uint32_t *const idx = &scene->indices[3 * prim];
+    const float w = 1.0f - u - v;
+    const float *const t0 = &scene->uvs[2 * idx[0]];
+    const float *const t1 = &scene->uvs[2 * idx[1]];
+    const float *const t2 = &scene->uvs[2 * idx[2]];
+    float tex[3];
+    texture_sample(&scene->textures[texture], w * t0[0] + u * t1[0] + v * t2[0],
+                   w * t0[1] + u * t1[1] + v * t2[1], tex);
+    for (int k = 0; k < 3; k++)
+        rgb[k] *= tex[k];
+}
+
 void vdbgi_scene_albedo(const vdbgi_scene *scene, uint32_t prim, float u, float v, float rgb[3])
 {
     const vdbgi_tri *const tri = &scene->tris[prim];
@@ -268,34 +284,16 @@ void vdbgi_scene_albedo(const vdbgi_scene *scene, uint32_t prim, float u, float 
     const float *const c2 = &scene->colors[3 * idx[2]];
     for (int k = 0; k < 3; k++)
         rgb[k] = mat->base[k] * (w * c0[k] + u * c1[k] + v * c2[k]);
-    if (mat->texture >= 0) {
-        const float *const t0 = &scene->uvs[2 * idx[0]];
-        const float *const t1 = &scene->uvs[2 * idx[1]];
-        const float *const t2 = &scene->uvs[2 * idx[2]];
-        float tex[3];
-        texture_sample(&scene->textures[mat->texture], w * t0[0] + u * t1[0] + v * t2[0],
-                       w * t0[1] + u * t1[1] + v * t2[1], tex);
-        for (int k = 0; k < 3; k++)
-            rgb[k] *= tex[k];
-    }
+    if (mat->texture >= 0)
+        times_texture(scene, prim, u, v, mat->texture, rgb);
 }
 
 void vdbgi_scene_emission(const vdbgi_scene *scene, uint32_t prim, float u, float v, float rgb[3])
 {
     const vdbgi_material *const mat = &scene->materials[scene->tris[prim].material];
     memcpy(rgb, mat->emissive, 3 * sizeof(float));
-    if (mat->emissive_texture < 0)
-        return;
-    const uint32_t *const idx = &scene->indices[3 * prim];
-    const float w = 1.0f - u - v;
-    const float *const t0 = &scene->uvs[2 * idx[0]];
-    const float *const t1 = &scene->uvs[2 * idx[1]];
-    const float *const t2 = &scene->uvs[2 * idx[2]];
-    float tex[3];
-    texture_sample(&scene->textures[mat->emissive_texture], w * t0[0] + u * t1[0] + v * t2[0],
-                   w * t0[1] + u * t1[1] + v * t2[1], tex);
-    for (int k = 0; k < 3; k++)
-        rgb[k] *= tex[k];
+    if (mat->emissive_texture >= 0)
+        times_texture(scene, prim, u, v, mat->emissive_texture, rgb);
 }
 
 /* ---- receivers ------------------------------------------------------------ */
