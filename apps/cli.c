@@ -351,3 +351,19 @@ void cli_json_string(FILE *f, const char *s)
     }
     fputc('"', f);
 }
+
+vdbgi_result cli_write_printed(vdbgi_context *ctx, const char *path,
+                               void (*print)(FILE *f, const void *arg), const void *arg)
+{
+    char *text = NULL;
+    size_t size = 0;
+    FILE *const f = open_memstream(&text, &size);
+    if (!f)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    print(f, arg);
+    const bool ok = !ferror(f) & (fclose(f) == 0);
+    const vdbgi_result r =
+        ok ? vdbgi_context_write_file(ctx, path, text, size) : VDBGI_ERR_OUT_OF_MEMORY;
+    free(text);
+    return r;
+}

@@ -122,5 +122,11 @@ void cli_progress_end(cli_progress *p);
 const char *cli_bytes(double bytes, char *buf, size_t cap);
 /* s as a JSON string: quoted, quotes, backslashes and control characters escaped. */
 void cli_json_string(FILE *f, const char *s);
+/*
+ * Write what print(f, arg) prints to path, composed in memory and written as
+ * the library writes its files (held with the context's other outputs).
+ */
+vdbgi_result cli_write_printed(vdbgi_context *ctx, const char *path,
+                               void (*print)(FILE *f, const void *arg), const void *arg);
 
 #endif /* VDBGI_CLI_H */

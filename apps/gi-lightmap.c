@@ -230,20 +230,10 @@ static void print_figures(FILE *f, const run_figures *g, bool json)
     fprintf(f, "output   %s (%s)\n", g->o->output, cli_bytes(g->glb_bytes, bytes, sizeof(bytes)));
 }
 
-/* The JSON figures, written as the library writes its files (held with the .glb). */
-static vdbgi_result write_stats(vdbgi_context *ctx, const run_figures *g)
+/* The JSON figures, for cli_write_printed (held with the .glb). */
+static void print_json(FILE *f, const void *g)
 {
-    char *text = NULL;
-    size_t size = 0;
-    FILE *const f = open_memstream(&text, &size);
-    if (!f)
-        return VDBGI_ERR_OUT_OF_MEMORY;
     print_figures(f, g, true);
-    const bool ok = !ferror(f) & (fclose(f) == 0);
-    const vdbgi_result r =
-        ok ? vdbgi_context_write_file(ctx, g->o->stats, text, size) : VDBGI_ERR_OUT_OF_MEMORY;
-    free(text);
-    return r;
 }
 
 int main(int argc, char **argv)
@@ -288,7 +278,7 @@ int main(int argc, char **argv)
         g.glb_bytes = (double)vdbgi_lightmap_glb_size(lm);
     }
     if (r == VDBGI_OK && o.stats)
-        r = write_stats(ctx, &g);
+        r = cli_write_printed(ctx, o.stats, print_json, &g);
     if (r == VDBGI_OK)
         r = vdbgi_context_commit_outputs(ctx);
     int code = CLI_OK;

@@ -390,22 +390,18 @@ static void print_bevy(const vdbgi_bevy *b, const options *o)
            bi.center[0], bi.center[1], bi.center[2], bi.size[0], bi.size[1], bi.size[2]);
 }
 
-/* The JSON statistics, through a temporary name like every output. */
-/* The statistics as JSON, composed in memory and written as the library writes its files. */
-static vdbgi_result write_json(vdbgi_context *ctx, const options *o, const vdbgi_volume_info *vi,
-                               const vdbgi_probes_info *pi, double read_seconds)
+/* What the JSON statistics are printed from, for cli_write_printed. */
+typedef struct stats_args {
+    const options *o;
+    const vdbgi_volume_info *vi;
+    const vdbgi_probes_info *pi;
+    double read_seconds;
+} stats_args;
+
+static void print_json(FILE *f, const void *arg)
 {
-    char *text = NULL;
-    size_t size = 0;
-    FILE *const f = open_memstream(&text, &size);
-    if (!f)
-        return VDBGI_ERR_OUT_OF_MEMORY;
-    print_stats(f, o, vi, pi, read_seconds, true);
-    const bool ok = !ferror(f) & (fclose(f) == 0);
-    const vdbgi_result r =
-        ok ? vdbgi_context_write_file(ctx, o->stats, text, size) : VDBGI_ERR_OUT_OF_MEMORY;
-    free(text);
-    return r;
+    const stats_args *const a = arg;
+    print_stats(f, a->o, a->vi, a->pi, a->read_seconds, true);
 }
 
 int main(int argc, char **argv)
@@ -506,7 +502,8 @@ int main(int argc, char **argv)
         code = CLI_OK;
         if (cli_verbosity >= 2)
             print_stats(stdout, &o, &vi, &pi, read_seconds, false);
-        if (o.stats && (r = write_json(ctx, &o, &vi, &pi, read_seconds)) != VDBGI_OK)
+        const stats_args sa = {&o, &vi, &pi, read_seconds};
+        if (o.stats && (r = cli_write_printed(ctx, o.stats, print_json, &sa)) != VDBGI_OK)
             code = cli_fail(ctx, r);
     }
     if (r == VDBGI_OK && !o.output)
