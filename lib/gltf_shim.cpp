@@ -66,6 +66,19 @@ int add_texture(tinygltf::Model &m, int image, int sampler)
     return int(m.textures.size() - 1);
 }
 
+// Run body, an exception becoming a message in err: no C++ exception crosses into C.
+template <class Body> bool guarded(char *err, size_t err_size, Body body)
+{
+    try {
+        return body();
+    } catch (const std::exception &e) {
+        std::snprintf(err, err_size, "glTF: %s", e.what());
+    } catch (...) {
+        std::snprintf(err, err_size, "glTF: unknown error");
+    }
+    return false;
+}
+
 } // namespace
 
 extern "C" bool vdbgi_gltf_encode(const vdbgi_gltf_desc *d, uint8_t **out, size_t *size, char *err,
@@ -73,7 +86,7 @@ extern "C" bool vdbgi_gltf_encode(const vdbgi_gltf_desc *d, uint8_t **out, size_
 {
     *out = nullptr;
     *size = 0;
-    try {
+    return guarded(err, err_size, [&]() -> bool {
         tinygltf::Model m;
         m.asset.version = "2.0";
         m.asset.generator = d->generator ? d->generator : "vdbgi";
@@ -204,12 +217,7 @@ extern "C" bool vdbgi_gltf_encode(const vdbgi_gltf_desc *d, uint8_t **out, size_
         std::memcpy(*out, bytes.data(), bytes.size());
         *size = bytes.size();
         return true;
-    } catch (const std::exception &e) {
-        std::snprintf(err, err_size, "glTF: %s", e.what());
-    } catch (...) {
-        std::snprintf(err, err_size, "glTF: unknown error");
-    }
-    return false;
+    });
 }
 
 namespace
@@ -233,7 +241,7 @@ extern "C" bool vdbgi_gltf_materials(const char *path, vdbgi_gltf_material_info 
 {
     *out = nullptr;
     *count = 0;
-    try {
+    return guarded(err, err_size, [&]() -> bool {
         std::string name(path);
         for (char &c : name)
             c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -259,8 +267,6 @@ extern "C" bool vdbgi_gltf_materials(const char *path, vdbgi_gltf_material_info 
             std::snprintf(err, err_size, "out of memory for %zu materials", m.materials.size());
             return false;
         }
-        *out = info;
-        *count = m.materials.size();
         for (size_t i = 0; i < m.materials.size(); i++) {
             const tinygltf::Material &src = m.materials[i];
             vdbgi_gltf_material_info &o = info[i];
@@ -281,11 +287,8 @@ extern "C" bool vdbgi_gltf_materials(const char *path, vdbgi_gltf_material_info 
                 o.strength = d >= 0.0 && d <= 1e6 ? float(d) : 1.0f;
             }
         }
+        *out = info;
+        *count = m.materials.size();
         return true;
-    } catch (const std::exception &e) {
-        std::snprintf(err, err_size, "glTF: %s", e.what());
-    } catch (...) {
-        std::snprintf(err, err_size, "glTF: unknown error");
-    }
-    return false;
+    });
 }
