@@ -48,3 +48,25 @@ export async function withPage(mounts, fn, { width = 800, height = 600, page: pa
     server.close();
   }
 }
+
+// The mean 8-bit value of a frame's RGB channels (an RGBA8 pixel array).
+export const meanLight = (px) => px.reduce((a, v, i) => (i % 4 === 3 ? a : a + v), 0) / (px.length * 0.75);
+
+// How frame `after` differs from frame `before` (RGBA8 pixel arrays): the channels
+// lower or higher by more than one 8-bit step, the pixels with any such channel,
+// and the light added per channel.
+export function lightChange(before, after) {
+  const c = { darkerChannels: 0, brighterChannels: 0, darkerPixels: 0, brighterPixels: 0, added: [0, 0, 0] };
+  for (let i = 0; i < before.length; i += 4) {
+    let down = false, up = false;
+    for (let k = 0; k < 3; k++) {
+      const d = after[i + k] - before[i + k];
+      if (d < -1) c.darkerChannels++, down = true;
+      if (d > 1) c.brighterChannels++, up = true;
+      c.added[k] += Math.max(d, 0);
+    }
+    c.darkerPixels += down;
+    c.brighterPixels += up;
+  }
+  return c;
+}

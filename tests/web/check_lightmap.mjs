@@ -12,7 +12,7 @@
 import { copyFileSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { withPage } from './browser.mjs';
+import { lightChange, meanLight, withPage } from './browser.mjs';
 
 const args = process.argv.slice(2);
 const save = args.includes('--save') ? args[args.indexOf('--save') + 1] : null;
@@ -42,7 +42,6 @@ async function open(browser, url, extra = '', file = 'lit.glb') {
   await page.evaluate(() => window.vdbgiViewer.api.frame());
   return page;
 }
-const mean = (px) => px.reduce((a, v, i) => (i % 4 === 3 ? a : a + v), 0) / (px.length * 0.75);
 
 try {
   await withPage({ '/files': dir }, async ({ browser, url }) => {
@@ -55,20 +54,11 @@ try {
     await page.evaluate(() => window.vdbgiViewer.api.setLightmap(false));
     await page.evaluate(() => window.vdbgiViewer.api.frame());
     const off = await grab(page);
-    let darker = 0, brighter = 0;
-    for (let i = 0; i < on.px.length; i += 4) {
-      let up = false;
-      for (let k = 0; k < 3; k++) {
-        const d = on.px[i + k] - off.px[i + k];
-        if (d < -1) darker++;
-        if (d > 1) up = true;
-      }
-      brighter += up;
-    }
+    const { darkerChannels: darker, brighterPixels: brighter } = lightChange(off.px, on.px);
     const pixels = on.px.length / 4;
     check(darker === 0, `the lightmap darkens no channel beyond rounding (${darker} channels)`);
     check(brighter > pixels / 2, `the lightmap lights most of the frame (${(100 * brighter / pixels).toFixed(0)} % of pixels)`);
-    console.error(`mean 8-bit light: ${mean(off.px).toFixed(1)} without the lightmap, ${mean(on.px).toFixed(1)} with it`);
+    console.error(`mean 8-bit light: ${meanLight(off.px).toFixed(1)} without the lightmap, ${meanLight(on.px).toFixed(1)} with it`);
     if (save) {
       writeFileSync(join(save, 'viewer_lightmap_off.png'), Buffer.from(off.png.split(',')[1], 'base64'));
       writeFileSync(join(save, 'viewer_lightmap_on.png'), Buffer.from(on.png.split(',')[1], 'base64'));
@@ -77,7 +67,7 @@ try {
     const gs = await g.evaluate(() => ({ error: window.vdbgiViewer.error, lightmaps: window.vdbgiViewer.lightmaps }));
     const gpu = await grab(g);
     await g.close();
-    const ratio = mean(gpu.px) / mean(on.px);
+    const ratio = meanLight(gpu.px) / meanLight(on.px);
     check(!gs.error && gs.lightmaps === materials && Math.abs(ratio - 1) < 0.05,
       `WebGPU: the lightmaps found, the frame's mean light within 5 % of WebGL2's (${ratio.toFixed(3)})`);
     if (layered) {
@@ -88,22 +78,13 @@ try {
       const p = await open(browser, url, '', 'layers.glb');
       const names = await p.evaluate(() => window.vdbgiViewer.layers);
       const all = await grab(p);
-      const ratio = mean(all.px) / mean(baked.px);
+      const ratio = meanLight(all.px) / meanLight(baked.px);
       check(none === 0 && names.join(' ') === 'sun ambient' && Math.abs(ratio - 1) < 0.01,
         `layers: sliders for ${names.join(', ')}; at weight 1 the composite's mean light within 1 % of the baked sum's (${ratio.toFixed(4)})`);
       await p.evaluate(() => window.vdbgiViewer.api.setLayer('sun', 0));
       await p.evaluate(() => window.vdbgiViewer.api.frame());
       const dim = await grab(p);
-      let brighter = 0, darker = 0;
-      for (let i = 0; i < all.px.length; i += 4) {
-        let down = false;
-        for (let k = 0; k < 3; k++) {
-          const d = dim.px[i + k] - all.px[i + k];
-          if (d > 1) brighter++;
-          if (d < -1) down = true;
-        }
-        darker += down;
-      }
+      const { brighterChannels: brighter, darkerPixels: darker } = lightChange(all.px, dim.px);
       check(brighter === 0 && darker > 0, `layers: the sun's at 0 takes light away only (${darker} pixels darker, ${brighter} channels brighter)`);
       await p.evaluate(() => window.vdbgiViewer.api.setLayer('ambient', 0));
       await p.evaluate(() => window.vdbgiViewer.api.frame());
@@ -121,7 +102,7 @@ try {
       await g.evaluate(() => window.vdbgiViewer.api.frame());
       const gDim = await grab(g);
       await g.close();
-      const gRatio = mean(gAll.px) / mean(all.px), gDrop = 1 - mean(gDim.px) / mean(gAll.px), glDrop = 1 - mean(dim.px) / mean(all.px);
+      const gRatio = meanLight(gAll.px) / meanLight(all.px), gDrop = 1 - meanLight(gDim.px) / meanLight(gAll.px), glDrop = 1 - meanLight(dim.px) / meanLight(all.px);
       check(gNames.join(' ') === 'sun ambient' && Math.abs(gRatio - 1) < 0.05 && glDrop > 0.005 && Math.abs(gDrop / glDrop - 1) < 0.2,
         `layers, WebGPU: the composite's light within 5 % of WebGL2's (${gRatio.toFixed(3)}); the sun at 0 takes ` +
         `${(100 * gDrop).toFixed(2)} % of the light away, WebGL2 ${(100 * glDrop).toFixed(2)} %`);

@@ -11,7 +11,7 @@
 import { copyFileSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { withPage } from './browser.mjs';
+import { lightChange, meanLight, withPage } from './browser.mjs';
 
 const args = process.argv.slice(2);
 const [scene, good] = args;
@@ -58,17 +58,7 @@ try {
     await page.evaluate(() => window.vdbgiViewer.api.setGi(false));
     await page.evaluate(() => window.vdbgiViewer.api.frame());
     const off = await grab(page);
-    let darker = 0, brighter = 0, added = [0, 0, 0];
-    for (let i = 0; i < on.px.length; i += 4) {
-      let up = false;
-      for (let k = 0; k < 3; k++) {
-        const d = on.px[i + k] - off.px[i + k];
-        if (d < -1) darker++;
-        if (d > 1) up = true;
-        added[k] += Math.max(d, 0);
-      }
-      brighter += up;
-    }
+    const { darkerChannels: darker, brighterPixels: brighter, added } = lightChange(off.px, on.px);
     const pixels = on.px.length / 4;
     check(darker === 0, `GI on darkens no channel beyond rounding (${darker} channels)`);
     check(brighter > pixels / 2, `GI on lights most of the frame (${(100 * brighter / pixels).toFixed(0)} % of pixels)`);
@@ -91,8 +81,7 @@ try {
     check(!g.error && g.figures && /WebGPU/.test(g.text), `WebGPU: no error, the figures shown${g.error ? ` (${g.error})` : ''}`);
     // The same scene through WebGPURenderer and TSL: it differs from WebGL2 in
     // shadow filtering and rasterisation, so compare the light, not the bytes.
-    const mean = (px) => px.reduce((a, v, i) => (i % 4 === 3 ? a : a + v), 0) / (px.length * 0.75);
-    const ratio = mean(gpuFrame.px) / mean(on.px);
+    const ratio = meanLight(gpuFrame.px) / meanLight(on.px);
     check(Math.abs(ratio - 1) < 0.05, `WebGPU: the frame's mean light within 5 % of WebGL2's with GI on (${ratio.toFixed(3)})`);
     // Drag and drop: both files on a page opened without any.
     const d = await browser.newPage();
