@@ -106,7 +106,8 @@ static int inspect_gi(vdbgi_context *ctx, const char *path, float (*at)[3], int 
     printf("indirection  %ux%ux%u cells, %s\n", vi.indirection_dims[0], vi.indirection_dims[1],
            vi.indirection_dims[2], cli_bytes((double)vi.indirection_size, b, sizeof(b)));
     printf("atlas        %ux%ux%u texels%s, %s\n", vi.atlas_dims[0], vi.atlas_dims[1],
-           vi.atlas_dims[2], vi.layout == VDBGI_LAYOUT_COMPACT ? " (compact, 5^3 a brick)" : "",
+           vi.atlas_dims[2],
+           vi.layout == VDBGI_LAYOUT_COMPACT ? " (compact: 5^3 bricks sharing borders)" : "",
            cli_bytes((double)vi.atlas_size, c, sizeof(c)));
     printf("bricks       %u (max level %u): level 0 %u, level 1 %u, level 2 %u, level 3 %u\n",
            vi.brick_count, vi.max_level, vi.bricks[0], vi.bricks[1], vi.bricks[2], vi.bricks[3]);

@@ -16,10 +16,10 @@ static void usage(void)
            "\n"
            "Convert the probes baked by gi-bake into what a game ships: adaptive bricks of\n"
            "4x4x4 probes (big where light is flat, small where it changes), packed into an\n"
-           "atlas texture with a one-texel apron, an indirection texture pointing every\n"
-           "2 m cell at its brick, both RGBM-encoded (or RGB9E5) and gzip'd into one file\n"
-           "(docs/format.md). Invalid and absent probes are filled from valid neighbours\n"
-           "first. Statistics go to stdout.\n"
+           "atlas texture (neighbours sharing their border texels), an indirection texture\n"
+           "pointing every 4x4x4-probe cell at its brick, both RGBM-encoded (or RGB9E5);\n"
+           "the file stores each probe once, gzip'd (docs/format.md). Invalid and absent\n"
+           "probes are filled from valid neighbours first. Statistics go to stdout.\n"
            "\n"
            "With --bevy or --bevy-baked-gi (probes baked with --basis ambient-cube), also\n"
            "resample the ambient cubes onto a dense grid for Bevy's irradiance volumes and\n"
@@ -44,7 +44,8 @@ static void usage(void)
            "                        dark rooms, or mean (darkest); applies to --bevy too\n"
            "      --layout L        seed: 6^3 texels a brick, for seed 000's shader as it\n"
            "                        is; compact: 5^3 texels, coarse probes at block corners,\n"
-           "                        levels stitched (docs/format.md) (compact)\n"
+           "                        levels stitched, neighbours sharing borders\n"
+           "                        (docs/format.md) (compact)\n"
            "      --slices DIR      write slice images (PNG and EXR) into DIR\n"
            "      --slice-axis A    x, y or z (y)\n"
            "      --slice-at M      world coordinate of the slice (the plane with most probes)\n"
@@ -341,7 +342,8 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
     fprintf(f, "bricks       %u: level 0 %u, level 1 %u, level 2 %u, level 3 %u\n", vi->brick_count,
             vi->bricks[0], vi->bricks[1], vi->bricks[2], vi->bricks[3]);
     fprintf(f, "atlas        %ux%ux%u texels%s, %s\n", vi->atlas_dims[0], vi->atlas_dims[1],
-            vi->atlas_dims[2], vi->layout == VDBGI_LAYOUT_COMPACT ? " (compact, 5^3 a brick)" : "",
+            vi->atlas_dims[2],
+            vi->layout == VDBGI_LAYOUT_COMPACT ? " (compact: 5^3 bricks sharing borders)" : "",
             cli_bytes((double)vi->atlas_size, a, sizeof(a)));
     fprintf(f, "indirection  %ux%ux%u cells, %s\n", vi->indirection_dims[0],
             vi->indirection_dims[1], vi->indirection_dims[2],

@@ -20,9 +20,10 @@ static void write_header(const vdbgi_volume_info *in, bool packed, uint8_t h[VDB
     memcpy(h, gi_magic, 8);
     /*
      * Seed-layout files stay version 1, byte for byte; the compact layout is
-     * version 3 packed, version 2 as textures.
+     * version 4 packed, version 2 (layout field 2) as textures.
      */
-    vdbgi_put_u32(h + 8, in->layout == VDBGI_LAYOUT_COMPACT ? (packed ? 3 : 2) : 1);
+    const bool compact = in->layout == VDBGI_LAYOUT_COMPACT;
+    vdbgi_put_u32(h + 8, compact ? (packed ? 4 : 2) : 1);
     vdbgi_put_u32(h + 12, VDBGI_GI_HEADER_SIZE);
     vdbgi_put_u32(h + 16, (uint32_t)in->encoding);
     vdbgi_put_f32(h + 20, in->rgbm_range);
@@ -38,7 +39,7 @@ static void write_header(const vdbgi_volume_info *in, bool packed, uint8_t h[VDB
         vdbgi_put_u32(h + 80 + 4 * l, in->bricks[l]);
     vdbgi_put_u32(h + 96, (uint32_t)in->indirection_size);
     vdbgi_put_u32(h + 100, (uint32_t)in->atlas_size);
-    vdbgi_put_u32(h + 104, (uint32_t)in->layout);
+    vdbgi_put_u32(h + 104, compact ? VDBGI_GI_LAYOUT_COMPACT : 0);
     if (packed)
         vdbgi_put_u32(h + 108, (uint32_t)in->stored_points);
 }
@@ -164,13 +165,16 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
                   "%s: .gi version %u, this reader knows 1..%d", path, version, VDBGI_GI_VERSION);
     /*
      * Version 1 is the seed layout (its field is reserved, 0); version 2 says
-     * which; version 3 is the packed compact layout.
+     * which; version 4 is the packed compact layout. Version 3 and layout 1
+     * were the compact layout in 5^3 slots, before bricks shared borders.
      */
     const uint32_t layout = vdbgi_get_u32(h + 104);
+    VDBGI_FAIL_IF(ctx, version == 3 || (version == 2 && layout == 1), VDBGI_ERR_FORMAT,
+                  "%s: an older vdbgi's compact layout (5^3 slots): convert the .vdb again", path);
     VDBGI_FAIL_IF(ctx,
                   version == 1   ? layout != 0
-                  : version == 3 ? layout != 1
-                                 : layout > 1,
+                  : version == 4 ? layout != VDBGI_GI_LAYOUT_COMPACT
+                                 : layout != 0 && layout != VDBGI_GI_LAYOUT_COMPACT,
                   VDBGI_ERR_FORMAT, "%s: unknown brick layout %u for version %u", path, layout,
                   version);
     *header_size = vdbgi_get_u32(h + 12);
@@ -180,8 +184,11 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
     const uint32_t enc = vdbgi_get_u32(h + 16);
     VDBGI_FAIL_IF(ctx, enc > 1, VDBGI_ERR_FORMAT, "%s: unknown encoding %u", path, enc);
     info->encoding = (vdbgi_encoding)enc;
-    info->layout = (vdbgi_layout)layout;
-    const uint32_t b = (uint32_t)vdbgi_slot_texels(layout);
+    info->layout = layout ? VDBGI_LAYOUT_COMPACT : VDBGI_LAYOUT_SEED;
+    /* The seed layout's atlas is whole 6^3 slots, 256 an axis; the compact one's texels are free. */
+    const uint32_t b = layout ? 1 : VDBGI_BRICK_PADDED,
+                   lo = layout ? VDBGI_BRICK_COMPACT : VDBGI_BRICK_PADDED,
+                   hi = layout ? VDBGI_ATLAS_MAX : 256 * VDBGI_BRICK_PADDED;
     info->rgbm_range = vdbgi_get_f32(h + 20);
     VDBGI_FAIL_IF(ctx, !(info->rgbm_range > 0.0f) || !isfinite(info->rgbm_range), VDBGI_ERR_FORMAT,
                   "%s: bad RGBM range", path);
@@ -194,10 +201,9 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
         VDBGI_FAIL_IF(
             ctx, info->indirection_dims[k] < 1 || info->indirection_dims[k] > VDBGI_MAX_TEXTURE_DIM,
             VDBGI_ERR_FORMAT, "%s: bad indirection size", path);
-        VDBGI_FAIL_IF(ctx,
-                      info->atlas_dims[k] < b || info->atlas_dims[k] > 256 * b ||
-                          info->atlas_dims[k] % b,
-                      VDBGI_ERR_FORMAT, "%s: bad atlas size", path);
+        VDBGI_FAIL_IF(
+            ctx, info->atlas_dims[k] < lo || info->atlas_dims[k] > hi || info->atlas_dims[k] % b,
+            VDBGI_ERR_FORMAT, "%s: bad atlas size", path);
         VDBGI_FAIL_IF(ctx,
                       !isfinite(info->box_min[k]) || !isfinite(info->box_max[k]) ||
                           !(info->box_max[k] > info->box_min[k]),
@@ -216,10 +222,10 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
     info->atlas_size = vdbgi_get_u32(h + 100);
     VDBGI_FAIL_IF(ctx, info->indirection_size != ind || info->atlas_size != atlas, VDBGI_ERR_FORMAT,
                   "%s: texture sizes disagree with their dimensions", path);
-    VDBGI_FAIL_IF(ctx, version < 3 && vdbgi_get_u32(h + 108) != 0, VDBGI_ERR_FORMAT,
+    VDBGI_FAIL_IF(ctx, version < 4 && vdbgi_get_u32(h + 108) != 0, VDBGI_ERR_FORMAT,
                   "%s: reserved header field is not 0", path);
-    /* Version 3 stores the level bytes and the points instead of the textures. */
-    info->stored_points = version == 3 ? vdbgi_get_u32(h + 108) : 0;
+    /* Version 4 stores the level bytes and the points instead of the textures. */
+    info->stored_points = version == 4 ? vdbgi_get_u32(h + 108) : 0;
     /*
      * Every brick stores inner points no other brick reads and no stitching
      * touches: 27 at levels 0 and 1, at least 8 at level 2 and 1 at level 3
@@ -228,15 +234,15 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
      */
     const uint64_t least = 27 * ((uint64_t)info->bricks[0] + info->bricks[1]) +
                            8 * (uint64_t)info->bricks[2] + info->bricks[3];
-    VDBGI_FAIL_IF(ctx, version == 3 && least > info->stored_points, VDBGI_ERR_FORMAT,
+    VDBGI_FAIL_IF(ctx, version == 4 && least > info->stored_points, VDBGI_ERR_FORMAT,
                   "%s: the header's bricks need at least %llu stored points, it has %zu", path,
                   (unsigned long long)least, info->stored_points);
-    *stored_size = version == 3 ? ind / 4 + 4 * (uint64_t)info->stored_points : ind + atlas;
+    *stored_size = version == 4 ? ind / 4 + 4 * (uint64_t)info->stored_points : ind + atlas;
     return VDBGI_OK;
 }
 
 /*
- * A version 3 file's textures, rebuilt from its payload: refused unless the
+ * A version 4 file's textures, rebuilt from its payload: refused unless the
  * bricks its level bytes describe are the ones its header counts.
  */
 static vdbgi_result unpack(vdbgi_context *ctx, const char *path, vdbgi_volume *v,
@@ -257,21 +263,34 @@ static vdbgi_result unpack(vdbgi_context *ctx, const char *path, vdbgi_volume *v
     return r;
 }
 
-/* Every indirection texel must point at a slot of the atlas with a level the file allows. */
+/*
+ * Every indirection texel must point at a whole brick inside the atlas, with a
+ * level the file allows: a seed slot, or a compact brick's first texel (an
+ * empty compact cell points at the block of zeros at the corner).
+ */
 static vdbgi_result check_indirection(vdbgi_context *ctx, const char *path, const vdbgi_volume *v)
 {
     const vdbgi_volume_info *const info = &v->info;
-    const uint32_t b = (uint32_t)vdbgi_slot_texels(info->layout);
-    const uint32_t slots[3] = {info->atlas_dims[0] / b, info->atlas_dims[1] / b,
-                               info->atlas_dims[2] / b};
+    const bool compact = info->layout == VDBGI_LAYOUT_COMPACT;
+    const uint32_t b = compact ? VDBGI_BRICK_COMPACT : VDBGI_BRICK_PADDED;
     for (size_t i = 0; i < info->indirection_size; i += 4) {
         const uint8_t *const t = &v->indirection[i];
-        if (t[3] == 0)
-            continue;
-        VDBGI_FAIL_IF(
-            ctx,
-            t[0] >= slots[0] || t[1] >= slots[1] || t[2] >= slots[2] || t[3] > info->max_level + 1,
-            VDBGI_ERR_FORMAT, "%s: indirection texel %zu points outside the atlas", path, i / 4);
+        bool inside = true;
+        uint32_t level;
+        if (compact) {
+            level = t[3] & 3u;
+            for (int k = 0; k < 3; k++)
+                inside =
+                    inside && 4u * t[k] + (t[3] >> (2 + 2 * k) & 3u) + b <= info->atlas_dims[k];
+        } else {
+            if (t[3] == 0)
+                continue;
+            level = t[3] - 1u;
+            for (int k = 0; k < 3; k++)
+                inside = inside && (t[k] + 1u) * b <= info->atlas_dims[k];
+        }
+        VDBGI_FAIL_IF(ctx, !inside || level > info->max_level, VDBGI_ERR_FORMAT,
+                      "%s: indirection texel %zu points outside the atlas", path, i / 4);
     }
     return VDBGI_OK;
 }
@@ -398,7 +417,7 @@ vdbgi_result vdbgi_volume_read(vdbgi_context *ctx, const char *path, vdbgi_volum
     v->ctx = ctx;
     v->info = info;
     v->info.file_size = file_size;
-    if (vdbgi_get_u32(h + 8) == 3) {
+    if (vdbgi_get_u32(h + 8) == 4) {
         r = unpack(ctx, path, v, raw + header_size);
         goto done;
     }

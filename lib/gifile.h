@@ -6,10 +6,15 @@
 
 #define VDBGI_GI_HEADER_SIZE 112
 /*
- * The newest version read: 1 is the seed layout, 2 adds the layout field, 3
- * stores the compact layout packed (docs/format.md).
+ * The newest version read: 1 is the seed layout, 2 adds the layout field, 4
+ * stores the compact layout packed (docs/format.md); 3 was an older compact
+ * layout, refused.
  */
-#define VDBGI_GI_VERSION 3
+#define VDBGI_GI_VERSION 4
+/* The layout field's value for the compact layout (1 was its older form, refused). */
+#define VDBGI_GI_LAYOUT_COMPACT 2
+/* The compact atlas's largest side: a brick's first texel is 4 r + (a's two bits) <= 1023. */
+#define VDBGI_ATLAS_MAX 1024
 
 /* Allocate v->raw for v->info's texture sizes and point indirection and atlas into it. */
 vdbgi_result vdbgi_gifile_alloc(vdbgi_volume *v);

@@ -1,8 +1,8 @@
 /*
- * packed.c: the compact layout's file, version 3 (docs/format.md, "Version
- * 3"). The runtime atlas repeats every probe on a brick face in the next
- * brick's border, and holds stitched values any reader can recompute; the
- * file keeps neither. It stores one level byte a cell, then each lattice
+ * packed.c: the compact layout's file, version 4 (docs/format.md, "Version
+ * 4"), and where its bricks go in the atlas. The runtime atlas repeats a
+ * brick's border plane wherever its neighbour lies elsewhere, and holds
+ * stitched values any reader can recompute; the file keeps neither. It stores one level byte a cell, then each lattice
  * point some brick reads unstitched, once, in owner-cell order, as four
  * planes of residuals against the point's -x (else -y, else -z) neighbour.
  * The converter builds its own textures through the reader's code, so what
@@ -73,11 +73,9 @@ static void texel_point(const vdbgi_pack_plan *pl, size_t b, int t, int32_t p[3]
  * its index and level. A point on a cell face, edge or corner touches two,
  * four or eight cells; cells past the indirection touch nothing.
  */
-static bool coarser_brick_at(const vdbgi_volume *v, const int32_t p[3], int level, size_t *index,
-                             int *coarse_level)
+static bool coarser_brick_at(const vdbgi_pack_plan *pl, const int32_t p[3], int level,
+                             size_t *index, int *coarse_level)
 {
-    const uint32_t *const d = v->info.indirection_dims;
-    const uint32_t sx = v->info.atlas_dims[0] / N, sy = v->info.atlas_dims[1] / N;
     int best = level;
     for (int c = 0; c < 8; c++) {
         int32_t cell[3];
@@ -86,15 +84,15 @@ static bool coarser_brick_at(const vdbgi_volume *v, const int32_t p[3], int leve
             const int down = c >> k & 1;
             cell[k] = (p[k] >> 2) - down;
             inside = inside && (!down || p[k] % VDBGI_BRICK == 0) && cell[k] >= 0 &&
-                     cell[k] < (int32_t)d[k];
+                     cell[k] < (int32_t)pl->dims[k];
         }
         if (!inside)
             continue;
-        const uint8_t *const t = &v->indirection[4 * cell_index(d, cell)];
-        if (t[3] == 0 || t[3] - 1 <= best)
+        const int32_t b = pl->cell_brick[cell_index(pl->dims, cell)];
+        if (b < 0 || pl->level[b] <= best)
             continue;
-        best = t[3] - 1;
-        *index = ((size_t)t[2] * sy + t[1]) * sx + t[0] - 1;
+        best = pl->level[b];
+        *index = (size_t)b;
     }
     *coarse_level = best;
     return best > level;
@@ -104,18 +102,17 @@ static bool coarser_brick_at(const vdbgi_volume *v, const int32_t p[3], int leve
  * Does texel t of brick b take a coarser brick's value, and whose? The plan
  * knows which texels do; only those look the coarser brick up again.
  */
-static bool stitched(const vdbgi_volume *v, const vdbgi_pack_plan *pl, size_t b, int t,
-                     size_t *coarse, int *coarse_level)
+static bool stitched(const vdbgi_pack_plan *pl, size_t b, int t, size_t *coarse, int *coarse_level)
 {
     if (!(pl->stitch[b][t >> 5] >> (t & 31) & 1u))
         return false;
     int32_t p[3];
     texel_point(pl, b, t, p);
-    return coarser_brick_at(v, p, pl->level[b], coarse, coarse_level);
+    return coarser_brick_at(pl, p, pl->level[b], coarse, coarse_level);
 }
 
 /* Could any face of brick b touch a coarser brick? Not if no cell around its block is coarser. */
-static bool near_coarser(const vdbgi_volume *v, const vdbgi_pack_plan *pl, size_t b)
+static bool near_coarser(const vdbgi_pack_plan *pl, size_t b)
 {
     const uint32_t *const d = pl->dims;
     const int32_t span = 1 << pl->level[b];
@@ -130,16 +127,17 @@ static bool near_coarser(const vdbgi_volume *v, const vdbgi_pack_plan *pl, size_
         for (int32_t y = lo[1]; y <= hi[1]; y++)
             for (int32_t x = lo[0]; x <= hi[0]; x++) {
                 const int32_t c[3] = {x, y, z};
-                if (v->indirection[4 * cell_index(d, c) + 3] > pl->level[b] + 1)
+                const int32_t j = pl->cell_brick[cell_index(d, c)];
+                if (j >= 0 && pl->level[j] > pl->level[b])
                     return true;
             }
     return false;
 }
 
-static void find_stitches(const vdbgi_volume *v, vdbgi_pack_plan *pl, size_t b)
+static void find_stitches(vdbgi_pack_plan *pl, size_t b)
 {
     memset(pl->stitch[b], 0, sizeof(pl->stitch[b]));
-    if (!near_coarser(v, pl, b))
+    if (!near_coarser(pl, b))
         return;
     for (int t = 0; t < TEXELS; t++) {
         const int q[3] = {t % N, t / N % N, t / (N * N)};
@@ -149,7 +147,7 @@ static void find_stitches(const vdbgi_volume *v, vdbgi_pack_plan *pl, size_t b)
         size_t j;
         int cl;
         texel_point(pl, b, t, p);
-        if (coarser_brick_at(v, p, pl->level[b], &j, &cl))
+        if (coarser_brick_at(pl, p, pl->level[b], &j, &cl))
             pl->stitch[b][t >> 5] |= 1u << (t & 31);
     }
 }
@@ -158,6 +156,8 @@ void vdbgi_pack_plan_free(vdbgi_context *ctx, vdbgi_pack_plan *pl)
 {
     vdbgi_free(ctx, pl->key);
     vdbgi_free(ctx, pl->level);
+    vdbgi_free(ctx, pl->origin);
+    vdbgi_free(ctx, pl->cell_brick);
     vdbgi_free(ctx, pl->stitch);
     vdbgi_free(ctx, pl->mask);
     vdbgi_free(ctx, pl->offset);
@@ -211,26 +211,230 @@ static vdbgi_result scan_bricks(vdbgi_context *ctx, const uint32_t d[3], const u
     return VDBGI_OK;
 }
 
-/* Point every cell a brick covers at its slot and level. */
-static void mark_indirection(vdbgi_volume *v, const vdbgi_pack_plan *pl, size_t b)
+/* The cells a brick covers, clipped to the indirection. */
+static void brick_cells(const vdbgi_pack_plan *pl, size_t b, int32_t lo[3], int32_t hi[3])
 {
-    const uint32_t *const d = v->info.indirection_dims;
-    const uint32_t sx = v->info.atlas_dims[0] / N, sy = v->info.atlas_dims[1] / N;
-    const size_t slot = b + 1;
-    const uint8_t texel[4] = {(uint8_t)(slot % sx), (uint8_t)(slot / sx % sy),
-                              (uint8_t)(slot / (sx * sy)), (uint8_t)(pl->level[b] + 1)};
     const int32_t span = 1 << pl->level[b];
-    int32_t lo[3], hi[3];
     for (int k = 0; k < 3; k++) {
         lo[k] = pl->key[b][k] * span;
-        hi[k] = lo[k] + span < (int32_t)d[k] ? lo[k] + span : (int32_t)d[k];
+        hi[k] = lo[k] + span < (int32_t)pl->dims[k] ? lo[k] + span : (int32_t)pl->dims[k];
     }
-    for (int32_t z = lo[2]; z < hi[2]; z++)
-        for (int32_t y = lo[1]; y < hi[1]; y++)
-            for (int32_t x = lo[0]; x < hi[0]; x++) {
-                const int32_t c[3] = {x, y, z};
-                memcpy(&v->indirection[4 * cell_index(d, c)], texel, 4);
+}
+
+/*
+ * Point every cell a brick covers at the brick's atlas texel and level: r, g, b the
+ * texel / 4 per axis, a the level in bits 0-1 and texel mod 4 per axis in
+ * bits 2-3 (x), 4-5 (y), 6-7 (z). An empty cell stays 0, 0, 0, 0: level 0
+ * at the atlas's corner, where a block of zeros lies.
+ */
+static void mark_indirection(vdbgi_volume *v, const vdbgi_pack_plan *pl, size_t cells)
+{
+    for (size_t c = 0; c < cells; c++) {
+        const int32_t b = pl->cell_brick[c];
+        if (b < 0)
+            continue;
+        const uint16_t *const o = pl->origin[b];
+        uint8_t *const t = &v->indirection[4 * c];
+        t[0] = (uint8_t)(o[0] >> 2);
+        t[1] = (uint8_t)(o[1] >> 2);
+        t[2] = (uint8_t)(o[2] >> 2);
+        t[3] = (uint8_t)(pl->level[b] | (o[0] & 3) << 2 | (o[1] & 3) << 4 | (o[2] & 3) << 6);
+    }
+}
+
+/* ---- placement: slabs of neighbours sharing borders, packed in layers ------------------ */
+
+/*
+ * Same-level neighbours along x and z go into one slab, (4 kx + 1) x 5 x
+ * (4 kz + 1) texels for kx x kz bricks: a brick's + border is its
+ * neighbour's first plane, stored once. Slabs are packed into layers 5
+ * texels tall, each a skyline over x (docs/format.md, "Version 4"): within
+ * 2-3 % of their own texels on the worlds of docs/converter.md.
+ */
+enum { SLAB_MAX = 8, ATLAS_MAX = 1024, LAYERS_MAX = ATLAS_MAX / N };
+
+typedef struct slab {
+    uint32_t first;  /* its brick at -x, -z */
+    uint16_t w, d;   /* texels along x and z */
+    uint16_t pos[3]; /* its first texel */
+} slab;
+
+/* The brick whose level-`level` block is `key`, or -1. */
+static int32_t brick_with_key(const vdbgi_pack_plan *pl, const int32_t key[3], int level)
+{
+    int32_t c[3];
+    for (int k = 0; k < 3; k++) {
+        c[k] = key[k] * (1 << level);
+        if (c[k] < 0 || c[k] >= (int32_t)pl->dims[k])
+            return -1;
+    }
+    const int32_t b = pl->cell_brick[cell_index(pl->dims, c)];
+    return b >= 0 && pl->level[b] == level ? b : -1;
+}
+
+/* The brick at (i, 0, j) bricks from slab s's first, if it is free (or, with taken NULL, any). */
+static int32_t slab_brick(const vdbgi_pack_plan *pl, const slab *s, int i, int j,
+                          const uint8_t *taken)
+{
+    const int32_t *const k = pl->key[s->first];
+    const int32_t key[3] = {k[0] + i, k[1], k[2] + j};
+    const int32_t b = brick_with_key(pl, key, pl->level[s->first]);
+    return b >= 0 && (!taken || !taken[b]) ? b : -1;
+}
+
+/* Grow a slab from each brick, in scan order, not in one yet: along +x, then whole rows along +z. */
+static size_t make_slabs(const vdbgi_pack_plan *pl, uint8_t *taken, slab *out)
+{
+    size_t n = 0;
+    for (size_t b = 0; b < pl->brick_count; b++) {
+        if (taken[b])
+            continue;
+        slab s = {.first = (uint32_t)b};
+        int kx = 1, kz = 1;
+        while (kx < SLAB_MAX && slab_brick(pl, &s, kx, 0, taken) >= 0)
+            kx++;
+        for (bool row = true; row && kz < SLAB_MAX; kz += row) {
+            for (int i = 0; i < kx && row; i++)
+                row = slab_brick(pl, &s, i, kz, taken) >= 0;
+        }
+        for (int j = 0; j < kz; j++)
+            for (int i = 0; i < kx; i++)
+                taken[slab_brick(pl, &s, i, j, NULL)] = 1;
+        s.w = (uint16_t)(4 * kx + 1);
+        s.d = (uint16_t)(4 * kz + 1);
+        out[n++] = s;
+    }
+    return n;
+}
+
+/* Deepest first, then widest, then in the order grown. */
+static int slab_order(const void *pa, const void *pb)
+{
+    const slab *a = pa, *b = pb;
+    if (a->d != b->d)
+        return a->d > b->d ? -1 : 1;
+    if (a->w != b->w)
+        return a->w > b->w ? -1 : 1;
+    return a->first < b->first ? -1 : a->first > b->first;
+}
+
+/* Where a w-wide slab lies lowest on skyline h (S wide): the leftmost such x; its z. */
+static int lowest_fit(const uint16_t *h, int S, int w, int *x)
+{
+    int queue[ATLAS_MAX], head = 0, tail = 0, best = INT32_MAX;
+    /* A sliding maximum: queue holds the window's candidates, highest first. */
+    for (int i = 0; i < S; i++) {
+        while (tail > head && h[queue[tail - 1]] <= h[i])
+            tail--;
+        queue[tail++] = i;
+        if (queue[head] <= i - w)
+            head++;
+        if (i >= w - 1 && h[queue[head]] < best) {
+            best = h[queue[head]];
+            *x = i - w + 1;
+        }
+    }
+    return best;
+}
+
+/*
+ * Pack the slabs (sorted) into `layers` layers S texels wide along x, each
+ * with a skyline over x: each slab goes where it lies lowest (its z), the
+ * first such layer, the leftmost x there. Layer 0 starts with the block of
+ * zeros at its corner. False if the atlas would pass ATLAS_MAX along z.
+ */
+static bool pack_layers(slab *slabs, size_t n, int S, int layers, uint16_t *h, uint32_t dims[3])
+{
+    memset(h, 0, sizeof(*h) * (size_t)S * (size_t)layers);
+    for (int i = 0; i < N; i++)
+        h[i] = N;
+    uint32_t x_end = N, z_end = N;
+    for (size_t i = 0; i < n; i++) {
+        slab *const s = &slabs[i];
+        int best_l = 0, best_x = 0, best_z = INT32_MAX;
+        for (int l = 0; l < layers; l++) {
+            int x;
+            const int z = lowest_fit(&h[(size_t)l * S], S, s->w, &x);
+            if (z < best_z)
+                best_z = z, best_x = x, best_l = l;
+        }
+        if (best_z + s->d > ATLAS_MAX)
+            return false;
+        uint16_t *const row = &h[(size_t)best_l * S];
+        for (int k = best_x; k < best_x + s->w; k++)
+            row[k] = (uint16_t)(best_z + s->d);
+        s->pos[0] = (uint16_t)best_x;
+        s->pos[1] = (uint16_t)(N * best_l);
+        s->pos[2] = (uint16_t)best_z;
+        x_end = (uint32_t)(best_x + s->w) > x_end ? (uint32_t)(best_x + s->w) : x_end;
+        z_end = (uint32_t)(best_z + s->d) > z_end ? (uint32_t)(best_z + s->d) : z_end;
+    }
+    dims[0] = x_end;
+    dims[1] = (uint32_t)(N * layers);
+    dims[2] = z_end;
+    return true;
+}
+
+/* Layers enough to hold area texels (x by z) at S x S each, at most LAYERS_MAX. */
+static int layers_for(uint64_t area, uint64_t S)
+{
+    const uint64_t l = (area + S * S - 1) / (S * S);
+    return l < 1 ? 1 : l > LAYERS_MAX ? LAYERS_MAX : (int)l;
+}
+
+/*
+ * Every brick's atlas texel, and the atlas's size: S is the cube root of the
+ * slabs' texels (at least the widest slab), the layers as many as their area
+ * fills at S x S; if that passes 1024 texels along z, S = 1024.
+ */
+static vdbgi_result place_bricks(vdbgi_context *ctx, vdbgi_pack_plan *pl, uint32_t dims[3])
+{
+    const size_t count = pl->brick_count;
+    uint8_t *const taken = vdbgi_calloc(ctx, count ? count : 1, 1);
+    slab *const slabs = vdbgi_alloc(ctx, (count ? count : 1) * sizeof(*slabs));
+    uint16_t *const h = vdbgi_alloc(ctx, sizeof(*h) * ATLAS_MAX * LAYERS_MAX);
+    vdbgi_result r = VDBGI_OK;
+    if (!taken || !slabs || !h) {
+        r = VDBGI_ERR_OUT_OF_MEMORY;
+        goto done;
+    }
+    const size_t n = make_slabs(pl, taken, slabs);
+    uint64_t area = N * N, S = N; /* the block of zeros, then the slabs */
+    for (size_t i = 0; i < n; i++) {
+        area += (uint64_t)slabs[i].w * slabs[i].d;
+        S = slabs[i].w > S ? slabs[i].w : S;
+    }
+    uint64_t root = 1;
+    while (root * root * root < N * area) /* in integers, as a reader must */
+        root++;
+    S = root > S ? root : S;
+    S = S > ATLAS_MAX ? ATLAS_MAX : S;
+    qsort(slabs, n, sizeof(*slabs), slab_order);
+    bool fits = pack_layers(slabs, n, (int)S, layers_for(area, S), h, dims);
+    if (!fits && S < ATLAS_MAX)
+        fits = pack_layers(slabs, n, ATLAS_MAX, layers_for(area, ATLAS_MAX), h, dims);
+    if (!fits) {
+        r = vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY,
+                       "%zu bricks do not fit an atlas of %d^3 texels: raise eps or the probe "
+                       "spacing",
+                       count, ATLAS_MAX);
+        goto done;
+    }
+    for (size_t i = 0; i < n; i++) {
+        const slab *const s = &slabs[i];
+        for (int j = 0; j < (s->d - 1) / 4; j++)
+            for (int k = 0; k < (s->w - 1) / 4; k++) {
+                const int32_t b = slab_brick(pl, s, k, j, NULL);
+                pl->origin[b][0] = (uint16_t)(s->pos[0] + 4 * k);
+                pl->origin[b][1] = s->pos[1];
+                pl->origin[b][2] = (uint16_t)(s->pos[2] + 4 * j);
             }
+    }
+done:
+    vdbgi_free(ctx, taken);
+    vdbgi_free(ctx, slabs);
+    vdbgi_free(ctx, h);
+    return r;
 }
 
 vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels,
@@ -240,30 +444,29 @@ vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels,
     vdbgi_context *const ctx = v->ctx;
     vdbgi_volume_info *const info = &v->info;
     memset(pl, 0, sizeof(*pl));
-    size_t grid_cells = 1;
+    size_t grid_cells = 1, cells = 1;
     for (int k = 0; k < 3; k++) {
         pl->dims[k] = info->indirection_dims[k];
         pl->grid[k] = pl->dims[k] + PAD;
         grid_cells *= pl->grid[k];
+        cells *= pl->dims[k];
     }
     /* Count, check, then list: the bricks' arrays are sized by what the levels hold. */
     VDBGI_TRY(scan_bricks(ctx, pl->dims, levels, info->max_level, name, pl));
     const size_t count = pl->brick_count;
-    vdbgi_result r = vdbgi_atlas_dims(ctx, count + 1, VDBGI_LAYOUT_COMPACT, info->atlas_dims);
-    if (r != VDBGI_OK)
-        return r;
     /* A reader's header must count these bricks before anything is allocated for them. */
-    VDBGI_FAIL_IF(
-        ctx,
-        expect && (memcmp(expect->bricks, pl->per_level, sizeof(pl->per_level)) != 0 ||
-                   memcmp(expect->atlas_dims, info->atlas_dims, sizeof(info->atlas_dims)) != 0),
-        VDBGI_ERR_FORMAT, "%s: the level bytes hold other bricks than the header counts", name);
+    VDBGI_FAIL_IF(ctx, expect && memcmp(expect->bricks, pl->per_level, sizeof(pl->per_level)) != 0,
+                  VDBGI_ERR_FORMAT, "%s: the level bytes hold other bricks than the header counts",
+                  name);
     pl->key = vdbgi_alloc(ctx, (count ? count : 1) * sizeof(*pl->key));
     pl->level = vdbgi_alloc(ctx, count ? count : 1);
+    pl->origin = vdbgi_alloc(ctx, (count ? count : 1) * sizeof(*pl->origin));
+    pl->cell_brick = vdbgi_alloc(ctx, cells * sizeof(*pl->cell_brick));
     pl->stitch = vdbgi_alloc(ctx, (count ? count : 1) * sizeof(*pl->stitch));
     pl->mask = vdbgi_calloc(ctx, grid_cells, sizeof(*pl->mask));
     pl->offset = vdbgi_alloc(ctx, grid_cells * sizeof(*pl->offset));
-    if (!pl->key || !pl->level || !pl->stitch || !pl->mask || !pl->offset) {
+    if (!pl->key || !pl->level || !pl->origin || !pl->cell_brick || !pl->stitch || !pl->mask ||
+        !pl->offset) {
         vdbgi_pack_plan_free(ctx, pl);
         return VDBGI_ERR_OUT_OF_MEMORY;
     }
@@ -274,21 +477,41 @@ vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels,
         info->bricks[pl->level[b]]++;
     memcpy(pl->per_level, info->bricks, sizeof(pl->per_level));
     info->brick_count = (uint32_t)count;
+    for (size_t c = 0; c < cells; c++)
+        pl->cell_brick[c] = -1;
+    for (size_t b = 0; b < count; b++) {
+        int32_t lo[3], hi[3];
+        brick_cells(pl, b, lo, hi);
+        for (int32_t z = lo[2]; z < hi[2]; z++)
+            for (int32_t y = lo[1]; y < hi[1]; y++)
+                for (int32_t x = lo[0]; x < hi[0]; x++) {
+                    const int32_t c[3] = {x, y, z};
+                    pl->cell_brick[cell_index(pl->dims, c)] = (int32_t)b;
+                }
+    }
+    vdbgi_result r = place_bricks(ctx, pl, info->atlas_dims);
+    if (r == VDBGI_OK && expect &&
+        memcmp(expect->atlas_dims, info->atlas_dims, sizeof(info->atlas_dims)) != 0)
+        r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                       "%s: the bricks pack into a %ux%ux%u atlas, the header says %ux%ux%u", name,
+                       info->atlas_dims[0], info->atlas_dims[1], info->atlas_dims[2],
+                       expect->atlas_dims[0], expect->atlas_dims[1], expect->atlas_dims[2]);
     info->atlas_size = 4 * (size_t)info->atlas_dims[0] * info->atlas_dims[1] * info->atlas_dims[2];
-    if ((r = vdbgi_gifile_alloc(v)) != VDBGI_OK) {
+    if (r == VDBGI_OK)
+        r = vdbgi_gifile_alloc(v);
+    if (r != VDBGI_OK) {
         vdbgi_pack_plan_free(ctx, pl);
         return r;
     }
+    mark_indirection(v, pl, cells);
     for (size_t b = 0; b < count; b++)
-        mark_indirection(v, pl, b);
-    for (size_t b = 0; b < count; b++)
-        find_stitches(v, pl, b);
+        find_stitches(pl, b);
     /* The stored points: every texel no stitching overwrites. */
     for (size_t b = 0; b < count; b++)
         for (int t = 0; t < TEXELS; t++) {
             size_t j;
             int cl;
-            if (stitched(v, pl, b, t, &j, &cl))
+            if (stitched(pl, b, t, &j, &cl))
                 continue;
             int32_t p[3];
             size_t c;
@@ -325,12 +548,12 @@ static bool encode_texel(const vdbgi_volume *v, const float rgb[3], uint8_t out[
     return vdbgi_rgbm_encode(rgb, v->info.rgbm_range, out);
 }
 
-static uint8_t *atlas_texel(const vdbgi_volume *v, size_t b, int t)
+static uint8_t *atlas_texel(const vdbgi_volume *v, const vdbgi_pack_plan *pl, size_t b, int t)
 {
     const uint32_t *const d = v->info.atlas_dims;
-    const size_t slot = b + 1, sx = d[0] / N, sy = d[1] / N;
-    const size_t x = slot % sx * N + (size_t)(t % N), y = slot / sx % sy * N + (size_t)(t / N % N),
-                 z = slot / (sx * sy) * N + (size_t)(t / (N * N));
+    const uint16_t *const o = pl->origin[b];
+    const size_t x = o[0] + (size_t)(t % N), y = o[1] + (size_t)(t / N % N),
+                 z = o[2] + (size_t)(t / (N * N));
     return &v->atlas[4 * ((z * d[1] + y) * d[0] + x)];
 }
 
@@ -365,7 +588,7 @@ static vdbgi_result rebuild(vdbgi_volume *v, const vdbgi_pack_plan *pl, const ui
                 int cl;
                 int32_t p[3];
                 texel_point(pl, b, t, p);
-                if (stitched(v, pl, b, t, &j, &cl)) {
+                if (stitched(pl, b, t, &j, &cl)) {
                     const double pos[3] = {p[0], p[1], p[2]};
                     vdbgi_brick_interpolate((const float(*)[3])fs[cidx[j]], VDBGI_LAYOUT_COMPACT,
                                             pl->key[j], cl, pos, fs[cidx[b]][t]);
@@ -382,8 +605,8 @@ static vdbgi_result rebuild(vdbgi_volume *v, const vdbgi_pack_plan *pl, const ui
             int cl;
             int32_t p[3];
             texel_point(pl, b, t, p);
-            uint8_t *const out = atlas_texel(v, b, t);
-            if (!stitched(v, pl, b, t, &j, &cl)) {
+            uint8_t *const out = atlas_texel(v, pl, b, t);
+            if (!stitched(pl, b, t, &j, &cl)) {
                 const int64_t i = point_index(pl, p);
                 if (i >= 0)
                     memcpy(out, &values[4 * i], 4);
@@ -406,7 +629,7 @@ static vdbgi_result rebuild(vdbgi_volume *v, const vdbgi_pack_plan *pl, const ui
 }
 
 /*
- * The predictor (docs/format.md, "Version 3"). Its neighbours: the stored
+ * The predictor (docs/format.md, "Version 4"). Its neighbours: the stored
  * points at p - x, p - y, p - x - y and p - z, or -1.
  */
 static void neighbours(const vdbgi_pack_plan *pl, const int32_t p[3], int64_t n[4])
@@ -645,7 +868,7 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
         for (int t = 0; t < TEXELS; t++) {
             size_t j;
             int cl;
-            if (stitched(v, &pl, b, t, &j, &cl))
+            if (stitched(&pl, b, t, &j, &cl))
                 continue;
             int32_t p[3];
             texel_point(&pl, b, t, p);

@@ -1,7 +1,7 @@
 /*
- * packed.h: the compact layout's file (.gi version 3, docs/format.md): each
+ * packed.h: the compact layout's file (.gi version 4, docs/format.md): each
  * kept brick's level in one byte a cell, and every probe value the bricks
- * read stored once; the runtime textures (slots, borders, stitched seams)
+ * read stored once; the runtime textures (placement, borders, stitched seams)
  * rebuilt from them, by the converter and the reader alike.
  */
 #ifndef VDBGI_PACKED_H
@@ -11,7 +11,7 @@
 #include "volume.h"
 
 /*
- * The bricks a level array describes, in slot order, and which lattice
+ * The bricks a level array describes, in scan order, and which lattice
  * points their texels read unstitched: those, and only those, the file
  * stores. Points are owned by the level-0 cell holding them; the owner grid
  * reaches 2 cells past the indirection, as far as a position inside it reads.
@@ -19,9 +19,11 @@
 typedef struct vdbgi_pack_plan {
     uint32_t dims[3];      /* indirection cells */
     uint32_t grid[3];      /* cells owning stored points: dims + 2 */
-    size_t brick_count;    /* brick i is in slot i + 1 */
+    size_t brick_count;    /* bricks, in the order the level bytes list them */
     int32_t (*key)[3];     /* per brick: block index at its level, relative to cell 0 */
     uint8_t *level;        /* per brick */
+    uint16_t (*origin)[3]; /* per brick: its first atlas texel */
+    int32_t *cell_brick;   /* per indirection cell: the brick covering it, or -1 */
     uint32_t (*stitch)[4]; /* per brick: bit t, texel t takes a coarser brick's value */
     uint64_t *mask;        /* per owner cell: bit (z*4 + y)*4 + x, point stored */
     uint32_t *offset;      /* per owner cell: index of its first stored point */
@@ -31,8 +33,9 @@ typedef struct vdbgi_pack_plan {
 
 /*
  * From one level byte a cell (level + 1, or 0 for an empty cell; x fastest):
- * the bricks, v's indirection (slots, levels), v->info's atlas size and brick
- * counts, v->raw allocated, and the stored points. A level array no
+ * the bricks, their places in the atlas (slabs of same-level neighbours
+ * sharing their borders, packed in layers), v's indirection, v->info's atlas
+ * size and brick counts, v->raw allocated, and the stored points. A level array no
  * converter writes (a level above max_level, a coarse block whose cells
  * disagree, more bricks than an atlas holds, or with expect, a reader's
  * header, other bricks than it counts: refused before anything is
@@ -44,7 +47,7 @@ vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels,
 void vdbgi_pack_plan_free(vdbgi_context *ctx, vdbgi_pack_plan *plan);
 
 /*
- * The converter's half: bricks (in any order; sorted here into slot order)
+ * The converter's half: bricks (in any order; sorted here into scan order)
  * sampled from v->filled, each stored point encoded once, and a point no
  * receiver can read (no valid probe within one step, and read by level-0
  * bricks only) given the value the decoder predicts, which costs the file
@@ -59,7 +62,8 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
 /*
  * The reader's half: v's atlas from the plan and the payload's planes
  * (after its level bytes): stored texels copied, stitched ones interpolated
- * from their coarser brick and encoded; *clamped gets how many of those
+ * from their coarser brick and encoded (a texel two bricks share gets the
+ * same bytes from both); *clamped gets how many of those
  * clamped.
  */
 vdbgi_result vdbgi_pack_rebuild(vdbgi_volume *v, const vdbgi_pack_plan *plan, const uint8_t *planes,

@@ -7,6 +7,7 @@
 #include "sampler.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <string.h>
 
 static int clampi(int v, int lo, int hi)
@@ -78,21 +79,29 @@ void vdbgi_sampler_sample(const vdbgi_volume_view *v, const float pos[3], float 
         ((size_t)it[2] * v->ind_dims[1] + (size_t)it[1]) * v->ind_dims[0] + (size_t)it[0];
     for (int k = 0; k < 4; k++)
         ind[k] = (float)v->indirection[4 * ii + k] / 255.0f;
-    /* level = ind.a * 255 - 1 (max 0); span = 2^level; slot = ind.rgb * 255 */
-    const float level = fmaxf(ind[3] * 255.0f - 1.0f, 0.0f);
+    /*
+     * Seed: level = ind.a * 255 - 1 (max 0), slot = ind.rgb * 255. Compact:
+     * a holds the level in bits 0-1 and each axis's texel mod 4 above; the
+     * brick's first texel is rgb * 4 plus those.
+     */
+    float b[4];
+    for (int k = 0; k < 4; k++)
+        b[k] = floorf(ind[k] * 255.0f + 0.5f);
+    const bool compact = v->layout == 1;
+    const float level = compact ? fmodf(b[3], 4.0f) : fmaxf(b[3] - 1.0f, 0.0f);
     const float span = exp2f(level);
     float uvw[3];
     for (int k = 0; k < 3; k++) {
-        const float slot = ind[k] * 255.0f;
         const float origin_cell = floorf(base[k] / span) * span * (float)VDBGI_BRICK;
         float atlas_texel;
-        if (v->layout == 1) {
-            /* Compact: probe q of the brick stands at origin_cell + q span, q = 0..4. */
+        if (compact) {
+            /* Probe q of the brick stands at origin_cell + q span, q = 0..4. */
+            const float low = fmodf(floorf(b[3] / exp2f((float)(2 + 2 * k))), 4.0f);
             const float q = (p[k] - origin_cell) / span;
-            atlas_texel = slot * (float)VDBGI_BRICK_COMPACT + q;
+            atlas_texel = b[k] * 4.0f + low + q;
         } else {
             const float q = (p[k] - origin_cell + 0.5f) / span - 0.5f;
-            atlas_texel = slot * (float)VDBGI_BRICK_PADDED + 1.0f + q;
+            atlas_texel = b[k] * (float)VDBGI_BRICK_PADDED + 1.0f + q;
         }
         uvw[k] = (atlas_texel + 0.5f) / (float)v->atlas_dims[k];
     }

@@ -7,7 +7,7 @@
 /* The two textures and the uniforms the shader is given. */
 typedef struct vdbgi_volume_view {
     uint32_t encoding; /* 0 RGBM (rgba8), 1 RGB9E5 (uint32 little-endian) */
-    uint32_t layout;   /* 0 seed 000's 6^3 bricks, 1 compact 5^3 bricks */
+    uint32_t layout;   /* 0 seed 000's 6^3 slots, 1 compact (5^3 bricks sharing borders) */
     float rgbm_range;
     float box_min[3], box_max[3];
     uint32_t ind_dims[3]; /* rgba8 texels, x fastest */

@@ -523,7 +523,8 @@ typedef enum vdbgi_layout {
                                 the filter needs a border on the + side only (Unreal's
                                 volumetric lightmap); where a coarser brick adjoins, a
                                 brick's face takes its interpolated values, so levels meet
-                                without a step */
+                                without a step; neighbours along x and z share their
+                                border planes in the atlas */
 } vdbgi_layout;
 
 typedef enum vdbgi_criterion {
@@ -605,7 +606,7 @@ VDBGI_API vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes
  * Write the .gi file (docs/format.md), gzip-compressed, through a temporary
  * file renamed when complete: the seed layout as header, indirection bytes
  * and atlas bytes (version 1); the compact layout packed, each probe once
- * (version 3), its textures rebuilt by the reader.
+ * (version 4), its textures rebuilt by the reader.
  */
 VDBGI_API vdbgi_result vdbgi_volume_write(const vdbgi_volume *volume, const char *path);
 

@@ -11,7 +11,7 @@ struct vdbgi_volume {
     uint8_t *raw;         /* the uncompressed .gi: header, indirection, atlas */
     uint8_t *indirection; /* info.indirection_size bytes inside raw */
     uint8_t *atlas;       /* info.atlas_size bytes inside raw */
-    uint8_t *packed;      /* compact layout: the uncompressed version 3 file (header, payload) */
+    uint8_t *packed;      /* compact layout: the uncompressed version 4 file (header, payload) */
     size_t packed_size;
     uint8_t *file; /* the gzip'd .gi bytes */
     /* Only from vdbgi_volume_build: */

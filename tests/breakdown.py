@@ -26,7 +26,7 @@ import pyopenvdb as vdb
 def read_gi(path):
     raw = gzip.open(path, "rb").read()
     file_bytes = len(open(path, "rb").read())
-    if struct.unpack_from("<I", raw, 8)[0] == 3:
+    if struct.unpack_from("<I", raw, 8)[0] == 4:
         # A packed file: its textures as the C reader rebuilds them (gi-inspect --textures).
         tool = os.path.join(os.environ.get("BIN", "build/release/bin"), "gi-inspect")
         with tempfile.TemporaryDirectory() as tmp:
@@ -91,14 +91,23 @@ def main(vdb_path, gi_path, name=None):
     ind, atlas = gi["ind"], gi["atlas"]
     # The indirection's first cell, in lattice cells: box_min = origin + spacing (4 c0 - 0.5).
     c0 = np.rint(((np.array(gi["box_min"]) - origin) / spacing + 0.5) / 4).astype(np.int64)
-    level = ind[..., 3].astype(np.int64) - 1  # -1: empty
+    compact = gi["layout"] == 2
+    a = ind[..., 3].astype(np.int64)
+    if compact:  # a: level in bits 0-1, the brick's first texel mod 4 per axis above
+        level = np.where(ind.astype(np.int64).sum(axis=-1) == 0, -1, a & 3)
+    else:
+        level = a - 1  # -1: empty
     occupied = level >= 0
     # Valid probes per level-0 cell (indirection order z, y, x).
     cell = ijk // 4 - c0
     counts = np.zeros(ind.shape[:3], np.int64)
     np.add.at(counts, (cell[:, 2], cell[:, 1], cell[:, 0]), 1)
-    # A brick is one slot; its footprint is the cells pointing at it.
-    slots = ind[..., 0].astype(np.int64) + 256 * (ind[..., 1].astype(np.int64) + 256 * ind[..., 2])
+    # A brick is one slot (seed) or first texel (compact); its footprint is the cells pointing at it.
+    if compact:
+        first = [4 * ind[..., k].astype(np.int64) + (a >> (2 + 2 * k) & 3) for k in range(3)]
+        slots = first[0] + 1024 * (first[1] + 1024 * first[2])
+    else:
+        slots = ind[..., 0].astype(np.int64) + 256 * (ind[..., 1].astype(np.int64) + 256 * ind[..., 2])
     occ_slots, occ_counts, occ_levels = slots[occupied], counts[occupied], level[occupied]
     # Cells a receiver can read: a valid probe among the 6^3 the filter reaches from the
     # cell (its 4^3 and one probe beyond each face, the apron's).
@@ -124,15 +133,22 @@ def main(vdb_path, gi_path, name=None):
     atlas_bytes = atlas.size
     ind_bytes = ind.size
     vram = atlas_bytes + ind_bytes
-    b = 5 if gi["layout"] == 1 else 6  # texels a brick edge: compact or seed
-    used_texels = bricks * b ** 3
-    # The atlas without aprons or borders: each brick's 4^3 probes, interleaved RGBA and as planes.
-    ax, ay, az = (d // b for d in gi["atlas_dims"])
-    blocks = atlas.reshape(az, b, ay, b, ax, b, 4).transpose(0, 2, 4, 1, 3, 5, 6)
-    blocks = blocks.reshape(az * ay * ax, b, b, b, 4)
+    b = 5 if compact else 6  # texels a brick edge
+    # Each brick's b^3 texels (compact bricks may share border planes).
     slot_ids = np.array(sorted(brick_valid), np.int64)
-    sx, sy, sz = slot_ids % 256, (slot_ids // 256) % 256, slot_ids // 65536
-    kept = blocks[(sz * ay + sy) * ax + sx]
+    if compact:
+        ox, oy, oz = slot_ids % 1024, (slot_ids // 1024) % 1024, slot_ids // 1048576
+    else:
+        ox, oy, oz = b * (slot_ids % 256), b * ((slot_ids // 256) % 256), b * (slot_ids // 65536)
+    r = np.arange(b)
+    zz = oz[:, None, None, None] + r[None, :, None, None]
+    yy = oy[:, None, None, None] + r[None, None, :, None]
+    xx = ox[:, None, None, None] + r[None, None, None, :]
+    kept = atlas[zz, yy, xx]
+    covered = np.zeros(atlas.shape[:3], bool)
+    covered[zz, yy, xx] = True
+    used_texels = int(covered.sum())
+    # The atlas without aprons or borders: each brick's 4^3 probes, interleaved RGBA and as planes.
     first = 0 if b == 5 else 1
     inner = np.ascontiguousarray(kept[:, first:first + 4, first:first + 4, first:first + 4, :])
     planes = np.ascontiguousarray(inner.transpose(4, 0, 1, 2, 3))
@@ -157,7 +173,7 @@ def main(vdb_path, gi_path, name=None):
         "atlas_bytes": atlas_bytes,
         "atlas_slack_bytes": atlas_bytes - 4 * used_texels,
         "layout": "compact" if b == 5 else "seed",
-        "apron_bytes": 4 * bricks * (b ** 3 - 64),
+        "apron_bytes": 4 * (used_texels - 64 * bricks),
         "unique_probe_bytes": 4 * bricks * 64,
         "dense_rgba8_bytes": 4 * int(np.prod(ijk.max(0) - ijk.min(0) + 1)),
         "gzip_indirection": gz(ind),

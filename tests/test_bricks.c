@@ -5,7 +5,8 @@
  * field becomes a few level-3 bricks and a linear one stays coarse under the
  * interpolation criterion; Unreal's RMSE rule never keeps more bricks than
  * the max-error one; at eps 0 every layout and criterion gives back every
- * probe; invalid probes never leak; only cells whose filter
+ * probe; compact bricks share atlas texels only where they agree; invalid
+ * probes never leak; only cells whose filter
  * reads a valid probe get bricks; files round-trip and
  * damaged ones are refused; bad parameters and failing allocations are
  * reported cleanly.
@@ -227,6 +228,74 @@ static void at_eps_0_every_layout_returns_every_probe(void)
         CHECK(worst <= 1.0);
         if (worst > 1.0)
             fprintf(stderr, "# layout %d criterion %d: %.2f steps\n", run % 2, 1 + run / 2, worst);
+        vdbgi_volume_destroy(v);
+    }
+    vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+}
+
+/*
+ * Compact bricks overlap in the atlas only where they hold the same lattice
+ * point at the same level (a border plane and its neighbour's first plane),
+ * and they do overlap: the atlas is smaller than 5^3 texels a brick. The
+ * block of zeros at texel 0, which empty cells read, belongs to no brick.
+ */
+static void compact_bricks_share_only_texels_they_agree_on(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_probes *p = test_slab(ctx, 64, 10, 48, smooth);
+    for (int run = 0; run < 2; run++) {
+        const vdbgi_convert_desc d = {.layout = VDBGI_LAYOUT_COMPACT, .eps = run ? 0.3f : 0.05f};
+        vdbgi_volume *v = NULL;
+        CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
+        if (!v)
+            continue;
+        const uint32_t *const ad = v->info.atlas_dims, *const id = v->info.indirection_dims;
+        const size_t texels = (size_t)ad[0] * ad[1] * ad[2];
+        int64_t *const owner = calloc(texels, sizeof(*owner)); /* 0: none, else point id + 1 */
+        size_t painted = 0, brick_texels = 0, conflicts = 0, bricks = 0, levels = 0;
+        for (uint32_t z = 0; z < id[2]; z++)
+            for (uint32_t y = 0; y < id[1]; y++)
+                for (uint32_t x = 0; x < id[0]; x++) {
+                    const uint8_t *const t =
+                        &v->indirection[4 * (((size_t)z * id[1] + y) * id[0] + x)];
+                    if (!(t[0] | t[1] | t[2] | t[3]))
+                        continue;
+                    const int level = t[3] & 3, span = 1 << level;
+                    const uint32_t c[3] = {x, y, z};
+                    if (x % span || y % span || z % span)
+                        continue; /* each brick once, from its first cell */
+                    bricks++;
+                    levels |= 1u << level;
+                    for (int q = 0; q < 125; ++q) {
+                        const int qq[3] = {q % 5, q / 5 % 5, q / 25};
+                        size_t a[3];
+                        int64_t point = level;
+                        for (int k = 0; k < 3; k++) {
+                            a[k] = 4u * t[k] + (t[3] >> (2 + 2 * k) & 3u) + (size_t)qq[k];
+                            point = point * 4096 + (int64_t)(4 * c[k] + (uint32_t)(qq[k] * span));
+                        }
+                        const size_t i = (a[2] * ad[1] + a[1]) * ad[0] + a[0];
+                        brick_texels++;
+                        if (a[0] < 5 && a[1] < 5 && a[2] < 5)
+                            conflicts++;
+                        else if (!owner[i])
+                            owner[i] = point + 1, painted++;
+                        else if (owner[i] != point + 1)
+                            conflicts++;
+                    }
+                }
+        CHECK(bricks == v->info.brick_count && bricks > 10);
+        CHECK(run == 0 || (levels & ~1u) != 0); /* coarse bricks too */
+        CHECK(conflicts == 0);
+        CHECK(painted < brick_texels);
+        /* Fine bricks side by side: less atlas than a slot each (a few coarse ones need not). */
+        CHECK(run == 1 || texels < 125 * (bricks + 1));
+        if (conflicts || painted >= brick_texels || (run == 0 && texels >= 125 * (bricks + 1)))
+            fprintf(stderr,
+                    "# eps %.2f: %zu bricks (levels %#zx), %zu texels, %zu painted of %zu\n",
+                    (double)d.eps, bricks, levels, texels, painted, brick_texels);
+        free(owner);
         vdbgi_volume_destroy(v);
     }
     vdbgi_probes_destroy(p);
@@ -508,9 +577,9 @@ static void round_trip(vdbgi_layout layout)
         CHECK(memcmp(ia.bricks, ir.bricks, sizeof(ia.bricks)) == 0);
         CHECK(ir.file_size == ia.file_size && ir.spacing == ia.spacing);
         CHECK(ir.layout == layout);
-        /* The compact layout's file is packed (version 3): textures rebuilt, byte for byte. */
+        /* The compact layout's file is packed (version 4): textures rebuilt, byte for byte. */
         const bool packed = layout == VDBGI_LAYOUT_COMPACT;
-        CHECK(vdbgi_get_u32((packed ? a->packed : a->raw) + 8) == (packed ? 3u : 1u));
+        CHECK(vdbgi_get_u32((packed ? a->packed : a->raw) + 8) == (packed ? 4u : 1u));
         CHECK(ir.stored_points == ia.stored_points && (ia.stored_points > 0) == packed);
         CHECK(memcmp(a->indirection, r->indirection, ia.indirection_size) == 0);
         CHECK(memcmp(a->atlas, r->atlas, ia.atlas_size) == 0);
@@ -610,9 +679,13 @@ static void damaged_files_are_refused(void)
     fwrite(lie, 1, raw, f);
     fclose(f);
     CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("lie.gi"), &r), VDBGI_ERR_FORMAT);
-    /* The layout field: version 1 must leave it 0; version 2 knows 0 and 1 only. */
-    static const uint32_t version_layout[3][2] = {{1, 1}, {2, 2}, {3, 0}};
-    for (int c = 0; c < 3; c++) {
+    /*
+     * The layout field: version 1 must leave it 0; version 2 knows 0 and 2,
+     * version 4 only 2; version 3 and layout 1 (the older compact layout)
+     * are refused.
+     */
+    static const uint32_t version_layout[][2] = {{1, 1}, {2, 3}, {2, 1}, {3, 1}, {4, 0}, {5, 0}};
+    for (size_t c = 0; c < sizeof(version_layout) / sizeof(version_layout[0]); c++) {
         memcpy(lie, v->raw, raw);
         vdbgi_put_u32(lie + 8, version_layout[c][0]);
         vdbgi_put_u32(lie + 104, version_layout[c][1]);
@@ -767,6 +840,7 @@ int main(void)
     RUN(larger_eps_never_grows_the_atlas);
     RUN(rmse_criterion_coarsens_at_least_as_much_as_interp);
     RUN(at_eps_0_every_layout_returns_every_probe);
+    RUN(compact_bricks_share_only_texels_they_agree_on);
     RUN(flat_field_becomes_a_few_level3_bricks);
     RUN(linear_ramp_stays_coarse_under_interpolation);
     RUN(invalid_probes_never_leak_their_value);

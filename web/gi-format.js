@@ -2,14 +2,15 @@
 // the two texture byte arrays. No three.js here: the same code runs in a page,
 // in a worker and in node (tests/js), and it refuses, with an Error naming the
 // problem, every file docs/format.md says a reader must refuse, so no lookup
-// can ever leave the textures. A version 3 file (the compact layout, each
+// can ever leave the textures. A version 4 file (the compact layout, each
 // probe stored once) has its textures rebuilt by gi-packed.js.
 import { rebuildPacked } from './gi-packed.js';
 
 export const ENCODING_RGBM = 0;
 export const ENCODING_RGB9E5 = 1;
 export const LAYOUT_SEED = 0;
-export const LAYOUT_COMPACT = 1;
+export const LAYOUT_COMPACT = 2; // the header's value; 1 was its older form, in 5^3 slots
+const ATLAS_MAX = 1024; // a compact brick's first texel is 4 r + two bits of a: at most 1023
 
 const HEADER_BYTES = 112;
 
@@ -70,11 +71,16 @@ export function parseGi(buf) {
   const f32 = (o) => dv.getFloat32(o, true);
   const vec = (o, get) => [get(o), get(o + 4), get(o + 8)];
   const version = u32(8);
-  if (version < 1 || version > 3) throw new Error(`unsupported version ${version}`);
   // Version 1 is seed 000's layout (6^3 texels a brick); version 2 says which
-  // at byte 104; version 3 is the compact layout packed.
+  // at byte 104; version 4 is the compact layout packed. Version 3 and layout 1
+  // were an older compact layout (5^3 slots), no longer read.
   const layout = version === 1 ? LAYOUT_SEED : u32(104);
-  if (version === 1 ? u32(104) !== 0 : version === 3 ? layout !== LAYOUT_COMPACT : layout > LAYOUT_COMPACT)
+  if (version === 3 || (version === 2 && layout === 1))
+    throw new Error("an older vdbgi's compact layout (5^3 slots): convert the .vdb again");
+  if (version < 1 || version > 4) throw new Error(`unsupported version ${version}`);
+  if (version === 1 ? u32(104) !== 0
+    : version === 4 ? layout !== LAYOUT_COMPACT
+      : layout !== LAYOUT_SEED && layout !== LAYOUT_COMPACT)
     throw new Error(`unknown layout ${u32(104)} for version ${version}`);
   const headerSize = u32(12);
   const gi = {
@@ -91,12 +97,15 @@ export function parseGi(buf) {
     bricks: [u32(80), u32(84), u32(88), u32(92)],
   };
   const { brick } = layoutGeometry(layout);
+  const compact = layout === LAYOUT_COMPACT;
+  // The seed atlas is whole 6^3 slots, 256 an axis; the compact one's texels are free.
+  const [step, lo, hi] = compact ? [1, brick, ATLAS_MAX] : [brick, brick, 256 * brick];
   if (headerSize < HEADER_BYTES || headerSize > 65536) throw new Error(`bad header size ${headerSize}`);
   if (gi.encoding > ENCODING_RGB9E5) throw new Error(`unknown encoding ${gi.encoding}`);
   if (!(gi.rgbmRange > 0) || !Number.isFinite(gi.rgbmRange)) throw new Error('bad RGBM range');
   for (let k = 0; k < 3; k++) {
     if (gi.indDims[k] < 1 || gi.indDims[k] > 2048) throw new Error('bad indirection size');
-    if (gi.atlasDims[k] < brick || gi.atlasDims[k] > 256 * brick || gi.atlasDims[k] % brick)
+    if (gi.atlasDims[k] < lo || gi.atlasDims[k] > hi || gi.atlasDims[k] % step)
       throw new Error('bad atlas size');
     if (!Number.isFinite(gi.boxMin[k]) || !Number.isFinite(gi.boxMax[k]) || !(gi.boxMax[k] > gi.boxMin[k]))
       throw new Error('bad volume box');
@@ -106,18 +115,18 @@ export function parseGi(buf) {
   const bytes = (d) => d[0] * d[1] * d[2] * 4;
   if (indBytes !== bytes(gi.indDims) || atlasBytes !== bytes(gi.atlasDims))
     throw new Error('texture sizes disagree with their dimensions');
-  if (version < 3 && u32(108) !== 0) throw new Error('reserved header field is not 0');
-  gi.storedPoints = version === 3 ? u32(108) : 0;
+  if (version < 4 && u32(108) !== 0) throw new Error('reserved header field is not 0');
+  gi.storedPoints = version === 4 ? u32(108) : 0;
   // Every brick stores inner points of its own (27 at levels 0 and 1, 8 at 2, 1 at 3):
   // the bricks are bounded by what the file holds.
   const least = 27 * (gi.bricks[0] + gi.bricks[1]) + 8 * gi.bricks[2] + gi.bricks[3];
-  if (version === 3 && least > gi.storedPoints)
+  if (version === 4 && least > gi.storedPoints)
     throw new Error(`the header's bricks need at least ${least} stored points, it has ${gi.storedPoints}`);
-  // Version 3 stores a level byte a cell and 4 bytes a stored point, not the textures.
-  const stored = version === 3 ? indBytes / 4 + 4 * gi.storedPoints : indBytes + atlasBytes;
+  // Version 4 stores a level byte a cell and 4 bytes a stored point, not the textures.
+  const stored = version === 4 ? indBytes / 4 + 4 * gi.storedPoints : indBytes + atlasBytes;
   if (buf.length !== headerSize + stored)
     throw new Error(`file holds ${buf.length} bytes, header says ${headerSize + stored}`);
-  if (version === 3) {
+  if (version === 4) {
     const { indirection, atlas } = rebuildPacked(gi, buf.subarray(headerSize));
     gi.indirection = indirection;
     gi.atlas = atlas;
@@ -125,12 +134,21 @@ export function parseGi(buf) {
   }
   gi.indirection = buf.subarray(headerSize, headerSize + indBytes);
   gi.atlas = buf.subarray(headerSize + indBytes);
-  const slots = gi.atlasDims.map((d) => d / brick);
-  const ind = gi.indirection;
+  // Every texel points at a whole brick inside the atlas with a level the file
+  // allows: a seed slot, or a compact brick's first texel (docs/format.md).
+  const ind = gi.indirection, d = gi.atlasDims;
   for (let i = 0; i < indBytes; i += 4) {
-    if (ind[i + 3] !== 0 &&
-        (ind[i] >= slots[0] || ind[i + 1] >= slots[1] || ind[i + 2] >= slots[2] || ind[i + 3] > gi.maxLevel + 1))
-      throw new Error(`indirection texel ${i / 4} points outside the atlas`);
+    const a = ind[i + 3];
+    let inside = true, level;
+    if (compact) {
+      level = a & 3;
+      for (let k = 0; k < 3; k++) inside &&= 4 * ind[i + k] + ((a >> (2 + 2 * k)) & 3) + brick <= d[k];
+    } else {
+      if (a === 0) continue;
+      level = a - 1;
+      for (let k = 0; k < 3; k++) inside &&= (ind[i + k] + 1) * brick <= d[k];
+    }
+    if (!inside || level > gi.maxLevel) throw new Error(`indirection texel ${i / 4} points outside the atlas`);
   }
   return gi;
 }

@@ -1,5 +1,5 @@
-// gi-packed.js: the runtime textures of a version 3 .gi (docs/format.md,
-// "Version 3"), rebuilt from its level bytes and the probe values it stores
+// gi-packed.js: the runtime textures of a version 4 .gi (docs/format.md,
+// "Version 4"), rebuilt from its level bytes and the probe values it stores
 // once. Bit for bit what lib/packed.c rebuilds: every float operation below
 // is a float32 one (Math.fround) in the C code's order, and the encoders
 // round as the C ones do, so a test can compare the two byte for byte.
@@ -7,15 +7,87 @@
 const N = 5, TEXELS = 125, PAD = 2;
 const f = Math.fround;
 
-// The atlas's size in texels for `slots` slots: near-cubic, at most 256 an axis.
-export function atlasDims(slots) {
-  // In integers, as lib/atlas.c: the smallest sx with sx^3 >= slots, then sy with sx sy^2 >= slots.
-  let sx = 1, sy = 1;
-  while (sx < 256 && sx * sx * sx < slots) sx++;
-  while (sy < 256 && sx * sy * sy < slots) sy++;
-  const sz = Math.ceil(slots / (sx * sy));
-  if (sz > 256) throw new Error(`${slots} bricks do not fit an atlas of 256^3 slots`);
-  return [sx * N, sy * N, sz * N];
+const SLAB_MAX = 8, ATLAS_MAX = 1024, LAYERS_MAX = Math.floor(ATLAS_MAX / N);
+
+// Where a w-wide slab lies lowest on skyline h (S wide): [z, leftmost x].
+function lowestFit(h, S, w) {
+  const queue = new Int32Array(S);
+  let head = 0, tail = 0, best = Infinity, bestX = 0;
+  for (let i = 0; i < S; i++) {
+    while (tail > head && h[queue[tail - 1]] <= h[i]) tail--;
+    queue[tail++] = i;
+    if (queue[head] <= i - w) head++;
+    if (i >= w - 1 && h[queue[head]] < best) {
+      best = h[queue[head]];
+      bestX = i - w + 1;
+    }
+  }
+  return [best, bestX];
+}
+
+// Pack the sorted slabs into `layers` layers S wide along x (lib/packed.c,
+// pack_layers): each where it lies lowest, the first such layer, the leftmost
+// x there; layer 0 starts with the block of zeros at its corner. Null if the
+// atlas would pass ATLAS_MAX along z.
+function packLayers(slabs, S, layers) {
+  const h = [];
+  for (let l = 0; l < layers; l++) h.push(new Uint16Array(S));
+  h[0].fill(N, 0, N);
+  let xEnd = N, zEnd = N;
+  for (const s of slabs) {
+    let bl = 0, bx = 0, bz = Infinity;
+    for (let l = 0; l < layers; l++) {
+      const [z, x] = lowestFit(h[l], S, s.w);
+      if (z < bz) bz = z, bx = x, bl = l;
+    }
+    if (bz + s.d > ATLAS_MAX) return null;
+    h[bl].fill(bz + s.d, bx, bx + s.w);
+    s.pos = [bx, N * bl, bz];
+    xEnd = Math.max(xEnd, bx + s.w);
+    zEnd = Math.max(zEnd, bz + s.d);
+  }
+  return [xEnd, N * layers, zEnd];
+}
+
+// Layers enough to hold `area` texels (x by z) at S x S each, at most LAYERS_MAX.
+const layersFor = (area, S) => Math.min(Math.max(Math.ceil(area / (S * S)), 1), LAYERS_MAX);
+
+// Every brick's first atlas texel, and the atlas's size (docs/format.md,
+// "Version 4", step 2): slabs of same-level neighbours along x, then z,
+// sharing borders, packed in layers 5 texels tall.
+export function placeBricks(keys, lv, brickWithKey) {
+  const count = keys.length, taken = new Uint8Array(count), slabs = [];
+  const at = (first, i, j) => brickWithKey(keys[first][0] + i, keys[first][1], keys[first][2] + j, lv[first]);
+  const free = (b) => b >= 0 && !taken[b];
+  for (let b = 0; b < count; b++) {
+    if (taken[b]) continue;
+    let kx = 1, kz = 1;
+    while (kx < SLAB_MAX && free(at(b, kx, 0))) kx++;
+    for (let row = true; row && kz < SLAB_MAX; kz += row ? 1 : 0)
+      for (let i = 0; i < kx && row; i++) row = free(at(b, i, kz));
+    for (let j = 0; j < kz; j++) for (let i = 0; i < kx; i++) taken[at(b, i, j)] = 1;
+    slabs.push({ first: b, w: 4 * kx + 1, d: 4 * kz + 1, pos: null });
+  }
+  let area = N * N, S = N; // the block of zeros, then the slabs
+  for (const s of slabs) {
+    area += s.w * s.d;
+    S = Math.max(S, s.w);
+  }
+  let root = 1;
+  while (root * root * root < N * area) root++; // in integers, as lib/packed.c
+  S = Math.min(Math.max(root, S), ATLAS_MAX);
+  slabs.sort((a, b) => b.d - a.d || b.w - a.w || a.first - b.first);
+  let dims = packLayers(slabs, S, layersFor(area, S));
+  if (!dims && S < ATLAS_MAX) dims = packLayers(slabs, ATLAS_MAX, layersFor(area, ATLAS_MAX));
+  if (!dims) throw new Error(`${count} bricks do not fit an atlas of ${ATLAS_MAX}^3 texels`);
+  const origin = new Uint16Array(3 * count);
+  for (const s of slabs)
+    for (let j = 0; j < (s.d - 1) / 4; j++)
+      for (let i = 0; i < (s.w - 1) / 4; i++) {
+        const b = at(s.first, i, j);
+        origin[3 * b] = s.pos[0] + 4 * i, origin[3 * b + 1] = s.pos[1], origin[3 * b + 2] = s.pos[2] + 4 * j;
+      }
+  return { dims, origin };
 }
 
 const popcount = (x) => {
@@ -105,13 +177,13 @@ function interpolate(s, key, level, p, out) {
   }
 }
 
-// Rebuild { indirection, atlas, storedPoints } from a version 3 payload, or
+// Rebuild { indirection, atlas, storedPoints } from a version 4 payload, or
 // throw an Error naming what is inconsistent. `gi` is the parsed header.
 export function rebuildPacked(gi, payload) {
   const d = gi.indDims, cells = d[0] * d[1] * d[2];
   const levels = payload.subarray(0, cells);
   const cellAt = (x, y, z) => (z * d[1] + y) * d[0] + x;
-  // The bricks, in slot order: each met at its block's first cell; no more than the header counts.
+  // The bricks, in scan order: each met at its block's first cell; no more than the header counts.
   const keys = [], lv = [], most = gi.bricks.reduce((a, b) => a + b, 0);
   for (let z = 0; z < d[2]; z++)
     for (let y = 0; y < d[1]; y++)
@@ -137,20 +209,34 @@ export function rebuildPacked(gi, payload) {
         lv.push(b - 1);
       }
   const count = keys.length;
-  const dims = atlasDims(count + 1);
   const perLevel = [0, 0, 0, 0];
   for (const l of lv) perLevel[l]++;
-  if (dims.some((v, k) => v !== gi.atlasDims[k]) || perLevel.some((v, k) => v !== gi.bricks[k]))
+  if (perLevel.some((v, k) => v !== gi.bricks[k]))
     throw new Error('the level bytes hold other bricks than the header counts');
-  const sx = dims[0] / N, sy = dims[1] / N;
-  const indirection = new Uint8Array(4 * cells);
-  for (let b = 0; b < count; b++) {
-    const slot = b + 1, span = 1 << lv[b];
-    const t = [slot % sx, Math.floor(slot / sx) % sy, Math.floor(slot / (sx * sy)), lv[b] + 1];
-    const lo = keys[b].map((k) => k * span);
+  // Each cell's brick, for the placement and the stitching.
+  const cellBrick = new Int32Array(cells).fill(-1);
+  const brickCells = (b, fn) => {
+    const span = 1 << lv[b], lo = keys[b].map((k) => k * span);
     for (let z = lo[2]; z < Math.min(lo[2] + span, d[2]); z++)
       for (let y = lo[1]; y < Math.min(lo[1] + span, d[1]); y++)
-        for (let x = lo[0]; x < Math.min(lo[0] + span, d[0]); x++) indirection.set(t, 4 * cellAt(x, y, z));
+        for (let x = lo[0]; x < Math.min(lo[0] + span, d[0]); x++) fn(cellAt(x, y, z));
+  };
+  for (let b = 0; b < count; b++) brickCells(b, (c) => { cellBrick[c] = b; });
+  const brickWithKey = (x, y, z, level) => {
+    const cx = x << level, cy = y << level, cz = z << level;
+    if (cx < 0 || cy < 0 || cz < 0 || cx >= d[0] || cy >= d[1] || cz >= d[2]) return -1;
+    const b = cellBrick[cellAt(cx, cy, cz)];
+    return b >= 0 && lv[b] === level ? b : -1;
+  };
+  const { dims, origin } = placeBricks(keys, lv, brickWithKey);
+  if (dims.some((v, k) => v !== gi.atlasDims[k]))
+    throw new Error(`the bricks pack into a ${dims.join('x')} atlas, the header says ${gi.atlasDims.join('x')}`);
+  // Indirection: r, g, b the brick's first texel / 4; a its level, and the texel mod 4 per axis.
+  const indirection = new Uint8Array(4 * cells);
+  for (let b = 0; b < count; b++) {
+    const o = origin.subarray(3 * b, 3 * b + 3);
+    const t = [o[0] >> 2, o[1] >> 2, o[2] >> 2, lv[b] | ((o[0] & 3) << 2) | ((o[1] & 3) << 4) | ((o[2] & 3) << 6)];
+    brickCells(b, (c) => indirection.set(t, 4 * c));
   }
   const point = [0, 0, 0];
   const texelPoint = (b, t, p) => {
@@ -168,10 +254,10 @@ export function rebuildPacked(gi, payload) {
       const x = (p[0] >> 2) - dx, y = (p[1] >> 2) - dy, z = (p[2] >> 2) - dz;
       if ((dx && p[0] % 4) || (dy && p[1] % 4) || (dz && p[2] % 4)) continue;
       if (x < 0 || y < 0 || z < 0 || x >= d[0] || y >= d[1] || z >= d[2]) continue;
-      const o = 4 * cellAt(x, y, z);
-      if (indirection[o + 3] === 0 || indirection[o + 3] - 1 <= best) continue;
-      best = indirection[o + 3] - 1;
-      coarseIndex = (indirection[o + 2] * sy + indirection[o + 1]) * sx + indirection[o] - 1;
+      const j = cellBrick[cellAt(x, y, z)];
+      if (j < 0 || lv[j] <= best) continue;
+      best = lv[j];
+      coarseIndex = j;
     }
     coarseLevel = best;
     return best > level;
@@ -181,13 +267,16 @@ export function rebuildPacked(gi, payload) {
   for (let b = 0; b < count; b++) {
     const span = 1 << lv[b];
     let near = false;
-    const key = keys[b], top = lv[b] + 1;
+    const key = keys[b];
     const x0 = Math.max(key[0] * span - 1, 0), x1 = Math.min(key[0] * span + span, d[0] - 1);
     const y0 = Math.max(key[1] * span - 1, 0), y1 = Math.min(key[1] * span + span, d[1] - 1);
     const z0 = Math.max(key[2] * span - 1, 0), z1 = Math.min(key[2] * span + span, d[2] - 1);
     for (let z = z0; z <= z1 && !near; z++)
       for (let y = y0; y <= y1 && !near; y++)
-        for (let x = x0; x <= x1 && !near; x++) near = indirection[4 * cellAt(x, y, z) + 3] > top;
+        for (let x = x0; x <= x1 && !near; x++) {
+          const j = cellBrick[cellAt(x, y, z)];
+          near = j >= 0 && lv[j] > lv[b];
+        }
     if (!near) continue;
     for (let t = 0; t < TEXELS; t++) {
       if (t % N % 4 && Math.floor(t / N) % N % 4 && Math.floor(t / (N * N)) % 4) continue;
@@ -246,7 +335,7 @@ export function rebuildPacked(gi, payload) {
   };
   const indexOf = (p) => at3(p[0], p[1], p[2]);
   // The values: residuals against a prediction from the -x, -y, -x-y and -z
-  // neighbours (docs/format.md, step 4), plane by plane; an RGBM multiplier
+  // neighbours (docs/format.md, step 5), plane by plane; an RGBM multiplier
   // before the colour bytes it rescales the neighbours' colours to.
   const planes = payload.subarray(cells);
   const values = new Uint8Array(4 * points);
@@ -313,7 +402,7 @@ export function rebuildPacked(gi, payload) {
     }
   const atlas = new Uint8Array(4 * dims[0] * dims[1] * dims[2]);
   for (let b = 0; b < count; b++) {
-    const slot = b + 1, bx = (slot % sx) * N, by = (Math.floor(slot / sx) % sy) * N, bz = Math.floor(slot / (sx * sy)) * N;
+    const bx = origin[3 * b], by = origin[3 * b + 1], bz = origin[3 * b + 2];
     const span = 1 << lv[b], key = keys[b], any = stitch[4 * b] | stitch[4 * b + 1] | stitch[4 * b + 2] | stitch[4 * b + 3];
     for (let t = 0, qz = 0; qz < N; qz++)
       for (let qy = 0; qy < N; qy++)

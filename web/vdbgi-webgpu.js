@@ -9,7 +9,7 @@
 // setKnobs(), `enabled` and `debug` reach every material without a rebuild.
 import { MeshStandardNodeMaterial, MeshLambertNodeMaterial } from 'three/webgpu';
 import {
-  Fn, If, uniform, texture3D, vec3, vec4, float, floor, exp2, max, min, clamp, dot, mix, select,
+  Fn, If, uniform, texture3D, vec3, vec4, float, floor, exp2, max, min, mod, clamp, dot, mix, select,
   fwidth, positionWorld, varying, output, diffuseColor, diffuseContribution, materialEmissive,
 } from 'three/tsl';
 import { DebugView } from './vdbgi.js';
@@ -56,16 +56,22 @@ function giNodes(runtime) {
   n.lookup = (pos) => {
     const p = pos.sub(n.boxMin).div(n.boxSize).mul(n.indDims.mul(4)).sub(0.5);
     const baseBrick = floor(p.div(4));
-    const ind = n.texture('ind', baseBrick.add(0.5).div(n.indDims));
-    const level = max(ind.a.mul(255).sub(1), 0);
+    const ind = floor(n.texture('ind', baseBrick.add(0.5).div(n.indDims)).mul(255).add(0.5));
+    // Seed: rgb the slot, a the level + 1. Compact: a holds the level in bits
+    // 0-1 and the first texel mod 4 per axis above; rgb its texel / 4.
+    const compact = n.layout.x.lessThan(5.5);
+    const level = select(compact, mod(ind.a, 4), max(ind.a.sub(1), 0));
     const span = exp2(level);
-    const slot = ind.rgb.mul(255);
     const originCell = floor(baseBrick.div(span)).mul(span).mul(4);
     const q = p.sub(originCell).add(n.layout.z).div(span).sub(n.layout.z);
-    const texel = slot.mul(n.layout.x).add(n.layout.y).add(q);
+    const low = mod(floor(vec3(ind.a).div(vec3(4, 16, 64))), 4);
+    const first = select(compact, ind.rgb.mul(4).add(low), ind.rgb.mul(n.layout.x).add(n.layout.y));
+    const texel = first.add(q);
     const s = n.texture('atlas', texel.add(0.5).div(n.atlasDims));
     const irradiance = select(n.decode.x.greaterThan(0), s.rgb.mul(s.a).mul(n.decode.x), s.rgb);
-    return { irradiance, level: ind.a.mul(255).sub(1), inBrick: p.sub(originCell).div(span.mul(4)) };
+    const empty = ind.r.add(ind.g).add(ind.b).add(ind.a).equal(0);
+    const levelOut = select(compact, select(empty, float(-1), level), ind.a.sub(1));
+    return { irradiance, level: levelOut, inBrick: p.sub(originCell).div(span.mul(4)) };
   };
   // The seed's knobs: see vdbgiBounce() in vdbgi.js.
   n.bounce = Fn(([irradiance, albedo, knobs]) => {

@@ -254,17 +254,21 @@ struct GiLookup { vec3 irradiance; float level; vec3 inBrick; };
 GiLookup vdbgiLookup(vec3 pos) {
   vec3 p = (pos - giBoxMin) / giBoxSize * (giIndDims * 4.0) - 0.5;
   vec3 baseBrick = floor(p / 4.0);
-  vec4 ind = texture(giIndirection, (baseBrick + 0.5) / giIndDims);
-  float level = max(ind.a * 255.0 - 1.0, 0.0);
+  vec4 ind = floor(texture(giIndirection, (baseBrick + 0.5) / giIndDims) * 255.0 + 0.5);
+  // Seed: rgb the slot, a the level + 1 (0: empty). Compact: a holds the level
+  // in bits 0-1 and the first texel mod 4 per axis above; rgb its texel / 4.
+  bool compact = giLayout.x < 5.5;
+  float level = compact ? mod(ind.a, 4.0) : max(ind.a - 1.0, 0.0);
   float span = exp2(level);
-  vec3 slot = ind.rgb * 255.0;
   vec3 originCell = floor(baseBrick / span) * span * 4.0;
   vec3 q = (p - originCell + giLayout.z) / span - giLayout.z;
-  vec3 texel = slot * giLayout.x + giLayout.y + q;
+  vec3 first = compact ? ind.rgb * 4.0 + mod(floor(ind.a / vec3(4.0, 16.0, 64.0)), 4.0)
+                       : ind.rgb * giLayout.x + giLayout.y;
+  vec3 texel = first + q;
   vec4 s = texture(giAtlas, (texel + 0.5) / giAtlasDims);
   GiLookup r;
   r.irradiance = giDecode.x > 0.0 ? s.rgb * s.a * giDecode.x : s.rgb;
-  r.level = ind.a * 255.0 - 1.0;
+  r.level = compact ? (ind == vec4(0.0) ? -1.0 : level) : ind.a - 1.0;
   r.inBrick = (p - originCell) / (4.0 * span);
   return r;
 }

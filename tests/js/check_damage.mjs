@@ -23,11 +23,13 @@ async function attempt(bytes, what) {
   }
   loaded++;
   // What docs/format.md promises a reader that loaded: every brick pointer inside the atlas.
-  const b = gi.layout === 1 ? 5 : 6;
+  const compact = gi.layout === 2, b = compact ? 5 : 6;
   for (let t = 0; t < gi.indirection.length; t += 4) {
     const [x, y, z, a] = gi.indirection.subarray(t, t + 4);
-    if (a && (x * b >= gi.atlasDims[0] || y * b >= gi.atlasDims[1] || z * b >= gi.atlasDims[2] ||
-              a > gi.maxLevel + 1)) {
+    // Seed: slot (x, y, z), level a - 1 (a = 0: empty). Compact: first texel 4 (x, y, z) + a's bits.
+    const first = compact ? [x, y, z].map((v, k) => 4 * v + ((a >> (2 + 2 * k)) & 3)) : [x * b, y * b, z * b];
+    const level = compact ? a & 3 : a - 1;
+    if ((compact || a) && (first.some((v, k) => v + b > gi.atlasDims[k]) || level > gi.maxLevel)) {
       if (bad++ < 5) console.log(`${what}: loaded with a brick pointer outside the atlas`);
       return;
     }

@@ -6,7 +6,7 @@ import { loadGi, sampleGi } from './gi_loader.mjs';
 const [file, inspect] = process.argv.slice(2);
 const gi = await loadGi(await readFile(file));
 console.log(`header: ${gi.indDims.join('x')} cells, ${gi.atlasDims.join('x')} texels, ` +
-            `encoding ${gi.encoding === 1 ? 'rgb9e5' : 'rgbm'}, layout ${gi.layout === 1 ? 'compact' : 'seed'}, ` +
+            `encoding ${gi.encoding === 1 ? 'rgb9e5' : 'rgbm'}, layout ${gi.layout === 2 ? 'compact' : 'seed'}, ` +
             `bricks ${gi.bricks.join('/')}`);
 let count = 0, worst = 0, bad = 0, nonzero = 0;
 for (const line of (await readFile(inspect, 'utf8')).split('\n')) {

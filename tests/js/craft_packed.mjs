@@ -1,4 +1,4 @@
-// craft_packed.mjs GOOD.gi.gz DIR: from a good packed (version 3) file, write
+// craft_packed.mjs GOOD.gi.gz DIR: from a good packed (version 4) file, write
 // into DIR one file for each inconsistency docs/format.md says a reader must
 // refuse, each gzip'd whole (so only the reader's checks can catch it), and
 // print their names. Needs a file with a level-1 brick.
@@ -9,7 +9,7 @@ const [good, dir] = process.argv.slice(2);
 const raw = new Uint8Array(gunzipSync(readFileSync(good)));
 const dv = new DataView(raw.buffer);
 const u32 = (o) => dv.getUint32(o, true);
-if (u32(8) !== 3) throw new Error(`${good} is version ${u32(8)}, not a packed file`);
+if (u32(8) !== 4) throw new Error(`${good} is version ${u32(8)}, not a packed file`);
 const d = [u32(24), u32(28), u32(32)], cells = d[0] * d[1] * d[2], H = u32(12), maxLevel = u32(76);
 const at = (x, y, z) => H + (z * d[1] + y) * d[0] + x;
 // The first level-1 brick whose 2^3 block lies inside the indirection, and the first level-0 cell.
@@ -40,3 +40,8 @@ write('one-stored-point-more', (b, v) => { v.setUint32(108, u32(108) + 1, true);
 write('stored-points-without-their-bytes', (b, v) => { v.setUint32(108, u32(108) + 1, true); });
 write('packed-in-the-seed-layout', (b, v) => { v.setUint32(104, 0, true); });
 write('textures-with-a-point-count', (b, v) => { v.setUint32(8, 2, true); });
+write('atlas-of-another-size', (b, v) => {
+  v.setUint32(36, u32(36) + 1, true);
+  v.setUint32(100, 4 * (u32(36) + 1) * u32(40) * u32(44), true);
+});
+write('older-compact-version-3', (b, v) => { v.setUint32(8, 3, true); v.setUint32(104, 1, true); });

@@ -3,7 +3,7 @@
 // uses (DecompressionStream, DataView, every refusal docs/format.md lists);
 // this adds the seed's lookup in float32 (Math.fround after every operation
 // the shader does), so node can hold both to the C sampler.
-import { decodeGi, layoutGeometry } from '../../web/gi-format.js';
+import { decodeGi, layoutGeometry, LAYOUT_COMPACT } from '../../web/gi-format.js';
 
 const f = Math.fround;
 
@@ -66,18 +66,21 @@ export function sampleGi(gi, pos, detail = null) {
   const it = base.map((b, k) => clamp(Math.floor(f(f(f(b + 0.5) / gi.indDims[k]) * gi.indDims[k])), 0, gi.indDims[k] - 1));
   const [ix, iy] = gi.indDims;
   const o = 4 * ((it[2] * iy + it[1]) * ix + it[0]);
-  const ind = [0, 1, 2, 3].map((k) => f(gi.indirection[o + k] / 255));
-  const level = Math.max(f(f(ind[3] * 255) - 1), 0);
-  if (detail) detail.level = gi.indirection[o + 3] - 1; // -1: no brick
+  const b = [0, 1, 2, 3].map((k) => Math.floor(f(f(f(gi.indirection[o + k] / 255) * 255) + 0.5)));
+  const geo = layoutGeometry(gi.layout);
+  // Seed: rgb the slot, a the level + 1 (0: empty). Compact: a holds the level
+  // in bits 0-1 and the brick's first texel mod 4 per axis above; rgb that texel / 4.
+  const compact = gi.layout === LAYOUT_COMPACT;
+  const level = compact ? b[3] % 4 : Math.max(b[3] - 1, 0);
+  if (detail) detail.level = compact ? (b.every((v) => v === 0) ? -1 : level) : b[3] - 1; // -1: no brick
   const span = f(2 ** level);
   const uvw = [];
-  const geo = layoutGeometry(gi.layout);
   for (let k = 0; k < 3; k++) {
-    const slot = f(ind[k] * 255);
+    const first = compact ? b[k] * 4 + (Math.floor(b[3] / 4 ** (k + 1)) % 4) : b[k] * geo.brick + geo.pad;
     const originCell = f(f(Math.floor(f(base[k] / span)) * span) * 4);
     // Seed: probe q at the centre of its span-wide block; compact: at its corner.
     const q = f(f(f(f(p[k] - originCell) + geo.centre) / span) - geo.centre);
-    const texel = f(f(f(slot * geo.brick) + geo.pad) + q);
+    const texel = f(first + q);
     uvw[k] = f(f(texel + 0.5) / gi.atlasDims[k]);
   }
   const s = sampleLinear(gi, uvw, detail);

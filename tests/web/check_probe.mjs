@@ -82,7 +82,7 @@ for (const p of result.points) {
   levelsSeen.add(d.level);
   if (LEVEL_COLOURS[d.level].some((c, k) => Math.abs(c - p.level[k]) > 1e-6)) levelBad++;
 }
-const layout = gi.layout === 1 ? 'compact' : 'seed', enc = gi.encoding === 1 ? 'rgb9e5' : 'rgbm';
+const layout = gi.layout === 2 ? 'compact' : 'seed', enc = gi.encoding === 1 ? 'rgb9e5' : 'rgbm';
 console.error(`${backend} ${enc} ${layout}: ${result.points.length} points of ${result.covered} covered, ` +
   `${lit} lit; worst ${worst.toExponential(2)} (${(100 * worstRel).toFixed(1)} % of tolerance), rms ${rms.toExponential(2)}`);
 // The knobs (docs/web.md): lit by GI alone, a pixel is bounce(E, a) with E
