@@ -123,7 +123,17 @@ size_t vdbgi_brick_samples(const vdbgi_field *filled, const int32_t key[3], int 
                 for (int k = 0; k < 3; k++)
                     pos[k] = (double)key[k] * VDBGI_BRICK * span + q[k] * span + shift;
                 float *const v = out[(z * n + y) * n + x];
-                if (!vdbgi_field_trilinear(filled, pos, v, &cache)) {
+                bool valued;
+                if (layout == VDBGI_LAYOUT_COMPACT) {
+                    /* A lattice point: what the trilinear read gives there, without weights. */
+                    const int32_t p[3] = {(int32_t)pos[0], (int32_t)pos[1], (int32_t)pos[2]};
+                    const float *const f = vdbgi_field_at(filled, p, &cache);
+                    if ((valued = f != NULL))
+                        memcpy(v, f, 3 * sizeof(float));
+                } else {
+                    valued = vdbgi_field_trilinear(filled, pos, v, &cache);
+                }
+                if (!valued) {
                     memcpy(v, mean, 3 * sizeof(float));
                     fallbacks++;
                 }

@@ -14,7 +14,6 @@ typedef struct grid_leaf {
     uint64_t target[8];  /* points the fill should reach */
     uint64_t filled[8];  /* points holding a value */
     uint64_t invalid[8]; /* invalid probes (for the darkest choice) */
-    uint64_t pending[8]; /* found for the ring being computed */
     int32_t nb[27];      /* the 3^3 leaves around this one, -1 where none */
 } grid_leaf;
 
@@ -212,9 +211,48 @@ static void fill_ring(const grid *g, const vdbgi_fill_params *fp, const point_re
 }
 
 /*
+ * Dilate each leaf's mask by one point along one axis (the masks of the 27
+ * leaves around it from nb): bit n of a leaf is point x << 6 | y << 3 | z,
+ * so word x holds its 8 x 8 y-z plane, y steps by 8 bits and z by 1. Three
+ * passes, z then y then x, reach the 26 neighbours.
+ */
+static void dilate(const grid *g, const uint64_t (*in)[8], uint64_t (*out)[8], int axis)
+{
+    static const uint64_t z0 = UINT64_C(0x0101010101010101), z7 = z0 << 7;
+    const int below = axis == 0 ? 4 : axis == 1 ? 10 : 12; /* nb index of the -axis leaf */
+    const int above = 26 - below;
+    for (size_t l = 0; l < g->map.count; l++) {
+        const uint64_t *const m = in[l];
+        const int32_t lo = g->leaves[l].nb[below], hi = g->leaves[l].nb[above];
+        for (int w = 0; w < 8; w++) {
+            uint64_t d = m[w];
+            if (axis == 0) { /* z, within each byte */
+                d |= (m[w] << 1 & ~z0) | (m[w] >> 1 & ~z7);
+                if (lo >= 0)
+                    d |= in[lo][w] >> 7 & z0;
+                if (hi >= 0)
+                    d |= (in[hi][w] & z0) << 7;
+            } else if (axis == 1) { /* y, by bytes */
+                d |= m[w] << 8 | m[w] >> 8;
+                if (lo >= 0)
+                    d |= in[lo][w] >> 56;
+                if (hi >= 0)
+                    d |= in[hi][w] << 56;
+            } else { /* x, by words */
+                d |= w > 0 ? m[w - 1] : lo >= 0 ? in[lo][7] : 0;
+                d |= w < 7 ? m[w + 1] : hi >= 0 ? in[hi][0] : 0;
+            }
+            out[l][w] = d;
+        }
+    }
+}
+
+/*
  * Spread ring by ring from the filled points until every target point holds
- * a value, a ring finds nothing, or fp->max_iterations rings have run. Each
- * ring costs in proportion to its own size, not the grid's.
+ * a value, a ring finds nothing, or fp->max_iterations rings have run. A
+ * ring is the target points next to a filled one, found by dilating the
+ * leaves' masks; a point's value reads only points filled before its ring,
+ * so the order a ring is listed in changes nothing.
  */
 static vdbgi_result spread(grid *g, const vdbgi_fill_params *fp, size_t *unreached)
 {
@@ -226,58 +264,39 @@ static vdbgi_result spread(grid *g, const vdbgi_fill_params *fp, size_t *unreach
         filled += popcount512(g->leaves[l].filled);
     }
     remaining -= filled; /* every filled point is a target point */
-    /* A ring holds each point once, so two lists of all points always suffice. */
-    const size_t capacity = remaining > filled ? remaining : filled;
-    point_ref *front = vdbgi_calloc(ctx, capacity ? capacity : 1, sizeof(*front));
-    point_ref *next = vdbgi_calloc(ctx, remaining ? remaining : 1, sizeof(*next));
-    if (!front || !next) {
-        vdbgi_free(ctx, front);
-        vdbgi_free(ctx, next);
+    point_ref *const ring = vdbgi_calloc(ctx, remaining ? remaining : 1, sizeof(*ring));
+    uint64_t(*a)[8] = vdbgi_alloc(ctx, (leaf_count ? leaf_count : 1) * sizeof(*a));
+    uint64_t(*b)[8] = vdbgi_alloc(ctx, (leaf_count ? leaf_count : 1) * sizeof(*b));
+    if (!ring || !a || !b) {
+        vdbgi_free(ctx, ring);
+        vdbgi_free(ctx, a);
+        vdbgi_free(ctx, b);
         return VDBGI_ERR_OUT_OF_MEMORY;
     }
-    size_t front_count = 0;
-    for (size_t l = 0; l < leaf_count; l++)
-        for (unsigned n = 0; n < VDBGI_LEAF_VOXELS; n++)
-            if (bit(g->leaves[l].filled, n))
-                front[front_count++] = (point_ref){(uint32_t)l, n};
-
     for (int iter = 0; iter < fp->max_iterations && remaining > 0; iter++) {
-        size_t next_count = 0;
-        for (size_t i = 0; i < front_count; i++) {
-            const grid_leaf *const leaf = &g->leaves[front[i].leaf];
-            const unsigned n = front[i].n;
-            const int x = (int)(n >> 6), y = (int)(n >> 3 & 7), z = (int)(n & 7);
-            for (int dz = -1; dz <= 1; dz++)
-                for (int dy = -1; dy <= 1; dy++)
-                    for (int dx = -1; dx <= 1; dx++) {
-                        const int nx = x + dx + 8, ny = y + dy + 8, nz = z + dz + 8;
-                        const int32_t l = leaf->nb[nx / 8 + 3 * (ny / 8) + 9 * (nz / 8)];
-                        if (l < 0)
-                            continue;
-                        grid_leaf *const nl = &g->leaves[l];
-                        const unsigned m = (unsigned)((nx & 7) << 6 | (ny & 7) << 3 | (nz & 7));
-                        if (!bit(nl->target, m) || bit(nl->filled, m) || bit(nl->pending, m))
-                            continue;
-                        set_bit(nl->pending, m);
-                        next[next_count++] = (point_ref){(uint32_t)l, m};
-                    }
-        }
-        if (next_count == 0)
+        for (size_t l = 0; l < leaf_count; l++)
+            memcpy(a[l], g->leaves[l].filled, sizeof(a[l]));
+        dilate(g, (const uint64_t(*)[8])a, b, 0);
+        dilate(g, (const uint64_t(*)[8])b, a, 1);
+        dilate(g, (const uint64_t(*)[8])a, b, 2);
+        size_t count = 0;
+        for (size_t l = 0; l < leaf_count; l++)
+            for (int w = 0; w < 8; w++) {
+                uint64_t m = b[l][w] & g->leaves[l].target[w] & ~g->leaves[l].filled[w];
+                for (; m; m &= m - 1)
+                    ring[count++] =
+                        (point_ref){(uint32_t)l, (unsigned)(w << 6 | __builtin_ctzll(m))};
+            }
+        if (count == 0)
             break; /* what is left cannot be reached from any source */
-        fill_ring(g, fp, next, next_count);
-        for (size_t i = 0; i < next_count; i++) {
-            grid_leaf *const nl = &g->leaves[next[i].leaf];
-            set_bit(nl->filled, next[i].n);
-            nl->pending[next[i].n >> 6] &= ~(1ull << (next[i].n & 63));
-        }
-        remaining -= next_count;
-        point_ref *const t = front;
-        front = next;
-        next = t;
-        front_count = next_count;
+        fill_ring(g, fp, ring, count);
+        for (size_t i = 0; i < count; i++)
+            set_bit(g->leaves[ring[i].leaf].filled, ring[i].n);
+        remaining -= count;
     }
-    vdbgi_free(ctx, front);
-    vdbgi_free(ctx, next);
+    vdbgi_free(ctx, ring);
+    vdbgi_free(ctx, a);
+    vdbgi_free(ctx, b);
     *unreached = remaining;
     return VDBGI_OK;
 }
