@@ -257,7 +257,7 @@ static vdbgi_result unpack(vdbgi_context *ctx, const char *path, vdbgi_volume *v
                        "%s: the bricks read %zu points, the header says %zu are stored", path,
                        pl.points, header.stored_points);
     else
-        r = vdbgi_pack_rebuild(v, &pl, payload + header.indirection_size / 4,
+        r = vdbgi_pack_rebuild(v, &pl, payload + header.indirection_size / 4, vdbgi_core_count(),
                                &v->info.clamped_count);
     vdbgi_pack_plan_free(ctx, &pl);
     return r;

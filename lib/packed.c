@@ -557,18 +557,79 @@ static uint8_t *atlas_texel(const vdbgi_volume *v, const vdbgi_pack_plan *pl, si
     return &v->atlas[4 * ((z * d[1] + y) * d[0] + x)];
 }
 
+/* One thread's share of the rebuild: the bricks whose first texel lies in rows y_begin..y_end. */
+typedef struct rebuild_job {
+    const vdbgi_volume *v;
+    const vdbgi_pack_plan *pl;
+    const uint8_t *values;
+    float (*fs)[TEXELS][3]; /* coarse bricks' samples, by cidx */
+    const int32_t *cidx;
+    int level; /* the coarse level whose samples to compute, or -1: write the atlas */
+    uint32_t y_begin, y_end;
+    size_t clamped;
+} rebuild_job;
+
+static void *rebuild_worker(void *arg)
+{
+    rebuild_job *const job = arg;
+    const vdbgi_pack_plan *const pl = job->pl;
+    float(*const fs)[TEXELS][3] = job->fs;
+    const int32_t *const cidx = job->cidx;
+    for (size_t b = 0; b < pl->brick_count; b++) {
+        if (pl->origin[b][1] < job->y_begin || pl->origin[b][1] >= job->y_end ||
+            (job->level >= 0 && pl->level[b] != job->level))
+            continue;
+        for (int t = 0; t < TEXELS; t++) {
+            size_t j;
+            int cl;
+            int32_t p[3];
+            texel_point(pl, b, t, p);
+            const bool stitch = stitched(pl, b, t, &j, &cl);
+            const double pos[3] = {p[0], p[1], p[2]};
+            if (job->level >= 0) { /* a coarse brick's samples */
+                if (stitch) {
+                    vdbgi_brick_interpolate((const float(*)[3])fs[cidx[j]], VDBGI_LAYOUT_COMPACT,
+                                            pl->key[j], cl, pos, fs[cidx[b]][t]);
+                } else {
+                    const int64_t i = point_index(pl, p);
+                    static const uint8_t zero[4];
+                    decode_texel(job->v, i >= 0 ? &job->values[4 * i] : zero, fs[cidx[b]][t]);
+                }
+                continue;
+            }
+            uint8_t *const out = atlas_texel(job->v, pl, b, t);
+            if (!stitch) {
+                const int64_t i = point_index(pl, p);
+                if (i >= 0)
+                    memcpy(out, &job->values[4 * i], 4);
+                continue;
+            }
+            float rgb[3];
+            if (cidx[b] >= 0)
+                memcpy(rgb, fs[cidx[b]][t], sizeof(rgb));
+            else
+                vdbgi_brick_interpolate((const float(*)[3])fs[cidx[j]], VDBGI_LAYOUT_COMPACT,
+                                        pl->key[j], cl, pos, rgb);
+            job->clamped += encode_texel(job->v, rgb, out);
+        }
+    }
+    return NULL;
+}
+
 /*
  * The atlas from the stored values (4 bytes a point, interleaved). Coarse
  * bricks' samples are kept as floats, coarsest level first, so a stitched
  * texel interpolates exactly what the converter's stitching always did:
- * the coarser brick's values, its own stitched ones unrounded.
+ * the coarser brick's values, its own stitched ones unrounded. Threads take
+ * whole layers of the atlas: bricks that share texels lie in one layer, and
+ * write the same bytes there.
  */
 static vdbgi_result rebuild(vdbgi_volume *v, const vdbgi_pack_plan *pl, const uint8_t *values,
-                            size_t *clamped_out)
+                            int threads, size_t *clamped_out)
 {
     vdbgi_context *const ctx = v->ctx;
     const size_t count = pl->brick_count;
-    size_t coarse = 0, clamped = 0;
+    size_t coarse = 0;
     int32_t *const cidx = vdbgi_alloc(ctx, (count ? count : 1) * sizeof(*cidx));
     if (!cidx)
         return VDBGI_ERR_OUT_OF_MEMORY;
@@ -579,52 +640,30 @@ static vdbgi_result rebuild(vdbgi_volume *v, const vdbgi_pack_plan *pl, const ui
         vdbgi_free(ctx, cidx);
         return VDBGI_ERR_OUT_OF_MEMORY;
     }
-    for (int level = (int)v->info.max_level; level >= 1; level--)
-        for (size_t b = 0; b < count; b++) {
-            if (pl->level[b] != level)
-                continue;
-            for (int t = 0; t < TEXELS; t++) {
-                size_t j;
-                int cl;
-                int32_t p[3];
-                texel_point(pl, b, t, p);
-                if (stitched(pl, b, t, &j, &cl)) {
-                    const double pos[3] = {p[0], p[1], p[2]};
-                    vdbgi_brick_interpolate((const float(*)[3])fs[cidx[j]], VDBGI_LAYOUT_COMPACT,
-                                            pl->key[j], cl, pos, fs[cidx[b]][t]);
-                } else {
-                    const int64_t i = point_index(pl, p);
-                    static const uint8_t zero[4];
-                    decode_texel(v, i >= 0 ? &values[4 * i] : zero, fs[cidx[b]][t]);
-                }
-            }
-        }
-    for (size_t b = 0; b < count; b++)
-        for (int t = 0; t < TEXELS; t++) {
-            size_t j;
-            int cl;
-            int32_t p[3];
-            texel_point(pl, b, t, p);
-            uint8_t *const out = atlas_texel(v, pl, b, t);
-            if (!stitched(pl, b, t, &j, &cl)) {
-                const int64_t i = point_index(pl, p);
-                if (i >= 0)
-                    memcpy(out, &values[4 * i], 4);
-                continue;
-            }
-            float rgb[3];
-            if (cidx[b] >= 0) {
-                memcpy(rgb, fs[cidx[b]][t], sizeof(rgb));
-            } else {
-                const double pos[3] = {p[0], p[1], p[2]};
-                vdbgi_brick_interpolate((const float(*)[3])fs[cidx[j]], VDBGI_LAYOUT_COMPACT,
-                                        pl->key[j], cl, pos, rgb);
-            }
-            clamped += encode_texel(v, rgb, out);
-        }
+    enum { MAX_JOBS = 64 };
+    rebuild_job jobs[MAX_JOBS];
+    const uint32_t layers = v->info.atlas_dims[1] / N;
+    int nt = threads > MAX_JOBS ? MAX_JOBS : threads < 1 ? 1 : threads;
+    nt = (uint32_t)nt > layers ? (int)layers : nt;
+    *clamped_out = 0;
+    for (int level = (int)v->info.max_level; level >= -1; level--) {
+        if (level == 0)
+            continue;
+        for (int t = 0; t < nt; t++)
+            jobs[t] = (rebuild_job){.v = v,
+                                    .pl = pl,
+                                    .values = values,
+                                    .fs = fs,
+                                    .cidx = cidx,
+                                    .level = level,
+                                    .y_begin = N * (uint32_t)((uint64_t)layers * t / nt),
+                                    .y_end = N * (uint32_t)((uint64_t)layers * (t + 1) / nt)};
+        vdbgi_run_threads(nt, rebuild_worker, jobs, sizeof(jobs[0]));
+        for (int t = 0; t < nt; t++)
+            *clamped_out += jobs[t].clamped;
+    }
     vdbgi_free(ctx, fs);
     vdbgi_free(ctx, cidx);
-    *clamped_out = clamped;
     return VDBGI_OK;
 }
 
@@ -695,7 +734,7 @@ static const int byte_order[2][4] = {{3, 0, 1, 2}, {0, 1, 2, 3}};
     } while (0)
 
 vdbgi_result vdbgi_pack_rebuild(vdbgi_volume *v, const vdbgi_pack_plan *pl, const uint8_t *planes,
-                                size_t *clamped)
+                                int threads, size_t *clamped)
 {
     uint8_t *const values = vdbgi_calloc(v->ctx, pl->points ? pl->points : 1, 4);
     if (!values)
@@ -711,7 +750,7 @@ vdbgi_result vdbgi_pack_rebuild(vdbgi_volume *v, const vdbgi_pack_plan *pl, cons
                                           predict(values, nb, k, rgbm && k < 3, values[4 * i + 3]));
         }
     });
-    const vdbgi_result r = rebuild(v, pl, values, clamped);
+    const vdbgi_result r = rebuild(v, pl, values, threads, clamped);
     vdbgi_free(v->ctx, values);
     return r;
 }
@@ -912,7 +951,7 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
     vdbgi_log(ctx, VDBGI_LOG_DEBUG, "%zu stored points, %zu of them read by no receiver", n,
               unread);
     size_t stitched_clamps = 0;
-    if ((r = rebuild(v, &pl, values, &stitched_clamps)) != VDBGI_OK)
+    if ((r = rebuild(v, &pl, values, nt, &stitched_clamps)) != VDBGI_OK)
         goto done;
     v->info.clamped_count += clamped + stitched_clamps;
     v->info.stored_points = n;

@@ -63,10 +63,10 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
  * The reader's half: v's atlas from the plan and the payload's planes
  * (after its level bytes): stored texels copied, stitched ones interpolated
  * from their coarser brick and encoded (a texel two bricks share gets the
- * same bytes from both); *clamped gets how many of those
+ * same bytes from both), over threads; *clamped gets how many of those
  * clamped.
  */
 vdbgi_result vdbgi_pack_rebuild(vdbgi_volume *v, const vdbgi_pack_plan *plan, const uint8_t *planes,
-                                size_t *clamped);
+                                int threads, size_t *clamped);
 
 #endif /* VDBGI_PACKED_H */

@@ -489,6 +489,16 @@ static float edge_and_bump(double x, double y, double z, int c)
  * of the face; the largest jump is compared with eps (both relative to the
  * mean irradiance).
  */
+/* The level of a cell's brick, or -1 for an empty cell, in either layout. */
+static int cell_level(const vdbgi_volume_view *v, const uint32_t c[3])
+{
+    const uint8_t *const t =
+        &v->indirection[4 * (((size_t)c[2] * v->ind_dims[1] + c[1]) * v->ind_dims[0] + c[0])];
+    if (v->layout == VDBGI_LAYOUT_COMPACT) /* a: level in bits 0-1, texel bits above */
+        return (t[0] | t[1] | t[2] | t[3]) ? t[3] & 3 : -1;
+    return t[3] - 1;
+}
+
 static void level_seams_stay_within_eps(void)
 {
     vdbgi_context *ctx = test_context();
@@ -528,10 +538,8 @@ static void level_seams_stay_within_eps(void)
                         uint32_t c1[3] = {x, y, z};
                         if (++c1[axis] >= d[axis])
                             continue;
-                        const uint8_t a0 =
-                            view.indirection[4 * ((c0[2] * d[1] + c0[1]) * d[0] + c0[0]) + 3];
-                        const uint8_t a1 =
-                            view.indirection[4 * ((c1[2] * d[1] + c1[1]) * d[0] + c1[0]) + 3];
+                        /* Level + 1 of each cell's brick, 0 for none (docs/format.md). */
+                        const int a0 = cell_level(&view, c0) + 1, a1 = cell_level(&view, c1) + 1;
                         if (!a0 || !a1)
                             continue;
                         seams += a0 != a1;
