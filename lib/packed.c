@@ -772,24 +772,6 @@ static int brick_order(const void *pa, const void *pb)
     return 0;
 }
 
-typedef struct sample_job {
-    const vdbgi_volume *v;
-    const vdbgi_brick *bricks;
-    float (*samples)[TEXELS][3];
-    size_t begin, end, fallbacks;
-} sample_job;
-
-static void *sample_worker(void *arg)
-{
-    sample_job *const job = arg;
-    for (size_t i = job->begin; i < job->end; i++) {
-        const vdbgi_brick *const k = &job->bricks[i];
-        job->fallbacks += vdbgi_brick_samples(&job->v->filled, k->key, k->level, k->mean,
-                                              VDBGI_LAYOUT_COMPACT, job->samples[i]);
-    }
-    return NULL;
-}
-
 /* Valid probes, a bit each, over the owner grid. */
 static uint64_t *valid_bits(vdbgi_volume *v, const vdbgi_pack_plan *pl, const vdbgi_probes *pr)
 {
@@ -868,7 +850,6 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
                 }
     }
     vdbgi_pack_plan pl;
-    float(*samples)[TEXELS][3] = NULL;
     uint8_t *values = NULL, *written = NULL, *out = NULL;
     uint64_t *valid = NULL, *near = NULL;
     vdbgi_result r = vdbgi_pack_plan_make(v, levels, NULL, "converter", &pl);
@@ -877,45 +858,41 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
         return r;
     }
     const size_t n = pl.points;
-    samples = vdbgi_alloc(ctx, (count ? count : 1) * sizeof(*samples));
     values = vdbgi_calloc(ctx, 4 * (n ? n : 1), 1);
     written = vdbgi_calloc(ctx, n ? n : 1, 1); /* 1 stored, 2 also read by a coarse brick */
     out = vdbgi_alloc(ctx, cells + 4 * n);
     valid = valid_bits(v, &pl, probes);
     const size_t grid_cells = (size_t)pl.grid[0] * pl.grid[1] * pl.grid[2];
     near = vdbgi_alloc(ctx, grid_cells * sizeof(*near));
-    if (!samples || !values || !written || !out || !valid || !near) {
+    if (!values || !written || !out || !valid || !near) {
         r = VDBGI_ERR_OUT_OF_MEMORY;
         goto done;
     }
-    enum { MAX_JOBS = 64 };
-    sample_job jobs[MAX_JOBS];
-    const int nt = threads > MAX_JOBS ? MAX_JOBS : threads < 1 ? 1 : threads;
-    for (int t = 0; t < nt; t++)
-        jobs[t] = (sample_job){v,
-                               bricks,
-                               samples,
-                               count * (size_t)t / (size_t)nt,
-                               count * (size_t)(t + 1) / (size_t)nt,
-                               0};
-    vdbgi_run_threads(nt, sample_worker, jobs, sizeof(jobs[0]));
-    for (int t = 0; t < nt; t++)
-        v->info.fallback_count += jobs[t].fallbacks;
-    /* Each point takes the first brick's sample, in slot order. */
+    /*
+     * Each point takes the first brick's value, in brick order: the filled
+     * field at its lattice point or, where the fill left none, the brick's
+     * block mean (counted for every texel of every brick that falls back).
+     */
     size_t clamped = 0;
+    const vdbgi_leaf *cache = NULL;
     for (size_t b = 0; b < count; b++)
         for (int t = 0; t < TEXELS; t++) {
+            int32_t p[3];
+            texel_point(&pl, b, t, p);
+            const int32_t at[3] = {p[0] + VDBGI_BRICK * v->origin_cell[0],
+                                   p[1] + VDBGI_BRICK * v->origin_cell[1],
+                                   p[2] + VDBGI_BRICK * v->origin_cell[2]};
+            const float *const f = vdbgi_field_at(&v->filled, at, &cache);
+            v->info.fallback_count += f == NULL;
             size_t j;
             int cl;
             if (stitched(&pl, b, t, &j, &cl))
                 continue;
-            int32_t p[3];
-            texel_point(&pl, b, t, p);
             const int64_t i = point_index(&pl, p);
             if (i < 0)
                 continue;
             if (!written[i]) {
-                clamped += encode_texel(v, samples[b][t], &values[4 * i]);
+                clamped += encode_texel(v, f ? f : bricks[b].mean, &values[4 * i]);
                 written[i] = 1;
             }
             if (pl.level[b])
@@ -951,7 +928,7 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
     vdbgi_log(ctx, VDBGI_LOG_DEBUG, "%zu stored points, %zu of them read by no receiver", n,
               unread);
     size_t stitched_clamps = 0;
-    if ((r = rebuild(v, &pl, values, nt, &stitched_clamps)) != VDBGI_OK)
+    if ((r = rebuild(v, &pl, values, threads, &stitched_clamps)) != VDBGI_OK)
         goto done;
     v->info.clamped_count += clamped + stitched_clamps;
     v->info.stored_points = n;
@@ -961,7 +938,6 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
 done:
     vdbgi_pack_plan_free(ctx, &pl);
     vdbgi_free(ctx, levels);
-    vdbgi_free(ctx, samples);
     vdbgi_free(ctx, values);
     vdbgi_free(ctx, written);
     vdbgi_free(ctx, out);
