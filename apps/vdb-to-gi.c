@@ -306,7 +306,7 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             f,
             ",\n  \"probes\": %zu,\n"
             "  \"valid_probes\": %zu,\n  \"filled_points\": %zu,\n  \"unreached_points\": %zu,\n"
-            "  \"fallback_texels\": %zu,\n  \"spacing\": %g,\n  \"max_level\": %u,\n"
+            "  \"fallback_values\": %zu,\n  \"spacing\": %g,\n  \"max_level\": %u,\n"
             "  \"encoding\": \"%s\",\n  \"layout\": \"%s\",\n"
             "  \"bricks_per_level\": [%u, %u, %u, %u],\n"
             "  \"bricks\": %u,\n  \"atlas_dims\": [%u, %u, %u],\n"
@@ -336,9 +336,9 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
     char a[32], b[32], c[32], d[32];
     fprintf(f, "input        %s: %zu probes (%zu valid) at %g m\n", o->input, pi->probe_count,
             vi->valid_count, pi->spacing);
-    fprintf(f,
-            "fill         %zu points hold a value (%zu unreached, %zu texels from block means)\n",
-            vi->filled_count, vi->unreached_count, vi->fallback_count);
+    fprintf(f, "fill         %zu points hold a value (%zu unreached, %zu %s from block means)\n",
+            vi->filled_count, vi->unreached_count, vi->fallback_count,
+            vi->layout == VDBGI_LAYOUT_COMPACT ? "stored values" : "texels");
     fprintf(f, "bricks       %u: level 0 %u, level 1 %u, level 2 %u, level 3 %u\n", vi->brick_count,
             vi->bricks[0], vi->bricks[1], vi->bricks[2], vi->bricks[3]);
     fprintf(f, "atlas        %ux%ux%u texels%s, %s\n", vi->atlas_dims[0], vi->atlas_dims[1],

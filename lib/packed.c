@@ -822,6 +822,44 @@ static void grow(const vdbgi_pack_plan *pl, const uint64_t *in, uint64_t *out, i
             }
 }
 
+/*
+ * The first brick (in brick order) whose unstitched texel stands at stored
+ * point p. Its block holds one of the cells that touch p (a brick's +
+ * border lies in the next cell), which may lie past the indirection when a
+ * coarse block does: each such cell is looked up at each level's block.
+ */
+static size_t first_reader(const vdbgi_pack_plan *pl, const int32_t p[3])
+{
+    size_t first = SIZE_MAX;
+    for (int c = 0; c < 8; c++)
+        for (int level = 0; level < 4; level++) {
+            int32_t cell[3];
+            bool inside = true;
+            for (int k = 0; k < 3; k++) {
+                const int down = c >> k & 1;
+                const int32_t touching = (p[k] >> 2) - down;
+                cell[k] = touching >= 0 ? touching >> level << level : -1; /* its block's first */
+                inside = inside && (!down || p[k] % VDBGI_BRICK == 0) && cell[k] >= 0 &&
+                         cell[k] < (int32_t)pl->dims[k];
+            }
+            const int32_t b = inside ? pl->cell_brick[cell_index(pl->dims, cell)] : -1;
+            if (b < 0 || pl->level[b] != level || (size_t)b >= first)
+                continue;
+            const int32_t span = 1 << level;
+            int t = 0;
+            for (int k = 2; k >= 0 && inside; k--) {
+                const int32_t q = p[k] - pl->key[b][k] * VDBGI_BRICK * span;
+                inside = q % span == 0 && q >= 0 && q <= VDBGI_BRICK * span;
+                t = t * N + q / span;
+            }
+            size_t j;
+            int cl;
+            if (inside && !stitched(pl, (size_t)b, t, &j, &cl))
+                first = (size_t)b;
+        }
+    return first;
+}
+
 vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count,
                               const vdbgi_probes *probes, int threads, uint8_t **payload,
                               size_t *payload_size)
@@ -869,33 +907,34 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
         goto done;
     }
     /*
-     * Each point takes the first brick's value, in brick order: the filled
-     * field at its lattice point or, where the fill left none, the brick's
-     * block mean (counted for every texel of every brick that falls back).
+     * Each point's value: the filled field at its lattice point or, where the
+     * fill left none, the block mean of the first brick (in brick order) that
+     * reads it. Storage order keeps the field's leaves at hand.
      */
     size_t clamped = 0;
     const vdbgi_leaf *cache = NULL;
+    FOR_EACH_POINT(&pl, p, i, {
+        const int32_t at[3] = {p[0] + VDBGI_BRICK * v->origin_cell[0],
+                               p[1] + VDBGI_BRICK * v->origin_cell[1],
+                               p[2] + VDBGI_BRICK * v->origin_cell[2]};
+        const float *f = vdbgi_field_at(&v->filled, at, &cache);
+        if (!f) { /* every stored point has a reader: the plan stored it for one */
+            static const float none[3];
+            const size_t b = first_reader(&pl, p);
+            f = b < count ? bricks[b].mean : none;
+            v->info.fallback_count++;
+        }
+        clamped += encode_texel(v, f, &values[4 * i]);
+        written[i] = 1;
+    });
     for (size_t b = 0; b < count; b++)
-        for (int t = 0; t < TEXELS; t++) {
-            int32_t p[3];
-            texel_point(&pl, b, t, p);
-            const int32_t at[3] = {p[0] + VDBGI_BRICK * v->origin_cell[0],
-                                   p[1] + VDBGI_BRICK * v->origin_cell[1],
-                                   p[2] + VDBGI_BRICK * v->origin_cell[2]};
-            const float *const f = vdbgi_field_at(&v->filled, at, &cache);
-            v->info.fallback_count += f == NULL;
+        for (int t = 0; pl.level[b] && t < TEXELS; t++) {
             size_t j;
             int cl;
-            if (stitched(&pl, b, t, &j, &cl))
-                continue;
-            const int64_t i = point_index(&pl, p);
-            if (i < 0)
-                continue;
-            if (!written[i]) {
-                clamped += encode_texel(v, f ? f : bricks[b].mean, &values[4 * i]);
-                written[i] = 1;
-            }
-            if (pl.level[b])
+            int32_t p[3];
+            texel_point(&pl, b, t, p);
+            const int64_t i = stitched(&pl, b, t, &j, &cl) ? -1 : point_index(&pl, p);
+            if (i >= 0)
                 written[i] = 2;
         }
     /*

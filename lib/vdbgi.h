@@ -642,7 +642,8 @@ typedef struct vdbgi_volume_info {
     size_t dense_rgba8_size;             /* a dense RGBA8 grid over the probes' box */
     /* Filled in by vdbgi_volume_build only (0 after vdbgi_volume_read): */
     size_t probe_count, valid_count, filled_count, unreached_count;
-    size_t fallback_count;       /* brick texels with no filled point near: block mean */
+    size_t fallback_count;       /* texels (seed layout) or stored points (compact) the fill
+                                    left without a value: their brick's block mean */
     size_t clamped_count;        /* texels whose colour exceeded the RGBM range */
     double mean_irradiance;      /* over valid probes and channels */
     double rmse, p99, max_error; /* sampled field vs filled field at valid probes, absolute */
