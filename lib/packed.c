@@ -345,6 +345,7 @@ static int lowest_fit(const uint16_t *h, int S, int w, int *x)
  */
 static bool pack_layers(slab *slabs, size_t n, int S, int layers, uint16_t *h, uint32_t dims[3])
 {
+    int low[LAYERS_MAX] = {0}; /* each skyline's lowest point */
     memset(h, 0, sizeof(*h) * (size_t)S * (size_t)layers);
     for (int i = 0; i < N; i++)
         h[i] = N;
@@ -353,7 +354,9 @@ static bool pack_layers(slab *slabs, size_t n, int S, int layers, uint16_t *h, u
         slab *const s = &slabs[i];
         int best_l = 0, best_x = 0, best_z = INT32_MAX;
         for (int l = 0; l < layers; l++) {
-            int x;
+            if (low[l] >= best_z)
+                continue; /* it cannot lie lower there */
+            int x = 0;
             const int z = lowest_fit(&h[(size_t)l * S], S, s->w, &x);
             if (z < best_z)
                 best_z = z, best_x = x, best_l = l;
@@ -363,6 +366,9 @@ static bool pack_layers(slab *slabs, size_t n, int S, int layers, uint16_t *h, u
         uint16_t *const row = &h[(size_t)best_l * S];
         for (int k = best_x; k < best_x + s->w; k++)
             row[k] = (uint16_t)(best_z + s->d);
+        low[best_l] = INT32_MAX;
+        for (int k = 0; k < S; k++)
+            low[best_l] = row[k] < low[best_l] ? row[k] : low[best_l];
         s->pos[0] = (uint16_t)best_x;
         s->pos[1] = (uint16_t)(N * best_l);
         s->pos[2] = (uint16_t)best_z;

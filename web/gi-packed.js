@@ -10,8 +10,9 @@ const f = Math.fround;
 const SLAB_MAX = 8, ATLAS_MAX = 1024, LAYERS_MAX = Math.floor(ATLAS_MAX / N);
 
 // Where a w-wide slab lies lowest on skyline h (S wide): [z, leftmost x].
+let queue = new Int32Array(0);
 function lowestFit(h, S, w) {
-  const queue = new Int32Array(S);
+  if (queue.length < S) queue = new Int32Array(S);
   let head = 0, tail = 0, best = Infinity, bestX = 0;
   for (let i = 0; i < S; i++) {
     while (tail > head && h[queue[tail - 1]] <= h[i]) tail--;
@@ -30,18 +31,20 @@ function lowestFit(h, S, w) {
 // x there; layer 0 starts with the block of zeros at its corner. Null if the
 // atlas would pass ATLAS_MAX along z.
 function packLayers(slabs, S, layers) {
-  const h = [];
+  const h = [], low = new Int32Array(layers); // low: each skyline's lowest point
   for (let l = 0; l < layers; l++) h.push(new Uint16Array(S));
   h[0].fill(N, 0, N);
   let xEnd = N, zEnd = N;
   for (const s of slabs) {
     let bl = 0, bx = 0, bz = Infinity;
     for (let l = 0; l < layers; l++) {
+      if (low[l] >= bz) continue; // it cannot lie lower there
       const [z, x] = lowestFit(h[l], S, s.w);
       if (z < bz) bz = z, bx = x, bl = l;
     }
     if (bz + s.d > ATLAS_MAX) return null;
     h[bl].fill(bz + s.d, bx, bx + s.w);
+    low[bl] = h[bl].reduce((m, v) => (v < m ? v : m), 65535);
     s.pos = [bx, N * bl, bz];
     xEnd = Math.max(xEnd, bx + s.w);
     zEnd = Math.max(zEnd, bz + s.d);
