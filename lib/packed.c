@@ -318,12 +318,13 @@ static int slab_order(const void *pa, const void *pb)
     return a->first < b->first ? -1 : a->first > b->first;
 }
 
-/* Where a w-wide slab lies lowest on skyline h (S wide): the leftmost such x; its z. */
-static int lowest_fit(const uint16_t *h, int S, int w, int *x)
+/* Where a w-wide slab lies lowest on skyline h (S wide, lowest point low): the leftmost such x; its z. */
+static int lowest_fit(const uint16_t *h, int S, int w, int low, int *x)
 {
     int queue[ATLAS_MAX], head = 0, tail = 0, best = INT32_MAX;
-    /* A sliding maximum: queue holds the window's candidates, highest first. */
-    for (int i = 0; i < S; i++) {
+    /* A sliding maximum: queue holds the window's candidates, highest first. No
+       window lies below the skyline's lowest point, so the first there is the answer. */
+    for (int i = 0; i < S && best > low; i++) {
         while (tail > head && h[queue[tail - 1]] <= h[i])
             tail--;
         queue[tail++] = i;
@@ -357,7 +358,7 @@ static bool pack_layers(slab *slabs, size_t n, int S, int layers, uint16_t *h, u
             if (low[l] >= best_z)
                 continue; /* it cannot lie lower there */
             int x = 0;
-            const int z = lowest_fit(&h[(size_t)l * S], S, s->w, &x);
+            const int z = lowest_fit(&h[(size_t)l * S], S, s->w, low[l], &x);
             if (z < best_z)
                 best_z = z, best_x = x, best_l = l;
         }

@@ -9,12 +9,13 @@ const f = Math.fround;
 
 const SLAB_MAX = 8, ATLAS_MAX = 1024, LAYERS_MAX = Math.floor(ATLAS_MAX / N);
 
-// Where a w-wide slab lies lowest on skyline h (S wide): [z, leftmost x].
+// Where a w-wide slab lies lowest on skyline h (S wide, lowest point low):
+// [z, leftmost x]. No window lies below low, so the first there is the answer.
 let queue = new Int32Array(0);
-function lowestFit(h, S, w) {
+function lowestFit(h, S, w, low) {
   if (queue.length < S) queue = new Int32Array(S);
   let head = 0, tail = 0, best = Infinity, bestX = 0;
-  for (let i = 0; i < S; i++) {
+  for (let i = 0; i < S && best > low; i++) {
     while (tail > head && h[queue[tail - 1]] <= h[i]) tail--;
     queue[tail++] = i;
     if (queue[head] <= i - w) head++;
@@ -39,7 +40,7 @@ function packLayers(slabs, S, layers) {
     let bl = 0, bx = 0, bz = Infinity;
     for (let l = 0; l < layers; l++) {
       if (low[l] >= bz) continue; // it cannot lie lower there
-      const [z, x] = lowestFit(h[l], S, s.w);
+      const [z, x] = lowestFit(h[l], S, s.w, low[l]);
       if (z < bz) bz = z, bx = x, bl = l;
     }
     if (bz + s.d > ATLAS_MAX) return null;
