@@ -293,13 +293,19 @@ static vdbgi_result temp_create(vdbgi_context *ctx, const char *path, char **tmp
         return VDBGI_ERR_OUT_OF_MEMORY;
     memcpy(tmp, path, n);
     memcpy(tmp + n, suffix, sn);
+    /*
+     * Listed before mkstemp writes its name into tmp and creates the file, so
+     * that a signal arriving as the file appears still finds it (until then
+     * the handler unlinks a name that does not exist).
+     */
+    live_add(tmp);
     const int fd = mkstemp(tmp);
     if (fd < 0) {
         const int err = errno;
+        live_remove(tmp);
         vdbgi_free(ctx, tmp);
         return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write: %s", path, strerror(err));
     }
-    live_add(tmp);
     /* mkstemp makes 0600; the finished file should get the usual umask mode. */
     const mode_t mask = umask(0);
     umask(mask);
