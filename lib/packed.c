@@ -69,6 +69,22 @@ static void texel_point(const vdbgi_pack_plan *pl, size_t b, int t, int32_t p[3]
 }
 
 /*
+ * Cell c of the up to eight that touch lattice point p: the cell holding p,
+ * one down along axis k where bit k of c is set. False where p does not
+ * touch it (p is not on that cell face) or it lies below cell 0.
+ */
+static bool touching_cell(const int32_t p[3], int c, int32_t cell[3])
+{
+    bool touches = true;
+    for (int k = 0; k < 3; k++) {
+        const int down = c >> k & 1;
+        cell[k] = (p[k] >> 2) - down;
+        touches = touches && (!down || p[k] % VDBGI_BRICK == 0) && cell[k] >= 0;
+    }
+    return touches;
+}
+
+/*
  * The coarsest brick whose cells touch lattice point p, if coarser than level:
  * its index and level. A point on a cell face, edge or corner touches two,
  * four or eight cells; cells past the indirection touch nothing.
@@ -79,14 +95,8 @@ static bool coarser_brick_at(const vdbgi_pack_plan *pl, const int32_t p[3], int 
     int best = level;
     for (int c = 0; c < 8; c++) {
         int32_t cell[3];
-        bool inside = true;
-        for (int k = 0; k < 3; k++) {
-            const int down = c >> k & 1;
-            cell[k] = (p[k] >> 2) - down;
-            inside = inside && (!down || p[k] % VDBGI_BRICK == 0) && cell[k] >= 0 &&
-                     cell[k] < (int32_t)pl->dims[k];
-        }
-        if (!inside)
+        if (!touching_cell(p, c, cell) || cell[0] >= (int32_t)pl->dims[0] ||
+            cell[1] >= (int32_t)pl->dims[1] || cell[2] >= (int32_t)pl->dims[2])
             continue;
         const int32_t b = pl->cell_brick[cell_index(pl->dims, cell)];
         if (b < 0 || pl->level[b] <= best)
@@ -838,32 +848,29 @@ static void grow(const vdbgi_pack_plan *pl, const uint64_t *in, uint64_t *out, i
 static size_t first_reader(const vdbgi_pack_plan *pl, const int32_t p[3])
 {
     size_t first = SIZE_MAX;
-    for (int c = 0; c < 8; c++)
+    for (int c = 0; c < 8; c++) {
+        int32_t cell[3];
+        if (!touching_cell(p, c, cell))
+            continue;
         for (int level = 0; level < 4; level++) {
-            int32_t cell[3];
-            bool inside = true;
-            for (int k = 0; k < 3; k++) {
-                const int down = c >> k & 1;
-                const int32_t touching = (p[k] >> 2) - down;
-                cell[k] = touching >= 0 ? touching >> level << level : -1; /* its block's first */
-                inside = inside && (!down || p[k] % VDBGI_BRICK == 0) && cell[k] >= 0 &&
-                         cell[k] < (int32_t)pl->dims[k];
-            }
-            const int32_t b = inside ? pl->cell_brick[cell_index(pl->dims, cell)] : -1;
-            if (b < 0 || pl->level[b] != level || (size_t)b >= first)
+            const int32_t key[3] = {cell[0] >> level, cell[1] >> level, cell[2] >> level};
+            const int32_t b = brick_with_key(pl, key, level);
+            if (b < 0 || (size_t)b >= first)
                 continue;
             const int32_t span = 1 << level;
+            bool on = true;
             int t = 0;
-            for (int k = 2; k >= 0 && inside; k--) {
-                const int32_t q = p[k] - pl->key[b][k] * VDBGI_BRICK * span;
-                inside = q % span == 0 && q >= 0 && q <= VDBGI_BRICK * span;
+            for (int k = 2; k >= 0 && on; k--) {
+                const int32_t q = p[k] - key[k] * VDBGI_BRICK * span;
+                on = q % span == 0 && q >= 0 && q <= VDBGI_BRICK * span;
                 t = t * N + q / span;
             }
             size_t j;
             int cl;
-            if (inside && !stitched(pl, (size_t)b, t, &j, &cl))
+            if (on && !stitched(pl, (size_t)b, t, &j, &cl))
                 first = (size_t)b;
         }
+    }
     return first;
 }
 
