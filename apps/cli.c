@@ -270,6 +270,22 @@ const char *cli_bytes(double bytes, char *buf, size_t cap)
     return buf;
 }
 
+void cli_print_runtime(FILE *f, const vdbgi_volume_info *vi)
+{
+    char a[32], b[32];
+    if (!vi->columns_size) {
+        fprintf(f,
+                "runtime      too large for vdbgi's runtime: its indirection as columns would "
+                "pass %dx%d texels\n",
+                VDBGI_COLUMNS_ROW, VDBGI_COLUMNS_ROW);
+        return;
+    }
+    fprintf(f, "runtime      indirection as columns %ux%u texels, %s; VRAM %s\n",
+            vi->columns_dims[0], vi->columns_dims[1],
+            cli_bytes((double)vi->columns_size, a, sizeof(a)),
+            cli_bytes((double)(vi->columns_size + vi->atlas_size), b, sizeof(b)));
+}
+
 bool cli_parse_vec3(const char *s, float out[3])
 {
     double v[3];

@@ -120,6 +120,8 @@ void cli_progress_end(cli_progress *p);
 
 /* Human sizes: "12.3 MB". Returns buf. */
 const char *cli_bytes(double bytes, char *buf, size_t cap);
+/* The "runtime" line of gi-inspect and vdb-to-gi: what vdbgi's shaders upload. */
+void cli_print_runtime(FILE *f, const vdbgi_volume_info *vi);
 /* s as a JSON string: quoted, quotes, backslashes and control characters escaped. */
 void cli_json_string(FILE *f, const char *s);
 /*

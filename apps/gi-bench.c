@@ -674,8 +674,8 @@ static int bench_memory(const options *o, bool one_spacing)
                         vdbgi_volume_info vi;
                         vdbgi_volume_get_info(v, &vi);
                         memory_row(f, spacing, l ? "compact" : "seed", c ? "rmse" : "interp",
-                                   eps_text[e], v, vi.indirection_size + vi.atlas_size,
-                                   vi.file_size, pts, ref, got, surface, character);
+                                   eps_text[e], v, vi.columns_size + vi.atlas_size, vi.file_size,
+                                   pts, ref, got, surface, character);
                     }
                     vdbgi_volume_destroy(v);
                 }

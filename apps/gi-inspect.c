@@ -109,6 +109,7 @@ static int inspect_gi(vdbgi_context *ctx, const char *path, float (*at)[3], int 
            vi.atlas_dims[2],
            vi.layout == VDBGI_LAYOUT_COMPACT ? " (compact: 5^3 bricks sharing borders)" : "",
            cli_bytes((double)vi.atlas_size, c, sizeof(c)));
+    cli_print_runtime(stdout, &vi);
     printf("bricks       %u (max level %u): level 0 %u, level 1 %u, level 2 %u, level 3 %u\n",
            vi.brick_count, vi.max_level, vi.bricks[0], vi.bricks[1], vi.bricks[2], vi.bricks[3]);
     if (vi.stored_points)

@@ -311,7 +311,9 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             "  \"bricks_per_level\": [%u, %u, %u, %u],\n"
             "  \"bricks\": %u,\n  \"atlas_dims\": [%u, %u, %u],\n"
             "  \"indirection_dims\": [%u, %u, %u],\n  \"atlas_bytes\": %zu,\n"
-            "  \"indirection_bytes\": %zu,\n  \"raw_bytes\": %.0f,\n  \"gzip_bytes\": %zu,\n"
+            "  \"indirection_bytes\": %zu,\n  \"raw_bytes\": %.0f,\n"
+            "  \"columns_dims\": [%u, %u],\n  \"columns_bytes\": %zu,\n  \"vram_bytes\": %zu,\n"
+            "  \"gzip_bytes\": %zu,\n"
             "  \"dense_rgba8_bytes\": %zu,\n  \"dense_over_raw\": %.3f,\n"
             "  \"dense_over_gzip\": %.3f,\n  \"clamped_texels\": %zu,\n"
             "  \"mean_irradiance\": %.6g,\n  \"rmse\": %.6g,\n  \"p99\": %.6g,\n"
@@ -325,7 +327,8 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             vi->layout == VDBGI_LAYOUT_COMPACT ? "compact" : "seed", vi->bricks[0], vi->bricks[1],
             vi->bricks[2], vi->bricks[3], vi->brick_count, vi->atlas_dims[0], vi->atlas_dims[1],
             vi->atlas_dims[2], vi->indirection_dims[0], vi->indirection_dims[1],
-            vi->indirection_dims[2], vi->atlas_size, vi->indirection_size, raw, vi->file_size,
+            vi->indirection_dims[2], vi->atlas_size, vi->indirection_size, raw, vi->columns_dims[0],
+            vi->columns_dims[1], vi->columns_size, vi->columns_size + vi->atlas_size, vi->file_size,
             vi->dense_rgba8_size, (double)vi->dense_rgba8_size / raw,
             (double)vi->dense_rgba8_size / (double)vi->file_size, vi->clamped_count,
             vi->mean_irradiance, vi->rmse, vi->p99, vi->max_error, vi->rmse / mean, vi->p99 / mean,
@@ -348,6 +351,7 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
     fprintf(f, "indirection  %ux%ux%u cells, %s\n", vi->indirection_dims[0],
             vi->indirection_dims[1], vi->indirection_dims[2],
             cli_bytes((double)vi->indirection_size, b, sizeof(b)));
+    cli_print_runtime(f, vi);
     if (vi->stored_points)
         fprintf(f, "file         %s: %s gzip'd, %zu probe values each stored once (textures %s)\n",
                 o->output, cli_bytes((double)vi->file_size, d, sizeof(d)), vi->stored_points,
@@ -355,9 +359,9 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
     else
         fprintf(f, "file         %s: %s raw, %s gzip'd\n", o->output, cli_bytes(raw, c, sizeof(c)),
                 cli_bytes((double)vi->file_size, d, sizeof(d)));
-    fprintf(f, "dense        RGBA8 grid at %g m: %s, %.1fx the raw textures, %.1fx the file\n",
-            pi->spacing, cli_bytes((double)vi->dense_rgba8_size, a, sizeof(a)),
-            (double)vi->dense_rgba8_size / raw,
+    fprintf(f, "dense        RGBA8 grid at %g m: %s, %.1fx the VRAM, %.1fx the file\n", pi->spacing,
+            cli_bytes((double)vi->dense_rgba8_size, a, sizeof(a)),
+            (double)vi->dense_rgba8_size / (double)(vi->columns_size + vi->atlas_size),
             (double)vi->dense_rgba8_size / (double)vi->file_size);
     fprintf(f, "error        RMSE %.3g%%, p99 %.3g%%, max %.3g%% of the mean irradiance %.4g\n",
             100.0 * vi->rmse / mean, 100.0 * vi->p99 / mean, 100.0 * vi->max_error / mean,

@@ -588,6 +588,8 @@ typedef struct vdbgi_convert_desc {
 #define VDBGI_RGBM_RANGE 8.0f
 /* The largest 3D texture dimension WebGPU guarantees; the atlas stays within it. */
 #define VDBGI_MAX_TEXTURE_DIM 2048
+/* The runtime's indirection is at most this many texels a side (WebGL2's 2D minimum). */
+#define VDBGI_COLUMNS_ROW 2048
 
 /*
  * Build the bricked volume of baked probes: fill invalid and absent probes
@@ -638,8 +640,12 @@ typedef struct vdbgi_volume_info {
     uint32_t bricks[4]; /* kept bricks per level */
     uint32_t brick_count;
     size_t indirection_size, atlas_size; /* bytes, uncompressed */
-    size_t file_size;                    /* bytes of the gzip'd file */
-    size_t dense_rgba8_size;             /* a dense RGBA8 grid over the probes' box */
+    /* The runtime's indirection, as vdbgi's shaders upload it instead of the 3D one
+       (docs/format.md): a 2D RGBA8 texture; size 0 above VDBGI_COLUMNS_ROW^2 texels. */
+    uint32_t columns_dims[2];
+    size_t columns_size;     /* bytes; the GPU holds columns_size + atlas_size */
+    size_t file_size;        /* bytes of the gzip'd file */
+    size_t dense_rgba8_size; /* a dense RGBA8 grid over the probes' box */
     /* Filled in by vdbgi_volume_build only (0 after vdbgi_volume_read): */
     size_t probe_count, valid_count, filled_count, unreached_count;
     size_t fallback_count;       /* texels (seed layout) or stored points (compact) the fill
@@ -662,6 +668,16 @@ VDBGI_API void vdbgi_volume_get_info(const vdbgi_volume *volume, vdbgi_volume_in
 VDBGI_API size_t vdbgi_volume_copy_indirection(const vdbgi_volume *volume, void *buffer,
                                                size_t capacity);
 VDBGI_API size_t vdbgi_volume_copy_atlas(const vdbgi_volume *volume, void *buffer, size_t capacity);
+
+/*
+ * The runtime's indirection (docs/format.md "The runtime's indirection"): the
+ * 3D indirection's non-empty runs of cells along y, one list for all
+ * columns, in a 2D RGBA8 texture of columns_dims texels; what vdbgi's web
+ * runtime uploads. Same convention as above (0 also when the volume is too
+ * large for it).
+ */
+VDBGI_API size_t vdbgi_volume_copy_columns(const vdbgi_volume *volume, void *buffer,
+                                           size_t capacity);
 
 /*
  * The value the runtime shader of seed 000 computes at world position pos:

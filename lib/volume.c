@@ -71,9 +71,81 @@ void vdbgi_volume_sample(const vdbgi_volume *v, const float pos[3], float rgb[3]
     vdbgi_sampler_sample(&view, pos, rgb);
 }
 
+/* Column (x, z)'s run: the cells from its lowest to its highest that are not 0,0,0,0. */
+static uint32_t column_run(const vdbgi_volume *v, uint32_t x, uint32_t z, uint32_t *ymin)
+{
+    const uint32_t *const d = v->info.indirection_dims;
+    uint32_t lo = d[1], hi = 0;
+    for (uint32_t y = 0; y < d[1]; y++) {
+        const uint8_t *const t = &v->indirection[4 * (((size_t)z * d[1] + y) * d[0] + x)];
+        if (t[0] | t[1] | t[2] | t[3]) {
+            lo = lo == d[1] ? y : lo;
+            hi = y;
+        }
+    }
+    *ymin = lo == d[1] ? 0 : lo;
+    return lo == d[1] ? 0 : hi - lo + 1;
+}
+
+/*
+ * The runtime's indirection (docs/format.md): two texels a column (its run,
+ * and where the run starts in the list), then the runs' texels, in a 2D
+ * texture at most VDBGI_COLUMNS_ROW texels wide. Writes it to out unless NULL;
+ * returns its bytes, 0 (dims 0) above VDBGI_COLUMNS_ROW^2 texels.
+ */
+static size_t columns(const vdbgi_volume *v, uint8_t *out, uint32_t dims[2])
+{
+    const uint32_t *const d = v->info.indirection_dims;
+    const size_t n = (size_t)d[0] * d[2];
+    size_t total = 2 * n;
+    uint32_t ymin;
+    for (uint32_t z = 0; z < d[2]; z++)
+        for (uint32_t x = 0; x < d[0]; x++)
+            total += column_run(v, x, z, &ymin);
+    dims[0] = dims[1] = 0;
+    if (total > (size_t)VDBGI_COLUMNS_ROW * VDBGI_COLUMNS_ROW)
+        return 0;
+    const size_t rows = (total + VDBGI_COLUMNS_ROW - 1) / VDBGI_COLUMNS_ROW;
+    dims[0] = (uint32_t)((total + rows - 1) / rows);
+    dims[1] = (uint32_t)rows;
+    const size_t size = 4 * (size_t)dims[0] * dims[1];
+    if (!out)
+        return size;
+    memset(out, 0, size);
+    size_t offset = 0;
+    for (uint32_t z = 0; z < d[2]; z++)
+        for (uint32_t x = 0; x < d[0]; x++) {
+            const uint32_t count = column_run(v, x, z, &ymin);
+            uint8_t *const head = &out[8 * ((size_t)z * d[0] + x)];
+            const uint8_t h[8] = {(uint8_t)ymin,           (uint8_t)(ymin >> 8),
+                                  (uint8_t)count,          (uint8_t)(count >> 8),
+                                  (uint8_t)offset,         (uint8_t)(offset >> 8),
+                                  (uint8_t)(offset >> 16), 0};
+            memcpy(head, h, sizeof(h));
+            for (uint32_t k = 0; k < count; k++)
+                memcpy(&out[4 * (2 * n + offset + k)],
+                       &v->indirection[4 * (((size_t)z * d[1] + ymin + k) * d[0] + x)], 4);
+            offset += count;
+        }
+    return size;
+}
+
 void vdbgi_volume_get_info(const vdbgi_volume *v, vdbgi_volume_info *info)
 {
     *info = v->info;
+    info->columns_size = columns(v, NULL, info->columns_dims);
+}
+
+size_t vdbgi_volume_copy_columns(const vdbgi_volume *v, void *buffer, size_t capacity)
+{
+    uint32_t dims[2];
+    const size_t size = columns(v, NULL, dims);
+    if (!buffer || !size)
+        return size;
+    if (capacity < size)
+        return 0;
+    columns(v, buffer, dims);
+    return size;
 }
 
 void vdbgi_volume_destroy(vdbgi_volume *v)

@@ -3,7 +3,8 @@
 
 Run under Debian's system python3 (pyopenvdb, numpy). Reads the baked probes
 (which are valid) and the volume (docs/format.md), and prints one JSON object:
-the VRAM and file bytes per valid probe, and what each suspect of issue 11
+the VRAM (atlas and the indirection as columns, as vdbgi's runtime uploads
+them) and file bytes per valid probe, and what each suspect of issue 11
 costs: the apron, cells and bricks that hold no valid probe, coarsening,
 the atlas's unused slots, 4-byte texels, and what gzip makes of the atlas
 interleaved, as separate planes, and without its aprons (seed layout) or
@@ -63,6 +64,18 @@ def valid_probes(path):
             ijk.append(item.min)
     origin = irr.transform.indexToWorld((0, 0, 0))
     return np.array(ijk, np.int64), np.array(origin), irr.transform.voxelSize()[0], irr.activeVoxelCount()
+
+
+def columns_bytes(ind):
+    """The runtime's indirection (docs/format.md): two texels a column, then each
+    column's run from its lowest to its highest non-empty cell, at most 2048 wide."""
+    full = ind.astype(np.int64).sum(axis=-1) > 0  # z, y, x
+    ys = np.arange(full.shape[1])[None, :, None]
+    lo = np.where(full, ys, full.shape[1]).min(axis=1)
+    hi = np.where(full, ys, -1).max(axis=1)
+    total = 2 * lo.size + int(np.where(hi >= 0, hi - lo + 1, 0).sum())
+    rows = -(-total // 2048)
+    return 4 * rows * -(-total // rows)
 
 
 def gz(b):
@@ -132,7 +145,9 @@ def main(vdb_path, gi_path, name=None):
     n_valid = len(ijk)
     atlas_bytes = atlas.size
     ind_bytes = ind.size
-    vram = atlas_bytes + ind_bytes
+    # What vdbgi's runtime uploads: the atlas and the indirection as columns.
+    col_bytes = columns_bytes(ind)
+    vram = atlas_bytes + col_bytes
     b = 5 if compact else 6  # texels a brick edge
     # Each brick's b^3 texels (compact bricks may share border planes).
     slot_ids = np.array(sorted(brick_valid), np.int64)
@@ -170,6 +185,7 @@ def main(vdb_path, gi_path, name=None):
         "file_bytes": gi["file_bytes"],
         "file_per_valid_probe": round(gi["file_bytes"] / n_valid, 2),
         "indirection_bytes": ind_bytes,
+        "columns_bytes": col_bytes,
         "atlas_bytes": atlas_bytes,
         "atlas_slack_bytes": atlas_bytes - 4 * used_texels,
         "layout": "compact" if b == 5 else "seed",

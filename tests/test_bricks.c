@@ -463,22 +463,29 @@ static void cells_with_a_valid_corner_read_the_filled_field(void)
     vdbgi_context_destroy(ctx);
 }
 
-/* A lit 16 m floor with a closed 8 m box on it, baked at 0.5 m on a lattice at origin. */
-static vdbgi_probes *boxed_floor(vdbgi_context *ctx, double origin, vdbgi_scene **s)
+/* A lit 16 m floor with a closed box from lo to hi, baked as pd places the probes. */
+static vdbgi_probes *floor_and_box(vdbgi_context *ctx, const float lo[3], const float hi[3],
+                                   const vdbgi_place_desc *pd, int rays, vdbgi_scene **s)
 {
     test_mesh m = {0};
     test_mesh_plane(&m, 16.0f, 0.0f);
-    const float lo[3] = {-4.0f, 0.0f, -4.0f}, hi[3] = {4.0f, 8.0f, 4.0f};
     test_mesh_box(&m, lo, hi, 0);
     const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.6f, 0);
     vdbgi_probes *p = NULL;
     CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, s), VDBGI_OK);
-    const vdbgi_place_desc pd = {
-        .spacing = 0.5, .origin = {origin, origin, origin}, .origin_is_set = 1};
-    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, *s, &pd, &p), VDBGI_OK);
-    const vdbgi_bake_desc bd = {.rays = 64};
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, *s, pd, &p), VDBGI_OK);
+    const vdbgi_bake_desc bd = {.rays = rays};
     CHECK_RESULT(ctx, vdbgi_probes_bake(p, *s, &bd, NULL), VDBGI_OK);
     return p;
+}
+
+/* The floor with an 8 m box standing on it, baked at 0.5 m on a lattice at origin. */
+static vdbgi_probes *boxed_floor(vdbgi_context *ctx, double origin, vdbgi_scene **s)
+{
+    const float lo[3] = {-4.0f, 0.0f, -4.0f}, hi[3] = {4.0f, 8.0f, 4.0f};
+    const vdbgi_place_desc pd = {
+        .spacing = 0.5, .origin = {origin, origin, origin}, .origin_is_set = 1};
+    return floor_and_box(ctx, lo, hi, &pd, 64, s);
 }
 
 /* Level-0 bricks only, so that no coarse brick covers the cells a test looks at. */
@@ -547,6 +554,60 @@ static void only_cells_whose_filter_reads_a_valid_probe_get_bricks(void)
             continue;
         const float inside[3] = {-3.0f, 4.0f, 0.0f};
         CHECK(reads_black(v, inside) == (layout == VDBGI_LAYOUT_COMPACT));
+        vdbgi_volume_destroy(v);
+    }
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+/*
+ * The runtime's indirection (docs/format.md) read as the shaders read it gives
+ * every cell its 3D indirection texel, in both layouts: cells below, inside
+ * and above a column's run alike. A roof 10 m above a floor, with probes
+ * within 2 m of a surface, leaves empty cells inside the runs under the roof.
+ * A buffer one byte short gets nothing.
+ */
+static void columns_give_every_cell_its_indirection_texel(void)
+{
+    vdbgi_context *ctx = test_context();
+    const float lo[3] = {-4.0f, 10.0f, -4.0f}, hi[3] = {4.0f, 11.0f, 4.0f};
+    const vdbgi_place_desc pd = {.spacing = 0.5, .margin = 2.0};
+    vdbgi_scene *s = NULL;
+    vdbgi_probes *p = floor_and_box(ctx, lo, hi, &pd, 16, &s);
+    for (int layout = 0; p && layout < 2; layout++) {
+        vdbgi_volume *const v = level0_volume(ctx, p, layout);
+        if (!v)
+            continue;
+        vdbgi_volume_info vi;
+        vdbgi_volume_get_info(v, &vi);
+        const size_t size = vdbgi_volume_copy_columns(v, NULL, 0);
+        CHECK(size == vi.columns_size &&
+              size == 4 * (size_t)vi.columns_dims[0] * vi.columns_dims[1]);
+        CHECK(size > 0 && size < vi.indirection_size);
+        uint8_t *const t = malloc(size);
+        memset(t, 0xA5, size);
+        CHECK(vdbgi_volume_copy_columns(v, t, size - 1) == 0 && t[0] == 0xA5);
+        CHECK(vdbgi_volume_copy_columns(v, t, size) == size);
+        const uint32_t *const d = vi.indirection_dims;
+        const size_t columns = (size_t)d[0] * d[2];
+        size_t wrong = 0, gaps = 0;
+        for (uint32_t z = 0; z < d[2]; z++)
+            for (uint32_t x = 0; x < d[0]; x++) {
+                const uint8_t *const run = &t[8 * (x + (size_t)d[0] * z)];
+                const uint32_t ymin = run[0] | run[1] << 8, count = run[2] | run[3] << 8;
+                const size_t first = 2 * columns + (run[4] | run[5] << 8 | (size_t)run[6] << 16);
+                for (uint32_t y = 0; y < d[1]; y++) {
+                    const uint8_t *const want = &v->indirection[4 * ((z * d[1] + y) * d[0] + x)];
+                    static const uint8_t zero[4];
+                    const bool in = y >= ymin && y < ymin + count;
+                    const uint8_t *const got = in ? &t[4 * (first + y - ymin)] : zero;
+                    wrong += memcmp(got, want, 4) != 0;
+                    gaps += in && memcmp(want, zero, 4) == 0;
+                }
+            }
+        CHECK(wrong == 0 && gaps > 0);
+        free(t);
         vdbgi_volume_destroy(v);
     }
     vdbgi_probes_destroy(p);
@@ -846,6 +907,7 @@ int main(void)
     RUN(invalid_probes_never_leak_their_value);
     RUN(cells_with_a_valid_corner_read_the_filled_field);
     RUN(only_cells_whose_filter_reads_a_valid_probe_get_bricks);
+    RUN(columns_give_every_cell_its_indirection_texel);
     RUN(files_round_trip_and_are_deterministic);
     RUN(damaged_files_are_refused);
     RUN(bad_parameters_and_probes_are_refused);

@@ -183,3 +183,56 @@ export async function decodeGi(fileBytes, timings = {}) {
   timings.parse = now() - t;
   return gi;
 }
+
+// The runtime's indirection (docs/format.md "The runtime's indirection"): the
+// 3D indirection is mostly empty cells, so the shaders read it as one 2D RGBA8
+// texture instead. Column (x, z), c = x + X z, gets two texels: its run (the
+// cells from the lowest to the highest that is not 0,0,0,0: ymin, count, 16
+// bits each) and where the run starts in the list that follows (24 bits); then
+// every run's texels, copied as they are. Texel i is at (i mod width,
+// floor(i / width)). Any cell outside its column's run is 0,0,0,0 in the
+// indirection too, so the lookup reads the same texel.
+// At most 2048 x 2048 texels: WebGL2 guarantees 2D textures that size, and the
+// shaders' float32 row = floor((i + 0.5) / width) is exact below 2^22.
+export const COLUMNS_ROW_MAX = 2048;
+export const COLUMNS_TEXELS_MAX = 2 ** 22;
+
+export function indirectionColumns(indirection, indDims) {
+  const [X, Y, Z] = indDims;
+  const columns = X * Z;
+  const runs = new Uint32Array(2 * columns); // ymin, count per column
+  let total = 2 * columns;
+  for (let z = 0; z < Z; z++)
+    for (let x = 0; x < X; x++) {
+      let lo = -1, hi = -1;
+      for (let y = 0; y < Y; y++) {
+        const o = 4 * ((z * Y + y) * X + x);
+        if (indirection[o] | indirection[o + 1] | indirection[o + 2] | indirection[o + 3]) {
+          if (lo < 0) lo = y;
+          hi = y;
+        }
+      }
+      const c = x + X * z;
+      if (lo >= 0) {
+        runs[2 * c] = lo;
+        runs[2 * c + 1] = hi - lo + 1;
+        total += hi - lo + 1;
+      }
+    }
+  if (total > COLUMNS_TEXELS_MAX)
+    throw new Error(`the runtime's indirection would need ${total} texels, more than 2048 x 2048`);
+  const height = Math.ceil(total / COLUMNS_ROW_MAX), width = Math.ceil(total / height);
+  const data = new Uint8Array(4 * width * height);
+  let offset = 0;
+  for (let c = 0; c < columns; c++) {
+    const ymin = runs[2 * c], count = runs[2 * c + 1];
+    data.set([ymin & 255, ymin >> 8, count & 255, count >> 8, offset & 255, (offset >> 8) & 255, offset >> 16, 0], 8 * c);
+    const x = c % X, z = (c - x) / X;
+    for (let k = 0; k < count; k++) {
+      const o = 4 * ((z * Y + ymin + k) * X + x);
+      data.set(indirection.subarray(o, o + 4), 4 * (2 * columns + offset + k));
+    }
+    offset += count;
+  }
+  return { data, width, height };
+}

@@ -9,7 +9,7 @@
 // setKnobs(), `enabled` and `debug` reach every material without a rebuild.
 import { MeshStandardNodeMaterial, MeshLambertNodeMaterial } from 'three/webgpu';
 import {
-  Fn, If, uniform, texture3D, vec3, vec4, float, floor, exp2, max, min, mod, clamp, dot, mix, select,
+  Fn, If, uniform, texture3D, textureLoad, ivec2, vec3, vec4, float, floor, exp2, max, min, mod, clamp, dot, mix, select,
   fwidth, positionWorld, varying, output, diffuseColor, diffuseContribution, materialEmissive,
 } from 'three/tsl';
 import { DebugView } from './vdbgi.js';
@@ -30,14 +30,15 @@ function giNodes(runtime) {
     boxSize: uniform(u.giBoxSize.value),
     indDims: uniform(u.giIndDims.value),
     atlasDims: uniform(u.giAtlasDims.value),
+    columnsDims: uniform(u.giColumnsDims.value),
     layout: uniform(u.giLayout.value),
     decode: uniform(u.giDecode.value),
     debug: uniform(0, 'int').onRenderUpdate(() => u.giDebug.value),
     world: uniform(u.world.value),
     character: uniform(u.character.value),
     // Each lookup gets its own texture nodes; a new volume re-points them all.
-    texture: (which, uvw) => {
-      const t = texture3D(which === 'ind' ? u.giIndirection.value : u.giAtlas.value, uvw);
+    texture: (which, at) => {
+      const t = which === 'ind' ? textureLoad(u.giColumns.value, at) : texture3D(u.giAtlas.value, at);
       textures[which].push(new WeakRef(t));
       return t;
     },
@@ -45,7 +46,7 @@ function giNodes(runtime) {
   const previous = runtime.setVolume.bind(runtime);
   runtime.setVolume = (volume) => {
     previous(volume);
-    for (const [which, name] of [['ind', 'giIndirection'], ['atlas', 'giAtlas']])
+    for (const [which, name] of [['ind', 'giColumns'], ['atlas', 'giAtlas']])
       for (const ref of textures[which]) {
         const t = ref.deref();
         if (t) t.value = u[name].value;
@@ -56,7 +57,18 @@ function giNodes(runtime) {
   n.lookup = (pos) => {
     const p = pos.sub(n.boxMin).div(n.boxSize).mul(n.indDims.mul(4)).sub(0.5);
     const baseBrick = floor(p.div(4));
-    const ind = floor(n.texture('ind', baseBrick.add(0.5).div(n.indDims)).mul(255).add(0.5));
+    // The cell's indirection texel from its column's run, as the GLSL (docs/format.md).
+    const columnsTexel = (i) => {
+      const row = floor(i.add(0.5).div(n.columnsDims.x));
+      return floor(n.texture('ind', ivec2(i.sub(row.mul(n.columnsDims.x)), row)).mul(255).add(0.5));
+    };
+    const cell = clamp(baseBrick, vec3(0), n.indDims.sub(1));
+    const column = cell.x.add(n.indDims.x.mul(cell.z));
+    const run = columnsTexel(column.mul(2)), at = columnsTexel(column.mul(2).add(1));
+    const k = cell.y.sub(run.r.add(run.g.mul(256)));
+    const entry = n.indDims.x.mul(n.indDims.z).mul(2).add(at.r).add(at.g.mul(256)).add(at.b.mul(65536)).add(max(k, 0));
+    const inRun = k.greaterThanEqual(0).and(k.lessThan(run.b.add(run.a.mul(256))));
+    const ind = select(inRun, columnsTexel(min(entry, n.columnsDims.x.mul(n.columnsDims.y).sub(1))), vec4(0));
     // Seed: rgb the slot, a the level + 1. Compact: a holds the level in bits
     // 0-1 and the first texel mod 4 per axis above; rgb its texel / 4.
     const compact = n.layout.x.lessThan(5.5);

@@ -5,13 +5,13 @@
 //   gi.patchMaterial(material);                     // world set, per vertex
 //   gi.patchMaterial(heroMaterial, { set: 'character', perFragment: true });
 //
-// loadGi() reads a .gi.gz (docs/format.md) into two Data3DTextures; a
+// loadGi() reads a .gi.gz (docs/format.md) into its two textures; a
 // GiRuntime owns the uniforms every patched material shares, so swapping
 // volumes, turning GI off, changing a knob or a debug view touches no material.
 // The lookup is seed 000's volumeIrradiance(); docs/web.md says what each
 // knob does. vdbgi-webgpu.js is the same for WebGPURenderer, in TSL.
 import * as THREE from 'three';
-import { decodeGi, layoutGeometry, ENCODING_RGB9E5 } from './gi-format.js';
+import { decodeGi, indirectionColumns, layoutGeometry, ENCODING_RGB9E5 } from './gi-format.js';
 
 export { ENCODING_RGBM, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT } from './gi-format.js';
 
@@ -45,7 +45,7 @@ export async function loadGi(source, { renderer = null, signal } = {}) {
   timings.build = now() - t;
   t = now();
   if (renderer) {
-    renderer.initTexture(volume.indirection);
+    renderer.initTexture(volume.columns);
     renderer.initTexture(volume.atlas);
     const gl = renderer.getContext?.();
     if (gl && gl.finish) gl.finish();
@@ -60,9 +60,10 @@ export class GiVolume {
   constructor(header, fileBytes) {
     this.header = header;
     this.fileBytes = fileBytes;
-    const [ix, iy, iz] = header.indDims;
     const [ax, ay, az] = header.atlasDims;
-    const ind = new THREE.Data3DTexture(header.indirection, ix, iy, iz);
+    // The GPU gets the indirection as columns (docs/format.md): a quarter of the 3D texture or less.
+    const columns = indirectionColumns(header.indirection, header.indDims);
+    const ind = new THREE.DataTexture(columns.data, columns.width, columns.height);
     ind.format = THREE.RGBAFormat;
     ind.type = THREE.UnsignedByteType;
     ind.minFilter = ind.magFilter = THREE.NearestFilter;
@@ -88,18 +89,18 @@ export class GiVolume {
       t.colorSpace = THREE.NoColorSpace;
       t.needsUpdate = true;
     }
-    this.indirection = ind;
+    this.columns = ind;
     this.atlas = atlas;
     this.boxMin = new THREE.Vector3(...header.boxMin);
     this.boxMax = new THREE.Vector3(...header.boxMax);
     // No mipmaps, 4 bytes a texel: what the GPU holds is what the file unpacks to.
-    this.vramBytes = header.indirection.length + header.atlas.length;
+    this.vramBytes = columns.data.length + header.atlas.length;
   }
 
   get bricks() { return this.header.bricks; }
 
   dispose() {
-    this.indirection.dispose();
+    this.columns.dispose();
     this.atlas.dispose();
   }
 }
@@ -107,9 +108,10 @@ export class GiVolume {
 // Materials patchMaterial() has seen.
 const patched = new WeakSet();
 
-// An all-zero 1-texel texture: with it, every lookup reads black.
-function emptyTexture() {
-  const t = new THREE.Data3DTexture(new Uint8Array(4), 1, 1, 1);
+// All-zero textures: with them, every lookup reads black (a 1x1x1 indirection's
+// columns: one empty run, then nothing).
+function emptyTexture(Texture, ...dims) {
+  const t = new Texture(new Uint8Array(4 * dims.reduce((a, b) => a * b)), ...dims);
   t.minFilter = t.magFilter = THREE.NearestFilter;
   t.needsUpdate = true;
   return t;
@@ -125,9 +127,10 @@ export class GiRuntime {
   constructor() {
     this.volume = null;
     this._retired = null;
-    this._empty = { ind: emptyTexture(), atlas: emptyTexture() };
+    this._empty = { ind: emptyTexture(THREE.DataTexture, 2, 1), atlas: emptyTexture(THREE.Data3DTexture, 1, 1, 1) };
     this.uniforms = {
-      giIndirection: { value: this._empty.ind },
+      giColumns: { value: this._empty.ind },
+      giColumnsDims: { value: new THREE.Vector2(2, 1) },
       giAtlas: { value: this._empty.atlas },
       giBoxMin: { value: new THREE.Vector3(0, 0, 0) },
       giBoxSize: { value: new THREE.Vector3(1, 1, 1) },
@@ -152,14 +155,17 @@ export class GiRuntime {
     this.volume = volume;
     const u = this.uniforms;
     if (!volume) {
-      u.giIndirection.value = this._empty.ind;
+      u.giColumns.value = this._empty.ind;
+      u.giColumnsDims.value.set(2, 1);
+      u.giIndDims.value.set(1, 1, 1);
       u.giAtlas.value = this._empty.atlas;
       u.giDecode.value.set(0, 0);
       return;
     }
     const h = volume.header;
     const geo = layoutGeometry(h.layout);
-    u.giIndirection.value = volume.indirection;
+    u.giColumns.value = volume.columns;
+    u.giColumnsDims.value.set(volume.columns.image.width, volume.columns.image.height);
     u.giAtlas.value = volume.atlas;
     u.giBoxMin.value.copy(volume.boxMin);
     u.giBoxSize.value.subVectors(volume.boxMax, volume.boxMin);
@@ -211,7 +217,7 @@ export class GiRuntime {
     const u = this.uniforms;
     material.onBeforeCompile = (shader, renderer) => {
       previous?.call(material, shader, renderer);
-      for (const name of ['giIndirection', 'giAtlas', 'giBoxMin', 'giBoxSize', 'giIndDims', 'giAtlasDims',
+      for (const name of ['giColumns', 'giColumnsDims', 'giAtlas', 'giBoxMin', 'giBoxSize', 'giIndDims', 'giAtlasDims',
         'giLayout', 'giDecode', 'giDebug'])
         shader.uniforms[name] = u[name];
       shader.uniforms.giKnobs = knobs;
@@ -245,16 +251,29 @@ export class GiRuntime {
 // cell's slot and level, then one LINEAR read inside the brick. docs/format.md
 // is the reference; tests/js/gi_loader.mjs is the same arithmetic in float32.
 const GLSL_LOOKUP = /* glsl */ `
-uniform highp sampler3D giIndirection;
+uniform highp sampler2D giColumns;
 uniform highp sampler3D giAtlas;
 uniform vec3 giBoxMin, giBoxSize, giIndDims, giAtlasDims, giLayout;
-uniform vec2 giDecode;
+uniform vec2 giColumnsDims, giDecode;
 uniform int giDebug;
 struct GiLookup { vec3 irradiance; float level; vec3 inBrick; };
+// Texel i of the runtime's indirection, as bytes (float32 is exact: i < 2^22).
+vec4 vdbgiColumnsTexel(float i) {
+  float row = floor((i + 0.5) / giColumnsDims.x);
+  return floor(texelFetch(giColumns, ivec2(int(i - row * giColumnsDims.x), int(row)), 0) * 255.0 + 0.5);
+}
 GiLookup vdbgiLookup(vec3 pos) {
   vec3 p = (pos - giBoxMin) / giBoxSize * (giIndDims * 4.0) - 0.5;
   vec3 baseBrick = floor(p / 4.0);
-  vec4 ind = floor(texture(giIndirection, (baseBrick + 0.5) / giIndDims) * 255.0 + 0.5);
+  // The cell's texel of the indirection, read from its column's run (docs/format.md,
+  // "The runtime's indirection"): 0,0,0,0 outside the run, as in the 3D texture.
+  vec3 cell = clamp(baseBrick, vec3(0.0), giIndDims - 1.0);
+  float column = cell.x + giIndDims.x * cell.z;
+  vec4 run = vdbgiColumnsTexel(2.0 * column), at = vdbgiColumnsTexel(2.0 * column + 1.0);
+  float k = cell.y - (run.r + 256.0 * run.g);
+  float entry = 2.0 * giIndDims.x * giIndDims.z + at.r + 256.0 * at.g + 65536.0 * at.b + max(k, 0.0);
+  vec4 ind = vdbgiColumnsTexel(min(entry, giColumnsDims.x * giColumnsDims.y - 1.0));
+  ind = k >= 0.0 && k < run.b + 256.0 * run.a ? ind : vec4(0.0);
   // Seed: rgb the slot, a the level + 1 (0: empty). Compact: a holds the level
   // in bits 0-1 and the first texel mod 4 per axis above; rgb its texel / 4.
   bool compact = giLayout.x < 5.5;

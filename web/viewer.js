@@ -251,7 +251,7 @@ function showFigures(volume, name) {
     `${name}: ${h.layout === LAYOUT_COMPACT ? 'compact' : 'seed'} layout, ${h.encoding === ENCODING_RGB9E5 ? 'RGB9E5' : 'RGBM'}, ` +
       `${h.spacing.toPrecision(3)} m spacing, ${backend === 'webgpu' ? 'WebGPU' : 'WebGL2'}`,
     `bricks L0..L3  ${h.bricks.join(' / ')}`,
-    `VRAM           ${mb(volume.vramBytes)} (indirection ${h.indDims.join('×')}, atlas ${h.atlasDims.join('×')})`,
+    `VRAM           ${mb(volume.vramBytes)} (${h.indDims.join('×')} cells as ${volume.columns.image.width}×${volume.columns.image.height} columns, atlas ${h.atlasDims.join('×')})`,
     `file           ${mb(volume.fileBytes)}` +
       (h.storedPoints ? ` (version 4: ${h.storedPoints} probe values, each once)` : ` (version ${h.version}: the textures)`),
     `load           fetch ${ms(t.fetch)}, gunzip ${ms(t.gunzip)}, ` +

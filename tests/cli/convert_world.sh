@@ -10,6 +10,8 @@ print("json:", sorted(s)[:6], "...")
 print("bricks add up:", sum(s["bricks_per_level"]) == s["bricks"])
 print("sizes:", s["atlas_bytes"] == 4 * s["atlas_dims"][0] * s["atlas_dims"][1] * s["atlas_dims"][2],
       s["raw_bytes"] == s["atlas_bytes"] + s["indirection_bytes"], s["gzip_bytes"] < s["raw_bytes"])
+print("columns:", s["columns_bytes"] == 4 * s["columns_dims"][0] * s["columns_dims"][1],
+      0 < s["columns_bytes"] < s["indirection_bytes"], s["vram_bytes"] == s["atlas_bytes"] + s["columns_bytes"])
 print("error below 2% of the mean:", s["rmse_relative"] < 0.02)
 PY
 for f in baked bricks difference atlas; do

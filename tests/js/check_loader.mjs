@@ -2,12 +2,16 @@
 // the C sampler. INSPECT.txt holds gi-inspect's "at X,Y,Z -> R G B" lines.
 import { readFile } from 'node:fs/promises';
 import { loadGi, sampleGi } from './gi_loader.mjs';
+import { indirectionColumns } from '../../web/gi-format.js';
 
 const [file, inspect] = process.argv.slice(2);
 const gi = await loadGi(await readFile(file));
 console.log(`header: ${gi.indDims.join('x')} cells, ${gi.atlasDims.join('x')} texels, ` +
             `encoding ${gi.encoding === 1 ? 'rgb9e5' : 'rgbm'}, layout ${gi.layout === 2 ? 'compact' : 'seed'}, ` +
             `bricks ${gi.bricks.join('/')}`);
+// The runtime's indirection as JavaScript builds it: gi-inspect's "runtime" line says C's.
+const columns = indirectionColumns(gi.indirection, gi.indDims);
+console.log(`columns: ${columns.width}x${columns.height} texels, ${columns.data.length} bytes`);
 let count = 0, worst = 0, bad = 0, nonzero = 0;
 for (const line of (await readFile(inspect, 'utf8')).split('\n')) {
   const m = line.match(/^at\s+(\S+),(\S+),(\S+) -> (\S+) (\S+) (\S+)$/);

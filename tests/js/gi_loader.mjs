@@ -3,7 +3,7 @@
 // uses (DecompressionStream, DataView, every refusal docs/format.md lists);
 // this adds the seed's lookup in float32 (Math.fround after every operation
 // the shader does), so node can hold both to the C sampler.
-import { decodeGi, layoutGeometry, LAYOUT_COMPACT } from '../../web/gi-format.js';
+import { decodeGi, indirectionColumns, layoutGeometry, LAYOUT_COMPACT } from '../../web/gi-format.js';
 
 const f = Math.fround;
 
@@ -63,10 +63,22 @@ export function sampleGi(gi, pos, detail = null) {
     p[k] = f(f(box * (gi.indDims[k] * 4)) - 0.5);
     base[k] = Math.floor(f(p[k] / 4));
   }
-  const it = base.map((b, k) => clamp(Math.floor(f(f(f(b + 0.5) / gi.indDims[k]) * gi.indDims[k])), 0, gi.indDims[k] - 1));
-  const [ix, iy] = gi.indDims;
-  const o = 4 * ((it[2] * iy + it[1]) * ix + it[0]);
-  const b = [0, 1, 2, 3].map((k) => Math.floor(f(f(f(gi.indirection[o + k] / 255) * 255) + 0.5)));
+  // The runtime's indirection (docs/format.md): the cell's column, its run, the
+  // run's texel; a cell outside the run reads 0,0,0,0 as the 3D texture would.
+  const cols = (gi.columns ??= indirectionColumns(gi.indirection, gi.indDims));
+  const bytesAt = (i) => {
+    const row = Math.floor(f(f(i + 0.5) / cols.width));
+    const o = 4 * (row * cols.width + (i - row * cols.width));
+    return [0, 1, 2, 3].map((k) => Math.floor(f(f(f(cols.data[o + k] / 255) * 255) + 0.5)));
+  };
+  const [ix, , iz] = gi.indDims;
+  const cell = base.map((v, k) => clamp(v, 0, gi.indDims[k] - 1));
+  const c = cell[0] + ix * cell[2];
+  const run = bytesAt(2 * c), at = bytesAt(2 * c + 1);
+  const k0 = cell[1] - (run[0] + 256 * run[1]);
+  const entry = bytesAt(Math.min(2 * ix * iz + at[0] + 256 * at[1] + 65536 * at[2] + Math.max(k0, 0),
+                                 cols.width * cols.height - 1));
+  const b = k0 >= 0 && k0 < run[2] + 256 * run[3] ? entry : [0, 0, 0, 0];
   const geo = layoutGeometry(gi.layout);
   // Seed: rgb the slot, a the level + 1 (0: empty). Compact: a holds the level
   // in bits 0-1 and the brick's first texel mod 4 per axis above; rgb that texel / 4.
