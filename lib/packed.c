@@ -730,11 +730,15 @@ static uint8_t predict(const uint8_t *values, const int64_t n[4], int k, bool rg
 /* Byte order within a point: an RGBM multiplier before the colour it scales. */
 static const int byte_order[2][4] = {{3, 0, 1, 2}, {0, 1, 2, 3}};
 
-/* Runs the statements for every stored point in storage order: lattice point p, index i. */
-#define FOR_EACH_POINT(pl, p, i, ...)                                                              \
+/*
+ * Runs the statements for the stored points of the owner cells z0 <= cz < z1,
+ * in storage order: lattice point p, index i (i0 the first one's). The
+ * statements must not `continue`: that would skip the count.
+ */
+#define FOR_EACH_POINT_IN(pl, z0, z1, i0, p, i, ...)                                               \
     do {                                                                                           \
-        size_t i = 0;                                                                              \
-        for (int32_t cz = 0; cz < (int32_t)(pl)->grid[2]; cz++)                                    \
+        size_t i = (i0);                                                                           \
+        for (int32_t cz = (z0); cz < (z1); cz++)                                                   \
             for (int32_t cy = 0; cy < (int32_t)(pl)->grid[1]; cy++)                                \
                 for (int32_t cx = 0; cx < (int32_t)(pl)->grid[0]; cx++) {                          \
                     const int32_t cc_[3] = {cx, cy, cz};                                           \
@@ -749,6 +753,10 @@ static const int byte_order[2][4] = {{3, 0, 1, 2}, {0, 1, 2, 3}};
                     }                                                                              \
                 }                                                                                  \
     } while (0)
+
+/* Every stored point, in storage order. */
+#define FOR_EACH_POINT(pl, p, i, ...)                                                              \
+    FOR_EACH_POINT_IN(pl, 0, (int32_t)(pl)->grid[2], 0, p, i, __VA_ARGS__)
 
 vdbgi_result vdbgi_pack_rebuild(vdbgi_volume *v, const vdbgi_pack_plan *pl, const uint8_t *planes,
                                 int threads, size_t *clamped)
@@ -874,6 +882,101 @@ static size_t first_reader(const vdbgi_pack_plan *pl, const int32_t p[3])
     return first;
 }
 
+/*
+ * A band of owner-cell planes z0 <= cz < z1 for one thread of the converter's
+ * passes over the stored points; i0 is its first point's index. The points
+ * of a band are written by its thread alone, so the bytes do not depend on
+ * the threads.
+ */
+typedef struct band_job {
+    const vdbgi_volume *v;
+    const vdbgi_pack_plan *pl;
+    const vdbgi_brick *bricks;
+    size_t count;
+    uint8_t *values;  /* 4 bytes a point */
+    uint8_t *written; /* 1: stored */
+    uint8_t *out;     /* the residual planes */
+    int32_t z0, z1;
+    size_t i0;
+    size_t clamped, fallback;
+} band_job;
+
+/* Each point's value: the filled field at its lattice point or, where the
+ * fill left none, the block mean of the first brick (in brick order) that
+ * reads it. Storage order keeps the field's leaves at hand. */
+static void *values_worker(void *arg)
+{
+    band_job *const job = arg;
+    const vdbgi_volume *const v = job->v;
+    const vdbgi_leaf *cache = NULL;
+    FOR_EACH_POINT_IN(job->pl, job->z0, job->z1, job->i0, p, i, {
+        const int32_t at[3] = {p[0] + VDBGI_BRICK * v->origin_cell[0],
+                               p[1] + VDBGI_BRICK * v->origin_cell[1],
+                               p[2] + VDBGI_BRICK * v->origin_cell[2]};
+        const float *f = vdbgi_field_at(&v->filled, at, &cache);
+        if (!f) { /* every stored point has a reader: the plan stored it for one */
+            static const float none[3];
+            const size_t b = first_reader(job->pl, p);
+            f = b < job->count ? job->bricks[b].mean : none;
+            job->fallback++;
+        }
+        job->clamped += encode_texel(v, f, &job->values[4 * i]);
+        job->written[i] = 1;
+    });
+    return NULL;
+}
+
+/* Each point's residual against its prediction from values that are final. */
+static void *residual_worker(void *arg)
+{
+    band_job *const job = arg;
+    const size_t n = job->pl->points;
+    const bool rgbm = job->v->info.encoding == VDBGI_ENCODING_RGBM;
+    FOR_EACH_POINT_IN(job->pl, job->z0, job->z1, job->i0, p, i, {
+        int64_t nb[4];
+        neighbours(job->pl, p, nb);
+        for (int o = 0; o < 4; o++) {
+            const int k = byte_order[!rgbm][o];
+            const uint8_t pred = predict(job->values, nb, k, rgbm && k < 3, job->values[4 * i + 3]);
+            job->out[k * n + i] = (uint8_t)(job->values[4 * i + k] - pred);
+        }
+    });
+    return NULL;
+}
+
+/* Bands of about equal numbers of points, one a thread (at most 64); returns how many. */
+static int split_bands(vdbgi_context *ctx, const vdbgi_pack_plan *pl, int threads, band_job *jobs,
+                       const band_job *proto)
+{
+    const int32_t planes = (int32_t)pl->grid[2];
+    const size_t plane_cells = (size_t)pl->grid[0] * pl->grid[1];
+    int nt = threads > 64 ? 64 : threads < 1 ? 1 : threads;
+    nt = nt > planes ? (planes > 0 ? planes : 1) : nt;
+    size_t *const start = vdbgi_alloc(ctx, ((size_t)planes + 1) * sizeof(*start));
+    if (!start)
+        nt = 1; /* one band needs no counts */
+    for (int32_t z = 0; start && z < planes; z++) {
+        size_t count = 0;
+        for (size_t c = 0; c < plane_cells; c++)
+            count += (size_t)__builtin_popcountll(pl->mask[(size_t)z * plane_cells + c]);
+        start[z + 1] = (z ? start[z] : 0) + count;
+    }
+    if (start)
+        start[0] = 0;
+    int32_t z = 0;
+    for (int t = 0; t < nt; t++) {
+        jobs[t] = *proto;
+        jobs[t].z0 = z;
+        jobs[t].i0 = start ? start[z] : 0;
+        const size_t until = pl->points * (size_t)(t + 1) / (size_t)nt;
+        while (z < planes && (t == nt - 1 || start[z] < until))
+            z++;
+        jobs[t].z1 = z;
+    }
+    vdbgi_free(ctx, start);
+    return nt;
+}
+
 vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count,
                               const vdbgi_probes *probes, int threads, uint8_t **payload,
                               size_t *payload_size)
@@ -920,27 +1023,16 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
         r = VDBGI_ERR_OUT_OF_MEMORY;
         goto done;
     }
-    /*
-     * Each point's value: the filled field at its lattice point or, where the
-     * fill left none, the block mean of the first brick (in brick order) that
-     * reads it. Storage order keeps the field's leaves at hand.
-     */
+    band_job jobs[64];
+    const band_job proto = {.v = v, .pl = &pl, .bricks = bricks, .count = count,
+                            .values = values, .written = written, .out = out + cells};
+    const int bands = split_bands(ctx, &pl, threads, jobs, &proto);
+    vdbgi_run_threads(bands, values_worker, jobs, sizeof(jobs[0]));
     size_t clamped = 0;
-    const vdbgi_leaf *cache = NULL;
-    FOR_EACH_POINT(&pl, p, i, {
-        const int32_t at[3] = {p[0] + VDBGI_BRICK * v->origin_cell[0],
-                               p[1] + VDBGI_BRICK * v->origin_cell[1],
-                               p[2] + VDBGI_BRICK * v->origin_cell[2]};
-        const float *f = vdbgi_field_at(&v->filled, at, &cache);
-        if (!f) { /* every stored point has a reader: the plan stored it for one */
-            static const float none[3];
-            const size_t b = first_reader(&pl, p);
-            f = b < count ? bricks[b].mean : none;
-            v->info.fallback_count++;
-        }
-        clamped += encode_texel(v, f, &values[4 * i]);
-        written[i] = 1;
-    });
+    for (int t = 0; t < bands; t++) {
+        clamped += jobs[t].clamped;
+        v->info.fallback_count += jobs[t].fallback;
+    }
     for (size_t b = 0; b < count; b++)
         for (int t = 0; pl.level[b] && t < TEXELS; t++) {
             size_t j;
@@ -952,8 +1044,10 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
                 written[i] = 2;
         }
     /*
-     * Residuals in storage order. A point no receiver reads takes the
-     * prediction itself: its residual is zero, which gzip all but drops.
+     * A point no receiver reads takes the prediction itself: its residual is
+     * zero, which gzip all but drops. Its prediction depends on the points
+     * before it, so these go in storage order, on one thread; then every
+     * residual, from final values, in bands.
      */
     /* Points with a valid probe among their 26 neighbours, or themselves valid. */
     grow(&pl, valid, near, 0);
@@ -963,21 +1057,20 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
     const bool rgbm = v->info.encoding == VDBGI_ENCODING_RGBM;
     size_t unread = 0;
     FOR_EACH_POINT(&pl, p, i, {
-        int64_t nb[4];
-        neighbours(&pl, p, nb);
         size_t c;
         int own;
         grid_slot(&pl, p, &c, &own); /* every stored point is in the grid */
-        const bool needed = written[i] == 2 || near[c] >> own & 1u;
-        unread += !needed;
-        for (int o = 0; o < 4; o++) {
-            const int k = byte_order[!rgbm][o];
-            const uint8_t pred = predict(values, nb, k, rgbm && k < 3, values[4 * i + 3]);
-            if (!needed)
-                values[4 * i + k] = pred;
-            out[cells + k * n + i] = (uint8_t)(values[4 * i + k] - pred);
+        if (written[i] != 2 && !(near[c] >> own & 1u)) {
+            unread++;
+            int64_t nb[4];
+            neighbours(&pl, p, nb);
+            for (int o = 0; o < 4; o++) {
+                const int k = byte_order[!rgbm][o];
+                values[4 * i + k] = predict(values, nb, k, rgbm && k < 3, values[4 * i + 3]);
+            }
         }
     });
+    vdbgi_run_threads(bands, residual_worker, jobs, sizeof(jobs[0]));
     vdbgi_log(ctx, VDBGI_LOG_DEBUG, "%zu stored points, %zu of them read by no receiver", n,
               unread);
     size_t stitched_clamps = 0;
