@@ -250,7 +250,7 @@ static vdbgi_result unpack(vdbgi_context *ctx, const char *path, vdbgi_volume *v
 {
     const vdbgi_volume_info header = v->info;
     vdbgi_pack_plan pl;
-    VDBGI_TRY(vdbgi_pack_plan_make(v, payload, &header, path, &pl));
+    VDBGI_TRY(vdbgi_pack_plan_make(v, payload, &header, path, vdbgi_core_count(), &pl));
     vdbgi_result r = VDBGI_OK;
     if (pl.points != header.stored_points)
         r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT,

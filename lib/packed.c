@@ -454,8 +454,37 @@ done:
     return r;
 }
 
+/* Bricks b0 <= b < b1: their stitched texels, then their stored points in the mask. */
+typedef struct points_job {
+    vdbgi_pack_plan *pl;
+    size_t b0, b1;
+} points_job;
+
+static void *points_worker(void *arg)
+{
+    const points_job *const job = arg;
+    vdbgi_pack_plan *const pl = job->pl;
+    for (size_t b = job->b0; b < job->b1; b++) {
+        find_stitches(pl, b);
+        for (int t = 0; t < TEXELS; t++) {
+            size_t j;
+            int cl;
+            if (stitched(pl, b, t, &j, &cl))
+                continue;
+            int32_t p[3];
+            size_t c;
+            int bit;
+            texel_point(pl, b, t, p);
+            /* Neighbouring bricks share points, and cells: OR the bit in atomically. */
+            if (grid_slot(pl, p, &c, &bit))
+                __atomic_fetch_or(&pl->mask[c], UINT64_C(1) << bit, __ATOMIC_RELAXED);
+        }
+    }
+    return NULL;
+}
+
 vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels,
-                                  const vdbgi_volume_info *expect, const char *name,
+                                  const vdbgi_volume_info *expect, const char *name, int threads,
                                   vdbgi_pack_plan *pl)
 {
     vdbgi_context *const ctx = v->ctx;
@@ -521,22 +550,15 @@ vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels,
         return r;
     }
     mark_indirection(v, pl, cells);
-    for (size_t b = 0; b < count; b++)
-        find_stitches(pl, b);
-    /* The stored points: every texel no stitching overwrites. */
-    for (size_t b = 0; b < count; b++)
-        for (int t = 0; t < TEXELS; t++) {
-            size_t j;
-            int cl;
-            if (stitched(pl, b, t, &j, &cl))
-                continue;
-            int32_t p[3];
-            size_t c;
-            int bit;
-            texel_point(pl, b, t, p);
-            if (grid_slot(pl, p, &c, &bit))
-                pl->mask[c] |= UINT64_C(1) << bit;
-        }
+    /* The stored points: every texel no stitching overwrites, over ranges of bricks. */
+    enum { MAX_JOBS = 64 };
+    points_job jobs[MAX_JOBS];
+    const int nt = threads > MAX_JOBS ? MAX_JOBS : threads < 1 ? 1 : threads;
+    for (int t = 0; t < nt; t++)
+        jobs[t] = (points_job){.pl = pl,
+                               .b0 = count * (size_t)t / (size_t)nt,
+                               .b1 = count * (size_t)(t + 1) / (size_t)nt};
+    vdbgi_run_threads(nt, points_worker, jobs, sizeof(jobs[0]));
     size_t sum = 0;
     for (size_t c = 0; c < grid_cells; c++) {
         pl->offset[c] = (uint32_t)sum;
@@ -1007,7 +1029,7 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
     vdbgi_pack_plan pl;
     uint8_t *values = NULL, *written = NULL, *out = NULL;
     uint64_t *valid = NULL, *near = NULL;
-    vdbgi_result r = vdbgi_pack_plan_make(v, levels, NULL, "converter", &pl);
+    vdbgi_result r = vdbgi_pack_plan_make(v, levels, NULL, "converter", threads, &pl);
     if (r != VDBGI_OK) {
         vdbgi_free(ctx, levels);
         return r;
@@ -1024,8 +1046,13 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
         goto done;
     }
     band_job jobs[64];
-    const band_job proto = {.v = v, .pl = &pl, .bricks = bricks, .count = count,
-                            .values = values, .written = written, .out = out + cells};
+    const band_job proto = {.v = v,
+                            .pl = &pl,
+                            .bricks = bricks,
+                            .count = count,
+                            .values = values,
+                            .written = written,
+                            .out = out + cells};
     const int bands = split_bands(ctx, &pl, threads, jobs, &proto);
     vdbgi_run_threads(bands, values_worker, jobs, sizeof(jobs[0]));
     size_t clamped = 0;

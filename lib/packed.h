@@ -39,10 +39,11 @@ typedef struct vdbgi_pack_plan {
  * converter writes (a level above max_level, a coarse block whose cells
  * disagree, more bricks than an atlas holds, or with expect, a reader's
  * header, other bricks than it counts: refused before anything is
- * allocated) is VDBGI_ERR_FORMAT, with what is wrong after `name: `.
+ * allocated) is VDBGI_ERR_FORMAT, with what is wrong after `name: `. The
+ * stored points are found on `threads` threads; the plan is the same for any.
  */
 vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels,
-                                  const vdbgi_volume_info *expect, const char *name,
+                                  const vdbgi_volume_info *expect, const char *name, int threads,
                                   vdbgi_pack_plan *plan);
 void vdbgi_pack_plan_free(vdbgi_context *ctx, vdbgi_pack_plan *plan);
 
