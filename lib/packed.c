@@ -966,7 +966,7 @@ static void *residual_worker(void *arg)
     return NULL;
 }
 
-/* Bands of about equal numbers of points, one a thread (at most 64); returns how many. */
+/* Bands of about equal numbers of points, one a thread (at most 64), into jobs; 0 without memory. */
 static int split_bands(vdbgi_context *ctx, const vdbgi_pack_plan *pl, int threads, band_job *jobs,
                        const band_job *proto)
 {
@@ -976,20 +976,19 @@ static int split_bands(vdbgi_context *ctx, const vdbgi_pack_plan *pl, int thread
     nt = nt > planes ? (planes > 0 ? planes : 1) : nt;
     size_t *const start = vdbgi_alloc(ctx, ((size_t)planes + 1) * sizeof(*start));
     if (!start)
-        nt = 1; /* one band needs no counts */
-    for (int32_t z = 0; start && z < planes; z++) {
+        return 0;
+    start[0] = 0;
+    for (int32_t z = 0; z < planes; z++) {
         size_t count = 0;
         for (size_t c = 0; c < plane_cells; c++)
             count += (size_t)__builtin_popcountll(pl->mask[(size_t)z * plane_cells + c]);
-        start[z + 1] = (z ? start[z] : 0) + count;
+        start[z + 1] = start[z] + count;
     }
-    if (start)
-        start[0] = 0;
     int32_t z = 0;
     for (int t = 0; t < nt; t++) {
         jobs[t] = *proto;
         jobs[t].z0 = z;
-        jobs[t].i0 = start ? start[z] : 0;
+        jobs[t].i0 = start[z];
         const size_t until = pl->points * (size_t)(t + 1) / (size_t)nt;
         while (z < planes && (t == nt - 1 || start[z] < until))
             z++;
@@ -1054,6 +1053,10 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
                             .written = written,
                             .out = out + cells};
     const int bands = split_bands(ctx, &pl, threads, jobs, &proto);
+    if (!bands) {
+        r = VDBGI_ERR_OUT_OF_MEMORY;
+        goto done;
+    }
     vdbgi_run_threads(bands, values_worker, jobs, sizeof(jobs[0]));
     size_t clamped = 0;
     for (int t = 0; t < bands; t++) {

@@ -640,12 +640,8 @@ typedef struct vdbgi_volume_info {
     uint32_t bricks[4]; /* kept bricks per level */
     uint32_t brick_count;
     size_t indirection_size, atlas_size; /* bytes, uncompressed */
-    /* The runtime's indirection, as vdbgi's shaders upload it instead of the 3D one
-       (docs/format.md): a 2D RGBA8 texture; size 0 above VDBGI_COLUMNS_ROW^2 texels. */
-    uint32_t columns_dims[2];
-    size_t columns_size;     /* bytes; the GPU holds columns_size + atlas_size */
-    size_t file_size;        /* bytes of the gzip'd file */
-    size_t dense_rgba8_size; /* a dense RGBA8 grid over the probes' box */
+    size_t file_size;                    /* bytes of the gzip'd file */
+    size_t dense_rgba8_size;             /* a dense RGBA8 grid over the probes' box */
     /* Filled in by vdbgi_volume_build only (0 after vdbgi_volume_read): */
     size_t probe_count, valid_count, filled_count, unreached_count;
     size_t fallback_count;       /* texels (seed layout) or stored points (compact) the fill
@@ -655,6 +651,10 @@ typedef struct vdbgi_volume_info {
     double rmse, p99, max_error; /* sampled field vs filled field at valid probes, absolute */
     double seconds;              /* wall time of the build */
     size_t stored_points;        /* compact layout: probe values the file stores, each once */
+    /* The runtime's indirection, as vdbgi's shaders upload it instead of the 3D one
+       (docs/format.md): a 2D RGBA8 texture; size 0 above VDBGI_COLUMNS_ROW^2 texels. */
+    uint32_t columns_dims[2];
+    size_t columns_size; /* bytes; the GPU holds columns_size + atlas_size */
 } vdbgi_volume_info;
 
 VDBGI_API void vdbgi_volume_get_info(const vdbgi_volume *volume, vdbgi_volume_info *info);

@@ -192,8 +192,8 @@ export async function decodeGi(fileBytes, timings = {}) {
 // every run's texels, copied as they are. Texel i is at (i mod width,
 // floor(i / width)). Any cell outside its column's run is 0,0,0,0 in the
 // indirection too, so the lookup reads the same texel.
-// At most 2048 x 2048 texels: WebGL2 guarantees 2D textures that size, and the
-// shaders' float32 row = floor((i + 0.5) / width) is exact below 2^22.
+// At most 2048 x 2048 texels: WebGL2 guarantees 2D textures that size, and
+// every texel index stays an integer float32 holds exactly.
 export const COLUMNS_ROW_MAX = 2048;
 export const COLUMNS_TEXELS_MAX = 2 ** 22;
 

@@ -59,8 +59,11 @@ function giNodes(runtime) {
     const baseBrick = floor(p.div(4));
     // The cell's indirection texel from its column's run, as the GLSL (docs/format.md).
     const columnsTexel = (i) => {
-      const row = floor(i.add(0.5).div(n.columnsDims.x));
-      return floor(n.texture('ind', ivec2(i.sub(row.mul(n.columnsDims.x)), row)).mul(255).add(0.5));
+      const w = n.columnsDims.x;
+      const first = floor(i.add(0.5).div(w));
+      const col = i.sub(first.mul(w));
+      const row = first.add(select(col.lessThan(0), float(-1), select(col.greaterThanEqual(w), float(1), float(0))));
+      return floor(n.texture('ind', ivec2(i.sub(row.mul(w)), row)).mul(255).add(0.5));
     };
     const cell = clamp(baseBrick, vec3(0), n.indDims.sub(1));
     const column = cell.x.add(n.indDims.x.mul(cell.z));

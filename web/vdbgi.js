@@ -61,7 +61,7 @@ export class GiVolume {
     this.header = header;
     this.fileBytes = fileBytes;
     const [ax, ay, az] = header.atlasDims;
-    // The GPU gets the indirection as columns (docs/format.md): a quarter of the 3D texture or less.
+    // The GPU gets the indirection as columns (docs/format.md): each column's run of cells once.
     const columns = indirectionColumns(header.indirection, header.indDims);
     const ind = new THREE.DataTexture(columns.data, columns.width, columns.height);
     ind.format = THREE.RGBAFormat;
@@ -257,10 +257,15 @@ uniform vec3 giBoxMin, giBoxSize, giIndDims, giAtlasDims, giLayout;
 uniform vec2 giColumnsDims, giDecode;
 uniform int giDebug;
 struct GiLookup { vec3 irradiance; float level; vec3 inBrick; };
-// Texel i of the runtime's indirection, as bytes (float32 is exact: i < 2^22).
+// Texel i of the runtime's indirection, as bytes. i, row and column are
+// integers below 2^22, exact in float32; a GPU's division may be a few ulp
+// off, so a texel at a row's edge may first land a row off: step back.
 vec4 vdbgiColumnsTexel(float i) {
-  float row = floor((i + 0.5) / giColumnsDims.x);
-  return floor(texelFetch(giColumns, ivec2(int(i - row * giColumnsDims.x), int(row)), 0) * 255.0 + 0.5);
+  float w = giColumnsDims.x;
+  float row = floor((i + 0.5) / w);
+  float col = i - row * w;
+  row += col < 0.0 ? -1.0 : (col >= w ? 1.0 : 0.0);
+  return floor(texelFetch(giColumns, ivec2(int(i - row * w), int(row)), 0) * 255.0 + 0.5);
 }
 GiLookup vdbgiLookup(vec3 pos) {
   vec3 p = (pos - giBoxMin) / giBoxSize * (giIndDims * 4.0) - 0.5;

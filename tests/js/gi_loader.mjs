@@ -66,9 +66,15 @@ export function sampleGi(gi, pos, detail = null) {
   // The runtime's indirection (docs/format.md): the cell's column, its run, the
   // run's texel; a cell outside the run reads 0,0,0,0 as the 3D texture would.
   const cols = (gi.columns ??= indirectionColumns(gi.indirection, gi.indDims));
+  // texelFetch at (column, row), as the shader computes them; outside the texture, zeros.
   const bytesAt = (i) => {
-    const row = Math.floor(f(f(i + 0.5) / cols.width));
-    const o = 4 * (row * cols.width + (i - row * cols.width));
+    const w = cols.width;
+    let row = Math.floor(f(f(i + 0.5) / w));
+    const col0 = i - row * w;
+    row += col0 < 0 ? -1 : col0 >= w ? 1 : 0;
+    const col = i - row * w;
+    if (col < 0 || col >= w || row < 0 || row >= cols.height) return [0, 0, 0, 0];
+    const o = 4 * (row * w + col);
     return [0, 1, 2, 3].map((k) => Math.floor(f(f(f(cols.data[o + k] / 255) * 255) + 0.5)));
   };
   const [ix, , iz] = gi.indDims;
