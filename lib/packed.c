@@ -25,6 +25,13 @@
  */
 enum { N = VDBGI_BRICK_COMPACT, TEXELS = N * N * N, PAD = 2 };
 
+/* Threads a pass runs on: what was asked, 1 to MAX_JOBS (vdbgi_run_threads' bound). */
+enum { MAX_JOBS = 64 };
+static int job_count(int threads)
+{
+    return threads > MAX_JOBS ? MAX_JOBS : threads < 1 ? 1 : threads;
+}
+
 static size_t cell_index(const uint32_t d[3], const int32_t c[3])
 {
     return ((size_t)c[2] * d[1] + (size_t)c[1]) * d[0] + (size_t)c[0];
@@ -551,9 +558,8 @@ vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels,
     }
     mark_indirection(v, pl, cells);
     /* The stored points: every texel no stitching overwrites, over ranges of bricks. */
-    enum { MAX_JOBS = 64 };
     points_job jobs[MAX_JOBS];
-    const int nt = threads > MAX_JOBS ? MAX_JOBS : threads < 1 ? 1 : threads;
+    const int nt = job_count(threads);
     for (int t = 0; t < nt; t++)
         jobs[t] = (points_job){.pl = pl,
                                .b0 = count * (size_t)t / (size_t)nt,
@@ -679,10 +685,9 @@ static vdbgi_result rebuild(vdbgi_volume *v, const vdbgi_pack_plan *pl, const ui
         vdbgi_free(ctx, cidx);
         return VDBGI_ERR_OUT_OF_MEMORY;
     }
-    enum { MAX_JOBS = 64 };
     rebuild_job jobs[MAX_JOBS];
     const uint32_t layers = v->info.atlas_dims[1] / N;
-    int nt = threads > MAX_JOBS ? MAX_JOBS : threads < 1 ? 1 : threads;
+    int nt = job_count(threads);
     nt = (uint32_t)nt > layers ? (int)layers : nt;
     *clamped_out = 0;
     for (int level = (int)v->info.max_level; level >= -1; level--) {
@@ -915,9 +920,8 @@ typedef struct band_job {
     const vdbgi_pack_plan *pl;
     const vdbgi_brick *bricks;
     size_t count;
-    uint8_t *values;  /* 4 bytes a point */
-    uint8_t *written; /* 1: stored */
-    uint8_t *out;     /* the residual planes */
+    uint8_t *values; /* 4 bytes a point */
+    uint8_t *out;    /* the residual planes */
     int32_t z0, z1;
     size_t i0;
     size_t clamped, fallback;
@@ -943,7 +947,6 @@ static void *values_worker(void *arg)
             job->fallback++;
         }
         job->clamped += encode_texel(v, f, &job->values[4 * i]);
-        job->written[i] = 1;
     });
     return NULL;
 }
@@ -966,35 +969,28 @@ static void *residual_worker(void *arg)
     return NULL;
 }
 
-/* Bands of about equal numbers of points, one a thread (at most 64), into jobs; 0 without memory. */
-static int split_bands(vdbgi_context *ctx, const vdbgi_pack_plan *pl, int threads, band_job *jobs,
+/*
+ * Bands of about equal numbers of points, one a thread (at most MAX_JOBS),
+ * into jobs; returns how many. The plan's offset of a plane's first owner
+ * cell is the number of points before that plane.
+ */
+static int split_bands(const vdbgi_pack_plan *pl, int threads, band_job *jobs,
                        const band_job *proto)
 {
     const int32_t planes = (int32_t)pl->grid[2];
     const size_t plane_cells = (size_t)pl->grid[0] * pl->grid[1];
-    int nt = threads > 64 ? 64 : threads < 1 ? 1 : threads;
+    int nt = job_count(threads);
     nt = nt > planes ? (planes > 0 ? planes : 1) : nt;
-    size_t *const start = vdbgi_alloc(ctx, ((size_t)planes + 1) * sizeof(*start));
-    if (!start)
-        return 0;
-    start[0] = 0;
-    for (int32_t z = 0; z < planes; z++) {
-        size_t count = 0;
-        for (size_t c = 0; c < plane_cells; c++)
-            count += (size_t)__builtin_popcountll(pl->mask[(size_t)z * plane_cells + c]);
-        start[z + 1] = start[z] + count;
-    }
     int32_t z = 0;
     for (int t = 0; t < nt; t++) {
         jobs[t] = *proto;
         jobs[t].z0 = z;
-        jobs[t].i0 = start[z];
+        jobs[t].i0 = z < planes ? pl->offset[(size_t)z * plane_cells] : pl->points;
         const size_t until = pl->points * (size_t)(t + 1) / (size_t)nt;
-        while (z < planes && (t == nt - 1 || start[z] < until))
+        while (z < planes && (t == nt - 1 || pl->offset[(size_t)z * plane_cells] < until))
             z++;
         jobs[t].z1 = z;
     }
-    vdbgi_free(ctx, start);
     return nt;
 }
 
@@ -1026,7 +1022,7 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
                 }
     }
     vdbgi_pack_plan pl;
-    uint8_t *values = NULL, *written = NULL, *out = NULL;
+    uint8_t *values = NULL, *coarse_read = NULL, *out = NULL;
     uint64_t *valid = NULL, *near = NULL;
     vdbgi_result r = vdbgi_pack_plan_make(v, levels, NULL, "converter", threads, &pl);
     if (r != VDBGI_OK) {
@@ -1035,28 +1031,19 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
     }
     const size_t n = pl.points;
     values = vdbgi_calloc(ctx, 4 * (n ? n : 1), 1);
-    written = vdbgi_calloc(ctx, n ? n : 1, 1); /* 1 stored, 2 also read by a coarse brick */
+    coarse_read = vdbgi_calloc(ctx, n ? n : 1, 1); /* 1: a coarse brick reads the point */
     out = vdbgi_alloc(ctx, cells + 4 * n);
     valid = valid_bits(v, &pl, probes);
     const size_t grid_cells = (size_t)pl.grid[0] * pl.grid[1] * pl.grid[2];
     near = vdbgi_alloc(ctx, grid_cells * sizeof(*near));
-    if (!values || !written || !out || !valid || !near) {
+    if (!values || !coarse_read || !out || !valid || !near) {
         r = VDBGI_ERR_OUT_OF_MEMORY;
         goto done;
     }
-    band_job jobs[64];
-    const band_job proto = {.v = v,
-                            .pl = &pl,
-                            .bricks = bricks,
-                            .count = count,
-                            .values = values,
-                            .written = written,
-                            .out = out + cells};
-    const int bands = split_bands(ctx, &pl, threads, jobs, &proto);
-    if (!bands) {
-        r = VDBGI_ERR_OUT_OF_MEMORY;
-        goto done;
-    }
+    band_job jobs[MAX_JOBS];
+    const band_job proto = {
+        .v = v, .pl = &pl, .bricks = bricks, .count = count, .values = values, .out = out + cells};
+    const int bands = split_bands(&pl, threads, jobs, &proto);
     vdbgi_run_threads(bands, values_worker, jobs, sizeof(jobs[0]));
     size_t clamped = 0;
     for (int t = 0; t < bands; t++) {
@@ -1071,7 +1058,7 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
             texel_point(&pl, b, t, p);
             const int64_t i = stitched(&pl, b, t, &j, &cl) ? -1 : point_index(&pl, p);
             if (i >= 0)
-                written[i] = 2;
+                coarse_read[i] = 1;
         }
     /*
      * A point no receiver reads takes the prediction itself: its residual is
@@ -1090,7 +1077,7 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
         size_t c;
         int own;
         grid_slot(&pl, p, &c, &own); /* every stored point is in the grid */
-        if (written[i] != 2 && !(near[c] >> own & 1u)) {
+        if (!coarse_read[i] && !(near[c] >> own & 1u)) {
             unread++;
             int64_t nb[4];
             neighbours(&pl, p, nb);
@@ -1115,7 +1102,7 @@ done:
     vdbgi_pack_plan_free(ctx, &pl);
     vdbgi_free(ctx, levels);
     vdbgi_free(ctx, values);
-    vdbgi_free(ctx, written);
+    vdbgi_free(ctx, coarse_read);
     vdbgi_free(ctx, out);
     vdbgi_free(ctx, valid);
     vdbgi_free(ctx, near);

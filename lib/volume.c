@@ -90,10 +90,11 @@ static uint32_t column_run(const vdbgi_volume *v, uint32_t x, uint32_t z, uint32
 /*
  * The runtime's indirection (docs/format.md): two texels a column (its run,
  * and where the run starts in the list), then the runs' texels, in a 2D
- * texture at most VDBGI_COLUMNS_ROW texels wide. Writes it to out unless NULL;
- * returns its bytes, 0 (dims 0) above VDBGI_COLUMNS_ROW^2 texels.
+ * texture at most VDBGI_COLUMNS_ROW texels wide. Writes it to out unless NULL
+ * or shorter than capacity (then returns 0); returns its bytes, 0 (dims 0)
+ * above VDBGI_COLUMNS_ROW^2 texels.
  */
-static size_t columns(const vdbgi_volume *v, uint8_t *out, uint32_t dims[2])
+static size_t columns(const vdbgi_volume *v, uint8_t *out, size_t capacity, uint32_t dims[2])
 {
     const uint32_t *const d = v->info.indirection_dims;
     const size_t n = (size_t)d[0] * d[2];
@@ -111,6 +112,8 @@ static size_t columns(const vdbgi_volume *v, uint8_t *out, uint32_t dims[2])
     const size_t size = 4 * (size_t)dims[0] * dims[1];
     if (!out)
         return size;
+    if (capacity < size)
+        return 0;
     memset(out, 0, size);
     size_t offset = 0;
     for (uint32_t z = 0; z < d[2]; z++)
@@ -133,19 +136,13 @@ static size_t columns(const vdbgi_volume *v, uint8_t *out, uint32_t dims[2])
 void vdbgi_volume_get_info(const vdbgi_volume *v, vdbgi_volume_info *info)
 {
     *info = v->info;
-    info->columns_size = columns(v, NULL, info->columns_dims);
+    info->columns_size = columns(v, NULL, 0, info->columns_dims);
 }
 
 size_t vdbgi_volume_copy_columns(const vdbgi_volume *v, void *buffer, size_t capacity)
 {
     uint32_t dims[2];
-    const size_t size = columns(v, NULL, dims);
-    if (!buffer || !size)
-        return size;
-    if (capacity < size)
-        return 0;
-    columns(v, buffer, dims);
-    return size;
+    return columns(v, buffer, capacity, dims);
 }
 
 void vdbgi_volume_destroy(vdbgi_volume *v)

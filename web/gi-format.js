@@ -194,8 +194,7 @@ export async function decodeGi(fileBytes, timings = {}) {
 // indirection too, so the lookup reads the same texel.
 // At most 2048 x 2048 texels: WebGL2 guarantees 2D textures that size, and
 // every texel index stays an integer float32 holds exactly.
-export const COLUMNS_ROW_MAX = 2048;
-export const COLUMNS_TEXELS_MAX = 2 ** 22;
+const COLUMNS_ROW_MAX = 2048;
 
 export function indirectionColumns(indirection, indDims) {
   const [X, Y, Z] = indDims;
@@ -219,7 +218,7 @@ export function indirectionColumns(indirection, indDims) {
         total += hi - lo + 1;
       }
     }
-  if (total > COLUMNS_TEXELS_MAX)
+  if (total > COLUMNS_ROW_MAX * COLUMNS_ROW_MAX)
     throw new Error(`the runtime's indirection would need ${total} texels, more than 2048 x 2048`);
   const height = Math.ceil(total / COLUMNS_ROW_MAX), width = Math.ceil(total / height);
   const data = new Uint8Array(4 * width * height);

@@ -93,7 +93,7 @@ export class GiVolume {
     this.atlas = atlas;
     this.boxMin = new THREE.Vector3(...header.boxMin);
     this.boxMax = new THREE.Vector3(...header.boxMax);
-    // No mipmaps, 4 bytes a texel: what the GPU holds is what the file unpacks to.
+    // No mipmaps, 4 bytes a texel: what the GPU holds is the atlas and the columns.
     this.vramBytes = columns.data.length + header.atlas.length;
   }
 
