@@ -9,6 +9,12 @@ static float sanitise(float c)
     return c > 0.0f ? c : 0.0f; /* NaN fails the comparison too */
 }
 
+/* min(c, 1) for c that is not NaN; fminf is a call into libm without -ffast-math. */
+static float at_most_one(float c)
+{
+    return c < 1.0f ? c : 1.0f;
+}
+
 bool vdbgi_rgbm_encode(const float rgb[3], float range, uint8_t out[4])
 {
     const float c[3] = {sanitise(rgb[0]), sanitise(rgb[1]), sanitise(rgb[2])};
@@ -19,11 +25,11 @@ bool vdbgi_rgbm_encode(const float rgb[3], float range, uint8_t out[4])
         return false;
     }
     /* Round M up (never below one step) so that c / (M range) <= 1 for every channel. */
-    float m8 = ceilf(fminf(mx / range, 1.0f) * 255.0f);
+    float m8 = ceilf(at_most_one(mx / range) * 255.0f);
     m8 = m8 < 1.0f ? 1.0f : m8;
     const float scale = m8 / 255.0f * range;
     for (int k = 0; k < 3; k++)
-        out[k] = (uint8_t)lrintf(fminf(c[k] / scale, 1.0f) * 255.0f);
+        out[k] = (uint8_t)lrintf(at_most_one(c[k] / scale) * 255.0f);
     out[3] = (uint8_t)m8;
     return clamped;
 }
