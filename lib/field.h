@@ -63,6 +63,9 @@ typedef struct vdbgi_fill_params {
                                 around the cells, points the fill reaches (1) */
     int filter_below;        /* points below a cell's - faces that its filter reads: 1 with
                                 the seed layout's apron, 0 with the compact layout */
+    bool lift;               /* leave out a column's lowest cell when the only sources its
+                                filter reads lie on its top face: the compact runtime reads
+                                the cell above at its bottom plane there (docs/format.md) */
     float weights[3];        /* weight of a face, edge and corner neighbour */
     int max_iterations;      /* rings of spreading before giving up */
     bool darkest;            /* invalid probes take their darkest valued neighbour, not the

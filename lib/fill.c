@@ -386,6 +386,47 @@ static vdbgi_result mark_target(grid *g, const vdbgi_map *cells, int cell_size, 
 }
 
 /*
+ * Drop each column's lowest cell when every source its filter reads lies on
+ * its top face (the ground seen from below: the cell is there only for the
+ * plane of valid probes its + border shares with the cell above). The
+ * compact runtime reads that plane for any position below a column's lowest
+ * brick, so such a cell costs a brick and holds nothing a receiver needs.
+ */
+static vdbgi_result lift_cells(vdbgi_context *ctx, vdbgi_map *cells, const uint8_t *off_top)
+{
+    vdbgi_map columns = {0}, kept = {0};
+    int32_t *bottom = vdbgi_calloc(ctx, cells->count ? cells->count : 1, sizeof(int32_t));
+    vdbgi_result r =
+        bottom ? vdbgi_map_init(ctx, &columns, cells->count / 4 + 64) : VDBGI_ERR_OUT_OF_MEMORY;
+    for (size_t c = 0; c < cells->count && r == VDBGI_OK; c++) {
+        const int32_t *const key = cells->keys[c], column[3] = {key[0], 0, key[2]};
+        size_t i;
+        bool added;
+        r = vdbgi_map_insert(&columns, column, &i, &added);
+        if (r == VDBGI_OK && (added || key[1] < bottom[i]))
+            bottom[i] = key[1];
+    }
+    if (r == VDBGI_OK)
+        r = vdbgi_map_init(ctx, &kept, cells->count + 64);
+    for (size_t c = 0; c < cells->count && r == VDBGI_OK; c++) {
+        const int32_t *const key = cells->keys[c], column[3] = {key[0], 0, key[2]};
+        if (!off_top[c] && key[1] == bottom[vdbgi_map_find(&columns, column)])
+            continue;
+        size_t i;
+        r = vdbgi_map_insert(&kept, key, &i, NULL);
+    }
+    if (r == VDBGI_OK) {
+        vdbgi_map_free(cells);
+        *cells = kept;
+    } else {
+        vdbgi_map_free(&kept);
+    }
+    vdbgi_map_free(&columns);
+    vdbgi_free(ctx, bottom);
+    return r;
+}
+
+/*
  * With margin 0, the cells whose filter reads a source: those whose 4^3
  * points, or the points beyond their faces that the filter reaches (rim
  * above, filter_below below: the seed layout's apron, or the compact
@@ -402,6 +443,9 @@ static vdbgi_result occupied_cells(vdbgi_context *ctx, const vdbgi_fill_input *i
     const int s = fp->cell_size, m = fp->margin_cells;
     /* A cell's filter reads rim points above it and filter_below points below it. */
     const int above = m > 0 ? 0 : fp->rim, below = m > 0 ? 0 : fp->filter_below;
+    const bool lift = fp->lift && m == 0;
+    uint8_t *off_top = NULL; /* lift: the cell's filter reads a source off its top face */
+    size_t off_top_size = 0;
     for (size_t n = 0; n < in->count && r == VDBGI_OK; n++) {
         if (in->backface[n] > fp->invalid_threshold)
             continue;
@@ -418,8 +462,26 @@ static vdbgi_result occupied_cells(vdbgi_context *ctx, const vdbgi_fill_input *i
                     const int32_t cell[3] = {x, y, z};
                     size_t index;
                     r = vdbgi_map_insert(cells, cell, &index, NULL);
+                    if (r != VDBGI_OK || !lift)
+                        continue;
+                    if (index >= off_top_size) {
+                        const size_t size = 2 * index + 1024;
+                        uint8_t *const grown = vdbgi_calloc(ctx, size, 1);
+                        if (!grown) {
+                            r = VDBGI_ERR_OUT_OF_MEMORY;
+                            continue;
+                        }
+                        if (off_top)
+                            memcpy(grown, off_top, off_top_size);
+                        vdbgi_free(ctx, off_top);
+                        off_top = grown, off_top_size = size;
+                    }
+                    off_top[index] |= p[1] != (y + 1) * s;
                 }
     }
+    if (r == VDBGI_OK && lift)
+        r = lift_cells(ctx, cells, off_top);
+    vdbgi_free(ctx, off_top);
     return r;
 }
 

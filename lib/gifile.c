@@ -171,10 +171,11 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
     const uint32_t layout = vdbgi_get_u32(h + 104);
     VDBGI_FAIL_IF(ctx, version == 3 || (version == 2 && layout == 1), VDBGI_ERR_FORMAT,
                   "%s: an older vdbgi's compact layout (5^3 slots): convert the .vdb again", path);
+    const bool compact = layout == VDBGI_GI_LAYOUT_COMPACT || layout == VDBGI_GI_LAYOUT_COMPACT_2;
     VDBGI_FAIL_IF(ctx,
                   version == 1   ? layout != 0
-                  : version == 4 ? layout != VDBGI_GI_LAYOUT_COMPACT
-                                 : layout != 0 && layout != VDBGI_GI_LAYOUT_COMPACT,
+                  : version == 4 ? !compact
+                                 : layout != 0 && !compact,
                   VDBGI_ERR_FORMAT, "%s: unknown brick layout %u for version %u", path, layout,
                   version);
     *header_size = vdbgi_get_u32(h + 12);

@@ -11,8 +11,15 @@
  * layout, refused.
  */
 #define VDBGI_GI_VERSION 4
-/* The layout field's value for the compact layout (1 was its older form, refused). */
-#define VDBGI_GI_LAYOUT_COMPACT 2
+/*
+ * The layout field's values for the compact layout: 3 is written, where the
+ * lookup must read a column's lowest brick below it (docs/format.md), so that
+ * a reader without that rule refuses the file; 2, written before the rule, is
+ * read alike (it keeps the bricks the rule made unneeded); 1 was an older
+ * form, refused.
+ */
+#define VDBGI_GI_LAYOUT_COMPACT 3
+#define VDBGI_GI_LAYOUT_COMPACT_2 2
 /* The compact atlas's largest side: a brick's first texel is 4 r + (a's two bits) <= 1023. */
 #define VDBGI_ATLAS_MAX 1024
 

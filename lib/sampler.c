@@ -59,6 +59,23 @@ static void sample_linear(const vdbgi_volume_view *v, const float uvw[3], float 
     }
 }
 
+static bool empty_cell(const vdbgi_volume_view *v, int x, int y, int z)
+{
+    const uint8_t *const t =
+        &v->indirection[4 *
+                        (((size_t)z * v->ind_dims[1] + (size_t)y) * v->ind_dims[0] + (size_t)x)];
+    return !(t[0] | t[1] | t[2] | t[3]);
+}
+
+/* The lowest cell of column (x, z) that holds a brick, or -1. */
+static int column_bottom(const vdbgi_volume_view *v, int x, int z)
+{
+    for (int y = 0; y < (int)v->ind_dims[1]; y++)
+        if (!empty_cell(v, x, y, z))
+            return y;
+    return -1;
+}
+
 void vdbgi_sampler_sample(const vdbgi_volume_view *v, const float pos[3], float rgb[3])
 {
     float p[3], base[3], ind[4];
@@ -75,6 +92,20 @@ void vdbgi_sampler_sample(const vdbgi_volume_view *v, const float pos[3], float 
         const float u = (base[k] + 0.5f) / (float)v->ind_dims[k];
         it[k] = clampi((int)floorf(u * (float)v->ind_dims[k]), 0, (int)v->ind_dims[k] - 1);
     }
+    const bool compact = v->layout == 1;
+    /*
+     * Compact: below its column's lowest brick a position reads that brick, at
+     * its bottom plane (q.y clamped below): the runtime's columns give the run's
+     * first cell (docs/format.md). Only an empty cell, or one below the box,
+     * can lie below the run.
+     */
+    if (compact && (base[1] < 0.0f || empty_cell(v, it[0], it[1], it[2]))) {
+        const int ymin = column_bottom(v, it[0], it[2]);
+        if (ymin >= 0 && base[1] < (float)ymin) {
+            base[1] = (float)ymin;
+            it[1] = ymin;
+        }
+    }
     const size_t ii =
         ((size_t)it[2] * v->ind_dims[1] + (size_t)it[1]) * v->ind_dims[0] + (size_t)it[0];
     for (int k = 0; k < 4; k++)
@@ -87,7 +118,6 @@ void vdbgi_sampler_sample(const vdbgi_volume_view *v, const float pos[3], float 
     float b[4];
     for (int k = 0; k < 4; k++)
         b[k] = floorf(ind[k] * 255.0f + 0.5f);
-    const bool compact = v->layout == 1;
     const float level = compact ? fmodf(b[3], 4.0f) : fmaxf(b[3] - 1.0f, 0.0f);
     const float span = exp2f(level);
     float uvw[3];
@@ -98,7 +128,7 @@ void vdbgi_sampler_sample(const vdbgi_volume_view *v, const float pos[3], float 
             /* Probe q of the brick stands at origin_cell + q span, q = 0..4. */
             const float low = fmodf(floorf(b[3] / exp2f((float)(2 + 2 * k))), 4.0f);
             const float q = (p[k] - origin_cell) / span;
-            atlas_texel = b[k] * 4.0f + low + q;
+            atlas_texel = b[k] * 4.0f + low + (k == 1 ? fmaxf(q, 0.0f) : q);
         } else {
             const float q = (p[k] - origin_cell + 0.5f) / span - 0.5f;
             atlas_texel = b[k] * (float)VDBGI_BRICK_PADDED + 1.0f + q;

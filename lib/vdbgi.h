@@ -684,7 +684,9 @@ VDBGI_API size_t vdbgi_volume_copy_columns(const vdbgi_volume *volume, void *buf
  * NEAREST indirection read, level and slot decode, local coordinates,
  * trilinear atlas read with the texel-centre convention and clamp-to-edge,
  * decode. Outside the box the coordinates clamp like the textures do; an
- * empty cell reads black.
+ * empty cell reads black, except, in the compact layout, below a column's
+ * lowest brick, which reads that brick's bottom plane (the lift,
+ * docs/format.md).
  */
 VDBGI_API void vdbgi_volume_sample(const vdbgi_volume *volume, const float pos[3], float rgb[3]);
 

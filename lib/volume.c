@@ -410,6 +410,7 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     vdbgi_fill_params fp = vdbgi_fill_params_default(
         probes->invalid_threshold, desc ? desc->fill : VDBGI_FILL_AUTO, cp.threads);
     fp.filter_below = cp.layout == VDBGI_LAYOUT_COMPACT ? 0 : 1; /* compact: no apron */
+    fp.lift = cp.layout == VDBGI_LAYOUT_COMPACT;
     const vdbgi_fill_input in = {probes->count, probes->ijk, probes->rgb, probes->backface, 1};
     vdbgi_result r =
         vdbgi_field_fill(ctx, &in, &fp, &v->filled, &cells, &cell_count, &info->unreached_count);

@@ -104,7 +104,7 @@ def main(vdb_path, gi_path, name=None):
     ind, atlas = gi["ind"], gi["atlas"]
     # The indirection's first cell, in lattice cells: box_min = origin + spacing (4 c0 - 0.5).
     c0 = np.rint(((np.array(gi["box_min"]) - origin) / spacing + 0.5) / 4).astype(np.int64)
-    compact = gi["layout"] == 2
+    compact = gi["layout"] in (2, 3)  # 3: written since the lift (docs/format.md)
     a = ind[..., 3].astype(np.int64)
     if compact:  # a: level in bits 0-1, the brick's first texel mod 4 per axis above
         level = np.where(ind.astype(np.int64).sum(axis=-1) == 0, -1, a & 3)

@@ -434,7 +434,9 @@ static void cells_with_a_valid_corner_read_the_filled_field(void)
                     double w = 1.0;
                     for (int k = 0; k < 3; k++) {
                         ijk[k] = lo[k] + (corner >> k & 1);
-                        const double f = q[k] - lo[k];
+                        /* Below y = 8, the first valid plane and a cell's bottom face,
+                           the lift reads that plane (docs/format.md). */
+                        const double f = k == 1 && lo[1] < 8 ? 1.0 : q[k] - lo[k];
                         w *= corner >> k & 1 ? f : 1.0 - f;
                     }
                     const float *const at = vdbgi_field_at(&v->filled, ijk, NULL);
@@ -504,6 +506,22 @@ static bool reads_black(const vdbgi_volume *v, const float pos[3])
     return got[0] == 0.0f && got[1] == 0.0f && got[2] == 0.0f;
 }
 
+/* Whether the level-0 cell holding pos has no brick. */
+static bool no_brick(const vdbgi_volume *v, const float pos[3])
+{
+    const vdbgi_volume_info *const vi = &v->info;
+    size_t i = 0;
+    for (int k = 2; k >= 0; k--) {
+        const float u = (pos[k] - vi->box_min[k]) / (vi->box_max[k] - vi->box_min[k]);
+        const uint32_t c = (uint32_t)floorf(u * (float)vi->indirection_dims[k]);
+        if (c >= vi->indirection_dims[k])
+            return true;
+        i = i * vi->indirection_dims[k] + c;
+    }
+    const uint8_t *const t = &v->indirection[4 * i];
+    return !(t[0] | t[1] | t[2] | t[3]);
+}
+
 /*
  * On the boxed floor, in both layouts: every position whose filter reads a lit
  * valid probe (within one spacing of it on every axis) lands in a brick and
@@ -540,8 +558,10 @@ static void only_cells_whose_filter_reads_a_valid_probe_get_bricks(void)
             }
         }
         CHECK(tried > 1000 && dark == 0);
+        /* No brick; the seed layout reads black there, the compact one the roof's
+           first valid plane, under which the lift reaches (docs/format.md). */
         const float inside[3] = {2.0f, 4.0f, 0.0f};
-        CHECK(reads_black(v, inside));
+        CHECK(no_brick(v, inside) && reads_black(v, inside) == (layout == VDBGI_LAYOUT_SEED));
         vdbgi_volume_destroy(v);
     }
     vdbgi_probes_destroy(p);
@@ -553,7 +573,7 @@ static void only_cells_whose_filter_reads_a_valid_probe_get_bricks(void)
         if (!v)
             continue;
         const float inside[3] = {-3.0f, 4.0f, 0.0f};
-        CHECK(reads_black(v, inside) == (layout == VDBGI_LAYOUT_COMPACT));
+        CHECK(no_brick(v, inside) == (layout == VDBGI_LAYOUT_COMPACT));
         vdbgi_volume_destroy(v);
     }
     vdbgi_probes_destroy(p);
@@ -608,6 +628,62 @@ static void columns_give_every_cell_its_indirection_texel(void)
             }
         CHECK(wrong == 0 && gaps > 0);
         free(t);
+        vdbgi_volume_destroy(v);
+    }
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+/*
+ * The compact layout's lift (docs/format.md): with the lattice at 0.25 m, the
+ * first valid plane over a one-sided floor at y = 0 is index 0, the bottom
+ * face of a cell, so the cell below it (indices -4..-1) is kept by no other
+ * probe of its filter. It holds no brick, and every position beneath the plane,
+ * on the floor and below it, reads exactly what the plane above it reads. The
+ * box on the floor makes the plane vary, so that interpolating towards the
+ * filled probes below would not give the same values.
+ */
+static void the_cell_under_the_first_valid_plane_is_lifted(void)
+{
+    vdbgi_context *ctx = test_context();
+    const float lo[3] = {-2.0f, 0.0f, -2.0f}, hi[3] = {2.0f, 3.0f, 2.0f};
+    const vdbgi_place_desc pd = {.spacing = 0.5, .origin = {0.25, 0.25, 0.25}, .origin_is_set = 1};
+    vdbgi_scene *s = NULL;
+    vdbgi_probes *p = floor_and_box(ctx, lo, hi, &pd, 64, &s);
+    vdbgi_volume *const v = p ? level0_volume(ctx, p, VDBGI_LAYOUT_COMPACT) : NULL;
+    if (v) {
+        vdbgi_volume_info vi;
+        vdbgi_volume_get_info(v, &vi);
+        size_t tried = 0, same = 0, empty = 0, lit = 0;
+        for (float x = -6.9f; x < 7.0f; x += 0.37f)
+            for (float z = -6.9f; z < 7.0f; z += 0.41f) {
+                if (fabsf(x) < 2.6f && fabsf(z) < 2.6f)
+                    continue;
+                const float plane[3] = {x, 0.25f, z}, floor_at[3] = {x, 0.0f, z},
+                            under[3] = {x, -0.4f, z};
+                float want[3], got[3], deep[3];
+                vdbgi_volume_sample(v, plane, want);
+                vdbgi_volume_sample(v, floor_at, got);
+                vdbgi_volume_sample(v, under, deep);
+                same +=
+                    memcmp(want, got, sizeof(got)) == 0 && memcmp(want, deep, sizeof(deep)) == 0;
+                lit += want[0] > 0.01f;
+                /* The cell that holds y = -0.25 m, one below the plane's. */
+                uint32_t c[3];
+                for (int k = 0; k < 3; k++) {
+                    const float at = k == 0 ? x : k == 1 ? -0.25f : z;
+                    c[k] = (uint32_t)floorf((at - vi.box_min[k]) / (vi.box_max[k] - vi.box_min[k]) *
+                                            (float)vi.indirection_dims[k]);
+                }
+                const uint8_t *const t =
+                    &v->indirection[4 * (((size_t)c[2] * vi.indirection_dims[1] + c[1]) *
+                                             vi.indirection_dims[0] +
+                                         c[0])];
+                empty += c[1] < vi.indirection_dims[1] && !(t[0] | t[1] | t[2] | t[3]);
+                tried++;
+            }
+        CHECK(tried > 500 && same == tried && lit == tried && empty == tried);
         vdbgi_volume_destroy(v);
     }
     vdbgi_probes_destroy(p);
@@ -741,11 +817,12 @@ static void damaged_files_are_refused(void)
     fclose(f);
     CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("lie.gi"), &r), VDBGI_ERR_FORMAT);
     /*
-     * The layout field: version 1 must leave it 0; version 2 knows 0 and 2,
-     * version 4 only 2; version 3 and layout 1 (the older compact layout)
-     * are refused.
+     * The layout field: version 1 must leave it 0; version 2 knows 0, 2 and
+     * 3, version 4 only 2 and 3; version 3 and layout 1 (the older compact
+     * layout) are refused.
      */
-    static const uint32_t version_layout[][2] = {{1, 1}, {2, 3}, {2, 1}, {3, 1}, {4, 0}, {5, 0}};
+    static const uint32_t version_layout[][2] = {{1, 1}, {2, 4}, {2, 1}, {3, 1},
+                                                 {4, 0}, {4, 4}, {5, 0}};
     for (size_t c = 0; c < sizeof(version_layout) / sizeof(version_layout[0]); c++) {
         memcpy(lie, v->raw, raw);
         vdbgi_put_u32(lie + 8, version_layout[c][0]);
@@ -908,6 +985,7 @@ int main(void)
     RUN(cells_with_a_valid_corner_read_the_filled_field);
     RUN(only_cells_whose_filter_reads_a_valid_probe_get_bricks);
     RUN(columns_give_every_cell_its_indirection_texel);
+    RUN(the_cell_under_the_first_valid_plane_is_lifted);
     RUN(files_round_trip_and_are_deterministic);
     RUN(damaged_files_are_refused);
     RUN(bad_parameters_and_probes_are_refused);

@@ -9,7 +9,10 @@ import { rebuildPacked } from './gi-packed.js';
 export const ENCODING_RGBM = 0;
 export const ENCODING_RGB9E5 = 1;
 export const LAYOUT_SEED = 0;
-export const LAYOUT_COMPACT = 2; // the header's value; 1 was its older form, in 5^3 slots
+export const LAYOUT_COMPACT = 2; // what readers report; 1 was its older form, in 5^3 slots
+// The header writes the compact layout as 3, so that a reader without the lift
+// (docs/format.md, the lookup) refuses it; 2, written before, reads alike.
+const FILE_LAYOUT_COMPACT = 3;
 const ATLAS_MAX = 1024; // a compact brick's first texel is 4 r + two bits of a: at most 1023
 
 const HEADER_BYTES = 112;
@@ -74,14 +77,16 @@ export function parseGi(buf) {
   // Version 1 is seed 000's layout (6^3 texels a brick); version 2 says which
   // at byte 104; version 4 is the compact layout packed. Version 3 and layout 1
   // were an older compact layout (5^3 slots), no longer read.
-  const layout = version === 1 ? LAYOUT_SEED : u32(104);
-  if (version === 3 || (version === 2 && layout === 1))
+  const field = version === 1 ? LAYOUT_SEED : u32(104);
+  if (version === 3 || (version === 2 && field === 1))
     throw new Error("an older vdbgi's compact layout (5^3 slots): convert the .vdb again");
   if (version < 1 || version > 4) throw new Error(`unsupported version ${version}`);
+  const isCompact = field === FILE_LAYOUT_COMPACT || field === LAYOUT_COMPACT;
   if (version === 1 ? u32(104) !== 0
-    : version === 4 ? layout !== LAYOUT_COMPACT
-      : layout !== LAYOUT_SEED && layout !== LAYOUT_COMPACT)
+    : version === 4 ? !isCompact
+      : field !== LAYOUT_SEED && !isCompact)
     throw new Error(`unknown layout ${u32(104)} for version ${version}`);
+  const layout = isCompact ? LAYOUT_COMPACT : LAYOUT_SEED;
   const headerSize = u32(12);
   const gi = {
     version,

@@ -56,7 +56,7 @@ function giNodes(runtime) {
   // level (-1: no brick) and the position inside the brick (0..1).
   n.lookup = (pos) => {
     const p = pos.sub(n.boxMin).div(n.boxSize).mul(n.indDims.mul(4)).sub(0.5);
-    const baseBrick = floor(p.div(4));
+    const baseBrick0 = floor(p.div(4));
     // The cell's indirection texel from its column's run, as the GLSL (docs/format.md).
     const columnsTexel = (i) => {
       const w = n.columnsDims.x;
@@ -65,20 +65,25 @@ function giNodes(runtime) {
       const row = first.add(select(col.lessThan(0), float(-1), select(col.greaterThanEqual(w), float(1), float(0))));
       return floor(n.texture('ind', ivec2(i.sub(row.mul(w)), row)).mul(255).add(0.5));
     };
-    const cell = clamp(baseBrick, vec3(0), n.indDims.sub(1));
+    const cell = clamp(baseBrick0, vec3(0), n.indDims.sub(1));
     const column = cell.x.add(n.indDims.x.mul(cell.z));
     const run = columnsTexel(column.mul(2)), at = columnsTexel(column.mul(2).add(1));
-    const k = cell.y.sub(run.r.add(run.g.mul(256)));
+    const ymin = run.r.add(run.g.mul(256)), count = run.b.add(run.a.mul(256));
+    // Compact: below the run, its lowest brick at its bottom plane (the lift).
+    const compact = n.layout.x.lessThan(5.5);
+    const lift = compact.and(count.greaterThan(0));
+    const baseBrick = vec3(baseBrick0.x, select(lift, max(baseBrick0.y, ymin), baseBrick0.y), baseBrick0.z);
+    const k = select(lift, max(cell.y.sub(ymin), 0), cell.y.sub(ymin));
     const entry = n.indDims.x.mul(n.indDims.z).mul(2).add(at.r).add(at.g.mul(256)).add(at.b.mul(65536)).add(max(k, 0));
-    const inRun = k.greaterThanEqual(0).and(k.lessThan(run.b.add(run.a.mul(256))));
+    const inRun = k.greaterThanEqual(0).and(k.lessThan(count));
     const ind = select(inRun, columnsTexel(min(entry, n.columnsDims.x.mul(n.columnsDims.y).sub(1))), vec4(0));
     // Seed: rgb the slot, a the level + 1. Compact: a holds the level in bits
     // 0-1 and the first texel mod 4 per axis above; rgb its texel / 4.
-    const compact = n.layout.x.lessThan(5.5);
     const level = select(compact, mod(ind.a, 4), max(ind.a.sub(1), 0));
     const span = exp2(level);
     const originCell = floor(baseBrick.div(span)).mul(span).mul(4);
-    const q = p.sub(originCell).add(n.layout.z).div(span).sub(n.layout.z);
+    const q0 = p.sub(originCell).add(n.layout.z).div(span).sub(n.layout.z);
+    const q = vec3(q0.x, select(compact, max(q0.y, 0), q0.y), q0.z);
     const low = mod(floor(vec3(ind.a).div(vec3(4, 16, 64))), 4);
     const first = select(compact, ind.rgb.mul(4).add(low), ind.rgb.mul(n.layout.x).add(n.layout.y));
     const texel = first.add(q);

@@ -271,21 +271,27 @@ GiLookup vdbgiLookup(vec3 pos) {
   vec3 p = (pos - giBoxMin) / giBoxSize * (giIndDims * 4.0) - 0.5;
   vec3 baseBrick = floor(p / 4.0);
   // The cell's texel of the indirection, read from its column's run (docs/format.md,
-  // "The runtime's indirection"): 0,0,0,0 outside the run, as in the 3D texture.
+  // "The runtime's indirection"): 0,0,0,0 outside the run, as in the 3D texture,
+  // except below it in the compact layout (the lift: the run's lowest brick at its
+  // bottom plane).
   vec3 cell = clamp(baseBrick, vec3(0.0), giIndDims - 1.0);
   float column = cell.x + giIndDims.x * cell.z;
   vec4 run = vdbgiColumnsTexel(2.0 * column), at = vdbgiColumnsTexel(2.0 * column + 1.0);
-  float k = cell.y - (run.r + 256.0 * run.g);
+  float ymin = run.r + 256.0 * run.g, count = run.b + 256.0 * run.a;
+  bool compact = giLayout.x < 5.5;
+  bool lift = compact && count > 0.0;
+  baseBrick.y = lift ? max(baseBrick.y, ymin) : baseBrick.y;
+  float k = lift ? max(cell.y - ymin, 0.0) : cell.y - ymin;
   float entry = 2.0 * giIndDims.x * giIndDims.z + at.r + 256.0 * at.g + 65536.0 * at.b + max(k, 0.0);
   vec4 ind = vdbgiColumnsTexel(min(entry, giColumnsDims.x * giColumnsDims.y - 1.0));
-  ind = k >= 0.0 && k < run.b + 256.0 * run.a ? ind : vec4(0.0);
+  ind = k >= 0.0 && k < count ? ind : vec4(0.0);
   // Seed: rgb the slot, a the level + 1 (0: empty). Compact: a holds the level
   // in bits 0-1 and the first texel mod 4 per axis above; rgb its texel / 4.
-  bool compact = giLayout.x < 5.5;
   float level = compact ? mod(ind.a, 4.0) : max(ind.a - 1.0, 0.0);
   float span = exp2(level);
   vec3 originCell = floor(baseBrick / span) * span * 4.0;
   vec3 q = (p - originCell + giLayout.z) / span - giLayout.z;
+  q.y = compact ? max(q.y, 0.0) : q.y;
   vec3 first = compact ? ind.rgb * 4.0 + mod(floor(ind.a / vec3(4.0, 16.0, 64.0)), 4.0)
                        : ind.rgb * giLayout.x + giLayout.y;
   vec3 texel = first + q;

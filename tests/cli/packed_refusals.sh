@@ -1,9 +1,10 @@
 # Inconsistent packed (version 4) files: levels above the max, coarse blocks whose
 # cells disagree, level bytes and header that count other bricks or points, sizes
-# that do not add up, an atlas the bricks do not pack into, the older version 3.
-# Each is gzip'd whole, so only the readers' checks can catch
+# that do not add up, an atlas the bricks do not pack into, the older version 3,
+# an unknown layout. Each is gzip'd whole, so only the readers' checks can catch
 # it; the C reader (gi-inspect) and the JavaScript one each refuse every one with
-# one line, and read the good file. A header that counts more bricks than its stored
+# one line, and read the good file, and the good file with the layout field that
+# compact files had before the lift (2, docs/format.md). A header that counts more bricks than its stored
 # points can hold is refused before anything is allocated for them.
 "$BIN/gi-bake" -q "$DATA/world.glb" -o world.vdb --spacing 1 --rays 16 >/dev/null
 "$BIN/vdb-to-gi" -q world.vdb -o good.gi.gz --eps 0.3

@@ -1,7 +1,8 @@
 // craft_packed.mjs GOOD.gi.gz DIR: from a good packed (version 4) file, write
 // into DIR one file for each inconsistency docs/format.md says a reader must
 // refuse, each gzip'd whole (so only the reader's checks can catch it), and
-// print their names. Needs a file with a level-1 brick.
+// print their names; and one it must read (its layout field as written before
+// the lift). Needs a file with a level-1 brick.
 import { readFileSync, writeFileSync } from 'node:fs';
 import { gunzipSync, gzipSync } from 'node:zlib';
 
@@ -45,3 +46,6 @@ write('atlas-of-another-size', (b, v) => {
   v.setUint32(100, 4 * (u32(36) + 1) * u32(40) * u32(44), true);
 });
 write('older-compact-version-3', (b, v) => { v.setUint32(8, 3, true); v.setUint32(104, 1, true); });
+write('unknown-layout-4', (b, v) => { v.setUint32(104, 4, true); });
+// Not damage: layout 2 is the compact layout as written before the lift, read alike.
+write('written-before-the-lift', (b, v) => { v.setUint32(104, 2, true); });

@@ -64,7 +64,8 @@ export function sampleGi(gi, pos, detail = null) {
     base[k] = Math.floor(f(p[k] / 4));
   }
   // The runtime's indirection (docs/format.md): the cell's column, its run, the
-  // run's texel; a cell outside the run reads 0,0,0,0 as the 3D texture would.
+  // run's texel; a cell outside the run reads 0,0,0,0 as the 3D texture would,
+  // but for the compact layout's lift below it.
   const cols = (gi.columns ??= indirectionColumns(gi.indirection, gi.indDims));
   // texelFetch at (column, row), as the shader computes them; outside the texture, zeros.
   const bytesAt = (i) => {
@@ -81,14 +82,19 @@ export function sampleGi(gi, pos, detail = null) {
   const cell = base.map((v, k) => clamp(v, 0, gi.indDims[k] - 1));
   const c = cell[0] + ix * cell[2];
   const run = bytesAt(2 * c), at = bytesAt(2 * c + 1);
-  const k0 = cell[1] - (run[0] + 256 * run[1]);
+  const ymin = run[0] + 256 * run[1], count = run[2] + 256 * run[3];
+  const compact = gi.layout === LAYOUT_COMPACT;
+  // Compact: below its column's run a position reads the run's lowest brick at
+  // its bottom plane (the lift): the cell and base rise to the run's first cell.
+  const lift = compact && count > 0;
+  if (lift) base[1] = Math.max(base[1], ymin);
+  const k0 = lift ? Math.max(cell[1] - ymin, 0) : cell[1] - ymin;
   const entry = bytesAt(Math.min(2 * ix * iz + at[0] + 256 * at[1] + 65536 * at[2] + Math.max(k0, 0),
                                  cols.width * cols.height - 1));
-  const b = k0 >= 0 && k0 < run[2] + 256 * run[3] ? entry : [0, 0, 0, 0];
+  const b = k0 >= 0 && k0 < count ? entry : [0, 0, 0, 0];
   const geo = layoutGeometry(gi.layout);
   // Seed: rgb the slot, a the level + 1 (0: empty). Compact: a holds the level
   // in bits 0-1 and the brick's first texel mod 4 per axis above; rgb that texel / 4.
-  const compact = gi.layout === LAYOUT_COMPACT;
   const level = compact ? b[3] % 4 : Math.max(b[3] - 1, 0);
   if (detail) detail.level = compact ? (b.every((v) => v === 0) ? -1 : level) : b[3] - 1; // -1: no brick
   const span = f(2 ** level);
@@ -97,7 +103,8 @@ export function sampleGi(gi, pos, detail = null) {
     const first = compact ? b[k] * 4 + (Math.floor(b[3] / 4 ** (k + 1)) % 4) : b[k] * geo.brick + geo.pad;
     const originCell = f(f(Math.floor(f(base[k] / span)) * span) * 4);
     // Seed: probe q at the centre of its span-wide block; compact: at its corner.
-    const q = f(f(f(f(p[k] - originCell) + geo.centre) / span) - geo.centre);
+    const q0 = f(f(f(f(p[k] - originCell) + geo.centre) / span) - geo.centre);
+    const q = compact && k === 1 ? Math.max(q0, 0) : q0; // the lift's bottom plane
     const texel = f(first + q);
     uvw[k] = f(f(texel + 0.5) / gi.atlasDims[k]);
   }
