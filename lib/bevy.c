@@ -178,7 +178,7 @@ vdbgi_result vdbgi_bevy_build(vdbgi_context *ctx, const vdbgi_probes *p,
     int32_t *cells = NULL;
     size_t cell_count = 0, unreached = 0;
     if (r == VDBGI_OK)
-        r = vdbgi_field_fill(ctx, &in, &fp, &field, &cells, &cell_count, &unreached);
+        r = vdbgi_field_fill(ctx, &in, &fp, &field, &cells, &cell_count, NULL, NULL, &unreached);
     size_t any = 0;
     const vdbgi_leaf *cache = NULL;
     for (int z = 0; z < res[2] && r == VDBGI_OK; z++)

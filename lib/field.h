@@ -63,9 +63,8 @@ typedef struct vdbgi_fill_params {
                                 around the cells, points the fill reaches (1) */
     int filter_below;        /* points below a cell's - faces that its filter reads: 1 with
                                 the seed layout's apron, 0 with the compact layout */
-    bool lift;               /* leave out a column's lowest cell when the only sources its
-                                filter reads lie on its top face: the compact runtime reads
-                                the cell above at its bottom plane there (docs/format.md) */
+    bool lift;               /* also list the cells whose filter reads sources only on
+                                their top face (the compact layout's lift, docs/format.md) */
     float weights[3];        /* weight of a face, edge and corner neighbour */
     int max_iterations;      /* rings of spreading before giving up */
     bool darkest;            /* invalid probes take their darkest valued neighbour, not the
@@ -98,13 +97,16 @@ typedef struct vdbgi_fill_input {
  * neighbours on both sides of one axis takes instead its darkest valued
  * neighbour (fp->darkest), darkest by the sum over all channels: one choice
  * of neighbour a point, applied to every channel. Writes the field, the
- * occupied cells (3 int32 each, in tree order) into *cells_out, and the
- * target points left without a value into *unreached. Fails with
+ * occupied cells (3 int32 each, in tree order) into *cells_out, with
+ * fp->lift and top_only_out not NULL those of them whose filter reads sources
+ * only on their top face into *top_only_out (sorted alike), and the target
+ * points left without a value into *unreached. Fails with
  * VDBGI_ERR_FORMAT when no point is a source.
  */
 vdbgi_result vdbgi_field_fill(vdbgi_context *ctx, const vdbgi_fill_input *in,
                               const vdbgi_fill_params *fp, vdbgi_field *field, int32_t **cells_out,
-                              size_t *cell_count, size_t *unreached);
+                              size_t *cell_count, int32_t **top_only_out, size_t *top_only_count,
+                              size_t *unreached);
 
 /*
  * The same rings over a dense box of res[0] x res[1] x res[2] points (x

@@ -386,47 +386,6 @@ static vdbgi_result mark_target(grid *g, const vdbgi_map *cells, int cell_size, 
 }
 
 /*
- * Drop each column's lowest cell when every source its filter reads lies on
- * its top face (the ground seen from below: the cell is there only for the
- * plane of valid probes its + border shares with the cell above). The
- * compact runtime reads that plane for any position below a column's lowest
- * brick, so such a cell costs a brick and holds nothing a receiver needs.
- */
-static vdbgi_result lift_cells(vdbgi_context *ctx, vdbgi_map *cells, const uint8_t *off_top)
-{
-    vdbgi_map columns = {0}, kept = {0};
-    int32_t *bottom = vdbgi_calloc(ctx, cells->count ? cells->count : 1, sizeof(int32_t));
-    vdbgi_result r =
-        bottom ? vdbgi_map_init(ctx, &columns, cells->count / 4 + 64) : VDBGI_ERR_OUT_OF_MEMORY;
-    for (size_t c = 0; c < cells->count && r == VDBGI_OK; c++) {
-        const int32_t *const key = cells->keys[c], column[3] = {key[0], 0, key[2]};
-        size_t i;
-        bool added;
-        r = vdbgi_map_insert(&columns, column, &i, &added);
-        if (r == VDBGI_OK && (added || key[1] < bottom[i]))
-            bottom[i] = key[1];
-    }
-    if (r == VDBGI_OK)
-        r = vdbgi_map_init(ctx, &kept, cells->count + 64);
-    for (size_t c = 0; c < cells->count && r == VDBGI_OK; c++) {
-        const int32_t *const key = cells->keys[c], column[3] = {key[0], 0, key[2]};
-        if (!off_top[c] && key[1] == bottom[vdbgi_map_find(&columns, column)])
-            continue;
-        size_t i;
-        r = vdbgi_map_insert(&kept, key, &i, NULL);
-    }
-    if (r == VDBGI_OK) {
-        vdbgi_map_free(cells);
-        *cells = kept;
-    } else {
-        vdbgi_map_free(&kept);
-    }
-    vdbgi_map_free(&columns);
-    vdbgi_free(ctx, bottom);
-    return r;
-}
-
-/*
  * With margin 0, the cells whose filter reads a source: those whose 4^3
  * points, or the points beyond their faces that the filter reaches (rim
  * above, filter_below below: the seed layout's apron, or the compact
@@ -436,7 +395,8 @@ static vdbgi_result lift_cells(vdbgi_context *ctx, vdbgi_map *cells, const uint8
  * (26-neighbourhood), for Bevy's coarser voxels, which read further.
  */
 static vdbgi_result occupied_cells(vdbgi_context *ctx, const vdbgi_fill_input *in,
-                                   const vdbgi_fill_params *fp, vdbgi_map *cells, size_t *sources)
+                                   const vdbgi_fill_params *fp, vdbgi_map *cells, size_t *sources,
+                                   uint8_t **off_top_out)
 {
     vdbgi_result r = vdbgi_map_init(ctx, cells, 1024);
     *sources = 0;
@@ -479,20 +439,25 @@ static vdbgi_result occupied_cells(vdbgi_context *ctx, const vdbgi_fill_input *i
                     off_top[index] |= p[1] != (y + 1) * s;
                 }
     }
-    if (r == VDBGI_OK && lift)
-        r = lift_cells(ctx, cells, off_top);
-    vdbgi_free(ctx, off_top);
+    *off_top_out = off_top; /* covers every cell: each index grew it */
     return r;
 }
 
 vdbgi_result vdbgi_field_fill(vdbgi_context *ctx, const vdbgi_fill_input *in,
                               const vdbgi_fill_params *fp, vdbgi_field *field, int32_t **cells_out,
-                              size_t *cell_count, size_t *unreached)
+                              size_t *cell_count, int32_t **top_only_out, size_t *top_only_count,
+                              size_t *unreached)
 {
     memset(field, 0, sizeof(*field));
     *cells_out = NULL;
     *cell_count = 0;
+    if (top_only_out) {
+        *top_only_out = NULL;
+        *top_only_count = 0;
+    }
     *unreached = 0;
+    uint8_t *off_top = NULL;
+    int32_t *top_only = NULL;
     VDBGI_FAIL_IF(ctx, in->channels < 1 || in->channels > VDBGI_FIELD_MAX_CHANNELS,
                   VDBGI_ERR_INVALID_ARG, "a field holds 1 to %d colours a point (got %d)",
                   VDBGI_FIELD_MAX_CHANNELS, in->channels);
@@ -500,7 +465,7 @@ vdbgi_result vdbgi_field_fill(vdbgi_context *ctx, const vdbgi_fill_input *in,
     size_t sources = 0;
     grid g = {.ctx = ctx, .channels = in->channels};
     int32_t *out = NULL;
-    vdbgi_result r = occupied_cells(ctx, in, fp, &cells, &sources);
+    vdbgi_result r = occupied_cells(ctx, in, fp, &cells, &sources, &off_top);
     if (r != VDBGI_OK)
         goto done;
     if (sources == 0) {
@@ -534,13 +499,35 @@ vdbgi_result vdbgi_field_fill(vdbgi_context *ctx, const vdbgi_fill_input *in,
     }
     memcpy(out, cells.keys, cells.count * 3 * sizeof(int32_t));
     qsort(out, cells.count, 3 * sizeof(int32_t), compare_triples);
+    /* The cells whose filter reads sources only on their top face, sorted too. */
+    size_t tops = 0;
+    for (size_t c = 0; off_top && c < cells.count; c++)
+        tops += !off_top[c];
+    if (off_top && top_only_out) {
+        top_only = vdbgi_calloc(ctx, tops ? tops : 1, 3 * sizeof(int32_t));
+        if (!top_only) {
+            r = VDBGI_ERR_OUT_OF_MEMORY;
+            goto done;
+        }
+        for (size_t c = 0, t = 0; c < cells.count; c++)
+            if (!off_top[c])
+                memcpy(&top_only[3 * t++], cells.keys[c], 3 * sizeof(int32_t));
+        qsort(top_only, tops, 3 * sizeof(int32_t), compare_triples);
+    }
     if ((r = export_field(&g, field)) != VDBGI_OK)
         goto done;
     *cells_out = out;
     *cell_count = cells.count;
     out = NULL;
+    if (top_only_out) {
+        *top_only_out = top_only;
+        *top_only_count = top_only ? tops : 0;
+        top_only = NULL;
+    }
 done:
     vdbgi_free(ctx, out);
+    vdbgi_free(ctx, off_top);
+    vdbgi_free(ctx, top_only);
     vdbgi_map_free(&cells);
     grid_free(&g);
     return r;

@@ -20,7 +20,8 @@ static void write_header(const vdbgi_volume_info *in, bool packed, uint8_t h[VDB
     memcpy(h, gi_magic, 8);
     /*
      * Seed-layout files stay version 1, byte for byte; the compact layout is
-     * version 4 packed, version 2 (layout field 2) as textures.
+     * version 4 packed, version 2 as textures, its layout field 3 (2 before
+     * the lift, docs/format.md).
      */
     const bool compact = in->layout == VDBGI_LAYOUT_COMPACT;
     vdbgi_put_u32(h + 8, compact ? (packed ? 4 : 2) : 1);

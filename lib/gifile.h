@@ -15,8 +15,9 @@
  * The layout field's values for the compact layout: 3 is written, where the
  * lookup must read a column's lowest brick below it (docs/format.md), so that
  * a reader without that rule refuses the file; 2, written before the rule, is
- * read alike (it keeps the bricks the rule made unneeded); 1 was an older
- * form, refused.
+ * read alike (its columns still start with the bricks the rule leaves out, and
+ * only what positions below them read changes, from black to their bottom
+ * plane); 1 was an older form, refused.
  */
 #define VDBGI_GI_LAYOUT_COMPACT 3
 #define VDBGI_GI_LAYOUT_COMPACT_2 2

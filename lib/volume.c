@@ -335,6 +335,73 @@ static vdbgi_result place_indirection(vdbgi_volume *v, const int32_t *cells, siz
 }
 
 /*
+ * The lift (docs/format.md): drop each level-0 brick that is the lowest of its
+ * column and whose cell's filter reads valid probes only on its top face
+ * (top_only, from the fill); the lookup reads the brick above it at its bottom
+ * plane there. Done after coarsening, so that the coarse bricks and their tests
+ * see every occupied cell as before, and a cell that a coarse brick covers, or
+ * that has any brick below it, keeps what it has. The dropped cells leave cells.
+ */
+static vdbgi_result lift_bricks(vdbgi_context *ctx, vdbgi_brick *bricks, size_t *brick_count,
+                                int32_t *cells, size_t *cell_count, const int32_t *top_only,
+                                size_t top_count)
+{
+    if (top_count == 0)
+        return VDBGI_OK;
+    size_t bound = 0;
+    for (size_t i = 0; i < *brick_count; i++)
+        bound += (size_t)1 << (2 * bricks[i].level);
+    vdbgi_map columns = {0}, tops = {0}, dropped = {0};
+    int32_t *const lowest = vdbgi_calloc(ctx, bound ? bound : 1, sizeof(int32_t));
+    vdbgi_result r = lowest ? vdbgi_map_init(ctx, &columns, bound + 64) : VDBGI_ERR_OUT_OF_MEMORY;
+    if (r == VDBGI_OK)
+        r = vdbgi_map_init(ctx, &tops, top_count + 64);
+    if (r == VDBGI_OK)
+        r = vdbgi_map_init(ctx, &dropped, 64);
+    /* Each column's lowest cell under any brick. */
+    for (size_t i = 0; i < *brick_count && r == VDBGI_OK; i++) {
+        const int32_t span = 1 << bricks[i].level, *const key = bricks[i].key;
+        for (int32_t dz = 0; dz < span && r == VDBGI_OK; dz++)
+            for (int32_t dx = 0; dx < span && r == VDBGI_OK; dx++) {
+                const int32_t column[3] = {key[0] * span + dx, 0, key[2] * span + dz};
+                size_t c;
+                bool added;
+                r = vdbgi_map_insert(&columns, column, &c, &added);
+                if (r == VDBGI_OK && (added || key[1] * span < lowest[c]))
+                    lowest[c] = key[1] * span;
+            }
+    }
+    for (size_t t = 0; t < top_count && r == VDBGI_OK; t++) {
+        size_t i;
+        r = vdbgi_map_insert(&tops, &top_only[3 * t], &i, NULL);
+    }
+    size_t kept = 0;
+    for (size_t i = 0; i < *brick_count && r == VDBGI_OK; i++) {
+        const int32_t *const key = bricks[i].key, column[3] = {key[0], 0, key[2]};
+        if (bricks[i].level == 0 && vdbgi_map_find(&tops, key) >= 0 &&
+            key[1] == lowest[vdbgi_map_find(&columns, column)]) {
+            size_t d;
+            r = vdbgi_map_insert(&dropped, key, &d, NULL);
+            continue;
+        }
+        bricks[kept++] = bricks[i];
+    }
+    if (r == VDBGI_OK) {
+        *brick_count = kept;
+        size_t n = 0;
+        for (size_t c = 0; c < *cell_count; c++)
+            if (vdbgi_map_find(&dropped, &cells[3 * c]) < 0)
+                memmove(&cells[3 * n++], &cells[3 * c], 3 * sizeof(int32_t));
+        *cell_count = n;
+    }
+    vdbgi_map_free(&columns);
+    vdbgi_map_free(&tops);
+    vdbgi_map_free(&dropped);
+    vdbgi_free(ctx, lowest);
+    return r;
+}
+
+/*
  * Slot 0 is an all-zero brick: an empty cell (indirection 0,0,0,0) reads
  * black from it. The compact layout's textures come from its file, as a
  * reader rebuilds them.
@@ -404,25 +471,27 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     cp.tolerance = eps * (float)info->mean_irradiance;
     memcpy(cp.fallback, v->mean_rgb, sizeof(cp.fallback));
 
-    int32_t *cells = NULL;
-    size_t cell_count = 0, brick_count = 0;
+    int32_t *cells = NULL, *top_only = NULL;
+    size_t cell_count = 0, brick_count = 0, top_count = 0;
     vdbgi_brick *bricks = NULL;
     vdbgi_fill_params fp = vdbgi_fill_params_default(
         probes->invalid_threshold, desc ? desc->fill : VDBGI_FILL_AUTO, cp.threads);
     fp.filter_below = cp.layout == VDBGI_LAYOUT_COMPACT ? 0 : 1; /* compact: no apron */
     fp.lift = cp.layout == VDBGI_LAYOUT_COMPACT;
     const vdbgi_fill_input in = {probes->count, probes->ijk, probes->rgb, probes->backface, 1};
-    vdbgi_result r =
-        vdbgi_field_fill(ctx, &in, &fp, &v->filled, &cells, &cell_count, &info->unreached_count);
+    vdbgi_result r = vdbgi_field_fill(ctx, &in, &fp, &v->filled, &cells, &cell_count, &top_only,
+                                      &top_count, &info->unreached_count);
     if (r != VDBGI_OK)
         goto fail;
     for (size_t li = 0; li < v->filled.leaf_count; li++)
         for (int w = 0; w < 8; w++)
             info->filled_count += (size_t)__builtin_popcountll(v->filled.leaves[li].mask[w]);
     if ((r = step_done(ctx, desc, 0.3f, &t, "fill")) != VDBGI_OK ||
-        (r = place_indirection(v, cells, cell_count, probes->spacing)) != VDBGI_OK ||
         (r = vdbgi_coarsen(ctx, &v->filled, probes, cells, cell_count, &cp, &bricks,
                            &brick_count)) != VDBGI_OK ||
+        (r = lift_bricks(ctx, bricks, &brick_count, cells, &cell_count, top_only, top_count)) !=
+            VDBGI_OK ||
+        (r = place_indirection(v, cells, cell_count, probes->spacing)) != VDBGI_OK ||
         (r = step_done(ctx, desc, 0.6f, &t, "pyramid and coarsening")) != VDBGI_OK ||
         (r = lay_out(v, bricks, brick_count, probes, cp.threads)) != VDBGI_OK ||
         (r = step_done(ctx, desc, 0.8f, &t, "sampling and encoding")) != VDBGI_OK ||
@@ -435,6 +504,7 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     report(desc, 1.0f);
 fail:
     vdbgi_free(ctx, cells);
+    vdbgi_free(ctx, top_only);
     vdbgi_free(ctx, bricks);
     if (r != VDBGI_OK) {
         vdbgi_volume_destroy(v);

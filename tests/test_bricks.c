@@ -691,6 +691,57 @@ static void the_cell_under_the_first_valid_plane_is_lifted(void)
     vdbgi_context_destroy(ctx);
 }
 
+/*
+ * The lift runs after coarsening: a coarse brick may cover the cell under the
+ * first valid plane, and then every position there reads, within eps, the
+ * filled field that its test checked, never values nobody filled. On a slab
+ * whose lower half (y < 12) is invalid, the first valid plane is the bottom
+ * face of cell 3, and level-1 blocks pair cell 2 (the one the lift would
+ * leave out) with cell 3.
+ */
+static void coarse_bricks_under_the_first_valid_plane_read_the_filled_field(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_probes *p = test_slab(ctx, 24, 24, 24, smooth);
+    for (size_t i = 0; i < p->count; i++)
+        if (p->ijk[3 * i + 1] < 12)
+            p->backface[i] = 1.0f;
+    const vdbgi_convert_desc d = {.eps = 0.2f,
+                                  .noise_sigmas = VDBGI_ZERO,
+                                  .encoding = VDBGI_ENCODING_RGB9E5,
+                                  .layout = VDBGI_LAYOUT_COMPACT};
+    vdbgi_volume *v = NULL;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
+    if (v) {
+        const vdbgi_volume_info *const vi = &v->info;
+        const float tolerance = 0.2f * (float)vi->mean_irradiance;
+        size_t coarse = 0, lifted = 0, wrong = 0;
+        for (int32_t z = 0; z < 24; z++)
+            for (int32_t x = 0; x < 24; x++)
+                for (int32_t y = 8; y < 12; y++) {
+                    const double q[3] = {x, y, z};
+                    float pos[3], got[3];
+                    world_of(p, q, pos);
+                    const int32_t ijk[3] = {x, y, z};
+                    const float *const want = vdbgi_field_at(&v->filled, ijk, NULL);
+                    if (no_brick(v, pos)) {
+                        lifted++;
+                        continue;
+                    }
+                    coarse++;
+                    vdbgi_volume_sample(v, pos, got);
+                    for (int k = 0; want && k < 3; k++)
+                        wrong += fabsf(got[k] - want[k]) > tolerance * 1.01f + want[k] / 256.0f;
+                    wrong += !want;
+                }
+        CHECK(coarse > 0 && wrong == 0);
+        (void)lifted;
+        vdbgi_volume_destroy(v);
+    }
+    vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+}
+
 static void round_trip(vdbgi_layout layout)
 {
     vdbgi_context *ctx = test_context();
@@ -986,6 +1037,7 @@ int main(void)
     RUN(only_cells_whose_filter_reads_a_valid_probe_get_bricks);
     RUN(columns_give_every_cell_its_indirection_texel);
     RUN(the_cell_under_the_first_valid_plane_is_lifted);
+    RUN(coarse_bricks_under_the_first_valid_plane_read_the_filled_field);
     RUN(files_round_trip_and_are_deterministic);
     RUN(damaged_files_are_refused);
     RUN(bad_parameters_and_probes_are_refused);

@@ -26,7 +26,7 @@ static vdbgi_result fill(vdbgi_context *ctx, const int32_t *ijk, const float *va
     vdbgi_fill_params fp =
         vdbgi_fill_params_default(0.25f, darkest ? VDBGI_FILL_DARKEST : VDBGI_FILL_MEAN, threads);
     const vdbgi_fill_input in = {count, ijk, values, backface, channels};
-    return vdbgi_field_fill(ctx, &in, &fp, field, cells, cell_count, unreached);
+    return vdbgi_field_fill(ctx, &in, &fp, field, cells, cell_count, NULL, NULL, unreached);
 }
 
 /* The cells a source's filter reaches: its own, and the next one where it sits within a
