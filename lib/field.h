@@ -99,7 +99,7 @@ typedef struct vdbgi_fill_input {
  * of neighbour a point, applied to every channel. Writes the field, the
  * occupied cells (3 int32 each, in tree order) into *cells_out, with
  * fp->lift and top_only_out not NULL those of them whose filter reads sources
- * only on their top face into *top_only_out (sorted alike), and the target
+ * only on their top face into *top_only_out (in no set order), and the target
  * points left without a value into *unreached. Fails with
  * VDBGI_ERR_FORMAT when no point is a source.
  */

@@ -499,7 +499,8 @@ vdbgi_result vdbgi_field_fill(vdbgi_context *ctx, const vdbgi_fill_input *in,
     }
     memcpy(out, cells.keys, cells.count * 3 * sizeof(int32_t));
     qsort(out, cells.count, 3 * sizeof(int32_t), compare_triples);
-    /* The cells whose filter reads sources only on their top face, sorted too. */
+    /* The cells whose filter reads sources only on their top face (the caller looks
+       them up, so their order is the map's). */
     size_t tops = 0;
     for (size_t c = 0; off_top && c < cells.count; c++)
         tops += !off_top[c];
@@ -512,7 +513,6 @@ vdbgi_result vdbgi_field_fill(vdbgi_context *ctx, const vdbgi_fill_input *in,
         for (size_t c = 0, t = 0; c < cells.count; c++)
             if (!off_top[c])
                 memcpy(&top_only[3 * t++], cells.keys[c], 3 * sizeof(int32_t));
-        qsort(top_only, tops, 3 * sizeof(int32_t), compare_triples);
     }
     if ((r = export_field(&g, field)) != VDBGI_OK)
         goto done;

@@ -59,11 +59,16 @@ static void sample_linear(const vdbgi_volume_view *v, const float uvw[3], float 
     }
 }
 
+/* Indirection texel (x, y, z), x fastest. */
+static const uint8_t *ind_texel(const vdbgi_volume_view *v, int x, int y, int z)
+{
+    return &v->indirection[4 *
+                           (((size_t)z * v->ind_dims[1] + (size_t)y) * v->ind_dims[0] + (size_t)x)];
+}
+
 static bool empty_cell(const vdbgi_volume_view *v, int x, int y, int z)
 {
-    const uint8_t *const t =
-        &v->indirection[4 *
-                        (((size_t)z * v->ind_dims[1] + (size_t)y) * v->ind_dims[0] + (size_t)x)];
+    const uint8_t *const t = ind_texel(v, x, y, z);
     return !(t[0] | t[1] | t[2] | t[3]);
 }
 
@@ -106,10 +111,9 @@ void vdbgi_sampler_sample(const vdbgi_volume_view *v, const float pos[3], float 
             it[1] = ymin;
         }
     }
-    const size_t ii =
-        ((size_t)it[2] * v->ind_dims[1] + (size_t)it[1]) * v->ind_dims[0] + (size_t)it[0];
+    const uint8_t *const texel = ind_texel(v, it[0], it[1], it[2]);
     for (int k = 0; k < 4; k++)
-        ind[k] = (float)v->indirection[4 * ii + k] / 255.0f;
+        ind[k] = (float)texel[k] / 255.0f;
     /*
      * Seed: level = ind.a * 255 - 1 (max 0), slot = ind.rgb * 255. Compact:
      * a holds the level in bits 0-1 and each axis's texel mod 4 above; the

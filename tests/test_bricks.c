@@ -506,20 +506,26 @@ static bool reads_black(const vdbgi_volume *v, const float pos[3])
     return got[0] == 0.0f && got[1] == 0.0f && got[2] == 0.0f;
 }
 
-/* Whether the level-0 cell holding pos has no brick. */
-static bool no_brick(const vdbgi_volume *v, const float pos[3])
+/* The indirection texel of the level-0 cell holding pos, or NULL outside the box. */
+static const uint8_t *cell_texel(const vdbgi_volume *v, const float pos[3])
 {
     const vdbgi_volume_info *const vi = &v->info;
     size_t i = 0;
     for (int k = 2; k >= 0; k--) {
         const float u = (pos[k] - vi->box_min[k]) / (vi->box_max[k] - vi->box_min[k]);
-        const uint32_t c = (uint32_t)floorf(u * (float)vi->indirection_dims[k]);
-        if (c >= vi->indirection_dims[k])
-            return true;
-        i = i * vi->indirection_dims[k] + c;
+        const float c = floorf(u * (float)vi->indirection_dims[k]);
+        if (!(c >= 0.0f && c < (float)vi->indirection_dims[k]))
+            return NULL;
+        i = i * vi->indirection_dims[k] + (size_t)c;
     }
-    const uint8_t *const t = &v->indirection[4 * i];
-    return !(t[0] | t[1] | t[2] | t[3]);
+    return &v->indirection[4 * i];
+}
+
+/* Whether the level-0 cell holding pos has no brick (outside the box: none). */
+static bool no_brick(const vdbgi_volume *v, const float pos[3])
+{
+    const uint8_t *const t = cell_texel(v, pos);
+    return !t || !(t[0] | t[1] | t[2] | t[3]);
 }
 
 /*
@@ -653,8 +659,6 @@ static void the_cell_under_the_first_valid_plane_is_lifted(void)
     vdbgi_probes *p = floor_and_box(ctx, lo, hi, &pd, 64, &s);
     vdbgi_volume *const v = p ? level0_volume(ctx, p, VDBGI_LAYOUT_COMPACT) : NULL;
     if (v) {
-        vdbgi_volume_info vi;
-        vdbgi_volume_get_info(v, &vi);
         size_t tried = 0, same = 0, empty = 0, lit = 0;
         for (float x = -6.9f; x < 7.0f; x += 0.37f)
             for (float z = -6.9f; z < 7.0f; z += 0.41f) {
@@ -669,18 +673,10 @@ static void the_cell_under_the_first_valid_plane_is_lifted(void)
                 same +=
                     memcmp(want, got, sizeof(got)) == 0 && memcmp(want, deep, sizeof(deep)) == 0;
                 lit += want[0] > 0.01f;
-                /* The cell that holds y = -0.25 m, one below the plane's. */
-                uint32_t c[3];
-                for (int k = 0; k < 3; k++) {
-                    const float at = k == 0 ? x : k == 1 ? -0.25f : z;
-                    c[k] = (uint32_t)floorf((at - vi.box_min[k]) / (vi.box_max[k] - vi.box_min[k]) *
-                                            (float)vi.indirection_dims[k]);
-                }
-                const uint8_t *const t =
-                    &v->indirection[4 * (((size_t)c[2] * vi.indirection_dims[1] + c[1]) *
-                                             vi.indirection_dims[0] +
-                                         c[0])];
-                empty += c[1] < vi.indirection_dims[1] && !(t[0] | t[1] | t[2] | t[3]);
+                /* The cell that holds y = -0.25 m, one below the plane's: in the box, empty. */
+                const float below[3] = {x, -0.25f, z};
+                const uint8_t *const t = cell_texel(v, below);
+                empty += t && !(t[0] | t[1] | t[2] | t[3]);
                 tried++;
             }
         CHECK(tried > 500 && same == tried && lit == tried && empty == tried);
