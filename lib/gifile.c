@@ -19,12 +19,12 @@ static void write_header(const vdbgi_volume_info *in, bool packed, uint8_t h[VDB
     memset(h, 0, VDBGI_GI_HEADER_SIZE);
     memcpy(h, gi_magic, 8);
     /*
-     * Seed-layout files stay version 1, byte for byte; the compact layout is
-     * version 4 packed, version 2 as textures, its layout field 3 (2 before
-     * the lift, docs/format.md).
+     * Seed-layout files stay version 1, byte for byte (their layout field is
+     * reserved, 0); the compact layout is version 5 packed, version 2 as
+     * textures.
      */
     const bool compact = in->layout == VDBGI_LAYOUT_COMPACT;
-    vdbgi_put_u32(h + 8, compact ? (packed ? 4 : 2) : 1);
+    vdbgi_put_u32(h + 8, compact ? (packed ? 5 : 2) : 1);
     vdbgi_put_u32(h + 12, VDBGI_GI_HEADER_SIZE);
     vdbgi_put_u32(h + 16, (uint32_t)in->encoding);
     vdbgi_put_f32(h + 20, in->rgbm_range);
@@ -40,7 +40,7 @@ static void write_header(const vdbgi_volume_info *in, bool packed, uint8_t h[VDB
         vdbgi_put_u32(h + 80 + 4 * l, in->bricks[l]);
     vdbgi_put_u32(h + 96, (uint32_t)in->indirection_size);
     vdbgi_put_u32(h + 100, (uint32_t)in->atlas_size);
-    vdbgi_put_u32(h + 104, compact ? VDBGI_GI_LAYOUT_COMPACT : 0);
+    vdbgi_put_u32(h + 104, compact ? VDBGI_LAYOUT_COMPACT : 0);
     if (packed)
         vdbgi_put_u32(h + 108, (uint32_t)in->stored_points);
 }
@@ -166,18 +166,21 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
                   "%s: .gi version %u, this reader knows 1..%d", path, version, VDBGI_GI_VERSION);
     /*
      * Version 1 is the seed layout (its field is reserved, 0); version 2 says
-     * which; version 4 is the packed compact layout. Version 3 and layout 1
-     * were the compact layout in 5^3 slots, before bricks shared borders.
+     * which; version 5 is the packed compact layout. Versions 3 and 4 were
+     * older compact forms: in 5^3 slots, and packed with placement left to
+     * the reader.
      */
-    const uint32_t layout = vdbgi_get_u32(h + 104);
-    VDBGI_FAIL_IF(ctx, version == 3 || (version == 2 && layout == 1), VDBGI_ERR_FORMAT,
-                  "%s: an older vdbgi's compact layout (5^3 slots): convert the .vdb again", path);
-    const bool compact = layout == VDBGI_GI_LAYOUT_COMPACT || layout == VDBGI_GI_LAYOUT_COMPACT_2;
+    VDBGI_FAIL_IF(ctx, version == 3 || version == 4, VDBGI_ERR_FORMAT,
+                  "%s: an older vdbgi's compact layout (.gi version %u): convert the .vdb again",
+                  path, version);
+    const uint32_t field = vdbgi_get_u32(h + 104);
+    const bool compact = field == VDBGI_LAYOUT_COMPACT || field == VDBGI_GI_LAYOUT_COMPACT_OLD;
+    const bool seed = field == VDBGI_LAYOUT_SEED || field == VDBGI_GI_LAYOUT_SEED_OLD;
     VDBGI_FAIL_IF(ctx,
-                  version == 1   ? layout != 0
-                  : version == 4 ? !compact
-                                 : layout != 0 && !compact,
-                  VDBGI_ERR_FORMAT, "%s: unknown brick layout %u for version %u", path, layout,
+                  version == 1   ? field != 0
+                  : version == 5 ? field != VDBGI_LAYOUT_COMPACT
+                                 : !compact && !seed,
+                  VDBGI_ERR_FORMAT, "%s: unknown brick layout %u for version %u", path, field,
                   version);
     *header_size = vdbgi_get_u32(h + 12);
     VDBGI_FAIL_IF(ctx, *header_size < VDBGI_GI_HEADER_SIZE || *header_size > 65536,
@@ -186,11 +189,11 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
     const uint32_t enc = vdbgi_get_u32(h + 16);
     VDBGI_FAIL_IF(ctx, enc > 1, VDBGI_ERR_FORMAT, "%s: unknown encoding %u", path, enc);
     info->encoding = (vdbgi_encoding)enc;
-    info->layout = layout ? VDBGI_LAYOUT_COMPACT : VDBGI_LAYOUT_SEED;
+    info->layout = compact ? VDBGI_LAYOUT_COMPACT : VDBGI_LAYOUT_SEED;
     /* The seed layout's atlas is whole 6^3 slots, 256 an axis; the compact one's texels are free. */
-    const uint32_t b = layout ? 1 : VDBGI_BRICK_PADDED,
-                   lo = layout ? VDBGI_BRICK_COMPACT : VDBGI_BRICK_PADDED,
-                   hi = layout ? VDBGI_ATLAS_MAX : 256 * VDBGI_BRICK_PADDED;
+    const uint32_t b = compact ? 1 : VDBGI_BRICK_PADDED,
+                   lo = compact ? VDBGI_BRICK_COMPACT : VDBGI_BRICK_PADDED,
+                   hi = compact ? VDBGI_ATLAS_MAX : 256 * VDBGI_BRICK_PADDED;
     info->rgbm_range = vdbgi_get_f32(h + 20);
     VDBGI_FAIL_IF(ctx, !(info->rgbm_range > 0.0f) || !isfinite(info->rgbm_range), VDBGI_ERR_FORMAT,
                   "%s: bad RGBM range", path);
@@ -224,10 +227,11 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
     info->atlas_size = vdbgi_get_u32(h + 100);
     VDBGI_FAIL_IF(ctx, info->indirection_size != ind || info->atlas_size != atlas, VDBGI_ERR_FORMAT,
                   "%s: texture sizes disagree with their dimensions", path);
-    VDBGI_FAIL_IF(ctx, version < 4 && vdbgi_get_u32(h + 108) != 0, VDBGI_ERR_FORMAT,
+    VDBGI_FAIL_IF(ctx, version < 5 && vdbgi_get_u32(h + 108) != 0, VDBGI_ERR_FORMAT,
                   "%s: reserved header field is not 0", path);
-    /* Version 4 stores the level bytes and the points instead of the textures. */
-    info->stored_points = version == 4 ? vdbgi_get_u32(h + 108) : 0;
+    /* Version 5 stores the level bytes, the placement and the points instead of the textures. */
+    const bool packed = version == 5;
+    info->stored_points = packed ? vdbgi_get_u32(h + 108) : 0;
     /*
      * Every brick stores inner points no other brick reads and no stitching
      * touches: 27 at levels 0 and 1, at least 8 at level 2 and 1 at level 3
@@ -236,31 +240,36 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
      */
     const uint64_t least = 27 * ((uint64_t)info->bricks[0] + info->bricks[1]) +
                            8 * (uint64_t)info->bricks[2] + info->bricks[3];
-    VDBGI_FAIL_IF(ctx, version == 4 && least > info->stored_points, VDBGI_ERR_FORMAT,
+    VDBGI_FAIL_IF(ctx, packed && least > info->stored_points, VDBGI_ERR_FORMAT,
                   "%s: the header's bricks need at least %llu stored points, it has %zu", path,
                   (unsigned long long)least, info->stored_points);
-    *stored_size = version == 4 ? ind / 4 + 4 * (uint64_t)info->stored_points : ind + atlas;
+    *stored_size = packed ? ind / 4 + VDBGI_PLACEMENT_BYTES * (uint64_t)info->brick_count +
+                                4 * (uint64_t)info->stored_points
+                          : ind + atlas;
     return VDBGI_OK;
 }
 
 /*
- * A version 4 file's textures, rebuilt from its payload: refused unless the
- * bricks its level bytes describe are the ones its header counts.
+ * A version 5 file's textures, rebuilt from its payload: refused unless the
+ * bricks its level bytes describe are the ones its header counts, each in
+ * its place.
  */
 static vdbgi_result unpack(vdbgi_context *ctx, const char *path, vdbgi_volume *v,
                            const uint8_t *payload)
 {
     const vdbgi_volume_info header = v->info;
     vdbgi_pack_plan pl;
-    VDBGI_TRY(vdbgi_pack_plan_make(v, payload, &header, path, vdbgi_core_count(), &pl));
+    const size_t cells = header.indirection_size / 4;
+    VDBGI_TRY(
+        vdbgi_pack_plan_make(v, payload, payload + cells, &header, path, vdbgi_core_count(), &pl));
     vdbgi_result r = VDBGI_OK;
     if (pl.points != header.stored_points)
         r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
                        "%s: the bricks read %zu points, the header says %zu are stored", path,
                        pl.points, header.stored_points);
     else
-        r = vdbgi_pack_rebuild(v, &pl, payload + header.indirection_size / 4, vdbgi_core_count(),
-                               &v->info.clamped_count);
+        r = vdbgi_pack_rebuild(v, &pl, payload + cells + VDBGI_PLACEMENT_BYTES * pl.brick_count,
+                               vdbgi_core_count(), &v->info.clamped_count);
     vdbgi_pack_plan_free(ctx, &pl);
     return r;
 }
@@ -344,20 +353,17 @@ static bool gunzip_prefix(const uint8_t *in, size_t in_size, uint8_t *out, size_
 }
 
 /*
- * Read a .gi or .gi.gz. Every size comes from the header and is checked
- * before anything is allocated for it: against its dimensions, then against
- * what the file can hold (its size, times deflate's largest ratio). The gzip
- * stream must decompress to exactly the header's size with its CRC and length
- * right, and nothing may follow it.
+ * Read a .gi or .gi.gz held in memory. Every size comes from the header and
+ * is checked before anything is allocated for it: against its dimensions,
+ * then against what the bytes can hold (their count, times deflate's largest
+ * ratio). The gzip stream must decompress to exactly the header's size with
+ * its CRC and length right, and nothing may follow it. Messages start with
+ * name.
  */
-vdbgi_result vdbgi_volume_read(vdbgi_context *ctx, const char *path, vdbgi_volume **out)
+static vdbgi_result read_bytes(vdbgi_context *ctx, const char *path, const uint8_t *file,
+                               size_t file_size, vdbgi_volume **out)
 {
-    VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
-    *out = NULL;
-    VDBGI_TRY(vdbgi_input_check(ctx, path));
-    uint8_t *file = NULL, *raw = NULL;
-    size_t file_size = 0;
-    VDBGI_TRY(read_file(ctx, path, &file, &file_size));
+    uint8_t *raw = NULL;
     const bool gz = file_size >= 18 && file[0] == 0x1f && file[1] == 0x8b;
     uint8_t h[VDBGI_GI_HEADER_SIZE];
     vdbgi_volume_info info;
@@ -419,7 +425,7 @@ vdbgi_result vdbgi_volume_read(vdbgi_context *ctx, const char *path, vdbgi_volum
     v->ctx = ctx;
     v->info = info;
     v->info.file_size = file_size;
-    if (vdbgi_get_u32(h + 8) == 4) {
+    if (vdbgi_get_u32(h + 8) == 5) {
         r = unpack(ctx, path, v, raw + header_size);
         goto done;
     }
@@ -429,7 +435,6 @@ vdbgi_result vdbgi_volume_read(vdbgi_context *ctx, const char *path, vdbgi_volum
     raw = NULL;
     r = check_indirection(ctx, path, v);
 done:
-    vdbgi_free(ctx, file);
     vdbgi_free(ctx, raw);
     if (r != VDBGI_OK) {
         vdbgi_volume_destroy(v);
@@ -437,4 +442,35 @@ done:
     }
     *out = v;
     return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_volume_read(vdbgi_context *ctx, const char *path, vdbgi_volume **out)
+{
+    VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
+    *out = NULL;
+    VDBGI_TRY(vdbgi_input_check(ctx, path));
+    uint8_t *file = NULL;
+    size_t file_size = 0;
+    VDBGI_TRY(read_file(ctx, path, &file, &file_size));
+    const vdbgi_result r = read_bytes(ctx, path, file, file_size, out);
+    vdbgi_free(ctx, file);
+    return r;
+}
+
+vdbgi_result vdbgi_volume_read_memory(vdbgi_context *ctx, const void *data, size_t size,
+                                      const char *name, vdbgi_volume **out)
+{
+    VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
+    *out = NULL;
+    VDBGI_FAIL_IF(ctx, !data && size, VDBGI_ERR_INVALID_ARG, "no bytes given");
+    return read_bytes(ctx, name ? name : "memory", data, size, out);
+}
+
+size_t vdbgi_volume_write_memory(const vdbgi_volume *v, void *buffer, size_t capacity)
+{
+    if (!v->file || (buffer && capacity < v->info.file_size))
+        return 0;
+    if (buffer)
+        memcpy(buffer, v->file, v->info.file_size);
+    return v->info.file_size;
 }

@@ -6,21 +6,24 @@
 
 #define VDBGI_GI_HEADER_SIZE 112
 /*
- * The newest version read: 1 is the seed layout, 2 adds the layout field, 4
- * stores the compact layout packed (docs/format.md); 3 was an older compact
- * layout, refused.
+ * The versions (docs/format.md has the table): 1 the seed layout's textures,
+ * 2 either layout's textures, 5 the compact layout packed with its bricks'
+ * places. 3 and 4 were older compact forms, refused.
  */
-#define VDBGI_GI_VERSION 4
+#define VDBGI_GI_VERSION 5
 /*
- * The layout field's values for the compact layout: 3 is written, where the
- * lookup must read a column's lowest brick below it (docs/format.md), so that
- * a reader without that rule refuses the file; 2, written before the rule, is
- * read alike (its columns still start with the bricks the rule leaves out, and
- * only what positions below them read changes, from black to their bottom
- * plane); 1 was an older form, refused.
+ * The layout field holds vdbgi_layout's numbers (1 seed, 2 compact). Two
+ * older values are still read in version 2: 0 for the seed layout, and 3 for
+ * the compact one (written while 2 meant the compact layout before the lift,
+ * which is read alike: only what positions below a column's lowest brick
+ * read differs).
  */
-#define VDBGI_GI_LAYOUT_COMPACT 3
-#define VDBGI_GI_LAYOUT_COMPACT_2 2
+#define VDBGI_GI_LAYOUT_SEED_OLD 0
+#define VDBGI_GI_LAYOUT_COMPACT_OLD 3
+/* Version 5: each brick's first atlas texel, three u16 a brick. */
+#define VDBGI_PLACEMENT_BYTES 6
+/* Version 5: the most atlas texels a brick may bring (a brick is 125; a file's atlas is bounded). */
+#define VDBGI_ATLAS_TEXELS_PER_BRICK 500
 /* The compact atlas's largest side: a brick's first texel is 4 r + (a's two bits) <= 1023. */
 #define VDBGI_ATLAS_MAX 1024
 

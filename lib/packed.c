@@ -1,10 +1,11 @@
 /*
- * packed.c: the compact layout's file, version 4 (docs/format.md, "Version
- * 4"), and where its bricks go in the atlas. The runtime atlas repeats a
+ * packed.c: the compact layout's file, version 5 (docs/format.md, "Version
+ * 5"), and where the converter puts its bricks in the atlas. The runtime atlas repeats a
  * brick's border plane wherever its neighbour lies elsewhere, and holds
- * stitched values any reader can recompute; the file keeps neither. It stores one level byte a cell, then each lattice
- * point some brick reads unstitched, once, in owner-cell order, as four
- * planes of residuals against the point's -x (else -y, else -z) neighbour.
+ * stitched values any reader can recompute; the file keeps neither. It
+ * stores one level byte a cell, each brick's first atlas texel, then each
+ * lattice point some brick reads unstitched, once, in owner-cell order, as
+ * four planes of residuals against a prediction from its neighbours.
  * The converter builds its own textures through the reader's code, so what
  * it measures is what a reader gets.
  */
@@ -265,7 +266,7 @@ static void mark_indirection(vdbgi_volume *v, const vdbgi_pack_plan *pl, size_t 
  * Same-level neighbours along x and z go into one slab, (4 kx + 1) x 5 x
  * (4 kz + 1) texels for kx x kz bricks: a brick's + border is its
  * neighbour's first plane, stored once. Slabs are packed into layers 5
- * texels tall, each a skyline over x (docs/format.md, "Version 4"): within
+ * texels tall, each a skyline over x (vdb-to-gi's choice; the file records it): within
  * 2-3 % of their own texels on the worlds of docs/converter.md.
  */
 enum { SLAB_MAX = 8, ATLAS_MAX = 1024, LAYERS_MAX = ATLAS_MAX / N };
@@ -444,6 +445,15 @@ static vdbgi_result place_bricks(vdbgi_context *ctx, vdbgi_pack_plan *pl, uint32
                        count, ATLAS_MAX);
         goto done;
     }
+    /* The reader's bound on the atlas (read_placement): never met by this packer, but kept. */
+    if ((uint64_t)dims[0] * dims[1] * dims[2] >
+        VDBGI_ATLAS_TEXELS_PER_BRICK * ((uint64_t)count + 1)) {
+        r = vdbgi_fail(ctx, VDBGI_ERR_BACKEND,
+                       "%zu bricks packed into a %ux%ux%u atlas, past the "
+                       "format's %d texels a brick",
+                       count, dims[0], dims[1], dims[2], VDBGI_ATLAS_TEXELS_PER_BRICK);
+        goto done;
+    }
     for (size_t i = 0; i < n; i++) {
         const slab *const s = &slabs[i];
         for (int j = 0; j < (s->d - 1) / 4; j++)
@@ -458,6 +468,74 @@ done:
     vdbgi_free(ctx, taken);
     vdbgi_free(ctx, slabs);
     vdbgi_free(ctx, h);
+    return r;
+}
+
+/* ---- a reader's placement: the file's table, checked ---------------------------------------- */
+
+/*
+ * Each brick's first texel from the file's table (three arrays of u16: x of
+ * every brick, then y, then z). A brick lies inside the atlas, in a layer
+ * (its y a multiple of 5), and the atlas holds no more texels than
+ * VDBGI_ATLAS_TEXELS_PER_BRICK per brick: the bound that keeps a small file
+ * from asking for a large atlas.
+ */
+static vdbgi_result read_placement(vdbgi_context *ctx, vdbgi_pack_plan *pl, const uint8_t *table,
+                                   const uint32_t dims[3], const char *name)
+{
+    const size_t n = pl->brick_count;
+    const uint64_t texels = (uint64_t)dims[0] * dims[1] * dims[2];
+    VDBGI_FAIL_IF(ctx, texels > VDBGI_ATLAS_TEXELS_PER_BRICK * ((uint64_t)n + 1), VDBGI_ERR_FORMAT,
+                  "%s: a %ux%ux%u atlas for %zu bricks (at most %d texels a brick)", name, dims[0],
+                  dims[1], dims[2], n, VDBGI_ATLAS_TEXELS_PER_BRICK);
+    for (size_t b = 0; b < n; b++) {
+        for (int k = 0; k < 3; k++)
+            pl->origin[b][k] = (uint16_t)vdbgi_get_u16(table + 2 * (k * n + b));
+        const uint16_t *const o = pl->origin[b];
+        VDBGI_FAIL_IF(ctx,
+                      o[0] + N > (int64_t)dims[0] || o[1] + N > (int64_t)dims[1] ||
+                          o[2] + N > (int64_t)dims[2] || o[1] % N,
+                      VDBGI_ERR_FORMAT,
+                      "%s: brick %zu at texel %u,%u,%u is not in a layer of the %ux%ux%u atlas",
+                      name, b, o[0], o[1], o[2], dims[0], dims[1], dims[2]);
+    }
+    return VDBGI_OK;
+}
+
+/*
+ * Two bricks may share texels only where they hold the same lattice points:
+ * both of one level, at the same offset from their block index (origin - 4
+ * key). None covers the block of zeros that empty cells read. The first
+ * brick to claim each texel is kept in a map the size of the atlas.
+ */
+static vdbgi_result check_overlaps(vdbgi_context *ctx, const vdbgi_pack_plan *pl,
+                                   const uint32_t dims[3], const char *name)
+{
+    const size_t texels = (size_t)dims[0] * dims[1] * dims[2];
+    uint32_t *const owner = vdbgi_calloc(ctx, texels, sizeof(*owner));
+    if (!owner)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    for (int t = 0; t < TEXELS; t++)
+        owner[((size_t)(t / (N * N)) * dims[1] + t / N % N) * dims[0] + t % N] = UINT32_MAX;
+    vdbgi_result r = VDBGI_OK;
+    for (size_t b = 0; b < pl->brick_count && r == VDBGI_OK; b++) {
+        const uint16_t *const o = pl->origin[b];
+        for (int t = 0; t < TEXELS && r == VDBGI_OK; t++) {
+            const size_t i = ((size_t)(o[2] + t / (N * N)) * dims[1] + o[1] + t / N % N) * dims[0] +
+                             o[0] + t % N;
+            const uint32_t j = owner[i] ? owner[i] - 1 : (uint32_t)b;
+            bool same = j != UINT32_MAX - 1 && pl->level[j] == pl->level[b];
+            for (int k = 0; k < 3 && same; k++)
+                same = pl->origin[j][k] - 4 * pl->key[j][k] == o[k] - 4 * pl->key[b][k];
+            if (!same)
+                r = vdbgi_fail(
+                    ctx, VDBGI_ERR_FORMAT, "%s: brick %zu overlaps %s at texel %u,%u,%u", name, b,
+                    j == UINT32_MAX - 1 ? "the block of zeros" : "another brick's points",
+                    o[0] + t % N, o[1] + t / N % N, o[2] + t / (N * N));
+            owner[i] = owner[i] ? owner[i] : (uint32_t)b + 1;
+        }
+    }
+    vdbgi_free(ctx, owner);
     return r;
 }
 
@@ -490,7 +568,7 @@ static void *points_worker(void *arg)
     return NULL;
 }
 
-vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels,
+vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels, const uint8_t *placement,
                                   const vdbgi_volume_info *expect, const char *name, int threads,
                                   vdbgi_pack_plan *pl)
 {
@@ -542,16 +620,13 @@ vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels,
                     pl->cell_brick[cell_index(pl->dims, c)] = (int32_t)b;
                 }
     }
-    vdbgi_result r = place_bricks(ctx, pl, info->atlas_dims);
-    if (r == VDBGI_OK && expect &&
-        memcmp(expect->atlas_dims, info->atlas_dims, sizeof(info->atlas_dims)) != 0)
-        r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
-                       "%s: the bricks pack into a %ux%ux%u atlas, the header says %ux%ux%u", name,
-                       info->atlas_dims[0], info->atlas_dims[1], info->atlas_dims[2],
-                       expect->atlas_dims[0], expect->atlas_dims[1], expect->atlas_dims[2]);
+    vdbgi_result r = placement ? read_placement(ctx, pl, placement, info->atlas_dims, name)
+                               : place_bricks(ctx, pl, info->atlas_dims);
     info->atlas_size = 4 * (size_t)info->atlas_dims[0] * info->atlas_dims[1] * info->atlas_dims[2];
     if (r == VDBGI_OK)
         r = vdbgi_gifile_alloc(v);
+    if (r == VDBGI_OK && placement)
+        r = check_overlaps(ctx, pl, info->atlas_dims, name);
     if (r != VDBGI_OK) {
         vdbgi_pack_plan_free(ctx, pl);
         return r;
@@ -712,7 +787,7 @@ static vdbgi_result rebuild(vdbgi_volume *v, const vdbgi_pack_plan *pl, const ui
 }
 
 /*
- * The predictor (docs/format.md, "Version 4"). Its neighbours: the stored
+ * The predictor (docs/format.md, "Version 5"). Its neighbours: the stored
  * points at p - x, p - y, p - x - y and p - z, or -1.
  */
 static void neighbours(const vdbgi_pack_plan *pl, const int32_t p[3], int64_t n[4])
@@ -1024,7 +1099,7 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
     vdbgi_pack_plan pl;
     uint8_t *values = NULL, *coarse_read = NULL, *out = NULL;
     uint64_t *valid = NULL, *near = NULL;
-    vdbgi_result r = vdbgi_pack_plan_make(v, levels, NULL, "converter", threads, &pl);
+    vdbgi_result r = vdbgi_pack_plan_make(v, levels, NULL, NULL, "converter", threads, &pl);
     if (r != VDBGI_OK) {
         vdbgi_free(ctx, levels);
         return r;
@@ -1032,7 +1107,8 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
     const size_t n = pl.points;
     values = vdbgi_calloc(ctx, 4 * (n ? n : 1), 1);
     coarse_read = vdbgi_calloc(ctx, n ? n : 1, 1); /* 1: a coarse brick reads the point */
-    out = vdbgi_alloc(ctx, cells + 4 * n);
+    const size_t table = VDBGI_PLACEMENT_BYTES * count;
+    out = vdbgi_alloc(ctx, cells + table + 4 * n);
     valid = valid_bits(v, &pl, probes);
     const size_t grid_cells = (size_t)pl.grid[0] * pl.grid[1] * pl.grid[2];
     near = vdbgi_alloc(ctx, grid_cells * sizeof(*near));
@@ -1041,8 +1117,12 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
         goto done;
     }
     band_job jobs[MAX_JOBS];
-    const band_job proto = {
-        .v = v, .pl = &pl, .bricks = bricks, .count = count, .values = values, .out = out + cells};
+    const band_job proto = {.v = v,
+                            .pl = &pl,
+                            .bricks = bricks,
+                            .count = count,
+                            .values = values,
+                            .out = out + cells + table};
     const int bands = split_bands(&pl, threads, jobs, &proto);
     vdbgi_run_threads(bands, values_worker, jobs, sizeof(jobs[0]));
     size_t clamped = 0;
@@ -1071,6 +1151,9 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
     grow(&pl, near, valid, 1);
     grow(&pl, valid, near, 2);
     memcpy(out, levels, cells);
+    for (size_t b = 0; b < count; b++)
+        for (int k = 0; k < 3; k++)
+            vdbgi_put_u16(out + cells + 2 * (k * count + b), pl.origin[b][k]);
     const bool rgbm = v->info.encoding == VDBGI_ENCODING_RGBM;
     size_t unread = 0;
     FOR_EACH_POINT(&pl, p, i, {
@@ -1096,7 +1179,7 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
     v->info.clamped_count += clamped + stitched_clamps;
     v->info.stored_points = n;
     *payload = out;
-    *payload_size = cells + 4 * n;
+    *payload_size = cells + table + 4 * n;
     out = NULL;
 done:
     vdbgi_pack_plan_free(ctx, &pl);

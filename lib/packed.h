@@ -1,5 +1,5 @@
 /*
- * packed.h: the compact layout's file (.gi version 4, docs/format.md): each
+ * packed.h: the compact layout's file (.gi version 5, docs/format.md): each
  * kept brick's level in one byte a cell, and every probe value the bricks
  * read stored once; the runtime textures (placement, borders, stitched seams)
  * rebuilt from them, by the converter and the reader alike.
@@ -33,16 +33,19 @@ typedef struct vdbgi_pack_plan {
 
 /*
  * From one level byte a cell (level + 1, or 0 for an empty cell; x fastest):
- * the bricks, their places in the atlas (slabs of same-level neighbours
- * sharing their borders, packed in layers), v's indirection, v->info's atlas
- * size and brick counts, v->raw allocated, and the stored points. A level array no
- * converter writes (a level above max_level, a coarse block whose cells
- * disagree, more bricks than an atlas holds, or with expect, a reader's
+ * the bricks, their places in the atlas, v's indirection, v->info's brick
+ * counts, v->raw allocated, and the stored points. The places are a file's
+ * placement table (VDBGI_PLACEMENT_BYTES a brick, into v->info's atlas
+ * size) or, with placement NULL, the converter's choice: slabs of same-level
+ * neighbours sharing their borders, packed in layers, which sets the atlas
+ * size. A level array or table no converter writes (a level above
+ * max_level, a coarse block whose cells disagree, with expect, a reader's
  * header, other bricks than it counts: refused before anything is
- * allocated) is VDBGI_ERR_FORMAT, with what is wrong after `name: `. The
- * stored points are found on `threads` threads; the plan is the same for any.
+ * allocated; a brick outside the atlas or overlapping another's points) is
+ * VDBGI_ERR_FORMAT, with what is wrong after `name: `. The stored points are
+ * found on `threads` threads; the plan is the same for any.
  */
-vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels,
+vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels, const uint8_t *placement,
                                   const vdbgi_volume_info *expect, const char *name, int threads,
                                   vdbgi_pack_plan *plan);
 void vdbgi_pack_plan_free(vdbgi_context *ctx, vdbgi_pack_plan *plan);
@@ -52,7 +55,8 @@ void vdbgi_pack_plan_free(vdbgi_context *ctx, vdbgi_pack_plan *plan);
  * sampled from v->filled, each stored point encoded once, and a point no
  * receiver can read (no valid probe within one step, and read by level-0
  * bricks only) given the value the decoder predicts, which costs the file
- * almost nothing. Writes the payload (levels, then four planes of residuals)
+ * almost nothing. Writes the payload (levels, the placement table, then
+ * four planes of residuals)
  * into *payload (payload_size bytes, the caller frees it) and builds v's
  * textures from it exactly as vdbgi_pack_rebuild does for a reader.
  */

@@ -81,6 +81,13 @@ static int column_bottom(const vdbgi_volume_view *v, int x, int z)
     return -1;
 }
 
+int vdbgi_cell_level(const vdbgi_volume_view *v, const uint8_t texel[4])
+{
+    if (v->layout == 2)
+        return texel[0] | texel[1] | texel[2] | texel[3] ? texel[3] & 3 : -1;
+    return (int)texel[3] - 1;
+}
+
 void vdbgi_sampler_sample(const vdbgi_volume_view *v, const float pos[3], float rgb[3])
 {
     float p[3], base[3], ind[4];
@@ -97,7 +104,7 @@ void vdbgi_sampler_sample(const vdbgi_volume_view *v, const float pos[3], float 
         const float u = (base[k] + 0.5f) / (float)v->ind_dims[k];
         it[k] = clampi((int)floorf(u * (float)v->ind_dims[k]), 0, (int)v->ind_dims[k] - 1);
     }
-    const bool compact = v->layout == 1;
+    const bool compact = v->layout == 2;
     /*
      * Compact: below its column's lowest brick a position reads that brick, at
      * its bottom plane (q.y clamped below): the runtime's columns give the run's

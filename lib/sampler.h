@@ -7,7 +7,7 @@
 /* The two textures and the uniforms the shader is given. */
 typedef struct vdbgi_volume_view {
     uint32_t encoding; /* 0 RGBM (rgba8), 1 RGB9E5 (uint32 little-endian) */
-    uint32_t layout;   /* 0 seed 000's 6^3 slots, 1 compact (5^3 bricks sharing borders) */
+    uint32_t layout;   /* vdbgi_layout's: 1 seed 000's 6^3 slots, 2 compact (5^3 bricks) */
     float rgbm_range;
     float box_min[3], box_max[3];
     uint32_t ind_dims[3]; /* rgba8 texels, x fastest */
@@ -24,9 +24,16 @@ typedef struct vdbgi_volume_view {
 /* Texels per brick edge in an atlas slot of the given layout. */
 static inline int vdbgi_slot_texels(uint32_t layout)
 {
-    return layout == 1 ? VDBGI_BRICK_COMPACT : VDBGI_BRICK_PADDED;
+    return layout == 2 ? VDBGI_BRICK_COMPACT : VDBGI_BRICK_PADDED;
 }
 
 void vdbgi_sampler_sample(const vdbgi_volume_view *v, const float pos[3], float rgb[3]);
+
+/*
+ * The level of the brick an indirection texel points at, or -1 where the
+ * cell has none: seed, a = level + 1 (0 empty); compact, a & 3 unless the
+ * texel is 0, 0, 0, 0.
+ */
+int vdbgi_cell_level(const vdbgi_volume_view *v, const uint8_t texel[4]);
 
 #endif /* VDBGI_SAMPLER_H */

@@ -12,6 +12,12 @@
 #include <string.h>
 #include <sys/stat.h>
 
+const float vdbgi_level_colour[5][3] = {{0.25f, 0.25f, 0.25f},
+                                        {0.1f, 0.35f, 1.0f},
+                                        {0.1f, 0.85f, 0.25f},
+                                        {1.0f, 0.85f, 0.1f},
+                                        {1.0f, 0.2f, 0.1f}};
+
 /* Write name.exr (linear, scaled) and name.png (exposed, sRGB) from RGB pixels. */
 static vdbgi_result write_pair(vdbgi_context *ctx, const char *dir, const char *name, int w, int h,
                                float *rgb, float scale, float exposure)
@@ -101,8 +107,6 @@ vdbgi_result vdbgi_volume_write_slices(const vdbgi_volume *v, const vdbgi_probes
         if (p >= 0)
             memcpy(&baked[3 * p], &probes->rgb[3 * i], 3 * sizeof(float));
     }
-    static const float level_colour[5][3] = {
-        {0, 0, 0}, {1, 0.1f, 0.1f}, {1, 0.85f, 0.1f}, {0.2f, 0.8f, 0.2f}, {0.2f, 0.4f, 1}};
     const vdbgi_volume_view view = vdbgi_volume_view_of(v);
     for (int iv = v0; r == VDBGI_OK && iv < v0 + h; iv++)
         for (int iu = u0; iu < u0 + w; iu++) {
@@ -122,11 +126,13 @@ vdbgi_result vdbgi_volume_write_slices(const vdbgi_volume *v, const vdbgi_probes
             for (int k = 0; k < 3; k++)
                 cell[k] = (size_t)(vdbgi_floor_div(ijk[k], VDBGI_BRICK) - v->origin_cell[k]);
             const uint32_t *const d = v->info.indirection_dims;
-            const uint8_t lv =
+            const int level =
                 cell[axis] < d[axis]
-                    ? v->indirection[4 * ((cell[2] * d[1] + cell[1]) * d[0] + cell[0]) + 3]
-                    : 0;
-            memcpy(&levels[3 * p], level_colour[lv < 5 ? lv : 0], 3 * sizeof(float));
+                    ? vdbgi_cell_level(
+                          &view, &v->indirection[4 * ((cell[2] * d[1] + cell[1]) * d[0] + cell[0])])
+                    : -1;
+            for (int k = 0; k < 3; k++)
+                levels[3 * p + k] = vdbgi_srgb_from_linear(vdbgi_level_colour[level + 1][k]);
         }
 #undef PIXEL
     if (r == VDBGI_OK)

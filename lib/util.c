@@ -40,6 +40,11 @@ void vdbgi_put_f32(uint8_t *p, float f)
     vdbgi_put_u32(p, v);
 }
 
+uint16_t vdbgi_get_u16(const uint8_t *p)
+{
+    return (uint16_t)(p[0] | p[1] << 8);
+}
+
 uint32_t vdbgi_get_u32(const uint8_t *p)
 {
     return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;

@@ -16,6 +16,7 @@ void vdbgi_put_u16(uint8_t *p, uint16_t v);
 void vdbgi_put_u32(uint8_t *p, uint32_t v);
 void vdbgi_put_u64(uint8_t *p, uint64_t v);
 void vdbgi_put_f32(uint8_t *p, float f);
+uint16_t vdbgi_get_u16(const uint8_t *p);
 uint32_t vdbgi_get_u32(const uint8_t *p);
 float vdbgi_get_f32(const uint8_t *p);
 

@@ -513,13 +513,16 @@ typedef enum vdbgi_encoding {
 
 /*
  * How a brick lies in the atlas (docs/format.md). Both keep 4^3 probes a brick
- * and one indirection texel per level-0 cell.
+ * and one indirection texel per level-0 cell. The numbers are the ones the
+ * .gi file's layout field, web/gi-format.js and the shaders use; 0 asks for
+ * the default, which a volume never reports.
  */
 typedef enum vdbgi_layout {
-    VDBGI_LAYOUT_SEED = 0,   /* seed 000's, for its shader unmodified: 6^3 texels, a coarse
+    VDBGI_LAYOUT_DEFAULT = 0, /* what vdb-to-gi writes: VDBGI_LAYOUT_COMPACT */
+    VDBGI_LAYOUT_SEED = 1,    /* seed 000's, for its shader unmodified: 6^3 texels, a coarse
                                 probe at the centre of its 2^L block, a one-texel apron on
                                 every side */
-    VDBGI_LAYOUT_COMPACT = 1 /* 5^3 texels: a coarse probe at a corner of its 2^L block, so
+    VDBGI_LAYOUT_COMPACT = 2  /* 5^3 texels: a coarse probe at a corner of its 2^L block, so
                                 the filter needs a border on the + side only (Unreal's
                                 volumetric lightmap); where a coarser brick adjoins, a
                                 brick's face takes its interpolated values, so levels meet
@@ -569,7 +572,7 @@ typedef enum vdbgi_fill {
  *   progress:   as vdbgi_bake_desc's; may be NULL.
  *   threads:    worker threads, 0 == every online core. The bytes do not
  *               depend on it.
- *   layout:     see vdbgi_layout (0: seed 000's).
+ *   layout:     see vdbgi_layout (0: the compact layout).
  */
 typedef struct vdbgi_convert_desc {
     float eps;
@@ -608,7 +611,7 @@ VDBGI_API vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes
  * Write the .gi file (docs/format.md), gzip-compressed, through a temporary
  * file renamed when complete: the seed layout as header, indirection bytes
  * and atlas bytes (version 1); the compact layout packed, each probe once
- * (version 4), its textures rebuilt by the reader.
+ * (version 5), its textures rebuilt by the reader.
  */
 VDBGI_API vdbgi_result vdbgi_volume_write(const vdbgi_volume *volume, const char *path);
 
@@ -625,6 +628,24 @@ VDBGI_API vdbgi_result vdbgi_volume_write_textures(const vdbgi_volume *volume, c
  * nothing is read past the end of the data.
  */
 VDBGI_API vdbgi_result vdbgi_volume_read(vdbgi_context *ctx, const char *path, vdbgi_volume **out);
+
+/*
+ * vdbgi_volume_read for a file already in memory: size bytes at data,
+ * gzip'd or not, borrowed for the call only. The same checks and refusals;
+ * messages name `name` (NULL: "memory") where the file reader names the
+ * path.
+ */
+VDBGI_API vdbgi_result vdbgi_volume_read_memory(vdbgi_context *ctx, const void *data, size_t size,
+                                                const char *name, vdbgi_volume **out);
+
+/*
+ * The bytes vdbgi_volume_write writes (the gzip'd .gi) into the caller's
+ * buffer. With a NULL buffer, returns their size; else the bytes copied, or
+ * 0 (nothing written) when capacity is smaller. 0 also for a volume read
+ * from a file, which keeps its textures, not its file.
+ */
+VDBGI_API size_t vdbgi_volume_write_memory(const vdbgi_volume *volume, void *buffer,
+                                           size_t capacity);
 
 VDBGI_API void vdbgi_volume_destroy(vdbgi_volume *volume);
 

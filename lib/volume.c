@@ -39,7 +39,7 @@ static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *d
     *encoding = desc->encoding;
     VDBGI_FAIL_IF(ctx, desc->fill < VDBGI_FILL_AUTO || desc->fill > VDBGI_FILL_DARKEST,
                   VDBGI_ERR_INVALID_ARG, "unknown fill %d", (int)desc->fill);
-    VDBGI_FAIL_IF(ctx, desc->layout != VDBGI_LAYOUT_SEED && desc->layout != VDBGI_LAYOUT_COMPACT,
+    VDBGI_FAIL_IF(ctx, desc->layout < VDBGI_LAYOUT_DEFAULT || desc->layout > VDBGI_LAYOUT_COMPACT,
                   VDBGI_ERR_INVALID_ARG, "unknown layout %d", (int)desc->layout);
     VDBGI_FAIL_IF(ctx, desc->threads < 0, VDBGI_ERR_INVALID_ARG,
                   "thread count must be >= 0 (got %d)", desc->threads);
@@ -463,7 +463,8 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     VDBGI_FAIL_IF(ctx, !probes->rgb, VDBGI_ERR_FORMAT, "probes have no values: bake them first");
     VDBGI_FAIL_IF(ctx, probes->count == 0, VDBGI_ERR_FORMAT, "the grid holds no probes");
     VDBGI_TRY(check_extent(ctx, probes));
-    cp.layout = desc ? desc->layout : VDBGI_LAYOUT_SEED;
+    cp.layout =
+        desc && desc->layout == VDBGI_LAYOUT_SEED ? VDBGI_LAYOUT_SEED : VDBGI_LAYOUT_COMPACT;
     vdbgi_volume *const v = volume_start(ctx, probes, encoding, cp.layout, cp.max_level);
     if (!v)
         return VDBGI_ERR_OUT_OF_MEMORY;

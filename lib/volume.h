@@ -11,7 +11,7 @@ struct vdbgi_volume {
     uint8_t *raw;         /* the uncompressed .gi: header, indirection, atlas */
     uint8_t *indirection; /* info.indirection_size bytes inside raw */
     uint8_t *atlas;       /* info.atlas_size bytes inside raw */
-    uint8_t *packed;      /* compact layout: the uncompressed version 4 file (header, payload) */
+    uint8_t *packed;      /* compact layout: the uncompressed version 5 file (header, payload) */
     size_t packed_size;
     uint8_t *file; /* the gzip'd .gi bytes */
     /* Only from vdbgi_volume_build: */
@@ -20,6 +20,12 @@ struct vdbgi_volume {
     int32_t origin_cell[3];   /* absolute level-0 cell of indirection texel (0,0,0) */
     float mean_rgb[3];        /* mean of the valid probes */
 };
+
+/*
+ * The colours of the level view, linear RGB (the web viewer's DebugView.LEVEL
+ * and levels.png from vdbgi_volume_write_slices): no brick, then levels 0..3.
+ */
+extern const float vdbgi_level_colour[5][3];
 
 /* The textures and uniforms of a volume, as the sampler takes them. */
 vdbgi_volume_view vdbgi_volume_view_of(const vdbgi_volume *v);

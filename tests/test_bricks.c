@@ -12,7 +12,9 @@
  * reported cleanly.
  */
 #define _POSIX_C_SOURCE 200809L
+#include "encode.h"
 #include "gifile.h"
+#include "image_shim.h"
 #include "test_slab.h"
 #include "test_util.h"
 #include "util.h"
@@ -20,6 +22,9 @@
 #include <math.h>
 #include <stdio.h>
 #include <unistd.h>
+
+/* The seed layout, for the tests written against its 6^3 slots (the default is compact). */
+static const vdbgi_convert_desc seed_layout = {.layout = VDBGI_LAYOUT_SEED};
 
 static float smooth(double x, double y, double z, int c)
 {
@@ -87,7 +92,7 @@ static void exact_bricks_give_back_every_valid_probe(void)
         const vdbgi_convert_desc d = {.eps = VDBGI_ZERO,
                                       .max_level = VDBGI_ZERO,
                                       .encoding = (vdbgi_encoding)e,
-                                      .layout = (vdbgi_layout)(run / 2)};
+                                      .layout = (vdbgi_layout)(1 + run / 2)};
         vdbgi_volume *v = NULL;
         CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
         if (!v)
@@ -107,7 +112,8 @@ static void aprons_hide_brick_boundaries(void)
 {
     vdbgi_context *ctx = test_context();
     vdbgi_probes *p = test_slab(ctx, 40, 10, 24, smooth);
-    const vdbgi_convert_desc d = {.eps = VDBGI_ZERO, .max_level = VDBGI_ZERO};
+    const vdbgi_convert_desc d = {
+        .layout = VDBGI_LAYOUT_SEED, .eps = VDBGI_ZERO, .max_level = VDBGI_ZERO};
     vdbgi_volume *v = NULL;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
     if (v) {
@@ -143,7 +149,8 @@ static void larger_eps_never_grows_the_atlas(void)
         size_t last_atlas = SIZE_MAX, last_bricks = SIZE_MAX;
         double last_rmse = 0.0;
         for (size_t i = 0; i < sizeof(eps) / sizeof(eps[0]); i++) {
-            const vdbgi_convert_desc d = {.eps = eps[i], .criterion = (vdbgi_criterion)c};
+            const vdbgi_convert_desc d = {
+                .layout = VDBGI_LAYOUT_SEED, .eps = eps[i], .criterion = (vdbgi_criterion)c};
             vdbgi_volume *v = NULL;
             CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
             if (!v)
@@ -180,8 +187,10 @@ static void rmse_criterion_coarsens_at_least_as_much_as_interp(void)
         vdbgi_volume *v[2] = {NULL, NULL};
         vdbgi_volume_info info[2];
         for (int c = 0; c < 2; c++) {
-            const vdbgi_convert_desc d = {
-                .eps = eps[i], .criterion = c ? VDBGI_CRITERION_RMSE : VDBGI_CRITERION_INTERP};
+            const vdbgi_convert_desc d = {.layout = VDBGI_LAYOUT_SEED,
+                                          .eps = eps[i],
+                                          .criterion =
+                                              c ? VDBGI_CRITERION_RMSE : VDBGI_CRITERION_INTERP};
             CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v[c]), VDBGI_OK);
             if (v[c])
                 vdbgi_volume_get_info(v[c], &info[c]);
@@ -218,7 +227,7 @@ static void at_eps_0_every_layout_returns_every_probe(void)
     vdbgi_probes *p = test_slab(ctx, 40, 10, 24, ramp);
     for (int run = 0; run < 6; run++) {
         const vdbgi_convert_desc d = {.eps = VDBGI_ZERO,
-                                      .layout = (vdbgi_layout)(run % 2),
+                                      .layout = (vdbgi_layout)(1 + run % 2),
                                       .criterion = (vdbgi_criterion)(1 + run / 2)};
         vdbgi_volume *v = NULL;
         CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
@@ -307,7 +316,7 @@ static void flat_field_becomes_a_few_level3_bricks(void)
     vdbgi_context *ctx = test_context();
     vdbgi_probes *p = test_slab(ctx, 64, 8, 64, flat);
     vdbgi_volume *v = NULL;
-    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, NULL, &v), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &seed_layout, &v), VDBGI_OK);
     if (v) {
         vdbgi_volume_info info;
         vdbgi_volume_get_info(v, &info);
@@ -332,8 +341,10 @@ static void linear_ramp_stays_coarse_under_interpolation(void)
     uint32_t bricks[2] = {0, 0}, fine[2] = {0, 0};
     double rmse[2] = {0, 0};
     for (int c = 0; c < 2; c++) {
-        const vdbgi_convert_desc d = {
-            .eps = 0.05f, .criterion = c ? VDBGI_CRITERION_INTERP : VDBGI_CRITERION_RANGE};
+        const vdbgi_convert_desc d = {.layout = VDBGI_LAYOUT_SEED,
+                                      .eps = 0.05f,
+                                      .criterion =
+                                          c ? VDBGI_CRITERION_INTERP : VDBGI_CRITERION_RANGE};
         vdbgi_volume *v = NULL;
         CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
         if (!v)
@@ -367,7 +378,8 @@ static void invalid_probes_never_leak_their_value(void)
             p->backface[i] = 1.0f;
             p->rgb[3 * i] = p->rgb[3 * i + 1] = p->rgb[3 * i + 2] = 100.0f;
         }
-    const vdbgi_convert_desc d = {.eps = VDBGI_ZERO, .max_level = VDBGI_ZERO};
+    const vdbgi_convert_desc d = {
+        .layout = VDBGI_LAYOUT_SEED, .eps = VDBGI_ZERO, .max_level = VDBGI_ZERO};
     vdbgi_volume *v = NULL;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
     if (v) {
@@ -544,7 +556,7 @@ static void only_cells_whose_filter_reads_a_valid_probe_get_bricks(void)
     vdbgi_context *ctx = test_context();
     vdbgi_scene *s = NULL;
     vdbgi_probes *p = boxed_floor(ctx, 1.25, &s);
-    for (int layout = 0; p && layout < 2; layout++) {
+    for (int layout = VDBGI_LAYOUT_SEED; p && layout <= VDBGI_LAYOUT_COMPACT; layout++) {
         vdbgi_volume *const v = level0_volume(ctx, p, layout);
         if (!v)
             continue;
@@ -574,7 +586,7 @@ static void only_cells_whose_filter_reads_a_valid_probe_get_bricks(void)
     vdbgi_scene_destroy(s);
 
     p = boxed_floor(ctx, 0.25, &s);
-    for (int layout = 0; p && layout < 2; layout++) {
+    for (int layout = VDBGI_LAYOUT_SEED; p && layout <= VDBGI_LAYOUT_COMPACT; layout++) {
         vdbgi_volume *const v = level0_volume(ctx, p, layout);
         if (!v)
             continue;
@@ -601,7 +613,7 @@ static void columns_give_every_cell_its_indirection_texel(void)
     const vdbgi_place_desc pd = {.spacing = 0.5, .margin = 2.0};
     vdbgi_scene *s = NULL;
     vdbgi_probes *p = floor_and_box(ctx, lo, hi, &pd, 16, &s);
-    for (int layout = 0; p && layout < 2; layout++) {
+    for (int layout = VDBGI_LAYOUT_SEED; p && layout <= VDBGI_LAYOUT_COMPACT; layout++) {
         vdbgi_volume *const v = level0_volume(ctx, p, layout);
         if (!v)
             continue;
@@ -761,9 +773,9 @@ static void round_trip(vdbgi_layout layout)
         CHECK(memcmp(ia.bricks, ir.bricks, sizeof(ia.bricks)) == 0);
         CHECK(ir.file_size == ia.file_size && ir.spacing == ia.spacing);
         CHECK(ir.layout == layout);
-        /* The compact layout's file is packed (version 4): textures rebuilt, byte for byte. */
+        /* The compact layout's file is packed (version 5): textures rebuilt, byte for byte. */
         const bool packed = layout == VDBGI_LAYOUT_COMPACT;
-        CHECK(vdbgi_get_u32((packed ? a->packed : a->raw) + 8) == (packed ? 4u : 1u));
+        CHECK(vdbgi_get_u32((packed ? a->packed : a->raw) + 8) == (packed ? 5u : 1u));
         CHECK(ir.stored_points == ia.stored_points && (ia.stored_points > 0) == packed);
         CHECK(memcmp(a->indirection, r->indirection, ia.indirection_size) == 0);
         CHECK(memcmp(a->atlas, r->atlas, ia.atlas_size) == 0);
@@ -777,6 +789,23 @@ static void round_trip(vdbgi_layout layout)
             CHECK(memcmp(t->atlas, r->atlas, ia.atlas_size) == 0);
             vdbgi_volume_destroy(t);
         }
+        /* In memory: the file's bytes out (after a size query), the same textures in. */
+        const size_t n = vdbgi_volume_write_memory(a, NULL, 0);
+        uint8_t *const bytes = malloc(n);
+        CHECK(n == ia.file_size && vdbgi_volume_write_memory(a, bytes, n - 1) == 0 &&
+              vdbgi_volume_write_memory(a, bytes, n) == n && memcmp(bytes, a->file, n) == 0);
+        CHECK(vdbgi_volume_write_memory(r, NULL, 0) == 0); /* a read volume keeps no file */
+        vdbgi_volume *m = NULL;
+        CHECK_RESULT(ctx, vdbgi_volume_read_memory(ctx, bytes, n, "bytes", &m), VDBGI_OK);
+        if (m) {
+            CHECK(memcmp(m->indirection, r->indirection, ia.indirection_size) == 0);
+            CHECK(memcmp(m->atlas, r->atlas, ia.atlas_size) == 0);
+            vdbgi_volume_destroy(m);
+        }
+        CHECK_RESULT(ctx, vdbgi_volume_read_memory(ctx, bytes, n - 1, "bytes", &m),
+                     VDBGI_ERR_FORMAT);
+        CHECK(strncmp(vdbgi_context_error(ctx), "bytes: ", 7) == 0 && m == NULL);
+        free(bytes);
         for (int i = 0; i < 1000; i++) {
             const float pos[3] = {(float)(i % 23) * 0.9f - 1.0f, (float)(i % 7) * 0.8f - 0.5f,
                                   (float)(i % 13) * 1.1f - 1.0f};
@@ -805,7 +834,7 @@ static void damaged_files_are_refused(void)
     vdbgi_context *ctx = test_context();
     vdbgi_probes *p = test_slab(ctx, 12, 6, 12, smooth);
     vdbgi_volume *v = NULL;
-    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, NULL, &v), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &seed_layout, &v), VDBGI_OK);
     if (!v) {
         vdbgi_probes_destroy(p);
         vdbgi_context_destroy(ctx);
@@ -864,12 +893,25 @@ static void damaged_files_are_refused(void)
     fclose(f);
     CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("lie.gi"), &r), VDBGI_ERR_FORMAT);
     /*
-     * The layout field: version 1 must leave it 0; version 2 knows 0, 2 and
-     * 3, version 4 only 2 and 3; version 3 and layout 1 (the older compact
-     * layout) are refused.
+     * The layout field: version 1 must leave it 0; version 2 knows 1 and 2
+     * (and 0 and 3, their numbers before), version 5 only 2; versions 3 and
+     * 4 (older compact forms) and 6 are refused. This seed-layout file reads
+     * as version 2 with 1 or 0.
      */
-    static const uint32_t version_layout[][2] = {{1, 1}, {2, 4}, {2, 1}, {3, 1},
-                                                 {4, 0}, {4, 4}, {5, 0}};
+    static const uint32_t seed_fields[] = {VDBGI_LAYOUT_SEED, 0};
+    for (int c = 0; c < 2; c++) {
+        memcpy(lie, v->raw, raw);
+        vdbgi_put_u32(lie + 8, 2);
+        vdbgi_put_u32(lie + 104, seed_fields[c]);
+        f = fopen(tmp_path("lie.gi"), "wb");
+        fwrite(lie, 1, raw, f);
+        fclose(f);
+        CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("lie.gi"), &r), VDBGI_OK);
+        vdbgi_volume_destroy(r);
+        r = NULL;
+    }
+    static const uint32_t version_layout[][2] = {{1, 1}, {1, 2}, {2, 4}, {3, 1}, {4, 2},
+                                                 {4, 3}, {5, 0}, {5, 1}, {5, 3}, {6, 2}};
     for (size_t c = 0; c < sizeof(version_layout) / sizeof(version_layout[0]); c++) {
         memcpy(lie, v->raw, raw);
         vdbgi_put_u32(lie + 8, version_layout[c][0]);
@@ -943,6 +985,67 @@ static void bad_parameters_and_probes_are_refused(void)
     vdbgi_context_destroy(ctx);
 }
 
+/*
+ * levels.png shows, at every lattice point of its plane, the level of the
+ * brick covering that point's cell in the viewer's colours (grey: no brick),
+ * in both layouts: each pixel is compared with the level its cell's
+ * indirection texel gives, through the public copy of the indirection.
+ */
+static void levels_png_shows_each_cells_level(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_probes *p = test_slab(ctx, 40, 12, 40, smooth);
+    for (int layout = VDBGI_LAYOUT_SEED; p && layout <= VDBGI_LAYOUT_COMPACT; layout++) {
+        const vdbgi_convert_desc d = {.eps = 0.02f, .layout = (vdbgi_layout)layout};
+        vdbgi_volume *v = NULL;
+        CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
+        if (!v)
+            continue;
+        vdbgi_volume_info info;
+        vdbgi_volume_get_info(v, &info);
+        const double at = p->origin[1] + p->spacing * 5; /* a plane through the slab */
+        CHECK_RESULT(ctx, vdbgi_volume_write_slices(v, p, VDBGI_AXIS_Y, at, 0.0f, tmp_path("lv")),
+                     VDBGI_OK);
+        vdbgi_image img = {0};
+        CHECK_RESULT(ctx, vdbgi_image_decode(ctx, tmp_path("lv/levels.png"), NULL, 0, NULL, &img),
+                     VDBGI_OK);
+        const uint32_t *const dims = info.indirection_dims;
+        uint8_t *const ind = malloc(info.indirection_size);
+        vdbgi_volume_copy_indirection(v, ind, info.indirection_size);
+        const vdbgi_volume_view view = vdbgi_volume_view_of(v);
+        CHECK(img.width == (int)dims[0] * 4 && img.height == (int)dims[2] * 4);
+        const int32_t cy =
+            vdbgi_floor_div((int32_t)lround((at - v->lattice_origin[1]) / p->spacing), 4) -
+            v->origin_cell[1];
+        size_t wrong = 0, seen[5] = {0};
+        for (int y = 0; img.rgba && y < img.height && y < (int)dims[2] * 4; y++)
+            for (int x = 0; x < img.width && x < (int)dims[0] * 4; x++) {
+                const size_t c =
+                    ((size_t)(y / 4) * dims[1] + (size_t)cy) * dims[0] + (size_t)(x / 4);
+                const int level = vdbgi_cell_level(&view, &ind[4 * c]);
+                const float *const got = &img.rgba[4 * ((size_t)y * (size_t)img.width + (size_t)x)];
+                bool same = true;
+                for (int k = 0; k < 3; k++)
+                    same = same && fabsf(got[k] -
+                                         vdbgi_srgb_from_linear(vdbgi_level_colour[level + 1][k])) <
+                                       0.6f / 255;
+                wrong += !same;
+                seen[level + 1]++;
+            }
+        CHECK(wrong == 0);
+        /* The plane crosses bricks of more than one level, and cells with none. */
+        CHECK(seen[0] > 0 && seen[1] > 0 && seen[2] + seen[3] + seen[4] > 0);
+        if (wrong || !seen[0] || !seen[1])
+            fprintf(stderr, "# layout %d: %zu pixels wrong; none %zu, levels %zu %zu %zu %zu\n",
+                    layout, wrong, seen[0], seen[1], seen[2], seen[3], seen[4]);
+        vdbgi_free(ctx, img.rgba);
+        free(ind);
+        vdbgi_volume_destroy(v);
+    }
+    vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+}
+
 static void failing_allocations_are_reported_without_leaks(void)
 {
     int succeeded = 0;
@@ -978,6 +1081,9 @@ static void textures_and_probes_copy_into_caller_buffers_after_a_size_query(void
         vdbgi_context_destroy(ctx);
         return;
     }
+    vdbgi_volume_info di;
+    vdbgi_volume_get_info(v, &di);
+    CHECK(di.layout == VDBGI_LAYOUT_COMPACT); /* what no desc asks for: vdb-to-gi's default */
     size_t (*const copy[2])(const vdbgi_volume *, void *, size_t) = {vdbgi_volume_copy_indirection,
                                                                      vdbgi_volume_copy_atlas};
     const uint8_t *const want[2] = {v->indirection, v->atlas};
@@ -1037,6 +1143,7 @@ int main(void)
     RUN(files_round_trip_and_are_deterministic);
     RUN(damaged_files_are_refused);
     RUN(bad_parameters_and_probes_are_refused);
+    RUN(levels_png_shows_each_cells_level);
     RUN(failing_allocations_are_reported_without_leaks);
     RUN(textures_and_probes_copy_into_caller_buffers_after_a_size_query);
     test_tmpdir_remove();

@@ -57,6 +57,20 @@ static vdbgi_result read_gi(vdbgi_context *ctx, const char *path, void **out)
     return r;
 }
 
+static unsigned char *slurp(const char *path, size_t *size);
+
+/* The same file through vdbgi_volume_read_memory, named by its path. */
+static vdbgi_result read_gi_memory(vdbgi_context *ctx, const char *path, void **out)
+{
+    size_t size = 0;
+    unsigned char *const bytes = slurp(path, &size);
+    vdbgi_volume *v = NULL;
+    const vdbgi_result r = vdbgi_volume_read_memory(ctx, bytes, size, path, &v);
+    free(bytes);
+    *out = v;
+    return r;
+}
+
 static void destroy(read_fn read, void *obj)
 {
     if (read == read_vdb)
@@ -236,14 +250,24 @@ static void damage_gi(vdbgi_layout layout)
         CHECK(libdeflate_gzip_decompress(d, zbytes, zsize, raw, 1 << 22, &size) ==
               LIBDEFLATE_SUCCESS);
         libdeflate_free_decompressor(d);
-        tally t = damage_in_place(ctx, read_gi, zbytes, zsize, tmp_path("good.gi.gz"));
-        printf("  %s .gi.gz of %zu bytes: %d reads, %d refusals\n", layout ? "compact" : "seed",
-               zsize, t.read, t.refused);
-        CHECK(t.bad == 0 && t.refused >= (int)zsize);
-        t = damage_before_gzip(ctx, read_gi, raw, size, tmp_path("damaged.gi.gz"));
-        printf("  .gi of %zu bytes, gzipped after damage: %d reads, %d refusals\n", size, t.read,
-               t.refused);
-        CHECK(t.bad == 0 && t.refused > 512 && t.read > 0);
+        /* Through the file reader and the memory reader: the same verdicts. */
+        const read_fn readers[2] = {read_gi, read_gi_memory};
+        tally seen[2][2];
+        for (int m = 0; m < 2; m++) {
+            tally t = damage_in_place(ctx, readers[m], zbytes, zsize, tmp_path("good.gi.gz"));
+            printf("  %s .gi.gz of %zu bytes (%s): %d reads, %d refusals\n",
+                   layout == VDBGI_LAYOUT_COMPACT ? "compact" : "seed", zsize,
+                   m ? "memory" : "file", t.read, t.refused);
+            CHECK(t.bad == 0 && t.refused >= (int)zsize);
+            seen[m][0] = t;
+            t = damage_before_gzip(ctx, readers[m], raw, size, tmp_path("damaged.gi.gz"));
+            printf("  .gi of %zu bytes, gzipped after damage (%s): %d reads, %d refusals\n", size,
+                   m ? "memory" : "file", t.read, t.refused);
+            CHECK(t.bad == 0 && t.refused > 512 && t.read > 0);
+            seen[m][1] = t;
+        }
+        for (int k = 0; k < 2; k++)
+            CHECK(seen[0][k].read == seen[1][k].read && seen[0][k].refused == seen[1][k].refused);
     }
     free(raw);
     free(zbytes);

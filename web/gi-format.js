@@ -2,17 +2,17 @@
 // the two texture byte arrays. No three.js here: the same code runs in a page,
 // in a worker and in node (tests/js), and it refuses, with an Error naming the
 // problem, every file docs/format.md says a reader must refuse, so no lookup
-// can ever leave the textures. A version 4 file (the compact layout, each
+// can ever leave the textures. A version 5 file (the compact layout, each
 // probe stored once) has its textures rebuilt by gi-packed.js.
 import { rebuildPacked } from './gi-packed.js';
 
 export const ENCODING_RGBM = 0;
 export const ENCODING_RGB9E5 = 1;
-export const LAYOUT_SEED = 0;
-export const LAYOUT_COMPACT = 2; // what readers report; 1 was its older form, in 5^3 slots
-// The header writes the compact layout as 3, so that a reader without the lift
-// (docs/format.md, the lookup) refuses it; 2, written before, reads alike.
-const FILE_LAYOUT_COMPACT = 3;
+// The layout numbers of the file's layout field, lib/vdbgi.h and the shaders.
+export const LAYOUT_SEED = 1;
+export const LAYOUT_COMPACT = 2;
+// Version 2 files written before this numbering: 0 for the seed layout, 3 for the compact one.
+const OLD_LAYOUT_SEED = 0, OLD_LAYOUT_COMPACT = 3;
 const ATLAS_MAX = 1024; // a compact brick's first texel is 4 r + two bits of a: at most 1023
 
 const HEADER_BYTES = 112;
@@ -74,18 +74,19 @@ export function parseGi(buf) {
   const f32 = (o) => dv.getFloat32(o, true);
   const vec = (o, get) => [get(o), get(o + 4), get(o + 8)];
   const version = u32(8);
-  // Version 1 is seed 000's layout (6^3 texels a brick); version 2 says which
-  // at byte 104; version 4 is the compact layout packed. Version 3 and layout 1
-  // were an older compact layout (5^3 slots), no longer read.
-  const field = version === 1 ? LAYOUT_SEED : u32(104);
-  if (version === 3 || (version === 2 && field === 1))
-    throw new Error("an older vdbgi's compact layout (5^3 slots): convert the .vdb again");
-  if (version < 1 || version > 4) throw new Error(`unsupported version ${version}`);
-  const isCompact = field === FILE_LAYOUT_COMPACT || field === LAYOUT_COMPACT;
-  if (version === 1 ? u32(104) !== 0
-    : version === 4 ? !isCompact
-      : field !== LAYOUT_SEED && !isCompact)
-    throw new Error(`unknown layout ${u32(104)} for version ${version}`);
+  // Version 1 is seed 000's layout (6^3 texels a brick, the field reserved);
+  // version 2 says which at byte 104; version 5 is the compact layout packed.
+  // Versions 3 and 4 were older compact forms, no longer read.
+  if (version === 3 || version === 4)
+    throw new Error(`an older vdbgi's compact layout (.gi version ${version}): convert the .vdb again`);
+  if (version < 1 || version > 5) throw new Error(`unsupported version ${version}`);
+  const field = u32(104);
+  const isCompact = field === LAYOUT_COMPACT || field === OLD_LAYOUT_COMPACT;
+  const isSeed = field === LAYOUT_SEED || field === OLD_LAYOUT_SEED;
+  if (version === 1 ? field !== 0
+    : version === 5 ? field !== LAYOUT_COMPACT
+      : !isSeed && !isCompact)
+    throw new Error(`unknown layout ${field} for version ${version}`);
   const layout = isCompact ? LAYOUT_COMPACT : LAYOUT_SEED;
   const headerSize = u32(12);
   const gi = {
@@ -120,18 +121,21 @@ export function parseGi(buf) {
   const bytes = (d) => d[0] * d[1] * d[2] * 4;
   if (indBytes !== bytes(gi.indDims) || atlasBytes !== bytes(gi.atlasDims))
     throw new Error('texture sizes disagree with their dimensions');
-  if (version < 4 && u32(108) !== 0) throw new Error('reserved header field is not 0');
-  gi.storedPoints = version === 4 ? u32(108) : 0;
+  if (version < 5 && u32(108) !== 0) throw new Error('reserved header field is not 0');
+  const packed = version === 5;
+  gi.storedPoints = packed ? u32(108) : 0;
   // Every brick stores inner points of its own (27 at levels 0 and 1, 8 at 2, 1 at 3):
   // the bricks are bounded by what the file holds.
   const least = 27 * (gi.bricks[0] + gi.bricks[1]) + 8 * gi.bricks[2] + gi.bricks[3];
-  if (version === 4 && least > gi.storedPoints)
+  if (packed && least > gi.storedPoints)
     throw new Error(`the header's bricks need at least ${least} stored points, it has ${gi.storedPoints}`);
-  // Version 4 stores a level byte a cell and 4 bytes a stored point, not the textures.
-  const stored = version === 4 ? indBytes / 4 + 4 * gi.storedPoints : indBytes + atlasBytes;
+  // Version 5 stores a level byte a cell, 6 bytes a brick (its place) and 4 a
+  // stored point, not the textures.
+  const brickCount = gi.bricks.reduce((a, b) => a + b, 0);
+  const stored = packed ? indBytes / 4 + 6 * brickCount + 4 * gi.storedPoints : indBytes + atlasBytes;
   if (buf.length !== headerSize + stored)
     throw new Error(`file holds ${buf.length} bytes, header says ${headerSize + stored}`);
-  if (version === 4) {
+  if (packed) {
     const { indirection, atlas } = rebuildPacked(gi, buf.subarray(headerSize));
     gi.indirection = indirection;
     gi.atlas = atlas;

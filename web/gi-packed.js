@@ -1,97 +1,52 @@
-// gi-packed.js: the runtime textures of a version 4 .gi (docs/format.md,
-// "Version 4"), rebuilt from its level bytes and the probe values it stores
-// once. Bit for bit what lib/packed.c rebuilds: every float operation below
+// gi-packed.js: the runtime textures of a version 5 .gi (docs/format.md,
+// "Version 5"), rebuilt from its level bytes, its bricks' places and the
+// probe values it stores once. Bit for bit what lib/packed.c rebuilds: every float operation below
 // is a float32 one (Math.fround) in the C code's order, and the encoders
 // round as the C ones do, so a test can compare the two byte for byte.
 
 const N = 5, TEXELS = 125, PAD = 2;
 const f = Math.fround;
 
-const SLAB_MAX = 8, ATLAS_MAX = 1024, LAYERS_MAX = Math.floor(ATLAS_MAX / N);
+// A version 5 atlas holds at most this many texels a brick (docs/format.md).
+const ATLAS_TEXELS_PER_BRICK = 500;
 
-// Where a w-wide slab lies lowest on skyline h (S wide, lowest point low):
-// [z, leftmost x]. No window lies below low, so the first there is the answer.
-let queue = new Int32Array(0);
-function lowestFit(h, S, w, low) {
-  if (queue.length < S) queue = new Int32Array(S);
-  let head = 0, tail = 0, best = Infinity, bestX = 0;
-  for (let i = 0; i < S && best > low; i++) {
-    while (tail > head && h[queue[tail - 1]] <= h[i]) tail--;
-    queue[tail++] = i;
-    if (queue[head] <= i - w) head++;
-    if (i >= w - 1 && h[queue[head]] < best) {
-      best = h[queue[head]];
-      bestX = i - w + 1;
-    }
-  }
-  return [best, bestX];
-}
-
-// Pack the sorted slabs into `layers` layers S wide along x (lib/packed.c,
-// pack_layers): each where it lies lowest, the first such layer, the leftmost
-// x there; layer 0 starts with the block of zeros at its corner. Null if the
-// atlas would pass ATLAS_MAX along z.
-function packLayers(slabs, S, layers) {
-  const h = [], low = new Int32Array(layers); // low: each skyline's lowest point
-  for (let l = 0; l < layers; l++) h.push(new Uint16Array(S));
-  h[0].fill(N, 0, N);
-  let xEnd = N, zEnd = N;
-  for (const s of slabs) {
-    let bl = 0, bx = 0, bz = Infinity;
-    for (let l = 0; l < layers; l++) {
-      if (low[l] >= bz) continue; // it cannot lie lower there
-      const [z, x] = lowestFit(h[l], S, s.w, low[l]);
-      if (z < bz) bz = z, bx = x, bl = l;
-    }
-    if (bz + s.d > ATLAS_MAX) return null;
-    h[bl].fill(bz + s.d, bx, bx + s.w);
-    low[bl] = h[bl].reduce((m, v) => (v < m ? v : m), 65535);
-    s.pos = [bx, N * bl, bz];
-    xEnd = Math.max(xEnd, bx + s.w);
-    zEnd = Math.max(zEnd, bz + s.d);
-  }
-  return [xEnd, N * layers, zEnd];
-}
-
-// Layers enough to hold `area` texels (x by z) at S x S each, at most LAYERS_MAX.
-const layersFor = (area, S) => Math.min(Math.max(Math.ceil(area / (S * S)), 1), LAYERS_MAX);
-
-// Every brick's first atlas texel, and the atlas's size (docs/format.md,
-// "Version 4", step 2): slabs of same-level neighbours along x, then z,
-// sharing borders, packed in layers 5 texels tall.
-export function placeBricks(keys, lv, brickWithKey) {
-  const count = keys.length, taken = new Uint8Array(count), slabs = [];
-  const at = (first, i, j) => brickWithKey(keys[first][0] + i, keys[first][1], keys[first][2] + j, lv[first]);
-  const free = (b) => b >= 0 && !taken[b];
-  for (let b = 0; b < count; b++) {
-    if (taken[b]) continue;
-    let kx = 1, kz = 1;
-    while (kx < SLAB_MAX && free(at(b, kx, 0))) kx++;
-    for (let row = true; row && kz < SLAB_MAX; kz += row ? 1 : 0)
-      for (let i = 0; i < kx && row; i++) row = free(at(b, i, kz));
-    for (let j = 0; j < kz; j++) for (let i = 0; i < kx; i++) taken[at(b, i, j)] = 1;
-    slabs.push({ first: b, w: 4 * kx + 1, d: 4 * kz + 1, pos: null });
-  }
-  let area = N * N, S = N; // the block of zeros, then the slabs
-  for (const s of slabs) {
-    area += s.w * s.d;
-    S = Math.max(S, s.w);
-  }
-  let root = 1;
-  while (root * root * root < N * area) root++; // in integers, as lib/packed.c
-  S = Math.min(Math.max(root, S), ATLAS_MAX);
-  slabs.sort((a, b) => b.d - a.d || b.w - a.w || a.first - b.first);
-  let dims = packLayers(slabs, S, layersFor(area, S));
-  if (!dims && S < ATLAS_MAX) dims = packLayers(slabs, ATLAS_MAX, layersFor(area, ATLAS_MAX));
-  if (!dims) throw new Error(`${count} bricks do not fit an atlas of ${ATLAS_MAX}^3 texels`);
+// Each brick's first atlas texel from the placement table (u16 x of every
+// brick, then y, then z), checked as lib/packed.c checks it: inside the
+// atlas, in a layer (y a multiple of 5), sharing texels only with bricks of
+// its level that hold the same lattice points there, and never the block of
+// zeros at the atlas's corner.
+function readPlacement(table, keys, lv, dims) {
+  const count = keys.length;
+  if (dims[0] * dims[1] * dims[2] > ATLAS_TEXELS_PER_BRICK * (count + 1))
+    throw new Error(`a ${dims.join('x')} atlas for ${count} bricks (at most ${ATLAS_TEXELS_PER_BRICK} texels a brick)`);
+  const dv = new DataView(table.buffer, table.byteOffset, table.byteLength);
   const origin = new Uint16Array(3 * count);
-  for (const s of slabs)
-    for (let j = 0; j < (s.d - 1) / 4; j++)
-      for (let i = 0; i < (s.w - 1) / 4; i++) {
-        const b = at(s.first, i, j);
-        origin[3 * b] = s.pos[0] + 4 * i, origin[3 * b + 1] = s.pos[1], origin[3 * b + 2] = s.pos[2] + 4 * j;
+  for (let b = 0; b < count; b++) {
+    for (let k = 0; k < 3; k++) origin[3 * b + k] = dv.getUint16(2 * (k * count + b), true);
+    const [x, y, z] = origin.subarray(3 * b, 3 * b + 3);
+    if (x + N > dims[0] || y + N > dims[1] || z + N > dims[2] || y % N)
+      throw new Error(`brick ${b} at texel ${x},${y},${z} is not in a layer of the ${dims.join('x')} atlas`);
+  }
+  const owner = new Uint32Array(dims[0] * dims[1] * dims[2]);
+  const ZERO = 0xffffffff;
+  for (let t = 0; t < TEXELS; t++) owner[(Math.floor(t / (N * N)) * dims[1] + Math.floor(t / N) % N) * dims[0] + (t % N)] = ZERO;
+  for (let b = 0; b < count; b++) {
+    const o = origin.subarray(3 * b, 3 * b + 3);
+    for (let t = 0; t < TEXELS; t++) {
+      const x = o[0] + (t % N), y = o[1] + (Math.floor(t / N) % N), z = o[2] + Math.floor(t / (N * N));
+      const i = (z * dims[1] + y) * dims[0] + x;
+      if (owner[i] === 0) {
+        owner[i] = b + 1;
+        continue;
       }
-  return { dims, origin };
+      const j = owner[i] - 1;
+      const same = owner[i] !== ZERO && lv[j] === lv[b] &&
+        [0, 1, 2].every((k) => origin[3 * j + k] - 4 * keys[j][k] === o[k] - 4 * keys[b][k]);
+      if (!same)
+        throw new Error(`brick ${b} overlaps ${owner[i] === ZERO ? 'the block of zeros' : "another brick's points"} at texel ${x},${y},${z}`);
+    }
+  }
+  return origin;
 }
 
 const popcount = (x) => {
@@ -181,7 +136,7 @@ function interpolate(s, key, level, p, out) {
   }
 }
 
-// Rebuild { indirection, atlas, storedPoints } from a version 4 payload, or
+// Rebuild { indirection, atlas, storedPoints } from a version 5 payload, or
 // throw an Error naming what is inconsistent. `gi` is the parsed header.
 export function rebuildPacked(gi, payload) {
   const d = gi.indDims, cells = d[0] * d[1] * d[2];
@@ -217,7 +172,7 @@ export function rebuildPacked(gi, payload) {
   for (const l of lv) perLevel[l]++;
   if (perLevel.some((v, k) => v !== gi.bricks[k]))
     throw new Error('the level bytes hold other bricks than the header counts');
-  // Each cell's brick, for the placement and the stitching.
+  // Each cell's brick, for the stitching.
   const cellBrick = new Int32Array(cells).fill(-1);
   const brickCells = (b, fn) => {
     const span = 1 << lv[b], lo = keys[b].map((k) => k * span);
@@ -226,15 +181,8 @@ export function rebuildPacked(gi, payload) {
         for (let x = lo[0]; x < Math.min(lo[0] + span, d[0]); x++) fn(cellAt(x, y, z));
   };
   for (let b = 0; b < count; b++) brickCells(b, (c) => { cellBrick[c] = b; });
-  const brickWithKey = (x, y, z, level) => {
-    const cx = x << level, cy = y << level, cz = z << level;
-    if (cx < 0 || cy < 0 || cz < 0 || cx >= d[0] || cy >= d[1] || cz >= d[2]) return -1;
-    const b = cellBrick[cellAt(cx, cy, cz)];
-    return b >= 0 && lv[b] === level ? b : -1;
-  };
-  const { dims, origin } = placeBricks(keys, lv, brickWithKey);
-  if (dims.some((v, k) => v !== gi.atlasDims[k]))
-    throw new Error(`the bricks pack into a ${dims.join('x')} atlas, the header says ${gi.atlasDims.join('x')}`);
+  const dims = gi.atlasDims;
+  const origin = readPlacement(payload.subarray(cells, cells + 6 * count), keys, lv, dims);
   // Indirection: r, g, b the brick's first texel / 4; a its level, and the texel mod 4 per axis.
   const indirection = new Uint8Array(4 * cells);
   for (let b = 0; b < count; b++) {
@@ -341,7 +289,7 @@ export function rebuildPacked(gi, payload) {
   // The values: residuals against a prediction from the -x, -y, -x-y and -z
   // neighbours (docs/format.md, step 5), plane by plane; an RGBM multiplier
   // before the colour bytes it rescales the neighbours' colours to.
-  const planes = payload.subarray(cells);
+  const planes = payload.subarray(cells + 6 * count);
   const values = new Uint8Array(4 * points);
   const rgbm = gi.encoding === 0;
   const order = rgbm ? [3, 0, 1, 2] : [0, 1, 2, 3];

@@ -12,7 +12,7 @@ import {
   Fn, If, uniform, texture3D, textureLoad, ivec2, vec3, vec4, float, floor, exp2, max, min, mod, clamp, dot, mix, select,
   fwidth, positionWorld, varying, output, diffuseColor, diffuseContribution, materialEmissive,
 } from 'three/tsl';
-import { DebugView } from './vdbgi.js';
+import { DebugView, LAYOUT_COMPACT, LEVEL_COLOURS } from './vdbgi.js';
 
 // Materials applyGi() has seen.
 const applied = new WeakSet();
@@ -70,7 +70,7 @@ function giNodes(runtime) {
     const run = columnsTexel(column.mul(2)), at = columnsTexel(column.mul(2).add(1));
     const ymin = run.r.add(run.g.mul(256)), count = run.b.add(run.a.mul(256));
     // Compact: below the run, its lowest brick at its bottom plane (the lift).
-    const compact = n.layout.x.lessThan(5.5);
+    const compact = n.layout.x.sub(LAYOUT_COMPACT).abs().lessThan(0.5);
     const lift = compact.and(count.greaterThan(0));
     const baseBrick = vec3(baseBrick0.x, select(lift, max(baseBrick0.y, ymin), baseBrick0.y), baseBrick0.z);
     const k = select(lift, max(cell.y.sub(ymin), 0), cell.y.sub(ymin));
@@ -85,7 +85,7 @@ function giNodes(runtime) {
     const q0 = p.sub(originCell).add(n.layout.z).div(span).sub(n.layout.z);
     const q = vec3(q0.x, select(compact, max(q0.y, 0), q0.y), q0.z);
     const low = mod(floor(vec3(ind.a).div(vec3(4, 16, 64))), 4);
-    const first = select(compact, ind.rgb.mul(4).add(low), ind.rgb.mul(n.layout.x).add(n.layout.y));
+    const first = select(compact, ind.rgb.mul(4).add(low), ind.rgb.mul(6).add(n.layout.y));
     const texel = first.add(q);
     const s = n.texture('atlas', texel.add(0.5).div(n.atlasDims));
     const irradiance = select(n.decode.x.greaterThan(0), s.rgb.mul(s.a).mul(n.decode.x), s.rgb);
@@ -132,8 +132,9 @@ export function applyGi(material, runtime, { set = 'world', perFragment = false 
     If(n.debug.equal(DebugView.PROBE), () => out.assign(vec4(irradiance, 1)));
     If(n.debug.equal(DebugView.LEVEL), () => {
       const l = here.level;
-      out.assign(vec4(select(l.lessThan(0), vec3(0.25), select(l.lessThan(0.5), vec3(0.1, 0.35, 1),
-        select(l.lessThan(1.5), vec3(0.1, 0.85, 0.25), select(l.lessThan(2.5), vec3(1, 0.85, 0.1), vec3(1, 0.2, 0.1))))), 1));
+      const c = LEVEL_COLOURS.map((rgb) => vec3(...rgb));
+      out.assign(vec4(select(l.lessThan(0), c[0], select(l.lessThan(0.5), c[1],
+        select(l.lessThan(1.5), c[2], select(l.lessThan(2.5), c[3], c[4])))), 1));
     });
     If(n.debug.equal(DebugView.BRICKS), () => {
       const b = here.inBrick;

@@ -11,12 +11,16 @@
 // The lookup is seed 000's volumeIrradiance(); docs/web.md says what each
 // knob does. vdbgi-webgpu.js is the same for WebGPURenderer, in TSL.
 import * as THREE from 'three';
-import { decodeGi, indirectionColumns, layoutGeometry, ENCODING_RGB9E5 } from './gi-format.js';
+import { decodeGi, indirectionColumns, layoutGeometry, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT } from './gi-format.js';
 
 export { ENCODING_RGBM, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT } from './gi-format.js';
 
 // Debug views: what a patched material shows instead of its lit colour.
 export const DebugView = Object.freeze({ OFF: 0, PROBE: 1, LEVEL: 2, BRICKS: 3, POSITION: 4 });
+// DebugView.LEVEL's colours, linear RGB: no brick, then levels 0..3 (the
+// C library's levels.png uses the same, docs/converter.md has the legend).
+export const LEVEL_COLOURS = Object.freeze([[0.25, 0.25, 0.25], [0.1, 0.35, 1.0], [0.1, 0.85, 0.25], [1.0, 0.85, 0.1], [1.0, 0.2, 0.1]]);
+const glslVec3 = (c) => `vec3(${c.map((v) => v.toFixed(2)).join(', ')})`;
 
 const now = () => (typeof performance !== 'undefined' ? performance.now() : Date.now());
 
@@ -137,7 +141,8 @@ export class GiRuntime {
       giIndDims: { value: new THREE.Vector3(1, 1, 1) },
       giAtlasDims: { value: new THREE.Vector3(1, 1, 1) },
       // x: texels a brick side, y: border before the first probe, z: coarse probe offset.
-      giLayout: { value: new THREE.Vector3(6, 1, 0.5) },
+      // The layout's number (gi-format.js), the seed apron and where a coarse probe stands.
+      giLayout: { value: new THREE.Vector3(LAYOUT_SEED, 1, 0.5) },
       // x: RGBM range (0 for RGB9E5, whose texels are already linear), y: GI on.
       giDecode: { value: new THREE.Vector2(0, 0) },
       giDebug: { value: DebugView.OFF },
@@ -171,7 +176,7 @@ export class GiRuntime {
     u.giBoxSize.value.subVectors(volume.boxMax, volume.boxMin);
     u.giIndDims.value.set(...h.indDims);
     u.giAtlasDims.value.set(...h.atlasDims);
-    u.giLayout.value.set(geo.brick, geo.pad, geo.centre);
+    u.giLayout.value.set(h.layout, geo.pad, geo.centre);
     u.giDecode.value.set(h.encoding === ENCODING_RGB9E5 ? 0 : h.rgbmRange, this._enabled ? 1 : 0);
   }
 
@@ -278,7 +283,7 @@ GiLookup vdbgiLookup(vec3 pos) {
   float column = cell.x + giIndDims.x * cell.z;
   vec4 run = vdbgiColumnsTexel(2.0 * column), at = vdbgiColumnsTexel(2.0 * column + 1.0);
   float ymin = run.r + 256.0 * run.g, count = run.b + 256.0 * run.a;
-  bool compact = giLayout.x < 5.5;
+  bool compact = abs(giLayout.x - ${LAYOUT_COMPACT}.0) < 0.5;
   bool lift = compact && count > 0.0;
   baseBrick.y = lift ? max(baseBrick.y, ymin) : baseBrick.y;
   float k = lift ? max(cell.y - ymin, 0.0) : cell.y - ymin;
@@ -293,7 +298,7 @@ GiLookup vdbgiLookup(vec3 pos) {
   vec3 q = (p - originCell + giLayout.z) / span - giLayout.z;
   q.y = compact ? max(q.y, 0.0) : q.y;
   vec3 first = compact ? ind.rgb * 4.0 + mod(floor(ind.a / vec3(4.0, 16.0, 64.0)), 4.0)
-                       : ind.rgb * giLayout.x + giLayout.y;
+                       : ind.rgb * 6.0 + giLayout.y;
   vec3 texel = first + q;
   vec4 s = texture(giAtlas, (texel + 0.5) / giAtlasDims);
   GiLookup r;
@@ -365,15 +370,16 @@ reflectedLight.indirectDiffuse += giDecode.y * vdbgiBounce(vdbgiIrradianceHere()
 // Debug views replace the final colour; PROBE and POSITION write linear
 // values, so a float render target reads back exactly what the lookup returned.
 const GLSL_DEBUG = /* glsl */ `
-if (giDebug != 0) {
+if (giDebug != ${DebugView.OFF}) {
   GiLookup giL = vdbgiLookup(vGiWorld);
   vec3 giC;
-  if (giDebug == 1) {
+  if (giDebug == ${DebugView.PROBE}) {
     giC = vdbgiIrradianceHere();
-  } else if (giDebug == 2) {
-    giC = giL.level < 0.0 ? vec3(0.25) : giL.level < 0.5 ? vec3(0.1, 0.35, 1.0)
-        : giL.level < 1.5 ? vec3(0.1, 0.85, 0.25) : giL.level < 2.5 ? vec3(1.0, 0.85, 0.1) : vec3(1.0, 0.2, 0.1);
-  } else if (giDebug == 3) {
+  } else if (giDebug == ${DebugView.LEVEL}) {
+    giC = giL.level < 0.0 ? ${glslVec3(LEVEL_COLOURS[0])} : giL.level < 0.5 ? ${glslVec3(LEVEL_COLOURS[1])}
+        : giL.level < 1.5 ? ${glslVec3(LEVEL_COLOURS[2])} : giL.level < 2.5 ? ${glslVec3(LEVEL_COLOURS[3])}
+        : ${glslVec3(LEVEL_COLOURS[4])};
+  } else if (giDebug == ${DebugView.BRICKS}) {
     vec3 d = min(giL.inBrick, 1.0 - giL.inBrick) / max(fwidth(giL.inBrick), vec3(1e-6));
     float edge = 1.0 - clamp(min(d.x, min(d.y, d.z)) - 0.5, 0.0, 1.0);
     giC = mix(giL.irradiance, vec3(0.0), edge);
@@ -382,6 +388,6 @@ if (giDebug != 0) {
   }
   // Positions go out raw; colours through the output's colour space
   // (the identity for a linear float target).
-  gl_FragColor = giDebug == 4 ? vec4(giC, 1.0) : linearToOutputTexel(vec4(giC, 1.0));
+  gl_FragColor = giDebug == ${DebugView.POSITION} ? vec4(giC, 1.0) : linearToOutputTexel(vec4(giC, 1.0));
 }
 `;

@@ -253,7 +253,7 @@ function showFigures(volume, name) {
     `bricks L0..L3  ${h.bricks.join(' / ')}`,
     `VRAM           ${mb(volume.vramBytes)} (${h.indDims.join('×')} cells as ${volume.columns.image.width}×${volume.columns.image.height} columns, atlas ${h.atlasDims.join('×')})`,
     `file           ${mb(volume.fileBytes)}` +
-      (h.storedPoints ? ` (version 4: ${h.storedPoints} probe values, each once)` : ` (version ${h.version}: the textures)`),
+      (h.storedPoints ? ` (version ${h.version}: ${h.storedPoints} probe values, each once)` : ` (version ${h.version}: the textures)`),
     `load           fetch ${ms(t.fetch)}, gunzip ${ms(t.gunzip)}, ` +
       `${h.storedPoints ? 'check and rebuild' : 'check'} ${ms(t.parse)}, textures ${ms(t.build)}, upload ${ms(t.upload)}`,
   ].join('\n');

@@ -22,7 +22,7 @@ done
 "$BIN/gi-inspect" f.gi.gz "$@" > inspect.txt
 node "$ROOT/tests/js/check_loader.mjs" f.gi.gz inspect.txt | sed 's/([0-9]* lit)/(lit)/'
 grep '^runtime' inspect.txt
-# A packed (version 4) file: the JavaScript reader rebuilds the textures the C reader
+# A packed (version 5) file: the JavaScript reader rebuilds the textures the C reader
 # rebuilds, byte for byte, with few and with many level seams to stitch.
 for run in rgbm,0.2 rgb9e5,0.2 rgbm,5 rgb9e5,5; do
     "$BIN/vdb-to-gi" -q world.vdb -o w.gi.gz --encoding ${run%,*} --eps ${run#*,}

@@ -1,11 +1,13 @@
-# Inconsistent packed (version 4) files: levels above the max, coarse blocks whose
+# Inconsistent packed (version 5) files: levels above the max, coarse blocks whose
 # cells disagree, level bytes and header that count other bricks or points, sizes
-# that do not add up, an atlas the bricks do not pack into, the older version 3,
-# an unknown layout. Each is gzip'd whole, so only the readers' checks can catch
-# it; the C reader (gi-inspect) and the JavaScript one each refuse every one with
-# one line, and read the good file, and the good file with the layout field that
-# compact files had before the lift (2, docs/format.md). A header that counts more bricks than its stored
-# points can hold is refused before anything is allocated for them.
+# that do not add up, bricks placed outside the atlas, between its layers, over the
+# block of zeros or over another brick's points, an atlas too large for its bricks,
+# the older versions 3 and 4, an unknown layout. Each is gzip'd whole, so only the
+# readers' checks can catch it; the C reader (gi-inspect) and the JavaScript one each
+# refuse every one with one line, and read the good file. A header that counts more
+# bricks than its stored points can hold is refused before anything is allocated for
+# them. Last, the textures (version 2) with the layout numbers written before
+# they were the same everywhere (0 seed, 3 compact) are still read, alike.
 "$BIN/gi-bake" -q "$DATA/world.glb" -o world.vdb --spacing 1 --rays 16 >/dev/null
 "$BIN/vdb-to-gi" -q world.vdb -o good.gi.gz --eps 0.3
 mkdir bad
@@ -29,3 +31,13 @@ while read -r name; do
     echo "  C  (exit $code, $(wc -l < err.txt) line): $(sed 's/^gi-inspect: bad\///' err.txt)"
     echo "  JS $(node load.mjs "bad/$name.gi.gz")"
 done < names.txt
+# Version 2 with the old compact number 3 reads as the same textures as with 2.
+"$BIN/gi-inspect" good.gi.gz --textures new.gi > /dev/null
+node -e "
+const fs = require('fs'), b = fs.readFileSync('new.gi');
+console.log('textures written with layout field', b.readUInt32LE(104));
+b.writeUInt32LE(3, 104); fs.writeFileSync('old.gi', b);"
+"$BIN/gi-inspect" old.gi --textures again.gi > /dev/null && cmp new.gi again.gi &&
+    echo "old number 3: C reads the same textures"
+gzip -n new.gi old.gi
+printf 'old number 3: JS %s, as %s\n' "$(node load.mjs old.gi.gz)" "$(node load.mjs new.gi.gz)"

@@ -1,6 +1,6 @@
 // check_textures.mjs FILE.gi.gz TEXTURES.gi: the JavaScript reader rebuilds,
 // byte for byte, the runtime textures the C reader rebuilds from a packed
-// (version 4) file; TEXTURES.gi is what `gi-inspect FILE --textures` wrote.
+// (version 5) file; TEXTURES.gi is what `gi-inspect FILE --textures` wrote.
 import { readFile } from 'node:fs/promises';
 import { decodeGi, parseGi } from '../../web/gi-format.js';
 
@@ -15,7 +15,7 @@ const differing = (a, b) => {
   return n;
 };
 const ind = differing(gi.indirection, want.indirection), atlas = differing(gi.atlas, want.atlas);
-const ok = gi.version === 4 && ind === 0 && atlas === 0;
+const ok = gi.version === 5 && ind === 0 && atlas === 0;
 console.log(`version ${gi.version}, ${gi.storedPoints} stored points -> ` +
             `${gi.indirection.length} + ${gi.atlas.length} texture bytes: ` +
             (ok ? 'identical to the C reader\'s' : `indirection ${ind}, atlas ${atlas} bytes differ`));
