@@ -253,7 +253,7 @@ static int bench_convert(const options *o)
                      c == VDBGI_CRITERION_RANGE ? "range" : "interp", eps_text[e]);
             code = convert_row(ctx, p, &d, label, read_seconds, o->repeat);
         }
-    /* vdb-to-gi's default, the compact layout, and seed 000's layout (the library's zero value). */
+    /* vdb-to-gi's default, the compact layout (the library's zero value), and seed 000's layout. */
     const vdbgi_convert_desc compact = {.layout = VDBGI_LAYOUT_COMPACT},
                              e9 = {.layout = VDBGI_LAYOUT_COMPACT,
                                    .encoding = VDBGI_ENCODING_RGB9E5},

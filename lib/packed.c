@@ -505,37 +505,102 @@ static vdbgi_result read_placement(vdbgi_context *ctx, vdbgi_pack_plan *pl, cons
 /*
  * Two bricks may share texels only where they hold the same lattice points:
  * both of one level, at the same offset from their block index (origin - 4
- * key). None covers the block of zeros that empty cells read. The first
- * brick to claim each texel is kept in a map the size of the atlas.
+ * key). None covers the block of zeros that empty cells read. Bricks of
+ * different layers share nothing, so each layer is checked on its own, in a
+ * map of its texels holding the first brick to claim each; threads take
+ * runs of layers.
  */
-static vdbgi_result check_overlaps(vdbgi_context *ctx, const vdbgi_pack_plan *pl,
-                                   const uint32_t dims[3], const char *name)
+typedef struct overlap_job {
+    const vdbgi_pack_plan *pl;
+    const uint32_t *dims, *by_layer, *layer_first; /* bricks in layer order; layer l's first */
+    uint32_t l0, l1;
+    uint32_t *owner; /* one layer's texels; NULL: out of memory */
+    size_t bad;      /* the first brick (in layer order) that overlaps wrongly, or SIZE_MAX */
+    int texel;       /* and its texel */
+} overlap_job;
+
+static void *overlap_worker(void *arg)
 {
-    const size_t texels = (size_t)dims[0] * dims[1] * dims[2];
-    uint32_t *const owner = vdbgi_calloc(ctx, texels, sizeof(*owner));
-    if (!owner)
-        return VDBGI_ERR_OUT_OF_MEMORY;
-    for (int t = 0; t < TEXELS; t++)
-        owner[((size_t)(t / (N * N)) * dims[1] + t / N % N) * dims[0] + t % N] = UINT32_MAX;
-    vdbgi_result r = VDBGI_OK;
-    for (size_t b = 0; b < pl->brick_count && r == VDBGI_OK; b++) {
-        const uint16_t *const o = pl->origin[b];
-        for (int t = 0; t < TEXELS && r == VDBGI_OK; t++) {
-            const size_t i = ((size_t)(o[2] + t / (N * N)) * dims[1] + o[1] + t / N % N) * dims[0] +
-                             o[0] + t % N;
-            const uint32_t j = owner[i] ? owner[i] - 1 : (uint32_t)b;
-            bool same = j != UINT32_MAX - 1 && pl->level[j] == pl->level[b];
-            for (int k = 0; k < 3 && same; k++)
-                same = pl->origin[j][k] - 4 * pl->key[j][k] == o[k] - 4 * pl->key[b][k];
-            if (!same)
-                r = vdbgi_fail(
-                    ctx, VDBGI_ERR_FORMAT, "%s: brick %zu overlaps %s at texel %u,%u,%u", name, b,
-                    j == UINT32_MAX - 1 ? "the block of zeros" : "another brick's points",
-                    o[0] + t % N, o[1] + t / N % N, o[2] + t / (N * N));
-            owner[i] = owner[i] ? owner[i] : (uint32_t)b + 1;
+    overlap_job *const job = arg;
+    const vdbgi_pack_plan *const pl = job->pl;
+    const uint32_t *const d = job->dims;
+    const size_t layer_texels = (size_t)d[0] * N * d[2];
+    for (uint32_t l = job->l0; l < job->l1 && job->bad == SIZE_MAX && job->owner; l++) {
+        memset(job->owner, 0, layer_texels * sizeof(*job->owner));
+        for (int t = 0; l == 0 && t < TEXELS; t++) /* the block of zeros */
+            job->owner[((size_t)(t / (N * N)) * N + t / N % N) * d[0] + t % N] = UINT32_MAX;
+        for (uint32_t n = job->layer_first[l]; n < job->layer_first[l + 1]; n++) {
+            const uint32_t b = job->by_layer[n];
+            const uint16_t *const o = pl->origin[b];
+            for (int t = 0; t < TEXELS && job->bad == SIZE_MAX; t++) {
+                uint32_t *const w =
+                    &job->owner[((size_t)(o[2] + t / (N * N)) * N + t / N % N) * d[0] + o[0] +
+                                t % N];
+                const uint32_t j = *w ? *w - 1 : b;
+                bool same = j != UINT32_MAX - 1 && pl->level[j] == pl->level[b];
+                for (int k = 0; k < 3 && same; k++)
+                    same = pl->origin[j][k] - 4 * pl->key[j][k] == o[k] - 4 * pl->key[b][k];
+                *w = *w ? *w : b + 1;
+                if (!same)
+                    job->bad = b, job->texel = t;
+            }
+            if (job->bad != SIZE_MAX)
+                break;
         }
     }
-    vdbgi_free(ctx, owner);
+    return NULL;
+}
+
+static vdbgi_result check_overlaps(vdbgi_context *ctx, const vdbgi_pack_plan *pl,
+                                   const uint32_t dims[3], const char *name, int threads)
+{
+    const uint32_t layers = dims[1] / N;
+    uint32_t *const first = vdbgi_calloc(ctx, (size_t)layers + 1, sizeof(*first));
+    uint32_t *const by_layer = vdbgi_alloc(ctx, (pl->brick_count + 1) * sizeof(*by_layer));
+    overlap_job jobs[MAX_JOBS];
+    int nt = job_count(threads);
+    nt = (uint32_t)nt > layers ? (int)layers : nt;
+    vdbgi_result r = first && by_layer ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
+    for (int t = 0; t < nt; t++) {
+        jobs[t] = (overlap_job){.pl = pl,
+                                .dims = dims,
+                                .by_layer = by_layer,
+                                .layer_first = first,
+                                .l0 = (uint32_t)((uint64_t)layers * t / nt),
+                                .l1 = (uint32_t)((uint64_t)layers * (t + 1) / nt),
+                                .bad = SIZE_MAX};
+        jobs[t].owner = vdbgi_alloc(ctx, (size_t)dims[0] * N * dims[2] * sizeof(uint32_t));
+        r = jobs[t].owner ? r : VDBGI_ERR_OUT_OF_MEMORY;
+    }
+    if (r == VDBGI_OK) { /* a counting sort by layer, in brick order within one */
+        for (size_t b = 0; b < pl->brick_count; b++)
+            first[pl->origin[b][1] / N + 1]++;
+        for (uint32_t l = 0; l < layers; l++)
+            first[l + 1] += first[l];
+        for (size_t b = 0; b < pl->brick_count; b++)
+            by_layer[first[pl->origin[b][1] / N]++] = (uint32_t)b;
+        for (uint32_t l = layers; l > 0; l--)
+            first[l] = first[l - 1];
+        first[0] = 0;
+        vdbgi_run_threads(nt, overlap_worker, jobs, sizeof(jobs[0]));
+    }
+    for (int t = 0; t < nt; t++) {
+        const overlap_job *const job = &jobs[t];
+        if (r == VDBGI_OK && job->bad != SIZE_MAX) {
+            const uint16_t *const o = pl->origin[job->bad];
+            const int q = job->texel;
+            const size_t i =
+                ((size_t)(o[2] + q / (N * N)) * N + q / N % N) * dims[0] + o[0] + q % N;
+            r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: brick %zu overlaps %s at texel %u,%u,%u",
+                           name, job->bad,
+                           job->owner[i] == UINT32_MAX ? "the block of zeros"
+                                                       : "another brick's points",
+                           o[0] + q % N, o[1] + q / N % N, o[2] + q / (N * N));
+        }
+        vdbgi_free(ctx, job->owner);
+    }
+    vdbgi_free(ctx, first);
+    vdbgi_free(ctx, by_layer);
     return r;
 }
 
@@ -626,7 +691,7 @@ vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels, const 
     if (r == VDBGI_OK)
         r = vdbgi_gifile_alloc(v);
     if (r == VDBGI_OK && placement)
-        r = check_overlaps(ctx, pl, info->atlas_dims, name);
+        r = check_overlaps(ctx, pl, info->atlas_dims, name, threads);
     if (r != VDBGI_OK) {
         vdbgi_pack_plan_free(ctx, pl);
         return r;

@@ -27,7 +27,7 @@ import pyopenvdb as vdb
 def read_gi(path):
     raw = gzip.open(path, "rb").read()
     file_bytes = len(open(path, "rb").read())
-    if struct.unpack_from("<I", raw, 8)[0] == 4:
+    if struct.unpack_from("<I", raw, 8)[0] == 5:
         # A packed file: its textures as the C reader rebuilds them (gi-inspect --textures).
         tool = os.path.join(os.environ.get("BIN", "build/release/bin"), "gi-inspect")
         with tempfile.TemporaryDirectory() as tmp:
@@ -36,7 +36,7 @@ def read_gi(path):
             raw = open(out, "rb").read()
     (magic, version, header_size, encoding, rgbm_range) = struct.unpack_from("<8sIIIf", raw, 0)
     assert magic == b"vdbgi.gi" and version in (1, 2), path
-    layout = struct.unpack_from("<I", raw, 104)[0] if version == 2 else 0
+    layout = struct.unpack_from("<I", raw, 104)[0] if version == 2 else 1  # docs/format.md
     ind_dims = struct.unpack_from("<3I", raw, 24)
     atlas_dims = struct.unpack_from("<3I", raw, 36)
     box_min = struct.unpack_from("<3f", raw, 48)
@@ -104,7 +104,7 @@ def main(vdb_path, gi_path, name=None):
     ind, atlas = gi["ind"], gi["atlas"]
     # The indirection's first cell, in lattice cells: box_min = origin + spacing (4 c0 - 0.5).
     c0 = np.rint(((np.array(gi["box_min"]) - origin) / spacing + 0.5) / 4).astype(np.int64)
-    compact = gi["layout"] in (2, 3)  # 3: written since the lift (docs/format.md)
+    compact = gi["layout"] in (2, 3)  # 3: the compact layout's number before version 5
     a = ind[..., 3].astype(np.int64)
     if compact:  # a: level in bits 0-1, the brick's first texel mod 4 per axis above
         level = np.where(ind.astype(np.int64).sum(axis=-1) == 0, -1, a & 3)

@@ -30,7 +30,9 @@ function readPlacement(table, keys, lv, dims) {
   const owner = new Uint32Array(dims[0] * dims[1] * dims[2]);
   const ZERO = 0xffffffff;
   for (let t = 0; t < TEXELS; t++) owner[(Math.floor(t / (N * N)) * dims[1] + Math.floor(t / N) % N) * dims[0] + (t % N)] = ZERO;
-  for (let b = 0; b < count; b++) {
+  // Layer by layer, in brick order within one, as lib/packed.c (the first overlap found is the one named).
+  const order = Array.from({ length: count }, (_, b) => b).sort((a, b) => origin[3 * a + 1] - origin[3 * b + 1] || a - b);
+  for (const b of order) {
     const o = origin.subarray(3 * b, 3 * b + 3);
     for (let t = 0; t < TEXELS; t++) {
       const x = o[0] + (t % N), y = o[1] + (Math.floor(t / N) % N), z = o[2] + Math.floor(t / (N * N));
