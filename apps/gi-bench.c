@@ -2,7 +2,6 @@
 #define _DEFAULT_SOURCE     /* mkstemps */
 #define VDBGI_BENCHMARK_API /* vdbgi_probes_trace_bare, vdbgi_lightmap_trace_bare, ... */
 #include "cli.h"
-#include "encode.h" /* vdbgi_rgbm_encode: the dense grid's texels, as the bricks' */
 #include "vdbgi.h"
 
 #include <errno.h>

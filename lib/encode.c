@@ -15,7 +15,7 @@ static float at_most_one(float c)
     return c < 1.0f ? c : 1.0f;
 }
 
-bool vdbgi_rgbm_encode(const float rgb[3], float range, uint8_t out[4])
+int vdbgi_rgbm_encode(const float rgb[3], float range, uint8_t out[4])
 {
     const float c[3] = {sanitise(rgb[0]), sanitise(rgb[1]), sanitise(rgb[2])};
     const float mx = fmaxf(c[0], fmaxf(c[1], c[2]));
@@ -46,7 +46,7 @@ void vdbgi_rgbm_decode(const uint8_t in[4], float range, float rgb[3])
 #define RGB9E5_MAX_EXP 31
 #define RGB9E5_MAX 65408.0f /* (511/512) * 2^(31 - 15) */
 
-bool vdbgi_rgb9e5_encode(const float rgb[3], uint32_t *out)
+int vdbgi_rgb9e5_encode(const float rgb[3], uint32_t *out)
 {
     float c[3];
     bool clamped = false;

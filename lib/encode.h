@@ -2,28 +2,12 @@
 #ifndef VDBGI_ENCODE_H
 #define VDBGI_ENCODE_H
 
+#include "vdbgi.h"
+
 #include <stdbool.h>
 #include <stdint.h>
 
-/*
- * RGBM with multiplier range `range`: M = ceil(255 max(r,g,b)/range)/255,
- * rgb = round(255 c / (M range))/255. Rounding M up keeps every channel in
- * [0, 1], so decoding lands within half a step (M range / 510) of the input.
- * Negative and NaN channels encode as 0; colours brighter than range clamp
- * (the return value says so).
- */
-bool vdbgi_rgbm_encode(const float rgb[3], float range, uint8_t out[4]);
-void vdbgi_rgbm_decode(const uint8_t in[4], float range, float rgb[3]);
-
-/*
- * RGB9E5 (EXT_texture_shared_exponent, WebGPU rgb9e5ufloat): 9-bit
- * mantissas, one 5-bit exponent, bias 15; r in bits 0-8, g 9-17, b 18-26,
- * exponent 27-31. Largest value 65408; relative error <= 2^-9 of the
- * largest channel. Negative and NaN channels encode as 0; larger values clamp
- * (the return value says so).
- */
-bool vdbgi_rgb9e5_encode(const float rgb[3], uint32_t *out);
-void vdbgi_rgb9e5_decode(uint32_t in, float rgb[3]);
+/* RGBM and RGB9E5, the .gi texels: declared in vdbgi.h (tools that write texels use them). */
 
 /*
  * bevy-baked-gi's 8-bit shared exponent (seed 002): C = 2^(a - 128) (r, g, b) / 255

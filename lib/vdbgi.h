@@ -594,6 +594,28 @@ typedef struct vdbgi_convert_desc {
 /* The runtime's indirection is at most this many texels a side (WebGL2's 2D minimum). */
 #define VDBGI_COLUMNS_ROW 2048
 
+/* The .gi file's texel encodings (docs/format.md), for tools that write or read texels. */
+
+/*
+ * RGBM with multiplier range `range`: M = ceil(255 max(r,g,b)/range)/255,
+ * rgb = round(255 c / (M range))/255. Rounding M up keeps every channel in
+ * [0, 1], so decoding lands within half a step (M range / 510) of the input.
+ * Negative and NaN channels encode as 0; colours brighter than range clamp
+ * (the return value is then non-zero).
+ */
+VDBGI_API int vdbgi_rgbm_encode(const float rgb[3], float range, uint8_t out[4]);
+VDBGI_API void vdbgi_rgbm_decode(const uint8_t in[4], float range, float rgb[3]);
+
+/*
+ * RGB9E5 (EXT_texture_shared_exponent, WebGPU rgb9e5ufloat): 9-bit
+ * mantissas, one 5-bit exponent, bias 15; r in bits 0-8, g 9-17, b 18-26,
+ * exponent 27-31. Largest value 65408; relative error <= 2^-9 of the
+ * largest channel. Negative and NaN channels encode as 0; larger values clamp
+ * (the return value is then non-zero).
+ */
+VDBGI_API int vdbgi_rgb9e5_encode(const float rgb[3], uint32_t *out);
+VDBGI_API void vdbgi_rgb9e5_decode(uint32_t in, float rgb[3]);
+
 /*
  * Build the bricked volume of baked probes: fill invalid and absent probes
  * from valid neighbours, coarsen top-down by desc's criterion, pack the atlas

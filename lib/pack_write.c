@@ -1,0 +1,321 @@
+/*
+ * pack_write.c: the converter's half of the compact file: each stored
+ * point's value from the filled field, the residuals against the predictor,
+ * and the payload (level bytes, placement, residual planes); the textures
+ * are then rebuilt from the values exactly as a reader rebuilds them.
+ */
+#include "encode.h"
+#include "gifile.h"
+#include "pack_common.h"
+#include "util.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/*
+ * Slot order: by each brick's first cell, z, then y, then x, as the reader
+ * lists them (absolute cells: the indirection's corner shifts all alike).
+ */
+static int brick_order(const void *pa, const void *pb)
+{
+    const vdbgi_brick *a = pa, *b = pb;
+    for (int k = 2; k >= 0; k--) {
+        const int32_t ca = a->key[k] * (1 << a->level), cb = b->key[k] * (1 << b->level);
+        if (ca != cb)
+            return ca < cb ? -1 : 1;
+    }
+    return 0;
+}
+
+/* Valid probes, a bit each, over the owner grid. */
+static uint64_t *valid_bits(vdbgi_volume *v, const vdbgi_pack_plan *pl, const vdbgi_probes *pr)
+{
+    const size_t cells = (size_t)pl->grid[0] * pl->grid[1] * pl->grid[2];
+    uint64_t *const bits = vdbgi_calloc(v->ctx, cells, sizeof(*bits));
+    if (!bits)
+        return NULL;
+    for (size_t i = 0; i < pr->count; i++) {
+        if (pr->backface[i] > pr->invalid_threshold)
+            continue;
+        int32_t p[3];
+        size_t c;
+        int bit;
+        for (int k = 0; k < 3; k++)
+            p[k] = pr->ijk[3 * i + k] - v->origin_cell[k] * VDBGI_BRICK;
+        if (grid_slot(pl, p, &c, &bit))
+            bits[c] |= UINT64_C(1) << bit;
+    }
+    return bits;
+}
+
+/*
+ * The valid bits grown by one point along an axis: a cell's 4^3 bits are
+ * x fastest (1 bit), then y (4), then z (16); the neighbour cells' faces
+ * carry in. Three passes grow them to the 26 neighbours.
+ */
+static void grow(const vdbgi_pack_plan *pl, const uint64_t *in, uint64_t *out, int axis)
+{
+    static const uint64_t low_face[3] = {UINT64_C(0x1111111111111111), UINT64_C(0x000F000F000F000F),
+                                         UINT64_C(0xFFFF)};
+    const int step = axis == 0 ? 1 : axis == 1 ? 4 : 16;
+    const uint64_t low = low_face[axis], high = low << (3 * step);
+    const size_t stride = axis == 0   ? 1
+                          : axis == 1 ? pl->grid[0]
+                                      : (size_t)pl->grid[0] * pl->grid[1];
+    for (int32_t z = 0; z < (int32_t)pl->grid[2]; z++)
+        for (int32_t y = 0; y < (int32_t)pl->grid[1]; y++)
+            for (int32_t x = 0; x < (int32_t)pl->grid[0]; x++) {
+                const int32_t c[3] = {x, y, z};
+                const size_t i = cell_index(pl->grid, c);
+                const uint64_t m = in[i];
+                uint64_t g = m | (m << step & ~low) | (m >> step & ~high);
+                if (c[axis] > 0)
+                    g |= in[i - stride] >> (3 * step) & low;
+                if (c[axis] + 1 < (int32_t)pl->grid[axis])
+                    g |= in[i + stride] << (3 * step) & high;
+                out[i] = g;
+            }
+}
+
+/*
+ * The first brick (in brick order) whose unstitched texel stands at stored
+ * point p. Its block holds one of the cells that touch p (a brick's +
+ * border lies in the next cell), which may lie past the indirection when a
+ * coarse block does: each such cell is looked up at each level's block.
+ */
+static size_t first_reader(const vdbgi_pack_plan *pl, const int32_t p[3])
+{
+    size_t first = SIZE_MAX;
+    for (int c = 0; c < 8; c++) {
+        int32_t cell[3];
+        if (!touching_cell(p, c, cell))
+            continue;
+        for (int level = 0; level < 4; level++) {
+            const int32_t key[3] = {cell[0] >> level, cell[1] >> level, cell[2] >> level};
+            const int32_t b = brick_with_key(pl, key, level);
+            if (b < 0 || (size_t)b >= first)
+                continue;
+            const int32_t span = 1 << level;
+            bool on = true;
+            int t = 0;
+            for (int k = 2; k >= 0 && on; k--) {
+                const int32_t q = p[k] - key[k] * VDBGI_BRICK * span;
+                on = q % span == 0 && q >= 0 && q <= VDBGI_BRICK * span;
+                t = t * N + q / span;
+            }
+            size_t j;
+            int cl;
+            if (on && !stitched(pl, (size_t)b, t, &j, &cl))
+                first = (size_t)b;
+        }
+    }
+    return first;
+}
+
+/*
+ * A band of owner-cell planes z0 <= cz < z1 for one thread of the converter's
+ * passes over the stored points; i0 is its first point's index. The points
+ * of a band are written by its thread alone, so the bytes do not depend on
+ * the threads.
+ */
+typedef struct band_job {
+    const vdbgi_volume *v;
+    const vdbgi_pack_plan *pl;
+    const vdbgi_brick *bricks;
+    size_t count;
+    uint8_t *values; /* 4 bytes a point */
+    uint8_t *out;    /* the residual planes */
+    int32_t z0, z1;
+    size_t i0;
+    size_t clamped, fallback;
+} band_job;
+
+/* Each point's value: the filled field at its lattice point or, where the
+ * fill left none, the block mean of the first brick (in brick order) that
+ * reads it. Storage order keeps the field's leaves at hand. */
+static void *values_worker(void *arg)
+{
+    band_job *const job = arg;
+    const vdbgi_volume *const v = job->v;
+    const vdbgi_leaf *cache = NULL;
+    FOR_EACH_POINT_IN(job->pl, job->z0, job->z1, job->i0, p, i, {
+        const int32_t at[3] = {p[0] + VDBGI_BRICK * v->origin_cell[0],
+                               p[1] + VDBGI_BRICK * v->origin_cell[1],
+                               p[2] + VDBGI_BRICK * v->origin_cell[2]};
+        const float *f = vdbgi_field_at(&v->filled, at, &cache);
+        if (!f) { /* every stored point has a reader: the plan stored it for one */
+            static const float none[3];
+            const size_t b = first_reader(job->pl, p);
+            f = b < job->count ? job->bricks[b].mean : none;
+            job->fallback++;
+        }
+        job->clamped += encode_texel(v, f, &job->values[4 * i]);
+    });
+    return NULL;
+}
+
+/* Each point's residual against its prediction from values that are final. */
+static void *residual_worker(void *arg)
+{
+    band_job *const job = arg;
+    const size_t n = job->pl->points;
+    const bool rgbm = job->v->info.encoding == VDBGI_ENCODING_RGBM;
+    FOR_EACH_POINT_IN(job->pl, job->z0, job->z1, job->i0, p, i, {
+        int64_t nb[4];
+        neighbours(job->pl, p, nb);
+        for (int o = 0; o < 4; o++) {
+            const int k = byte_order(rgbm, o);
+            const uint8_t pred = predict(job->values, nb, k, rgbm && k < 3, job->values[4 * i + 3]);
+            job->out[k * n + i] = (uint8_t)(job->values[4 * i + k] - pred);
+        }
+    });
+    return NULL;
+}
+
+/*
+ * Bands of about equal numbers of points, one a thread (at most MAX_JOBS),
+ * into jobs; returns how many. The plan's offset of a plane's first owner
+ * cell is the number of points before that plane.
+ */
+static int split_bands(const vdbgi_pack_plan *pl, int threads, band_job *jobs,
+                       const band_job *proto)
+{
+    const int32_t planes = (int32_t)pl->grid[2];
+    const size_t plane_cells = (size_t)pl->grid[0] * pl->grid[1];
+    int nt = job_count(threads);
+    nt = nt > planes ? (planes > 0 ? planes : 1) : nt;
+    int32_t z = 0;
+    for (int t = 0; t < nt; t++) {
+        jobs[t] = *proto;
+        jobs[t].z0 = z;
+        jobs[t].i0 = z < planes ? pl->offset[(size_t)z * plane_cells] : pl->points;
+        const size_t until = pl->points * (size_t)(t + 1) / (size_t)nt;
+        while (z < planes && (t == nt - 1 || pl->offset[(size_t)z * plane_cells] < until))
+            z++;
+        jobs[t].z1 = z;
+    }
+    return nt;
+}
+
+vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count,
+                              const vdbgi_probes *probes, int threads, uint8_t **payload,
+                              size_t *payload_size)
+{
+    vdbgi_context *const ctx = v->ctx;
+    *payload = NULL;
+    *payload_size = 0;
+    qsort(bricks, count, sizeof(*bricks), brick_order);
+    const uint32_t *const d = v->info.indirection_dims;
+    const size_t cells = (size_t)d[0] * d[1] * d[2];
+    uint8_t *const levels = vdbgi_calloc(ctx, cells, 1);
+    if (!levels)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    for (size_t b = 0; b < count; b++) {
+        const int32_t span = 1 << bricks[b].level;
+        int32_t lo[3], hi[3];
+        for (int k = 0; k < 3; k++) {
+            lo[k] = bricks[b].key[k] * span - v->origin_cell[k];
+            hi[k] = lo[k] + span < (int32_t)d[k] ? lo[k] + span : (int32_t)d[k];
+        }
+        for (int32_t z = lo[2]; z < hi[2]; z++)
+            for (int32_t y = lo[1]; y < hi[1]; y++)
+                for (int32_t x = lo[0]; x < hi[0]; x++) {
+                    const int32_t c[3] = {x, y, z};
+                    levels[cell_index(d, c)] = (uint8_t)(bricks[b].level + 1);
+                }
+    }
+    vdbgi_pack_plan pl;
+    uint8_t *values = NULL, *coarse_read = NULL, *out = NULL;
+    uint64_t *valid = NULL, *near = NULL;
+    vdbgi_result r = vdbgi_pack_plan_make(v, levels, NULL, NULL, "converter", threads, &pl);
+    if (r != VDBGI_OK) {
+        vdbgi_free(ctx, levels);
+        return r;
+    }
+    const size_t n = pl.points;
+    values = vdbgi_calloc(ctx, 4 * (n ? n : 1), 1);
+    coarse_read = vdbgi_calloc(ctx, n ? n : 1, 1); /* 1: a coarse brick reads the point */
+    const size_t table = VDBGI_PLACEMENT_BYTES * count;
+    out = vdbgi_alloc(ctx, cells + table + 4 * n);
+    valid = valid_bits(v, &pl, probes);
+    const size_t grid_cells = (size_t)pl.grid[0] * pl.grid[1] * pl.grid[2];
+    near = vdbgi_alloc(ctx, grid_cells * sizeof(*near));
+    if (!values || !coarse_read || !out || !valid || !near) {
+        r = VDBGI_ERR_OUT_OF_MEMORY;
+        goto done;
+    }
+    band_job jobs[MAX_JOBS];
+    const band_job proto = {.v = v,
+                            .pl = &pl,
+                            .bricks = bricks,
+                            .count = count,
+                            .values = values,
+                            .out = out + cells + table};
+    const int bands = split_bands(&pl, threads, jobs, &proto);
+    vdbgi_run_threads(bands, values_worker, jobs, sizeof(jobs[0]));
+    size_t clamped = 0;
+    for (int t = 0; t < bands; t++) {
+        clamped += jobs[t].clamped;
+        v->info.fallback_count += jobs[t].fallback;
+    }
+    for (size_t b = 0; b < count; b++)
+        for (int t = 0; pl.level[b] && t < TEXELS; t++) {
+            size_t j;
+            int cl;
+            int32_t p[3];
+            texel_point(&pl, b, t, p);
+            const int64_t i = stitched(&pl, b, t, &j, &cl) ? -1 : point_index(&pl, p);
+            if (i >= 0)
+                coarse_read[i] = 1;
+        }
+    /*
+     * A point no receiver reads takes the prediction itself: its residual is
+     * zero, which gzip all but drops. Its prediction depends on the points
+     * before it, so these go in storage order, on one thread; then every
+     * residual, from final values, in bands.
+     */
+    /* Points with a valid probe among their 26 neighbours, or themselves valid. */
+    grow(&pl, valid, near, 0);
+    grow(&pl, near, valid, 1);
+    grow(&pl, valid, near, 2);
+    memcpy(out, levels, cells);
+    for (size_t b = 0; b < count; b++)
+        for (int k = 0; k < 3; k++)
+            vdbgi_put_u16(out + cells + 2 * (k * count + b), pl.origin[b][k]);
+    const bool rgbm = v->info.encoding == VDBGI_ENCODING_RGBM;
+    size_t unread = 0;
+    FOR_EACH_POINT(&pl, p, i, {
+        size_t c = 0;
+        int own = 0;
+        grid_slot(&pl, p, &c, &own); /* every stored point is in the grid */
+        if (!coarse_read[i] && !(near[c] >> own & 1u)) {
+            unread++;
+            int64_t nb[4];
+            neighbours(&pl, p, nb);
+            for (int o = 0; o < 4; o++) {
+                const int k = byte_order(rgbm, o);
+                values[4 * i + k] = predict(values, nb, k, rgbm && k < 3, values[4 * i + 3]);
+            }
+        }
+    });
+    vdbgi_run_threads(bands, residual_worker, jobs, sizeof(jobs[0]));
+    vdbgi_log(ctx, VDBGI_LOG_DEBUG, "%zu stored points, %zu of them read by no receiver", n,
+              unread);
+    size_t stitched_clamps = 0;
+    if ((r = vdbgi_pack_rebuild_values(v, &pl, values, threads, &stitched_clamps)) != VDBGI_OK)
+        goto done;
+    v->info.clamped_count += clamped + stitched_clamps;
+    v->info.stored_points = n;
+    *payload = out;
+    *payload_size = cells + table + 4 * n;
+    out = NULL;
+done:
+    vdbgi_pack_plan_free(ctx, &pl);
+    vdbgi_free(ctx, levels);
+    vdbgi_free(ctx, values);
+    vdbgi_free(ctx, coarse_read);
+    vdbgi_free(ctx, out);
+    vdbgi_free(ctx, valid);
+    vdbgi_free(ctx, near);
+    return r;
+}
