@@ -413,13 +413,9 @@ static void print_json(FILE *f, const void *arg)
 int main(int argc, char **argv)
 {
     cli_init("vdb-to-gi");
-    /* The compact layout by default: half the memory of seed 000's at the same error
-       where light is read (docs/converter.md, section 12). The library's zero value
-       stays the seed layout. */
-    options o = {.axis = VDBGI_AXIS_Y,
-                 .slice_at = NAN,
-                 .exposure = NAN,
-                 .convert = {.layout = VDBGI_LAYOUT_COMPACT}};
+    /* The compact layout, the library's default: half the memory of seed 000's at the
+       same error where light is read (docs/converter.md, section 12). */
+    options o = {.axis = VDBGI_AXIS_Y, .slice_at = NAN, .exposure = NAN};
     const int parsed = parse_args(argc, argv, &o);
     if (parsed >= 0)
         return parsed;
@@ -480,6 +476,7 @@ int main(int argc, char **argv)
     if (r == VDBGI_OK && bevy && cli_verbosity >= 2)
         print_bevy(bevy, &o);
     bool built = true;
+    const double t1 = cli_now();
     if (r == VDBGI_OK && o.output)
         built = (r = vdbgi_volume_build(ctx, probes, &o.convert, &vol)) == VDBGI_OK;
     if (r == VDBGI_OK && o.output)
@@ -488,6 +485,7 @@ int main(int argc, char **argv)
     vdbgi_probes_info pi;
     if (r == VDBGI_OK && o.output) {
         vdbgi_volume_get_info(vol, &vi);
+        vi.seconds = cli_now() - t1; /* the conversion: the build, and the file (gzip on write) */
         vdbgi_probes_get_info(probes, &pi);
     }
     if (r == VDBGI_OK && o.slices) {

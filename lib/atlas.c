@@ -48,7 +48,7 @@ static size_t encode_brick(const vdbgi_volume *v, const float (*s)[3], uint32_t 
             for (uint32_t x = 0; x < n; x++) {
                 const size_t t = ((size_t)(base[2] + z) * d[1] + base[1] + y) * d[0] + base[0] + x;
                 const float *const rgb = s[(z * n + y) * n + x];
-                uint8_t *const out = &v->atlas[4 * t];
+                uint8_t *const out = &v->tex.atlas[4 * t];
                 bool clamped;
                 if (v->info.encoding == VDBGI_ENCODING_RGB9E5) {
                     uint32_t w;
@@ -82,7 +82,7 @@ static void mark_indirection(const vdbgi_volume *v, const vdbgi_brick *k, uint32
     for (int32_t z = lo[2]; z < hi[2]; z++)
         for (int32_t y = lo[1]; y < hi[1]; y++)
             for (int32_t x = lo[0]; x < hi[0]; x++)
-                memcpy(&v->indirection[4 * (((size_t)z * d[1] + (size_t)y) * d[0] + (size_t)x)],
+                memcpy(&v->tex.indirection[4 * (((size_t)z * d[1] + (size_t)y) * d[0] + (size_t)x)],
                        texel, 4);
 }
 

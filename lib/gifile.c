@@ -1,7 +1,12 @@
-/* gifile.c: the .gi container (docs/format.md): header, indirection, atlas, gzip. */
+/*
+ * gifile.c: the .gi container (docs/format.md): a header and a body to bytes
+ * and back, gzip on the way out, every size checked on the way in. What the
+ * body holds (textures, or the packed layout's payload) is the volume's and
+ * the layouts' business, not this file's.
+ */
 #define _POSIX_C_SOURCE 200809L
 #include "gifile.h"
-#include "packed.h"
+#include "sampler.h" /* the brick sizes: the atlas's limits */
 #include "util.h"
 
 #include <errno.h>
@@ -14,7 +19,7 @@
 
 static const char gi_magic[8] = {'v', 'd', 'b', 'g', 'i', '.', 'g', 'i'};
 
-static void write_header(const vdbgi_volume_info *in, bool packed, uint8_t h[VDBGI_GI_HEADER_SIZE])
+void vdbgi_gifile_header(const vdbgi_volume_info *in, bool packed, uint8_t h[VDBGI_GI_HEADER_SIZE])
 {
     memset(h, 0, VDBGI_GI_HEADER_SIZE);
     memcpy(h, gi_magic, 8);
@@ -45,112 +50,34 @@ static void write_header(const vdbgi_volume_info *in, bool packed, uint8_t h[VDB
         vdbgi_put_u32(h + 108, (uint32_t)in->stored_points);
 }
 
-vdbgi_result vdbgi_gifile_alloc(vdbgi_volume *v)
+vdbgi_result vdbgi_gifile_gzip(vdbgi_context *ctx, const uint8_t h[VDBGI_GI_HEADER_SIZE],
+                               const uint8_t *body, size_t body_size, uint8_t **out,
+                               size_t *out_size)
 {
-    const vdbgi_volume_info *const in = &v->info;
-    VDBGI_FAIL_IF(v->ctx, in->indirection_size > UINT32_MAX || in->atlas_size > UINT32_MAX,
-                  VDBGI_ERR_OUT_OF_MEMORY, "textures of %zu + %zu bytes exceed the format's 4 GiB",
-                  in->indirection_size, in->atlas_size);
-    v->raw = vdbgi_calloc(v->ctx, VDBGI_GI_HEADER_SIZE + in->indirection_size + in->atlas_size, 1);
-    if (!v->raw)
-        return VDBGI_ERR_OUT_OF_MEMORY;
-    v->indirection = v->raw + VDBGI_GI_HEADER_SIZE;
-    v->atlas = v->indirection + in->indirection_size;
-    return VDBGI_OK;
-}
-
-vdbgi_result vdbgi_gifile_pack(vdbgi_volume *v, const uint8_t *payload, size_t size)
-{
-    VDBGI_FAIL_IF(v->ctx, v->info.stored_points > UINT32_MAX, VDBGI_ERR_OUT_OF_MEMORY,
-                  "%zu stored probes exceed the format's 2^32", v->info.stored_points);
-    vdbgi_free(v->ctx, v->packed);
-    v->packed_size = VDBGI_GI_HEADER_SIZE + size;
-    v->packed = vdbgi_alloc(v->ctx, v->packed_size);
-    if (!v->packed)
-        return VDBGI_ERR_OUT_OF_MEMORY;
-    memcpy(v->packed + VDBGI_GI_HEADER_SIZE, payload, size);
-    return VDBGI_OK;
-}
-
-vdbgi_result vdbgi_gifile_encode_begin(vdbgi_volume *v, vdbgi_gzip_job *job)
-{
-    memset(job, 0, sizeof(*job));
-    /* The file is the packed one where there is one, else the textures as they are. */
-    uint8_t *const in = v->packed ? v->packed : v->raw;
-    write_header(&v->info, v->packed != NULL, in);
-    job->in = in;
-    job->in_size = v->packed ? v->packed_size
-                             : VDBGI_GI_HEADER_SIZE + v->info.indirection_size + v->info.atlas_size;
+    *out = NULL;
+    *out_size = 0;
+    uint8_t *const in = vdbgi_alloc(ctx, VDBGI_GI_HEADER_SIZE + body_size);
     /* libdeflate: one call over the whole buffer, several times faster than zlib at level 6. */
-    job->compressor = libdeflate_alloc_compressor(6);
-    VDBGI_FAIL_IF(v->ctx, !job->compressor, VDBGI_ERR_OUT_OF_MEMORY,
-                  "libdeflate: cannot start compression");
-    job->capacity = libdeflate_gzip_compress_bound(job->compressor, job->in_size);
-    job->out = vdbgi_alloc(v->ctx, job->capacity);
-    if (!job->out) {
-        libdeflate_free_compressor(job->compressor);
-        job->compressor = NULL;
-        return VDBGI_ERR_OUT_OF_MEMORY;
+    struct libdeflate_compressor *const z = libdeflate_alloc_compressor(6);
+    const size_t capacity =
+        z ? libdeflate_gzip_compress_bound(z, VDBGI_GI_HEADER_SIZE + body_size) : 0;
+    uint8_t *const gz = z ? vdbgi_alloc(ctx, capacity) : NULL;
+    size_t written = 0;
+    if (in && gz) {
+        memcpy(in, h, VDBGI_GI_HEADER_SIZE);
+        memcpy(in + VDBGI_GI_HEADER_SIZE, body, body_size);
+        written = libdeflate_gzip_compress(z, in, VDBGI_GI_HEADER_SIZE + body_size, gz, capacity);
     }
-    return VDBGI_OK;
-}
-
-void vdbgi_gifile_encode_run(vdbgi_gzip_job *job)
-{
-    job->written =
-        libdeflate_gzip_compress(job->compressor, job->in, job->in_size, job->out, job->capacity);
-}
-
-vdbgi_result vdbgi_gifile_encode_end(vdbgi_volume *v, vdbgi_gzip_job *job)
-{
-    libdeflate_free_compressor(job->compressor);
-    job->compressor = NULL;
-    if (!job->written) {
-        vdbgi_free(v->ctx, job->out);
-        job->out = NULL;
-        return vdbgi_fail(v->ctx, VDBGI_ERR_BACKEND, "libdeflate: compression failed");
+    libdeflate_free_compressor(z);
+    vdbgi_free(ctx, in);
+    if (!written) {
+        vdbgi_free(ctx, gz);
+        return in && gz ? vdbgi_fail(ctx, VDBGI_ERR_BACKEND, "libdeflate: compression failed")
+                        : VDBGI_ERR_OUT_OF_MEMORY;
     }
-    vdbgi_free(v->ctx, v->file);
-    v->file = job->out;
-    v->info.file_size = job->written;
-    job->out = NULL;
+    *out = gz;
+    *out_size = written;
     return VDBGI_OK;
-}
-
-vdbgi_result vdbgi_volume_write(const vdbgi_volume *v, const char *path)
-{
-    VDBGI_FAIL_IF(v->ctx, !v->file, VDBGI_ERR_INVALID_ARG, "volume has no encoded file");
-    return vdbgi_write_bytes_atomic(v->ctx, path, v->file, v->info.file_size);
-}
-
-typedef struct texture_file {
-    const vdbgi_volume *v;
-    uint8_t header[VDBGI_GI_HEADER_SIZE];
-} texture_file;
-
-static vdbgi_result write_textures(vdbgi_context *ctx, const char *tmp, const void *user)
-{
-    const texture_file *const tf = user;
-    const vdbgi_volume *const v = tf->v;
-    FILE *const f = fopen(tmp, "wb");
-    VDBGI_FAIL_IF(ctx, !f, VDBGI_ERR_IO, "%s: cannot write: %s", tmp, strerror(errno));
-    const bool ok =
-        fwrite(tf->header, 1, sizeof(tf->header), f) == sizeof(tf->header) &&
-        fwrite(v->indirection, 1, v->info.indirection_size, f) == v->info.indirection_size &&
-        fwrite(v->atlas, 1, v->info.atlas_size, f) == v->info.atlas_size;
-    const int saved = errno;
-    if (fclose(f) != 0 || !ok)
-        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write: %s", tmp,
-                          strerror(ok ? errno : saved));
-    return VDBGI_OK;
-}
-
-vdbgi_result vdbgi_volume_write_textures(const vdbgi_volume *v, const char *path)
-{
-    VDBGI_FAIL_IF(v->ctx, !v->atlas, VDBGI_ERR_INVALID_ARG, "volume has no textures");
-    texture_file tf = {.v = v};
-    write_header(&v->info, false, tf.header);
-    return vdbgi_write_atomic(v->ctx, path, write_textures, &tf);
 }
 
 /* ---- reading ---------------------------------------------------------------- */
@@ -249,68 +176,11 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
     return VDBGI_OK;
 }
 
-/*
- * A version 5 file's textures, rebuilt from its payload: refused unless the
- * bricks its level bytes describe are the ones its header counts, each in
- * its place.
- */
-static vdbgi_result unpack(vdbgi_context *ctx, const char *path, vdbgi_volume *v,
-                           const uint8_t *payload)
-{
-    const vdbgi_volume_info header = v->info;
-    vdbgi_pack_plan pl;
-    const size_t cells = header.indirection_size / 4;
-    VDBGI_TRY(
-        vdbgi_pack_plan_make(v, payload, payload + cells, &header, path, vdbgi_core_count(), &pl));
-    vdbgi_result r = VDBGI_OK;
-    if (pl.points != header.stored_points)
-        r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
-                       "%s: the bricks read %zu points, the header says %zu are stored", path,
-                       pl.points, header.stored_points);
-    else
-        r = vdbgi_pack_rebuild(v, &pl, payload + cells + VDBGI_PLACEMENT_BYTES * pl.brick_count,
-                               vdbgi_core_count(), &v->info.clamped_count);
-    vdbgi_pack_plan_free(ctx, &pl);
-    return r;
-}
-
-/*
- * Every indirection texel must point at a whole brick inside the atlas, with a
- * level the file allows: a seed slot, or a compact brick's first texel (an
- * empty compact cell points at the block of zeros at the corner).
- */
-static vdbgi_result check_indirection(vdbgi_context *ctx, const char *path, const vdbgi_volume *v)
-{
-    const vdbgi_volume_info *const info = &v->info;
-    const bool compact = info->layout == VDBGI_LAYOUT_COMPACT;
-    const uint32_t b = compact ? VDBGI_BRICK_COMPACT : VDBGI_BRICK_PADDED;
-    for (size_t i = 0; i < info->indirection_size; i += 4) {
-        const uint8_t *const t = &v->indirection[i];
-        bool inside = true;
-        uint32_t level;
-        if (compact) {
-            level = t[3] & 3u;
-            for (int k = 0; k < 3; k++)
-                inside =
-                    inside && 4u * t[k] + (t[3] >> (2 + 2 * k) & 3u) + b <= info->atlas_dims[k];
-        } else {
-            if (t[3] == 0)
-                continue;
-            level = t[3] - 1u;
-            for (int k = 0; k < 3; k++)
-                inside = inside && (t[k] + 1u) * b <= info->atlas_dims[k];
-        }
-        VDBGI_FAIL_IF(ctx, !inside || level > info->max_level, VDBGI_ERR_FORMAT,
-                      "%s: indirection texel %zu points outside the atlas", path, i / 4);
-    }
-    return VDBGI_OK;
-}
-
 /* Deflate expands at most about 1032:1; with gzip's framing no honest file goes past this. */
 #define VDBGI_GZIP_MAX_RATIO 1100
 
 /* The whole file in memory: its real size bounds everything read from it. */
-static vdbgi_result read_file(vdbgi_context *ctx, const char *path, uint8_t **data, size_t *size)
+vdbgi_result vdbgi_gifile_slurp(vdbgi_context *ctx, const char *path, uint8_t **data, size_t *size)
 {
     *data = NULL;
     *size = 0;
@@ -353,22 +223,22 @@ static bool gunzip_prefix(const uint8_t *in, size_t in_size, uint8_t *out, size_
 }
 
 /*
- * Read a .gi or .gi.gz held in memory. Every size comes from the header and
- * is checked before anything is allocated for it: against its dimensions,
- * then against what the bytes can hold (their count, times deflate's largest
- * ratio). The gzip stream must decompress to exactly the header's size with
- * its CRC and length right, and nothing may follow it. Messages start with
- * name.
+ * Every size comes from the header and is checked before anything is
+ * allocated for it: against its dimensions, then against what the bytes can
+ * hold (their count, times deflate's largest ratio). The gzip stream must
+ * decompress to exactly the header's size with its CRC and length right,
+ * and nothing may follow it.
  */
-static vdbgi_result read_bytes(vdbgi_context *ctx, const char *path, const uint8_t *file,
-                               size_t file_size, vdbgi_volume **out)
+vdbgi_result vdbgi_gifile_parse(vdbgi_context *ctx, const char *path, const uint8_t *file,
+                                size_t file_size, vdbgi_volume_info *info, uint32_t *version,
+                                uint8_t **body, size_t *body_size)
 {
     uint8_t *raw = NULL;
+    *body = NULL;
+    *body_size = 0;
     const bool gz = file_size >= 18 && file[0] == 0x1f && file[1] == 0x8b;
     uint8_t h[VDBGI_GI_HEADER_SIZE];
-    vdbgi_volume_info info;
     size_t header_size = 0;
-    vdbgi_volume *v = NULL;
     vdbgi_result r = VDBGI_OK;
     if (gz ? !gunzip_prefix(file, file_size, h, sizeof(h)) : file_size < sizeof(h)) {
         r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %s", path,
@@ -379,7 +249,7 @@ static vdbgi_result read_bytes(vdbgi_context *ctx, const char *path, const uint8
     if (!gz)
         memcpy(h, file, sizeof(h));
     uint64_t stored = 0;
-    if ((r = parse_header(ctx, path, h, &info, &header_size, &stored)) != VDBGI_OK)
+    if ((r = parse_header(ctx, path, h, info, &header_size, &stored)) != VDBGI_OK)
         goto done;
     const uint64_t total = (uint64_t)header_size + stored;
     if (gz ? total > (uint64_t)file_size * VDBGI_GZIP_MAX_RATIO : total != file_size) {
@@ -418,59 +288,14 @@ static vdbgi_result read_bytes(vdbgi_context *ctx, const char *path, const uint8
     } else {
         memcpy(raw, file, (size_t)total);
     }
-    if (!(v = vdbgi_calloc(ctx, 1, sizeof(*v)))) {
-        r = VDBGI_ERR_OUT_OF_MEMORY;
-        goto done;
-    }
-    v->ctx = ctx;
-    v->info = info;
-    v->info.file_size = file_size;
-    if (vdbgi_get_u32(h + 8) == 5) {
-        r = unpack(ctx, path, v, raw + header_size);
-        goto done;
-    }
-    v->raw = raw;
-    v->indirection = raw + header_size;
-    v->atlas = v->indirection + info.indirection_size;
+    /* The body to the front: it is what the caller keeps (as textures, or a payload). */
+    memmove(raw, raw + header_size, (size_t)stored);
+    info->file_size = file_size;
+    *version = vdbgi_get_u32(h + 8);
+    *body = raw;
+    *body_size = (size_t)stored;
     raw = NULL;
-    r = check_indirection(ctx, path, v);
 done:
     vdbgi_free(ctx, raw);
-    if (r != VDBGI_OK) {
-        vdbgi_volume_destroy(v);
-        return r;
-    }
-    *out = v;
-    return VDBGI_OK;
-}
-
-vdbgi_result vdbgi_volume_read(vdbgi_context *ctx, const char *path, vdbgi_volume **out)
-{
-    VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
-    *out = NULL;
-    VDBGI_TRY(vdbgi_input_check(ctx, path));
-    uint8_t *file = NULL;
-    size_t file_size = 0;
-    VDBGI_TRY(read_file(ctx, path, &file, &file_size));
-    const vdbgi_result r = read_bytes(ctx, path, file, file_size, out);
-    vdbgi_free(ctx, file);
     return r;
-}
-
-vdbgi_result vdbgi_volume_read_memory(vdbgi_context *ctx, const void *data, size_t size,
-                                      const char *name, vdbgi_volume **out)
-{
-    VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
-    *out = NULL;
-    VDBGI_FAIL_IF(ctx, !data && size, VDBGI_ERR_INVALID_ARG, "no bytes given");
-    return read_bytes(ctx, name ? name : "memory", data, size, out);
-}
-
-size_t vdbgi_volume_write_memory(const vdbgi_volume *v, void *buffer, size_t capacity)
-{
-    if (!v->file || (buffer && capacity < v->info.file_size))
-        return 0;
-    if (buffer)
-        memcpy(buffer, v->file, v->info.file_size);
-    return v->info.file_size;
 }

@@ -1,8 +1,8 @@
-/* gifile.h: the .gi container (docs/format.md) around a volume's two textures. */
+/* gifile.h: the .gi container (docs/format.md): a header and a body, as bytes. */
 #ifndef VDBGI_GIFILE_H
 #define VDBGI_GIFILE_H
 
-#include "volume.h"
+#include "context.h"
 
 #define VDBGI_GI_HEADER_SIZE 112
 /*
@@ -27,26 +27,31 @@
 /* The compact atlas's largest side: a brick's first texel is 4 r + (a's two bits) <= 1023. */
 #define VDBGI_ATLAS_MAX 1024
 
-/* Allocate v->raw for v->info's texture sizes and point indirection and atlas into it. */
-vdbgi_result vdbgi_gifile_alloc(vdbgi_volume *v);
-/* The compact layout's file: its header (written later) and payload, into v->packed. */
-vdbgi_result vdbgi_gifile_pack(vdbgi_volume *v, const uint8_t *payload, size_t size);
 /*
- * Write the header into v->raw and gzip the whole into v->file, in three
- * steps: begin allocates, run compresses (it allocates nothing and touches no
- * context, so it may run on another thread beside other work), end keeps the
- * result or reports the failure. end also frees what begin took.
+ * The header of a volume's file: version 1 for the seed layout, 2 for the
+ * compact layout's textures, 5 with packed set (info->stored_points then
+ * counts the stored values).
  */
-typedef struct vdbgi_gzip_job {
-    struct libdeflate_compressor *compressor;
-    const uint8_t *in;
-    size_t in_size;
-    uint8_t *out;
-    size_t capacity, written;
-} vdbgi_gzip_job;
+void vdbgi_gifile_header(const vdbgi_volume_info *info, bool packed,
+                         uint8_t h[VDBGI_GI_HEADER_SIZE]);
 
-vdbgi_result vdbgi_gifile_encode_begin(vdbgi_volume *v, vdbgi_gzip_job *job);
-void vdbgi_gifile_encode_run(vdbgi_gzip_job *job);
-vdbgi_result vdbgi_gifile_encode_end(vdbgi_volume *v, vdbgi_gzip_job *job);
+/* Header and body gzip'd (libdeflate, level 6) into *out, allocated through ctx. */
+vdbgi_result vdbgi_gifile_gzip(vdbgi_context *ctx, const uint8_t h[VDBGI_GI_HEADER_SIZE],
+                               const uint8_t *body, size_t body_size, uint8_t **out,
+                               size_t *out_size);
+
+/*
+ * A .gi or .gi.gz in memory, its header checked (docs/format.md, "What
+ * vdbgi_volume_read refuses", all but the body's own rules): the header into
+ * *info (file_size the bytes given) and *version, and the body, the bytes
+ * after the header, uncompressed, exactly as long as the header says, into
+ * *body (allocated through ctx). Messages start with name.
+ */
+vdbgi_result vdbgi_gifile_parse(vdbgi_context *ctx, const char *name, const uint8_t *bytes,
+                                size_t size, vdbgi_volume_info *info, uint32_t *version,
+                                uint8_t **body, size_t *body_size);
+
+/* A regular file's bytes, allocated through ctx. */
+vdbgi_result vdbgi_gifile_slurp(vdbgi_context *ctx, const char *path, uint8_t **data, size_t *size);
 
 #endif /* VDBGI_GIFILE_H */

@@ -141,7 +141,7 @@ static void mark_indirection(vdbgi_volume *v, const vdbgi_pack_plan *pl, size_t 
         if (b < 0)
             continue;
         const uint16_t *const o = pl->origin[b];
-        uint8_t *const t = &v->indirection[4 * c];
+        uint8_t *const t = &v->tex.indirection[4 * c];
         t[0] = (uint8_t)(o[0] >> 2);
         t[1] = (uint8_t)(o[1] >> 2);
         t[2] = (uint8_t)(o[2] >> 2);
@@ -367,7 +367,7 @@ vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels, const 
                                : vdbgi_pack_place(ctx, pl, info->atlas_dims);
     info->atlas_size = 4 * (size_t)info->atlas_dims[0] * info->atlas_dims[1] * info->atlas_dims[2];
     if (r == VDBGI_OK)
-        r = vdbgi_gifile_alloc(v);
+        r = vdbgi_textures_alloc(ctx, &v->tex, info->indirection_dims, info->atlas_dims);
     if (r == VDBGI_OK && placement)
         r = check_overlaps(ctx, pl, info->atlas_dims, name, threads);
     if (r != VDBGI_OK) {
@@ -398,7 +398,7 @@ static uint8_t *atlas_texel(const vdbgi_volume *v, const vdbgi_pack_plan *pl, si
     const uint16_t *const o = pl->origin[b];
     const size_t x = o[0] + (size_t)(t % N), y = o[1] + (size_t)(t / N % N),
                  z = o[2] + (size_t)(t / (N * N));
-    return &v->atlas[4 * ((z * d[1] + y) * d[0] + x)];
+    return &v->tex.atlas[4 * ((z * d[1] + y) * d[0] + x)];
 }
 
 /* One thread's share of the rebuild: the bricks whose first texel lies in rows y_begin..y_end. */
@@ -529,5 +529,24 @@ vdbgi_result vdbgi_pack_rebuild(vdbgi_volume *v, const vdbgi_pack_plan *pl, cons
     });
     const vdbgi_result r = vdbgi_pack_rebuild_values(v, pl, values, threads, clamped);
     vdbgi_free(v->ctx, values);
+    return r;
+}
+
+vdbgi_result vdbgi_pack_read(vdbgi_volume *v, const char *name)
+{
+    const vdbgi_volume_info header = v->info;
+    const uint8_t *const levels = v->payload, *const placement =
+                                                  levels + header.indirection_size / 4;
+    vdbgi_pack_plan pl;
+    VDBGI_TRY(vdbgi_pack_plan_make(v, levels, placement, &header, name, vdbgi_core_count(), &pl));
+    vdbgi_result r = VDBGI_OK;
+    if (pl.points != header.stored_points)
+        r = vdbgi_fail(v->ctx, VDBGI_ERR_FORMAT,
+                       "%s: the bricks read %zu points, the header says %zu are stored", name,
+                       pl.points, header.stored_points);
+    else
+        r = vdbgi_pack_rebuild(v, &pl, placement + VDBGI_PLACEMENT_BYTES * pl.brick_count,
+                               vdbgi_core_count(), &v->info.clamped_count);
+    vdbgi_pack_plan_free(v->ctx, &pl);
     return r;
 }

@@ -74,4 +74,10 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
 vdbgi_result vdbgi_pack_rebuild(vdbgi_volume *v, const vdbgi_pack_plan *plan, const uint8_t *planes,
                                 int threads, size_t *clamped);
 
+/*
+ * A reader's whole job on a version 5 body, v->payload (v->info from the
+ * header): the plan, checked against the header, and the textures rebuilt.
+ */
+vdbgi_result vdbgi_pack_read(vdbgi_volume *v, const char *name);
+
 #endif /* VDBGI_PACKED_H */

@@ -62,13 +62,45 @@ vdbgi_result vdbgi_probes_write(const vdbgi_probes *p, const char *path)
     return vdbgi_write_atomic(p->ctx, path, write_vdb, &job);
 }
 
+/* The probes object the .vdb reader's values go into, made when it knows their count. */
+typedef struct read_target {
+    vdbgi_context *ctx;
+    vdbgi_probes *p;
+} read_target;
+
+static vdbgi_result make_probes(vdbgi_vdb_sink *sink, size_t count, bool with_stderr,
+                                bool with_rays, bool with_cube)
+{
+    read_target *const t = sink->user;
+    VDBGI_TRY(vdbgi_probes_alloc(t->ctx, count, true, &t->p));
+    vdbgi_probes *const p = t->p;
+    const size_t n = count ? count : 1;
+    if ((with_stderr && !(p->stderr_ = vdbgi_calloc(t->ctx, n, sizeof(float)))) ||
+        (with_rays && !(p->rays = vdbgi_calloc(t->ctx, n, sizeof(uint32_t)))) ||
+        (with_cube && !(p->cube = vdbgi_calloc(t->ctx, n, 18 * sizeof(float)))))
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    sink->ijk = p->ijk, sink->rgb = p->rgb, sink->backface = p->backface;
+    sink->stderr_ = p->stderr_, sink->rays = p->rays, sink->cube = p->cube;
+    sink->meta = &p->meta;
+    return VDBGI_OK;
+}
+
 vdbgi_result vdbgi_probes_read(vdbgi_context *ctx, const char *path, vdbgi_probes **out)
 {
     VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
     *out = NULL;
     VDBGI_TRY(vdbgi_input_check(ctx, path));
-    vdbgi_probes *p = NULL;
-    VDBGI_TRY(vdbgi_vdb_read(ctx, path, &p));
+    read_target target = {ctx, NULL};
+    vdbgi_vdb_sink sink = {.make = make_probes, .user = &target};
+    const vdbgi_result r = vdbgi_vdb_read(ctx, path, &sink);
+    vdbgi_probes *const p = target.p;
+    if (r != VDBGI_OK) {
+        vdbgi_probes_destroy(p);
+        return r;
+    }
+    p->count = sink.count;
+    p->spacing = sink.spacing;
+    memcpy(p->origin, sink.origin, sizeof(p->origin));
     if (p->count == 0) {
         vdbgi_probes_destroy(p);
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid 'irradiance' holds no probes", path);

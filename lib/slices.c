@@ -49,7 +49,7 @@ static vdbgi_result write_atlas(const vdbgi_volume *v, const char *dir, float ex
     for (uint32_t z = 0; z < ad[2]; z++)
         for (uint32_t y = 0; y < ad[1]; y++)
             for (uint32_t x = 0; x < ad[0]; x++) {
-                const uint8_t *const t = &v->atlas[4 * (((size_t)z * ad[1] + y) * ad[0] + x)];
+                const uint8_t *const t = &v->tex.atlas[4 * (((size_t)z * ad[1] + y) * ad[0] + x)];
                 float rgb[3];
                 if (v->info.encoding == VDBGI_ENCODING_RGB9E5)
                     vdbgi_rgb9e5_decode(vdbgi_get_u32(t), rgb);
@@ -129,7 +129,8 @@ vdbgi_result vdbgi_volume_write_slices(const vdbgi_volume *v, const vdbgi_probes
             const int level =
                 cell[axis] < d[axis]
                     ? vdbgi_cell_level(
-                          &view, &v->indirection[4 * ((cell[2] * d[1] + cell[1]) * d[0] + cell[0])])
+                          &view,
+                          &v->tex.indirection[4 * ((cell[2] * d[1] + cell[1]) * d[0] + cell[0])])
                     : -1;
             for (int k = 0; k < 3; k++)
                 levels[3 * p + k] = vdbgi_srgb_from_linear(vdbgi_level_colour[level + 1][k]);

@@ -20,27 +20,27 @@
 namespace
 {
 
-/* Copy the grid's metadata we can represent into probes (other types are skipped). */
-void read_meta(const openvdb::GridBase &grid, vdbgi_probes *p)
+/* Copy the grid's metadata we can represent (other types are skipped). */
+void read_meta(const openvdb::GridBase &grid, vdbgi_meta_store *meta)
 {
     for (auto it = grid.beginMeta(); it != grid.endMeta(); ++it) {
         const std::string &name = it->first;
         const openvdb::Metadata &md = *it->second;
-        if (name.size() >= sizeof(p->meta.items[0].name))
+        if (name.size() >= sizeof(meta->items[0].name))
             continue;
         if (const auto *s = dynamic_cast<const openvdb::StringMetadata *>(&md)) {
-            vdbgi_meta_set_string(&p->meta, name.c_str(), s->value().c_str());
+            vdbgi_meta_set_string(meta, name.c_str(), s->value().c_str());
         } else if (const auto *i64 = dynamic_cast<const openvdb::Int64Metadata *>(&md)) {
-            vdbgi_meta_set_int(&p->meta, name.c_str(), i64->value());
+            vdbgi_meta_set_int(meta, name.c_str(), i64->value());
         } else if (const auto *i32 = dynamic_cast<const openvdb::Int32Metadata *>(&md)) {
-            vdbgi_meta_set_int(&p->meta, name.c_str(), i32->value());
+            vdbgi_meta_set_int(meta, name.c_str(), i32->value());
         } else if (const auto *d = dynamic_cast<const openvdb::DoubleMetadata *>(&md)) {
-            vdbgi_meta_set_double(&p->meta, name.c_str(), d->value());
+            vdbgi_meta_set_double(meta, name.c_str(), d->value());
         } else if (const auto *f = dynamic_cast<const openvdb::FloatMetadata *>(&md)) {
-            vdbgi_meta_set_double(&p->meta, name.c_str(), f->value());
+            vdbgi_meta_set_double(meta, name.c_str(), f->value());
         } else if (const auto *v = dynamic_cast<const openvdb::Vec3SMetadata *>(&md)) {
             const float xyz[3] = {v->value().x(), v->value().y(), v->value().z()};
-            vdbgi_meta_set_vec3(&p->meta, name.c_str(), xyz);
+            vdbgi_meta_set_vec3(meta, name.c_str(), xyz);
         }
     }
 }
@@ -293,7 +293,7 @@ vdbgi_result check_lattice(vdbgi_context *ctx, const char *path, const openvdb::
 }
 
 /* The per-probe extras beside the irradiance: noise, rays and cube sides, at p's n probes. */
-void copy_extras(vdbgi_probes *p, size_t n, const openvdb::FloatGrid::Ptr &se,
+void copy_extras(vdbgi_vdb_sink *p, size_t n, const openvdb::FloatGrid::Ptr &se,
                  const openvdb::Int32Grid::Ptr &rays, const openvdb::Vec3SGrid::Ptr side_grids[6],
                  bool has_cube)
 {
@@ -351,14 +351,13 @@ vdbgi_result read_layout(vdbgi_context *ctx, const char *path, GridLayout &layou
 } // namespace
 
 /*
- * Read the grids, check their types and transform, copy them into probes
- * (about 70 lines: the OpenVDB objects live only inside this exception
- * boundary).
+ * Read the grids, check their types and transform, copy their values into
+ * the sink's arrays (about 70 lines: the OpenVDB objects live only inside
+ * this exception boundary).
  */
-extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_probes **out)
+extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_vdb_sink *p)
 {
     VDBGI_SHIM_BEGIN
-    *out = nullptr;
     openvdb::initialize();
     GridLayout layout;
     VDBGI_TRY(
@@ -396,20 +395,12 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     const openvdb::Vec3d vs = xf.voxelSize();
     const openvdb::Vec3d o = xf.indexToWorld(openvdb::Vec3d(0.0));
     const size_t count = size_t(irr->activeVoxelCount());
-    vdbgi_probes *p = nullptr;
-    VDBGI_TRY(vdbgi_probes_alloc(ctx, count, true, &p));
-    // Destroys p if anything below throws; released on success.
-    std::unique_ptr<vdbgi_probes, void (*)(vdbgi_probes *)> guard(p, vdbgi_probes_destroy);
-    p->spacing = vs.x();
-    p->origin[0] = o.x(), p->origin[1] = o.y(), p->origin[2] = o.z();
-    read_meta(*irr, p);
     const auto se = openvdb::gridPtrCast<openvdb::FloatGrid>(sebase);
     const auto rays = openvdb::gridPtrCast<openvdb::Int32Grid>(raysbase);
-    if ((se && !(p->stderr_ = (float *)vdbgi_calloc(ctx, count ? count : 1, sizeof(float)))) ||
-        (rays && !(p->rays = (uint32_t *)vdbgi_calloc(ctx, count ? count : 1, sizeof(uint32_t)))))
-        return VDBGI_ERR_OUT_OF_MEMORY;
-    if (has_cube && !(p->cube = (float *)vdbgi_calloc(ctx, count ? count : 1, 18 * sizeof(float))))
-        return VDBGI_ERR_OUT_OF_MEMORY;
+    VDBGI_TRY(p->make(p, count, se != nullptr, rays != nullptr, has_cube));
+    p->spacing = vs.x();
+    p->origin[0] = o.x(), p->origin[1] = o.y(), p->origin[2] = o.z();
+    read_meta(*irr, p->meta);
     auto va = val ? std::make_unique<openvdb::FloatGrid::ConstAccessor>(val->getConstAccessor())
                   : nullptr;
     size_t n = 0;
@@ -422,7 +413,6 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     }
     copy_extras(p, n, se, rays, side_grids, has_cube);
     p->count = n;
-    *out = guard.release();
     return VDBGI_OK;
     VDBGI_SHIM_END(ctx, "openvdb")
 }

@@ -27,8 +27,30 @@ vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, const char *n
 /* The name of the ambient cube's grid for side 0..5: +x -x +y -y +z -z (docs/format.md). */
 const char *vdbgi_side_grid_name(int side);
 
-/* Read "irradiance" (and "validity" if present) from path into new probes. */
-vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_probes **out);
+/*
+ * Where vdbgi_vdb_read hands what it read across: plain arrays that the
+ * caller (probes.c) owns. make is called once, when the reader knows the
+ * probe count and which per-probe grids the file holds; it sets the array
+ * pointers (NULL for an absent grid) and meta, or fails, which the reader
+ * returns.
+ */
+typedef struct vdbgi_vdb_sink {
+    vdbgi_result (*make)(struct vdbgi_vdb_sink *sink, size_t count, bool with_stderr,
+                         bool with_rays, bool with_cube);
+    void *user;
+    double spacing, origin[3];
+    size_t count;    /* probes the arrays hold (set by the reader) */
+    int32_t *ijk;    /* 3 per probe */
+    float *rgb;      /* 3 per probe */
+    float *backface; /* per probe; 0 where the file has no validity */
+    float *stderr_;  /* per probe, or NULL */
+    uint32_t *rays;  /* per probe, or NULL */
+    float *cube;     /* 18 per probe, or NULL */
+    vdbgi_meta_store *meta;
+} vdbgi_vdb_sink;
+
+/* Read "irradiance" (and the grids beside it, if present) from path into the sink's arrays. */
+vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_vdb_sink *sink);
 
 #ifdef __cplusplus
 }

@@ -633,7 +633,9 @@ VDBGI_API vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes
  * Write the .gi file (docs/format.md), gzip-compressed, through a temporary
  * file renamed when complete: the seed layout as header, indirection bytes
  * and atlas bytes (version 1); the compact layout packed, each probe once
- * (version 5), its textures rebuilt by the reader.
+ * (version 5), its textures rebuilt by the reader. The gzip happens here
+ * (the first write or vdbgi_volume_write_memory), not in the build; the
+ * bytes are kept for the next.
  */
 VDBGI_API vdbgi_result vdbgi_volume_write(const vdbgi_volume *volume, const char *path);
 
@@ -663,8 +665,10 @@ VDBGI_API vdbgi_result vdbgi_volume_read_memory(vdbgi_context *ctx, const void *
 /*
  * The bytes vdbgi_volume_write writes (the gzip'd .gi) into the caller's
  * buffer. With a NULL buffer, returns their size; else the bytes copied, or
- * 0 (nothing written) when capacity is smaller. 0 also for a volume read
- * from a file, which keeps its textures, not its file.
+ * 0 (nothing written) when capacity is smaller, or when the file cannot be
+ * made (out of memory). The file is gzip'd by the first write or size query
+ * and kept with the volume; a volume read from a file writes back the same
+ * bytes as vdb-to-gi wrote.
  */
 VDBGI_API size_t vdbgi_volume_write_memory(const vdbgi_volume *volume, void *buffer,
                                            size_t capacity);
@@ -683,7 +687,7 @@ typedef struct vdbgi_volume_info {
     uint32_t bricks[4]; /* kept bricks per level */
     uint32_t brick_count;
     size_t indirection_size, atlas_size; /* bytes, uncompressed */
-    size_t file_size;                    /* bytes of the gzip'd file */
+    size_t file_size;                    /* bytes of the file read, or written (0 before) */
     size_t dense_rgba8_size;             /* a dense RGBA8 grid over the probes' box */
     /* Filled in by vdbgi_volume_build only (0 after vdbgi_volume_read): */
     size_t probe_count, valid_count, filled_count, unreached_count;

@@ -1,9 +1,9 @@
 /*
  * volume.c: baked probes to seed 000's bricked volume, stage by stage (fill,
- * coarsen, atlas, container), and the error of the result.
+ * coarsen, a layout's textures), and the error of the result. Its file is
+ * volume_io.c's.
  */
 #include "atlas.h"
-#include "gifile.h"
 #include "packed.h"
 #include "util.h"
 
@@ -60,8 +60,8 @@ vdbgi_volume_view vdbgi_volume_view_of(const vdbgi_volume *v)
         view.ind_dims[k] = v->info.indirection_dims[k];
         view.atlas_dims[k] = v->info.atlas_dims[k];
     }
-    view.indirection = v->indirection;
-    view.atlas = v->atlas;
+    view.indirection = v->tex.indirection;
+    view.atlas = v->tex.atlas;
     return view;
 }
 
@@ -77,7 +77,7 @@ static uint32_t column_run(const vdbgi_volume *v, uint32_t x, uint32_t z, uint32
     const uint32_t *const d = v->info.indirection_dims;
     uint32_t lo = d[1], hi = 0;
     for (uint32_t y = 0; y < d[1]; y++) {
-        const uint8_t *const t = &v->indirection[4 * (((size_t)z * d[1] + y) * d[0] + x)];
+        const uint8_t *const t = &v->tex.indirection[4 * (((size_t)z * d[1] + y) * d[0] + x)];
         if (t[0] | t[1] | t[2] | t[3]) {
             lo = lo == d[1] ? y : lo;
             hi = y;
@@ -127,7 +127,7 @@ static size_t columns(const vdbgi_volume *v, uint8_t *out, size_t capacity, uint
             memcpy(head, h, sizeof(h));
             for (uint32_t k = 0; k < count; k++)
                 memcpy(&out[4 * (2 * n + offset + k)],
-                       &v->indirection[4 * (((size_t)z * d[1] + ymin + k) * d[0] + x)], 4);
+                       &v->tex.indirection[4 * (((size_t)z * d[1] + ymin + k) * d[0] + x)], 4);
             offset += count;
         }
     return size;
@@ -150,20 +150,20 @@ void vdbgi_volume_destroy(vdbgi_volume *v)
     if (!v)
         return;
     vdbgi_context *const ctx = v->ctx;
-    vdbgi_free(ctx, v->raw);
-    vdbgi_free(ctx, v->packed);
+    vdbgi_textures_free(ctx, &v->tex);
+    vdbgi_free(ctx, v->payload);
     vdbgi_free(ctx, v->file);
     vdbgi_field_free(&v->filled);
     vdbgi_free(ctx, v);
 }
 
-/*
- * The shader's view of every valid probe against its value (which the fill
- * kept); err holds valid_count doubles. Allocates nothing and touches no
- * context: it runs beside the gzip.
- */
-static void measure_error(vdbgi_volume *v, const vdbgi_probes *p, double *err)
+/* The shader's view of every valid probe against its value (which the fill kept). */
+static vdbgi_result measure_error(vdbgi_volume *v, const vdbgi_probes *p)
 {
+    double *const err =
+        vdbgi_calloc(v->ctx, v->info.valid_count ? v->info.valid_count : 1, sizeof(double));
+    if (!err)
+        return VDBGI_ERR_OUT_OF_MEMORY;
     vdbgi_volume_info *const info = &v->info;
     const vdbgi_volume_view view = vdbgi_volume_view_of(v);
     double sq = 0.0, worst = 0.0;
@@ -187,47 +187,8 @@ static void measure_error(vdbgi_volume *v, const vdbgi_probes *p, double *err)
     info->rmse = n ? sqrt(sq / (3.0 * (double)n)) : 0.0;
     info->max_error = worst;
     info->p99 = n ? vdbgi_quantile(err, n, 0.99) : 0.0;
-}
-
-/* The last two steps, independent of each other: the error figures and the gzip. */
-typedef struct finish_task {
-    vdbgi_volume *v;
-    const vdbgi_probes *probes;
-    double *err;
-    vdbgi_gzip_job *job;
-    int gzip;
-} finish_task;
-
-static void *finish_worker(void *arg)
-{
-    finish_task *const t = arg;
-    if (t->gzip)
-        vdbgi_gifile_encode_run(t->job);
-    else
-        measure_error(t->v, t->probes, t->err);
-    return NULL;
-}
-
-static vdbgi_result finish(vdbgi_volume *v, const vdbgi_probes *probes, int threads)
-{
-    double *const err =
-        vdbgi_calloc(v->ctx, v->info.valid_count ? v->info.valid_count : 1, sizeof(double));
-    if (!err)
-        return VDBGI_ERR_OUT_OF_MEMORY;
-    vdbgi_gzip_job job;
-    vdbgi_result r = vdbgi_gifile_encode_begin(v, &job);
-    if (r == VDBGI_OK) {
-        finish_task tasks[2] = {{v, probes, err, &job, 0}, {v, probes, err, &job, 1}};
-        if (threads > 1) {
-            vdbgi_run_threads(2, finish_worker, tasks, sizeof(tasks[0]));
-        } else {
-            finish_worker(&tasks[0]);
-            finish_worker(&tasks[1]);
-        }
-        r = vdbgi_gifile_encode_end(v, &job);
-    }
     vdbgi_free(v->ctx, err);
-    return r;
+    return VDBGI_OK;
 }
 
 static int report(const vdbgi_convert_desc *desc, float done)
@@ -414,14 +375,14 @@ static vdbgi_result lay_out(vdbgi_volume *v, vdbgi_brick *bricks, size_t brick_c
         uint8_t *payload = NULL;
         size_t size = 0;
         VDBGI_TRY(vdbgi_pack_write(v, bricks, brick_count, probes, threads, &payload, &size));
-        vdbgi_result r = vdbgi_gifile_pack(v, payload, size);
-        vdbgi_free(v->ctx, payload);
-        return r;
+        v->payload = payload;
+        v->payload_size = size;
+        return VDBGI_OK;
     }
     VDBGI_TRY(vdbgi_atlas_dims(v->ctx, brick_count + 1, info->layout, info->atlas_dims));
     info->brick_count = (uint32_t)brick_count;
     info->atlas_size = 4 * (size_t)info->atlas_dims[0] * info->atlas_dims[1] * info->atlas_dims[2];
-    VDBGI_TRY(vdbgi_gifile_alloc(v));
+    VDBGI_TRY(vdbgi_textures_alloc(v->ctx, &v->tex, info->indirection_dims, info->atlas_dims));
     VDBGI_TRY(vdbgi_atlas_fill(v, bricks, brick_count, threads));
     for (size_t i = 0; i < brick_count; i++)
         info->bricks[bricks[i].level]++;
@@ -496,11 +457,9 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
         (r = step_done(ctx, desc, 0.6f, &t, "pyramid and coarsening")) != VDBGI_OK ||
         (r = lay_out(v, bricks, brick_count, probes, cp.threads)) != VDBGI_OK ||
         (r = step_done(ctx, desc, 0.8f, &t, "sampling and encoding")) != VDBGI_OK ||
-        (r = finish(v, probes, cp.threads)) != VDBGI_OK)
+        (r = measure_error(v, probes)) != VDBGI_OK)
         goto fail;
-    vdbgi_log(ctx, VDBGI_LOG_DEBUG,
-              "error measurement and gzip (%zu bytes), side by side, in %.3f s", info->file_size,
-              vdbgi_now() - t);
+    vdbgi_log(ctx, VDBGI_LOG_DEBUG, "error measurement in %.3f s", vdbgi_now() - t);
     info->seconds = vdbgi_now() - t0;
     report(desc, 1.0f);
 fail:
@@ -528,10 +487,10 @@ static size_t copy_bytes(const void *src, size_t size, void *buffer, size_t capa
 
 size_t vdbgi_volume_copy_indirection(const vdbgi_volume *v, void *buffer, size_t capacity)
 {
-    return copy_bytes(v->indirection, v->info.indirection_size, buffer, capacity);
+    return copy_bytes(v->tex.indirection, v->info.indirection_size, buffer, capacity);
 }
 
 size_t vdbgi_volume_copy_atlas(const vdbgi_volume *v, void *buffer, size_t capacity)
 {
-    return copy_bytes(v->atlas, v->info.atlas_size, buffer, capacity);
+    return copy_bytes(v->tex.atlas, v->info.atlas_size, buffer, capacity);
 }

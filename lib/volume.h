@@ -4,16 +4,15 @@
 
 #include "field.h"
 #include "sampler.h"
+#include "textures.h"
 
 struct vdbgi_volume {
     vdbgi_context *ctx;
     vdbgi_volume_info info;
-    uint8_t *raw;         /* the uncompressed .gi: header, indirection, atlas */
-    uint8_t *indirection; /* info.indirection_size bytes inside raw */
-    uint8_t *atlas;       /* info.atlas_size bytes inside raw */
-    uint8_t *packed;      /* compact layout: the uncompressed version 5 file (header, payload) */
-    size_t packed_size;
-    uint8_t *file; /* the gzip'd .gi bytes */
+    vdbgi_textures tex; /* what the GPU gets */
+    uint8_t *payload;   /* compact layout: the file's body (level bytes, placement, values) */
+    size_t payload_size;
+    uint8_t *file; /* the gzip'd .gi, made by the first write and kept (volume_io.c) */
     /* Only from vdbgi_volume_build: */
     vdbgi_field filled;
     double lattice_origin[3]; /* world position of fine index (0,0,0) */
