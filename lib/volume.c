@@ -157,27 +157,61 @@ void vdbgi_volume_destroy(vdbgi_volume *v)
     vdbgi_free(ctx, v);
 }
 
-/* The shader's view of every valid probe against its value (which the fill kept). */
-static vdbgi_result measure_error(vdbgi_volume *v, const vdbgi_probes *p)
+/* Probes i0 <= i < i1: what the shader reads at each valid one, into got (3 floats a probe). */
+typedef struct sample_job {
+    const vdbgi_volume *v;
+    const vdbgi_probes *p;
+    float *got;
+    size_t i0, i1;
+} sample_job;
+
+static void *sample_worker(void *arg)
+{
+    const sample_job *const job = arg;
+    const vdbgi_probes *const p = job->p;
+    const vdbgi_volume_view view = vdbgi_volume_view_of(job->v);
+    for (size_t i = job->i0; i < job->i1; i++) {
+        if (p->backface[i] > p->invalid_threshold)
+            continue;
+        float pos[3];
+        for (int k = 0; k < 3; k++)
+            pos[k] = (float)(job->v->lattice_origin[k] + p->spacing * p->ijk[3 * i + k]);
+        vdbgi_sampler_sample(&view, pos, &job->got[3 * i]);
+    }
+    return NULL;
+}
+
+/*
+ * The shader's view of every valid probe against its value (which the fill
+ * kept): sampled over threads, summed on one in probe order, so the figures
+ * do not depend on the thread count.
+ */
+static vdbgi_result measure_error(vdbgi_volume *v, const vdbgi_probes *p, int threads)
 {
     double *const err =
         vdbgi_calloc(v->ctx, v->info.valid_count ? v->info.valid_count : 1, sizeof(double));
-    if (!err)
+    float *const got = vdbgi_alloc(v->ctx, 3 * sizeof(float) * (p->count ? p->count : 1));
+    if (!err || !got) {
+        vdbgi_free(v->ctx, err);
+        vdbgi_free(v->ctx, got);
         return VDBGI_ERR_OUT_OF_MEMORY;
+    }
+    enum { MAX_JOBS = 64 };
+    sample_job jobs[MAX_JOBS];
+    const int nt = threads < 1 ? 1 : threads > MAX_JOBS ? MAX_JOBS : threads;
+    for (int t = 0; t < nt; t++)
+        jobs[t] = (sample_job){v, p, got, p->count * (size_t)t / (size_t)nt,
+                               p->count * (size_t)(t + 1) / (size_t)nt};
+    vdbgi_run_threads(nt, sample_worker, jobs, sizeof(jobs[0]));
     vdbgi_volume_info *const info = &v->info;
-    const vdbgi_volume_view view = vdbgi_volume_view_of(v);
     double sq = 0.0, worst = 0.0;
     size_t n = 0;
     for (size_t i = 0; i < p->count; i++) {
         if (p->backface[i] > p->invalid_threshold)
             continue;
-        float pos[3], got[3];
-        for (int k = 0; k < 3; k++)
-            pos[k] = (float)(v->lattice_origin[k] + p->spacing * p->ijk[3 * i + k]);
-        vdbgi_sampler_sample(&view, pos, got);
         double e = 0.0;
         for (int k = 0; k < 3; k++) {
-            const double d = (double)got[k] - (double)p->rgb[3 * i + k];
+            const double d = (double)got[3 * i + k] - (double)p->rgb[3 * i + k];
             sq += d * d;
             e = fmax(e, fabs(d));
         }
@@ -188,6 +222,7 @@ static vdbgi_result measure_error(vdbgi_volume *v, const vdbgi_probes *p)
     info->max_error = worst;
     info->p99 = n ? vdbgi_quantile(err, n, 0.99) : 0.0;
     vdbgi_free(v->ctx, err);
+    vdbgi_free(v->ctx, got);
     return VDBGI_OK;
 }
 
@@ -457,7 +492,7 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
         (r = step_done(ctx, desc, 0.6f, &t, "pyramid and coarsening")) != VDBGI_OK ||
         (r = lay_out(v, bricks, brick_count, probes, cp.threads)) != VDBGI_OK ||
         (r = step_done(ctx, desc, 0.8f, &t, "sampling and encoding")) != VDBGI_OK ||
-        (r = measure_error(v, probes)) != VDBGI_OK)
+        (r = measure_error(v, probes, cp.threads)) != VDBGI_OK)
         goto fail;
     vdbgi_log(ctx, VDBGI_LOG_DEBUG, "error measurement in %.3f s", vdbgi_now() - t);
     info->seconds = vdbgi_now() - t0;
