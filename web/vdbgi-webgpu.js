@@ -1,9 +1,10 @@
 // vdbgi-webgpu.js: the same lookup and shading as vdbgi.js, in TSL, for
-// three.js's WebGPURenderer (and its WebGL2 fallback).
+// three.js's WebGPURenderer (and its WebGL2 fallback), with the same API:
 //
-//   const gi = new GiRuntime();                       // from vdbgi.js
+//   import { GiRuntime, loadGi } from 'vdbgi/webgpu';
+//   const gi = new GiRuntime();
 //   gi.setVolume(await loadGi('world.gi.gz'));
-//   applyGi(nodeMaterial, gi, { set: 'world' });      // per vertex, as seed 000
+//   mesh.material = gi.apply(mesh.material);          // per vertex, as seed 000
 //
 // The runtime's uniform objects are shared by reference, so setVolume(),
 // setKnobs(), `enabled` and `debug` reach every material without a rebuild.
@@ -12,20 +13,18 @@ import {
   Fn, If, uniform, texture3D, textureLoad, ivec2, vec3, vec4, float, floor, exp2, max, min, mod, clamp, dot, mix, select,
   fwidth, positionWorld, varying, output, diffuseColor, diffuseContribution, materialEmissive,
 } from 'three/tsl';
-import { DebugView, LAYOUT_COMPACT, LEVEL_COLOURS } from './vdbgi.js';
+import { GiRuntimeBase, DebugView, LAYOUT_COMPACT, LEVEL_COLOURS, warnOnce } from './vdbgi.js';
 
-// Materials applyGi() has seen.
-const applied = new WeakSet();
+export {
+  loadGi, GiVolume, DebugView, LEVEL_COLOURS, DEFAULT_KNOBS, ENCODING_RGBM, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT,
+} from './vdbgi.js';
 
-// One set of nodes per runtime: its uniforms, its two textures, the lookup.
-const nodesOf = new WeakMap();
-
+// A runtime's nodes: its uniforms, the texture nodes of every lookup made (re-pointed
+// by setVolume), the lookup and the bounce.
 function giNodes(runtime) {
-  let n = nodesOf.get(runtime);
-  if (n) return n;
   const u = runtime.uniforms;
-  const textures = { ind: [], atlas: [] };
-  n = {
+  const textures = runtime._textureNodes;
+  const n = {
     boxMin: uniform(u.giBoxMin.value),
     boxSize: uniform(u.giBoxSize.value),
     indDims: uniform(u.giIndDims.value),
@@ -42,15 +41,6 @@ function giNodes(runtime) {
       textures[which].push(new WeakRef(t));
       return t;
     },
-  };
-  const previous = runtime.setVolume.bind(runtime);
-  runtime.setVolume = (volume) => {
-    previous(volume);
-    for (const [which, name] of [['ind', 'giColumns'], ['atlas', 'giAtlas']])
-      for (const ref of textures[which]) {
-        const t = ref.deref();
-        if (t) t.value = u[name].value;
-      }
   };
   // Seed 000's volumeIrradiance(), as vdbgi.js's GLSL: returns irradiance,
   // level (-1: no brick) and the position inside the brick (0..1).
@@ -102,26 +92,56 @@ function giNodes(runtime) {
     const e = max(irradiance.sub(float(1).sub(knobs.y).mul(along).mul(ownHue)), 0);
     return e.mul(mix(albedo, vec3(1), knobs.z)).mul(knobs.x);
   });
-  nodesOf.set(runtime, n);
   return n;
 }
 
-// The irradiance node at world position `pos` (default: the fragment's).
-export function giIrradiance(runtime, pos = positionWorld) {
-  return giNodes(runtime).lookup(pos).irradiance;
+// The WebGPU runtime: apply() builds the lookup in TSL.
+export class GiRuntime extends GiRuntimeBase {
+  constructor() {
+    super();
+    this._textureNodes = { ind: [], atlas: [] };
+    this._nodes = giNodes(this);
+    this._applied = new WeakSet();
+  }
+
+  setVolume(volume) {
+    super.setVolume(volume);
+    for (const [which, name] of [['ind', 'giColumns'], ['atlas', 'giAtlas']])
+      for (const ref of this._textureNodes[which]) {
+        const t = ref.deref();
+        if (t) t.value = this.uniforms[name].value;
+      }
+  }
+
+  // The irradiance node at world position `pos` (default: the fragment's).
+  irradianceNode(pos = positionWorld) {
+    return this._nodes.lookup(pos).irradiance;
+  }
+
+  // Add GI to a material, as vdbgi.js's apply(): a MeshStandardMaterial,
+  // MeshPhysicalMaterial or MeshLambertMaterial becomes its node counterpart
+  // (toNodeMaterial), and a MeshStandardNodeMaterial or MeshLambertNodeMaterial
+  // is changed in place; returns the material to use. The bounce x albedo goes
+  // into the emissive term (added after lighting, as the seed's
+  // indirectLight), looked up per vertex (varying) or per fragment; the debug
+  // views replace the output. Any other material is returned as it was, with
+  // one warning; a material given twice is returned as it is.
+  apply(material, { set = 'world', perFragment = false } = {}) {
+    this._set(set);
+    if (!material.isNodeMaterial && (material.isMeshStandardMaterial || material.isMeshLambertMaterial))
+      material = toNodeMaterial(material);
+    if (!(material.isMeshStandardNodeMaterial || material.isMeshLambertNodeMaterial)) {
+      warnOnce(`vdbgi: ${material.type} materials take no GI (MeshStandardMaterial, MeshPhysicalMaterial and ` +
+        'MeshLambertMaterial and their node forms do); left as they are');
+      return material;
+    }
+    if (this._applied.has(material)) return material;
+    this._applied.add(material);
+    return applyNodes(material, this._nodes, { set, perFragment });
+  }
 }
 
-// Add GI to a MeshStandardNodeMaterial or MeshLambertNodeMaterial: the bounce
-// x albedo goes into the emissive term (added after lighting, as the seed's
-// indirectLight), looked up per vertex (varying) or per fragment; the debug
-// views replace the output.
-export function applyGi(material, runtime, { set = 'world', perFragment = false } = {}) {
-  if (!material.isNodeMaterial) throw new Error('applyGi: a node material (toNodeMaterial() converts)');
-  if (set !== 'world' && set !== 'character') throw new Error(`unknown knob set '${set}' (world or character)`);
-  // Twice would add the bounce twice: apply to a fresh material instead.
-  if (applied.has(material)) throw new Error('applyGi: this material has GI already');
-  applied.add(material);
-  const n = giNodes(runtime);
+function applyNodes(material, n, { set, perFragment }) {
   const here = n.lookup(positionWorld);
   const irradiance = perFragment ? here.irradiance : varying(n.lookup(positionWorld).irradiance);
   const albedo = material.isMeshStandardNodeMaterial ? diffuseContribution : diffuseColor.rgb;

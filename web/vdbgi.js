@@ -2,8 +2,12 @@
 //
 //   const gi = new GiRuntime();
 //   gi.setVolume(await loadGi('world.gi.gz', { renderer }));
-//   gi.patchMaterial(material);                     // world set, per vertex
-//   gi.patchMaterial(heroMaterial, { set: 'character', perFragment: true });
+//   mesh.material = gi.apply(mesh.material);        // world set, per vertex
+//   hero.material = gi.apply(hero.material, { set: 'character', perFragment: true });
+//   gi.debug = 'level';                             // or DebugView.LEVEL
+//
+// vdbgi-webgpu.js exports a GiRuntime with the same names and options for
+// WebGPURenderer (TSL); everything else here it re-exports.
 //
 // loadGi() reads a .gi.gz (docs/format.md) into its two textures; a
 // GiRuntime owns the uniforms every patched material shares, so swapping
@@ -15,8 +19,15 @@ import { decodeGi, indirectionColumns, layoutGeometry, ENCODING_RGB9E5, LAYOUT_S
 
 export { ENCODING_RGBM, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT } from './gi-format.js';
 
-// Debug views: what a patched material shows instead of its lit colour.
+// Debug views: what a material with GI shows instead of its lit colour. The
+// runtime's `debug` takes one of these or its name in lower case ('level').
 export const DebugView = Object.freeze({ OFF: 0, PROBE: 1, LEVEL: 2, BRICKS: 3, POSITION: 4 });
+
+function debugViewId(view) {
+  if (typeof view === 'string' && Object.hasOwn(DebugView, view.toUpperCase())) return DebugView[view.toUpperCase()];
+  if (Object.values(DebugView).includes(view)) return view;
+  throw new Error(`unknown debug view ${JSON.stringify(view)} (${Object.keys(DebugView).map((k) => k.toLowerCase()).join(', ')})`);
+}
 // DebugView.LEVEL's colours, linear RGB: no brick, then levels 0..3 (the
 // C library's levels.png uses the same, docs/converter.md has the legend).
 export const LEVEL_COLOURS = Object.freeze([[0.25, 0.25, 0.25], [0.1, 0.35, 1.0], [0.1, 0.85, 0.25], [1.0, 0.85, 0.1], [1.0, 0.2, 0.1]]);
@@ -59,14 +70,18 @@ export async function loadGi(source, { renderer = null, signal } = {}) {
   return volume;
 }
 
-// One world's textures and figures. Make it with loadGi().
+// One world's textures and figures. Make it with loadGi(). `info` holds the
+// file's header fields (docs/format.md: version, layout, encoding, rgbmRange,
+// indDims, atlasDims, boxMin, boxMax, spacing, maxLevel, bricks,
+// storedPoints); `columns` and `atlas` are the two textures the GPU gets.
 export class GiVolume {
   constructor(header, fileBytes) {
-    this.header = header;
+    const { indirection, atlas: atlasBytes, ...info } = header;
+    this.info = Object.freeze(info);
     this.fileBytes = fileBytes;
     const [ax, ay, az] = header.atlasDims;
     // The GPU gets the indirection as columns (docs/format.md): each column's run of cells once.
-    const columns = indirectionColumns(header.indirection, header.indDims);
+    const columns = indirectionColumns(indirection, header.indDims);
     const ind = new THREE.DataTexture(columns.data, columns.width, columns.height);
     ind.format = THREE.RGBAFormat;
     ind.type = THREE.UnsignedByteType;
@@ -74,14 +89,14 @@ export class GiVolume {
     let atlas;
     if (header.encoding === ENCODING_RGB9E5) {
       // Shared-exponent floats, which WebGL2 and WebGPU both filter.
-      const a = header.atlas;
+      const a = atlasBytes;
       const words = a.byteOffset % 4 === 0 ? new Uint32Array(a.buffer, a.byteOffset, a.length / 4)
                                            : new Uint32Array(a.slice().buffer);
       atlas = new THREE.Data3DTexture(words, ax, ay, az);
       atlas.format = THREE.RGBFormat;
       atlas.type = THREE.UnsignedInt5999Type;
     } else {
-      atlas = new THREE.Data3DTexture(header.atlas, ax, ay, az);
+      atlas = new THREE.Data3DTexture(atlasBytes, ax, ay, az);
       atlas.format = THREE.RGBAFormat;
       atlas.type = THREE.UnsignedByteType;
     }
@@ -98,10 +113,10 @@ export class GiVolume {
     this.boxMin = new THREE.Vector3(...header.boxMin);
     this.boxMax = new THREE.Vector3(...header.boxMax);
     // No mipmaps, 4 bytes a texel: what the GPU holds is the atlas and the columns.
-    this.vramBytes = columns.data.length + header.atlas.length;
+    this.vramBytes = columns.data.length + atlasBytes.length;
   }
 
-  get bricks() { return this.header.bricks; }
+  get bricks() { return this.info.bricks; }
 
   dispose() {
     this.columns.dispose();
@@ -109,8 +124,7 @@ export class GiVolume {
   }
 }
 
-// Materials patchMaterial() has seen.
-const patched = new WeakSet();
+
 
 // All-zero textures: with them, every lookup reads black (a 1x1x1 indirection's
 // columns: one empty run, then nothing).
@@ -127,7 +141,10 @@ function emptyTexture(Texture, ...dims) {
 // albedo toward white (mix(albedo, 1, bleed)). docs/web.md has the formulas.
 export const DEFAULT_KNOBS = Object.freeze({ intensity: 1, self: 1, bleed: 0 });
 
-export class GiRuntime {
+// What both back ends' runtimes share: the volume shown, the uniforms every
+// material with GI reads, the knobs, `enabled` and `debug`. Each back end's
+// GiRuntime adds apply().
+export class GiRuntimeBase {
   constructor() {
     this.volume = null;
     this._retired = null;
@@ -167,7 +184,7 @@ export class GiRuntime {
       u.giDecode.value.set(0, 0);
       return;
     }
-    const h = volume.header;
+    const h = volume.info;
     const geo = layoutGeometry(h.layout);
     u.giColumns.value = volume.columns;
     u.giColumnsDims.value.set(volume.columns.image.width, volume.columns.image.height);
@@ -187,7 +204,7 @@ export class GiRuntime {
   }
 
   get debug() { return this.uniforms.giDebug.value; }
-  set debug(view) { this.uniforms.giDebug.value = view; }
+  set debug(view) { this.uniforms.giDebug.value = debugViewId(view); }
 
   // set: 'world' or 'character'; knobs: any of { intensity, self, bleed }.
   setKnobs(set, knobs) {
@@ -207,17 +224,46 @@ export class GiRuntime {
     return this.uniforms[set];
   }
 
-  // Add GI to a MeshStandardMaterial, MeshPhysicalMaterial or MeshLambertMaterial
-  // (WebGL2): giIrradiance x albedo as indirect diffuse, looked up per vertex
+  dispose() {
+    this._retired?.dispose();
+    this.volume?.dispose();
+    this._empty.ind.dispose();
+    this._empty.atlas.dispose();
+    this.volume = this._retired = null;
+  }
+}
+
+// Warn once per message: a traverse over a scene meets the same material many times.
+const warned = new Set();
+export function warnOnce(message) {
+  if (warned.has(message)) return;
+  warned.add(message);
+  console.warn(message);
+}
+
+// The WebGL2 runtime: apply() patches three's own shader text.
+export class GiRuntime extends GiRuntimeBase {
+  constructor() {
+    super();
+    this._applied = new WeakSet();
+  }
+
+  // Add GI to a MeshStandardMaterial, MeshPhysicalMaterial or MeshLambertMaterial,
+  // in place: giIrradiance x albedo as indirect diffuse, looked up per vertex
   // (seed 000's default: the rasteriser interpolates it) or per fragment.
-  patchMaterial(material, { set = 'world', perFragment = false } = {}) {
+  // Returns the material. Any other material (unlit, toon, a ShaderMaterial)
+  // is returned as it was, with one warning; a material given twice is
+  // returned as it is (a clone of one with GI has none: three copies neither
+  // onBeforeCompile nor this mark).
+  apply(material, { set = 'world', perFragment = false } = {}) {
     const knobs = this._set(set);
-    if (!(material.isMeshStandardMaterial || material.isMeshLambertMaterial))
-      throw new Error('patchMaterial: a MeshStandardMaterial, MeshPhysicalMaterial or MeshLambertMaterial');
-    // Twice would inject the shader code twice. (A clone of a patched material
-    // is not patched: three copies neither onBeforeCompile nor this mark.)
-    if (patched.has(material)) throw new Error('patchMaterial: this material is patched already');
-    patched.add(material);
+    if (!(material.isMeshStandardMaterial || material.isMeshLambertMaterial)) {
+      warnOnce(`vdbgi: ${material.type} materials take no GI (MeshStandardMaterial, MeshPhysicalMaterial and ` +
+        'MeshLambertMaterial do); left as they are');
+      return material;
+    }
+    if (this._applied.has(material)) return material;
+    this._applied.add(material);
     const previous = material.onBeforeCompile;
     const u = this.uniforms;
     material.onBeforeCompile = (shader, renderer) => {
@@ -241,14 +287,6 @@ export class GiRuntime {
     material.customProgramCacheKey = () => `${key()}|vdbgi${perFragment ? 'f' : 'v'}`;
     material.needsUpdate = true;
     return material;
-  }
-
-  dispose() {
-    this._retired?.dispose();
-    this.volume?.dispose();
-    this._empty.ind.dispose();
-    this._empty.atlas.dispose();
-    this.volume = this._retired = null;
   }
 }
 

@@ -9,7 +9,7 @@ import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import GUI from 'three/addons/libs/lil-gui.module.min.js';
-import { GiRuntime, loadGi, DebugView, LAYOUT_COMPACT, ENCODING_RGB9E5 } from './vdbgi.js';
+import { GiRuntime, loadGi, LAYOUT_COMPACT, ENCODING_RGB9E5 } from './vdbgi.js';
 import { LayerCompositor } from './lightmap-layers.js';
 
 const params = new URLSearchParams(location.search);
@@ -59,7 +59,7 @@ const setSun = () => {
 };
 setSun();
 
-const gi = new GiRuntime();
+const gi = webgpu ? new webgpu.GiRuntime() : new GiRuntime();
 const settings = { gi: true, perVertex: params.get('vertex') !== '0', debug: 'off', sun: Math.PI, ambient: 0.15,
   lightmap: params.get('lightmap') !== '0' };
 let root = null; // the scene's root object
@@ -78,8 +78,7 @@ function prepare(mesh, set) {
   const lit = !!mesh.material.lightMap;
   const make = (perFragment) => {
     if (lit) return webgpu ? webgpu.toNodeMaterial(mesh.material) : mesh.material.clone();
-    return webgpu ? webgpu.applyGi(webgpu.toNodeMaterial(mesh.material), gi, { set, perFragment })
-                  : gi.patchMaterial(mesh.material.clone(), { set, perFragment });
+    return gi.apply(mesh.material.clone(), { set, perFragment });
   };
   const vertex = make(false);
   meshes.push({ mesh, vertex, fragment: lit ? vertex : make(true), scale: lit ? mesh.material.lightMapIntensity : 0 });
@@ -243,7 +242,7 @@ function showFigures(volume, name) {
       (state.lightmaps ? `, lightmaps on ${state.lightmaps} materials` : '');
     return;
   }
-  const h = volume.header, t = volume.timings;
+  const h = volume.info, t = volume.timings;
   const mb = (b) => `${(b / 1e6).toFixed(2)} MB`;
   const ms = (v) => (v == null ? '–' : `${v.toFixed(1)} ms`);
   state.figures = { bricks: h.bricks, vramBytes: volume.vramBytes, fileBytes: volume.fileBytes, timings: t };
@@ -274,7 +273,7 @@ gui.add(settings, 'gi').name('GI on').onChange((v) => { gi.enabled = v; });
 gui.add(settings, 'perVertex').name('per vertex').onChange(applyMode);
 gui.add(settings, 'lightmap').name('lightmaps').onChange(applyLightmaps);
 gui.add(settings, 'debug', { off: 'off', 'probe colour': 'probe', 'brick level': 'level', 'brick boundaries': 'bricks' })
-  .name('view').onChange((v) => { gi.debug = { off: DebugView.OFF, probe: DebugView.PROBE, level: DebugView.LEVEL, bricks: DebugView.BRICKS }[v]; });
+  .name('view').onChange((v) => { gi.debug = v; });
 for (const set of ['world', 'character']) {
   const knobs = gi.getKnobs(set);
   const f = gui.addFolder(set);

@@ -51,23 +51,19 @@ async function setup(task) {
   const gltf = await new GLTFLoader().loadAsync(task.scene);
   const scene = gltf.scene;
   const { camera, lights } = stage(scene, width, height);
-  const gi = new GiRuntime();
+  const webgpu = backend === 'webgpu' ? await import('/web/vdbgi-webgpu.js') : null;
+  const gi = webgpu ? new webgpu.GiRuntime() : new GiRuntime();
   const t0 = performance.now();
   const volume = await loadGi(task.gi, { renderer: backend === 'webgl' ? renderer : null });
   const loadMs = performance.now() - t0;
   gi.setVolume(volume);
   const meshes = [];
   scene.traverse((o) => o.isMesh && meshes.push(o));
-  let webgpu = null;
-  if (backend === 'webgpu') webgpu = await import('/web/vdbgi-webgpu.js');
   // Each material in two variants, per vertex and per fragment, swapped by mode().
   const variants = new Map();
   for (const m of meshes) {
     if (variants.has(m.material)) continue;
-    const make = (perFragment) => {
-      if (webgpu) return webgpu.applyGi(webgpu.toNodeMaterial(m.material), gi, { perFragment });
-      return gi.patchMaterial(m.material.clone(), { perFragment });
-    };
+    const make = (perFragment) => gi.apply(m.material.clone(), { perFragment });
     variants.set(m.material, { vertex: make(false), fragment: make(true) });
   }
   const originals = meshes.map((m) => m.material);
@@ -139,7 +135,7 @@ async function probe(task) {
 }
 
 function headerOf(volume) {
-  const h = volume.header;
+  const h = volume.info;
   return { layout: h.layout, encoding: h.encoding, bricks: h.bricks, vramBytes: volume.vramBytes,
     timings: volume.timings };
 }

@@ -1,0 +1,49 @@
+// check_api.mjs: the two back ends' GiRuntime have one API (the same methods
+// and options; the WebGPU one overrides setVolume as a subclass, it patches
+// nothing), apply() leaves an unsupported material as it was with one
+// warning for many, returns a material given twice as it is, and `debug`
+// takes a view's name or its number and refuses others. Runs in node: no
+// renderer is needed to apply GI to a material.
+import * as THREE from '../../web/node_modules/three/build/three.module.js';
+import * as webgl from '../../web/vdbgi.js';
+
+const webgpu = await import('../../web/vdbgi-webgpu.js');
+const warnings = [];
+console.warn = (message) => warnings.push(message);
+const methods = (o) => {
+  const names = new Set();
+  for (let p = Object.getPrototypeOf(o); p && p !== Object.prototype; p = Object.getPrototypeOf(p))
+    for (const n of Object.getOwnPropertyNames(p)) if (n !== 'constructor' && !n.startsWith('_')) names.add(n);
+  return [...names].sort();
+};
+const shared = [];
+for (const [name, mod] of [['WebGL2', webgl], ['WebGPU', webgpu]]) {
+  const gi = new mod.GiRuntime();
+  shared.push(methods(gi).filter((m) => m !== 'irradianceNode'));
+  const before = warnings.length;
+  const unlit = new THREE.MeshBasicMaterial();
+  const kept = gi.apply(unlit) === unlit && gi.apply(new THREE.MeshBasicMaterial()) !== unlit;
+  console.log(`${name}: an unlit material is returned as it was: ${kept}; warnings for two: ${warnings.length - before}`);
+  const lit = gi.apply(new THREE.MeshStandardMaterial(), { set: 'character', perFragment: true });
+  console.log(`${name}: a standard material becomes ${lit.type}; given twice, the same: ${gi.apply(lit) === lit}`);
+  gi.debug = 'level';
+  const byName = gi.debug === mod.DebugView.LEVEL;
+  gi.debug = mod.DebugView.BRICKS;
+  console.log(`${name}: debug by name: ${byName}, by number: ${gi.debug === mod.DebugView.BRICKS}`);
+  for (const bad of ['nope', 7]) {
+    try {
+      gi.debug = bad;
+      console.log(`${name}: debug ${bad} accepted`);
+    } catch (e) {
+      console.log(`${name}: ${e.message}`);
+    }
+  }
+  try {
+    gi.apply(new THREE.MeshStandardMaterial(), { set: 'hero' });
+  } catch (e) {
+    console.log(`${name}: ${e.message}`);
+  }
+  console.log(`${name}: setVolume is the runtime's own: ${Object.hasOwn(gi, 'setVolume') === false}`);
+}
+console.log(`the same methods: ${JSON.stringify(shared[0]) === JSON.stringify(shared[1])} (${shared[0].join(', ')})`);
+console.log(`WebGPU adds: irradianceNode: ${typeof new webgpu.GiRuntime().irradianceNode === 'function'}`);
