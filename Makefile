@@ -174,8 +174,10 @@ deps:
 	    echo "deps: npm install (tests/js: ktx-parse and gltf-validator, independent readers; potpack, seed 004's packer)"; \
 	    (cd tests/js && npm install --no-audit --no-fund --loglevel=error >/dev/null); \
 	fi; \
-	if [ ! -d web/node_modules/three ] || [ ! -d web/node_modules/puppeteer-core ]; then \
-	    echo "deps: npm ci (web: three, and puppeteer-core to drive Debian's chromium)"; \
+	if [ ! -d web/node_modules/three ] || [ ! -d web/node_modules/puppeteer-core ] || \
+	   [ ! -d web/node_modules/three-0.165 ] || [ ! -d web/node_modules/three-0.175 ] || \
+	   [ ! -d web/node_modules/three-0.183 ]; then \
+	    echo "deps: npm ci (web: three, the oldest threes we claim, and puppeteer-core to drive Debian's chromium)"; \
 	    (cd web && npm ci --no-audit --no-fund --loglevel=error >/dev/null); \
 	fi
 

@@ -11,8 +11,10 @@
 import { MeshStandardNodeMaterial, MeshLambertNodeMaterial } from 'three/webgpu';
 import {
   Fn, If, uniform, texture3D, textureLoad, ivec2, vec3, vec4, float, floor, exp2, max, min, mod, clamp, dot, mix, select,
-  fwidth, positionWorld, varying, output, diffuseColor, diffuseContribution, materialEmissive,
+  fwidth, positionWorld, varying, output, diffuseColor, materialEmissive,
 } from 'three/tsl';
+import * as TSL from 'three/tsl';
+import * as WEBGPU from 'three/webgpu';
 import { GiRuntimeBase, DebugView, LAYOUT_COMPACT, LEVEL_COLOURS, warnOnce } from './vdbgi.js';
 
 export {
@@ -95,6 +97,12 @@ function giNodes(runtime) {
   return n;
 }
 
+// The albedo a standard material's diffuse light sees, (1 - metalness) x its
+// colour: diffuseContribution from three 0.183 on (exported by three/tsl from
+// 0.186, only in three/webgpu's TSL object before); until 0.182 diffuseColor
+// held it. Namespace imports, so that an absent name is no link error.
+const standardDiffuse = () => TSL.diffuseContribution ?? WEBGPU.TSL?.diffuseContribution ?? diffuseColor.rgb;
+
 // The WebGPU runtime: apply() builds the lookup in TSL.
 export class GiRuntime extends GiRuntimeBase {
   constructor() {
@@ -144,7 +152,7 @@ export class GiRuntime extends GiRuntimeBase {
 function applyNodes(material, n, { set, perFragment }) {
   const here = n.lookup(positionWorld);
   const irradiance = perFragment ? here.irradiance : varying(n.lookup(positionWorld).irradiance);
-  const albedo = material.isMeshStandardNodeMaterial ? diffuseContribution : diffuseColor.rgb;
+  const albedo = material.isMeshStandardNodeMaterial ? standardDiffuse() : diffuseColor.rgb;
   const bounce = n.bounce(irradiance, albedo, n[set]).mul(n.decode.y);
   material.emissiveNode = (material.emissiveNode ?? materialEmissive).add(bounce);
   material.outputNode = Fn(() => {

@@ -397,9 +397,15 @@ vec3 vdbgiBounce(vec3 irradiance, vec3 albedo, vec3 knobs) {
 }
 `;
 
+// The albedo a standard material's diffuse light sees, (1 - metalness) x its
+// colour: three 0.183 on calls it diffuseContribution (diffuseColor is then the
+// whole base colour); before, diffuseColor held it. Read from three's own chunk.
+const STANDARD_DIFFUSE = THREE.ShaderChunk.lights_physical_pars_fragment.includes('diffuseContribution')
+  ? 'diffuseContribution' : 'diffuseColor';
+
 const GLSL_SHADE = /* glsl */ `
 #if defined( STANDARD )
-reflectedLight.indirectDiffuse += giDecode.y * vdbgiBounce(vdbgiIrradianceHere(), material.diffuseContribution, giKnobs);
+reflectedLight.indirectDiffuse += giDecode.y * vdbgiBounce(vdbgiIrradianceHere(), material.${STANDARD_DIFFUSE}, giKnobs);
 #else
 reflectedLight.indirectDiffuse += giDecode.y * vdbgiBounce(vdbgiIrradianceHere(), material.diffuseColor, giKnobs);
 #endif

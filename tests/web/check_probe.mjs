@@ -4,7 +4,8 @@
 // from float targets, and compare a few hundred covered pixels with the C
 // sampler (gi-inspect --at) at the same positions. docs/web.md derives the
 // tolerance; exit 1 if any channel exceeds it. The brick-level view must show
-// the level the indirection gives at each of those pixels.
+// the level the indirection gives at each of those pixels. With THREE_PACKAGE
+// set, the page runs on that copy of three (web/node_modules/THREE_PACKAGE).
 import { spawnSync } from 'node:child_process';
 import { copyFileSync, mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -21,9 +22,11 @@ copyFileSync(file, join(dir, 'volume.gi.gz'));
 
 let result;
 try {
+  // THREE_PACKAGE=three-0.165: another copy of three under web/node_modules (the range we claim).
+  const three = process.env.THREE_PACKAGE;
   result = await withPage({ '/files': dir }, ({ run }) =>
     run({ kind: 'probe', backend, scene: '/files/scene.glb', gi: '/files/volume.gi.gz', width: 256, height: 256,
-      points: 400, knobs: KNOBS }));
+      points: 400, knobs: KNOBS }), { page: three ? `/tests/web/render.html?three=${three}` : undefined });
 } finally {
   rmSync(dir, { recursive: true, force: true });
 }
