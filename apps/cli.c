@@ -75,6 +75,30 @@ int cli_bad_option(int c, char **argv)
                     : cli_usage_error("unknown option '%s'", argv[optind - 1]);
 }
 
+int cli_common_option(int c, char **argv, void (*usage)(void))
+{
+    switch (c) {
+    case 'q': cli_verbosity = 1; return -2;
+    case 'v': cli_verbosity++; return -2;
+    case 'h': usage(); return CLI_OK;
+    case CLI_OPT_VERSION: printf("%s %s\n", cli_prog, vdbgi_version_string()); return CLI_OK;
+    default: return cli_bad_option(c, argv);
+    }
+}
+
+int cli_start(const char *const *inputs, int input_count, const cli_file *outputs, int output_count,
+              vdbgi_context **ctx)
+{
+    *ctx = NULL;
+    const int clash = cli_check_files(inputs, input_count, outputs, output_count);
+    if (clash >= 0)
+        return clash;
+    if (!(*ctx = cli_context()))
+        return CLI_FAILED;
+    vdbgi_context_hold_outputs(*ctx, 1);
+    return -1;
+}
+
 int cli_light_option(int c, const char *arg, vdbgi_bake_desc *b)
 {
     double d = 0.0;

@@ -34,6 +34,22 @@ int cli_fail(const vdbgi_context *ctx, vdbgi_result r);
  * value) or '?' (unknown option); returns CLI_USAGE after saying which.
  */
 int cli_bad_option(int c, char **argv);
+
+/*
+ * The options every program takes, last in its getopt_long table (with
+ * "qvh" among its short options where it takes -q and -v), and the `default:`
+ * of its switch: -q, -v, -h (usage() on stdout), --version, and getopt's
+ * errors. Returns -2 when c was -q or -v (go on), else the exit code.
+ */
+enum { CLI_OPT_VERSION = 999 };
+#define CLI_COMMON_LONG_OPTIONS                                                                    \
+    {"quiet", no_argument, NULL, 'q'}, {"verbose", no_argument, NULL, 'v'},                        \
+        {"help", no_argument, NULL, 'h'}, {"version", no_argument, NULL, CLI_OPT_VERSION},         \
+    {                                                                                              \
+        NULL, 0, NULL, 0                                                                           \
+    }
+int cli_common_option(int c, char **argv, void (*usage)(void));
+
 /*
  * Take the one positional argument left after options into *out: returns -1
  * when there is exactly one, else a usage error ("no scene given").
@@ -112,6 +128,14 @@ typedef struct cli_file {
 } cli_file;
 int cli_check_files(const char *const *inputs, int input_count, const cli_file *outputs,
                     int output_count);
+
+/*
+ * Check the run's files (cli_check_files), make the context and hold its
+ * outputs until vdbgi_context_commit_outputs (all of a run's outputs, or
+ * none). Returns -1 with *ctx set to go on, else the exit code.
+ */
+int cli_start(const char *const *inputs, int input_count, const cli_file *outputs, int output_count,
+              vdbgi_context **ctx);
 
 double cli_now(void);
 void cli_progress_begin(cli_progress *p, const char *what, const char *unit, double total);

@@ -64,8 +64,7 @@ enum {
     OPT_NOISE,
     OPT_MAX_RAYS,
     OPT_TRACE,
-    OPT_BASIS,
-    OPT_VERSION
+    OPT_BASIS
 };
 
 typedef struct options {
@@ -90,11 +89,7 @@ static int parse_args(int argc, char **argv, options *o)
                                           CLI_LIGHT_LONG_OPTIONS,
                                           {"trace", required_argument, NULL, OPT_TRACE},
                                           {"basis", required_argument, NULL, OPT_BASIS},
-                                          {"quiet", no_argument, NULL, 'q'},
-                                          {"verbose", no_argument, NULL, 'v'},
-                                          {"help", no_argument, NULL, 'h'},
-                                          {"version", no_argument, NULL, OPT_VERSION},
-                                          {NULL, 0, NULL, 0}};
+                                          CLI_COMMON_LONG_OPTIONS};
     opterr = 0;
     int c;
     while ((c = getopt_long(argc, argv, ":o:qvh", longs, NULL)) != -1) {
@@ -162,11 +157,11 @@ static int parse_args(int argc, char **argv, options *o)
             else
                 return cli_usage_error("--basis must be scalar or ambient-cube (got '%s')", optarg);
             break;
-        case 'q': cli_verbosity = 1; break;
-        case 'v': cli_verbosity++; break;
-        case 'h': usage(); return CLI_OK;
-        case OPT_VERSION: printf("gi-bake %s\n", vdbgi_version_string()); return CLI_OK;
-        default: return cli_bad_option(c, argv);
+        default: {
+            const int done = cli_common_option(c, argv, usage);
+            if (done != -2)
+                return done;
+        }
         }
     }
     const int taken = cli_one_input(argc, argv, "scene", &o->scene);

@@ -94,7 +94,7 @@ typedef struct options {
     int rays, threads, repeat;
 } options;
 
-enum { OPT_SPACING = 256, OPT_RAYS, OPT_THREADS, OPT_REPEAT, OPT_GI_BAKE, OPT_OUT, OPT_VERSION };
+enum { OPT_SPACING = 256, OPT_RAYS, OPT_THREADS, OPT_REPEAT, OPT_GI_BAKE, OPT_OUT };
 
 static int parse_args(int argc, char **argv, options *o)
 {
@@ -105,7 +105,7 @@ static int parse_args(int argc, char **argv, options *o)
                                           {"gi-bake", required_argument, NULL, OPT_GI_BAKE},
                                           {"out", required_argument, NULL, OPT_OUT},
                                           {"help", no_argument, NULL, 'h'},
-                                          {"version", no_argument, NULL, OPT_VERSION},
+                                          {"version", no_argument, NULL, CLI_OPT_VERSION},
                                           {NULL, 0, NULL, 0}};
     opterr = 0;
     int c;
@@ -138,9 +138,7 @@ static int parse_args(int argc, char **argv, options *o)
             break;
         case OPT_GI_BAKE: o->gi_bake = optarg; break;
         case OPT_OUT: o->out = optarg; break;
-        case 'h': usage(); return CLI_OK;
-        case OPT_VERSION: printf("gi-bench %s\n", vdbgi_version_string()); return CLI_OK;
-        default: return cli_bad_option(c, argv);
+        default: return cli_common_option(c, argv, usage);
         }
     }
     if (optind == argc ||

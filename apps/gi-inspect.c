@@ -35,7 +35,7 @@ static void usage(void)
            "  gi-inspect world.gi.gz --textures world-textures.gi\n");
 }
 
-enum { OPT_AT = 256, OPT_TEXTURES, OPT_VERSION };
+enum { OPT_AT = 256, OPT_TEXTURES };
 
 /*
  * VDB files start with the 64-bit magic 0x56444220 (" BDV" little-endian).
@@ -136,7 +136,7 @@ int main(int argc, char **argv)
     static const struct option longs[] = {{"at", required_argument, NULL, OPT_AT},
                                           {"textures", required_argument, NULL, OPT_TEXTURES},
                                           {"help", no_argument, NULL, 'h'},
-                                          {"version", no_argument, NULL, OPT_VERSION},
+                                          {"version", no_argument, NULL, CLI_OPT_VERSION},
                                           {NULL, 0, NULL, 0}};
     float(*at)[3] = calloc((size_t)argc, sizeof(*at));
     int at_count = 0, c;
@@ -156,15 +156,7 @@ int main(int argc, char **argv)
             at_count++;
             break;
         case OPT_TEXTURES: textures = optarg; break;
-        case 'h':
-            usage();
-            free(at);
-            return CLI_OK;
-        case OPT_VERSION:
-            printf("gi-inspect %s\n", vdbgi_version_string());
-            free(at);
-            return CLI_OK;
-        default: free(at); return cli_bad_option(c, argv);
+        default: free(at); return cli_common_option(c, argv, usage);
         }
     }
     if (argc - optind != 1) {

@@ -74,8 +74,7 @@ enum {
     OPT_RAYS,
     OPT_SLICES,
     OPT_LAYERS,
-    OPT_STATS,
-    OPT_VERSION
+    OPT_STATS
 };
 
 typedef struct options {
@@ -98,11 +97,7 @@ static int parse_args(int argc, char **argv, options *o)
                                           {"layers", no_argument, NULL, OPT_LAYERS},
                                           {"stats", required_argument, NULL, OPT_STATS},
                                           CLI_LIGHT_LONG_OPTIONS,
-                                          {"quiet", no_argument, NULL, 'q'},
-                                          {"verbose", no_argument, NULL, 'v'},
-                                          {"help", no_argument, NULL, 'h'},
-                                          {"version", no_argument, NULL, OPT_VERSION},
-                                          {NULL, 0, NULL, 0}};
+                                          CLI_COMMON_LONG_OPTIONS};
     opterr = 0;
     int c;
     double ao_dist = 1.0;
@@ -150,11 +145,11 @@ static int parse_args(int argc, char **argv, options *o)
         case OPT_SLICES: o->slices = optarg; break;
         case OPT_LAYERS: o->lm.layers = 1; break;
         case OPT_STATS: o->stats = optarg; break;
-        case 'q': cli_verbosity = 1; break;
-        case 'v': cli_verbosity++; break;
-        case 'h': usage(); return CLI_OK;
-        case OPT_VERSION: printf("gi-lightmap %s\n", vdbgi_version_string()); return CLI_OK;
-        default: return cli_bad_option(c, argv);
+        default: {
+            const int done = cli_common_option(c, argv, usage);
+            if (done != -2)
+                return done;
+        }
         }
     }
     if (o->ao && o->lm.layers)
@@ -246,14 +241,11 @@ int main(int argc, char **argv)
     /* The scene, and no file of another kind, is ever replaced. */
     const char *const inputs[1] = {o.scene};
     const cli_file outs[2] = {{o.output, "glTF binary", "glTF", 4}, {o.stats, "JSON", "{", 1}};
-    const int clash = cli_check_files(inputs, 1, outs, o.stats ? 2 : 1);
-    if (clash >= 0)
-        return clash;
-    vdbgi_context *const ctx = cli_context();
-    if (!ctx)
-        return CLI_FAILED;
     /* The .glb, its EXR maps and the figures, or nothing: each waits under a temporary name. */
-    vdbgi_context_hold_outputs(ctx, 1);
+    vdbgi_context *ctx = NULL;
+    const int started = cli_start(inputs, 1, outs, o.stats ? 2 : 1, &ctx);
+    if (started >= 0)
+        return started;
     vdbgi_scene *scene = NULL;
     vdbgi_lightmap_result *lm = NULL;
     run_figures g = {.o = &o};

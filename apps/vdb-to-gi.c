@@ -90,8 +90,7 @@ enum {
     OPT_BOX,
     OPT_RES,
     OPT_VOXEL,
-    OPT_THREADS,
-    OPT_VERSION
+    OPT_THREADS
 };
 
 typedef struct options {
@@ -126,11 +125,7 @@ static int parse_args(int argc, char **argv, options *o)
         {"res", required_argument, NULL, OPT_RES},
         {"voxel", required_argument, NULL, OPT_VOXEL},
         {"threads", required_argument, NULL, OPT_THREADS},
-        {"quiet", no_argument, NULL, 'q'},
-        {"verbose", no_argument, NULL, 'v'},
-        {"help", no_argument, NULL, 'h'},
-        {"version", no_argument, NULL, OPT_VERSION},
-        {NULL, 0, NULL, 0}};
+        CLI_COMMON_LONG_OPTIONS};
     opterr = 0;
     int c;
     while ((c = getopt_long(argc, argv, ":o:qvh", longs, NULL)) != -1) {
@@ -253,11 +248,11 @@ static int parse_args(int argc, char **argv, options *o)
                                        optarg);
             o->convert.threads = o->bevy_desc.threads = (int)i;
             break;
-        case 'q': cli_verbosity = 1; break;
-        case 'v': cli_verbosity++; break;
-        case 'h': usage(); return CLI_OK;
-        case OPT_VERSION: printf("vdb-to-gi %s\n", vdbgi_version_string()); return CLI_OK;
-        default: return cli_bad_option(c, argv);
+        default: {
+            const int done = cli_common_option(c, argv, usage);
+            if (done != -2)
+                return done;
+        }
         }
     }
     const int taken = cli_one_input(argc, argv, "input", &o->input);
@@ -432,14 +427,11 @@ int main(int argc, char **argv)
                               {o.bevy ? json[0] : NULL, "JSON", "{", 1},
                               {o.bevy_baked_gi, "PNG", "\x89PNG", 4},
                               {o.bevy_baked_gi ? json[1] : NULL, "JSON", "{", 1}};
-    const int clash = cli_check_files(inputs, 1, outs, 6);
-    if (clash >= 0)
-        return clash;
-    vdbgi_context *const ctx = cli_context();
-    if (!ctx)
-        return CLI_FAILED;
     /* All the outputs of a run, or none: each waits under its temporary name until the last. */
-    vdbgi_context_hold_outputs(ctx, 1);
+    vdbgi_context *ctx = NULL;
+    const int started = cli_start(inputs, 1, outs, 6, &ctx);
+    if (started >= 0)
+        return started;
     vdbgi_probes *probes = NULL;
     vdbgi_volume *vol = NULL;
     int code = CLI_FAILED;
