@@ -76,7 +76,7 @@ typedef struct options {
 
 static const char *trace_names[] = {"auto", "single", "packet8", "packet16", "stream"};
 
-/* Parse argv into o; returns -1 to go on, else the exit code. */
+/* Parse argv into o (one case an option, kept whole); returns -1 to go on, else the exit code. */
 static int parse_args(int argc, char **argv, options *o)
 {
     static const struct option longs[] = {{"output", required_argument, NULL, 'o'},

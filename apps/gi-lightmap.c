@@ -83,6 +83,7 @@ typedef struct options {
     vdbgi_lightmap_desc lm;
 } options;
 
+/* Parse argv into o (one case an option, kept whole); returns -1 to go on, else the exit code. */
 static int parse_args(int argc, char **argv, options *o)
 {
     static const struct option longs[] = {{"output", required_argument, NULL, 'o'},

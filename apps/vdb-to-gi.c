@@ -102,6 +102,7 @@ typedef struct options {
     double slice_at, exposure; /* NAN: automatic */
 } options;
 
+/* Parse argv into o (one case an option, kept whole); returns -1 to go on, else the exit code. */
 static int parse_args(int argc, char **argv, options *o)
 {
     static const struct option longs[] = {

@@ -443,6 +443,24 @@ static vdbgi_result occupied_cells(vdbgi_context *ctx, const vdbgi_fill_input *i
     return r;
 }
 
+/* The valid probes' values into the grid's leaves; the invalid ones marked, for the darkest fill. */
+static void place_sources(grid *g, const vdbgi_fill_input *in, const vdbgi_fill_params *fp)
+{
+    const size_t ch3 = 3 * (size_t)in->channels;
+    for (size_t n = 0; n < in->count; n++) {
+        const int32_t *const p = &in->ijk[3 * n];
+        const long l = grid_find(g, p);
+        const unsigned pn = point_number(p);
+        if (in->backface[n] <= fp->invalid_threshold) {
+            /* Every source lies in a target cell, so its leaf exists. */
+            set_bit(g->leaves[l].filled, pn);
+            memcpy(grid_value(g, (size_t)l, pn), &in->values[ch3 * n], ch3 * sizeof(float));
+        } else if (fp->darkest && l >= 0) {
+            set_bit(g->leaves[l].invalid, pn);
+        }
+    }
+}
+
 vdbgi_result vdbgi_field_fill(vdbgi_context *ctx, const vdbgi_fill_input *in,
                               const vdbgi_fill_params *fp, vdbgi_field *field, int32_t **cells_out,
                               size_t *cell_count, int32_t **top_only_out, size_t *top_only_count,
@@ -477,19 +495,7 @@ vdbgi_result vdbgi_field_fill(vdbgi_context *ctx, const vdbgi_fill_input *in,
         (r = mark_target(&g, &cells, fp->cell_size, fp->rim)) != VDBGI_OK ||
         (r = grid_finish_target(&g)) != VDBGI_OK)
         goto done;
-    const size_t ch3 = 3 * (size_t)in->channels;
-    for (size_t n = 0; n < in->count; n++) {
-        const int32_t *const p = &in->ijk[3 * n];
-        const long l = grid_find(&g, p);
-        const unsigned pn = point_number(p);
-        if (in->backface[n] <= fp->invalid_threshold) {
-            /* Every source lies in a target cell, so its leaf exists. */
-            set_bit(g.leaves[l].filled, pn);
-            memcpy(grid_value(&g, (size_t)l, pn), &in->values[ch3 * n], ch3 * sizeof(float));
-        } else if (fp->darkest && l >= 0) {
-            set_bit(g.leaves[l].invalid, pn);
-        }
-    }
+    place_sources(&g, in, fp);
     if ((r = spread(&g, fp, unreached)) != VDBGI_OK)
         goto done;
     out = vdbgi_calloc(ctx, cells.count ? cells.count : 1, 3 * sizeof(int32_t));

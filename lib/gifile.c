@@ -82,9 +82,9 @@ vdbgi_result vdbgi_gifile_gzip(vdbgi_context *ctx, const uint8_t h[VDBGI_GI_HEAD
 
 /* ---- reading ---------------------------------------------------------------- */
 
-static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uint8_t *h,
-                                 vdbgi_volume_info *info, size_t *header_size,
-                                 uint64_t *stored_size)
+/* The magic, the version and the layout field (docs/format.md's table of versions): the layout. */
+static vdbgi_result parse_version(vdbgi_context *ctx, const char *path, const uint8_t *h,
+                                  vdbgi_layout *layout)
 {
     VDBGI_FAIL_IF(ctx, memcmp(h, gi_magic, 8) != 0, VDBGI_ERR_FORMAT,
                   "%s: not a .gi file (bad magic)", path);
@@ -109,6 +109,18 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
                                  : !compact && !seed,
                   VDBGI_ERR_FORMAT, "%s: unknown brick layout %u for version %u", path, field,
                   version);
+    *layout = compact ? VDBGI_LAYOUT_COMPACT : VDBGI_LAYOUT_SEED;
+    return VDBGI_OK;
+}
+
+static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uint8_t *h,
+                                 vdbgi_volume_info *info, size_t *header_size,
+                                 uint64_t *stored_size)
+{
+    vdbgi_layout layout = VDBGI_LAYOUT_DEFAULT;
+    VDBGI_TRY(parse_version(ctx, path, h, &layout));
+    const uint32_t version = vdbgi_get_u32(h + 8);
+    const bool compact = layout == VDBGI_LAYOUT_COMPACT;
     *header_size = vdbgi_get_u32(h + 12);
     VDBGI_FAIL_IF(ctx, *header_size < VDBGI_GI_HEADER_SIZE || *header_size > 65536,
                   VDBGI_ERR_FORMAT, "%s: bad header size %zu", path, *header_size);
@@ -116,7 +128,7 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
     const uint32_t enc = vdbgi_get_u32(h + 16);
     VDBGI_FAIL_IF(ctx, enc > 1, VDBGI_ERR_FORMAT, "%s: unknown encoding %u", path, enc);
     info->encoding = (vdbgi_encoding)enc;
-    info->layout = compact ? VDBGI_LAYOUT_COMPACT : VDBGI_LAYOUT_SEED;
+    info->layout = layout;
     /* The seed layout's atlas is whole 6^3 slots, 256 an axis; the compact one's texels are free. */
     const uint32_t b = compact ? 1 : VDBGI_BRICK_PADDED,
                    lo = compact ? VDBGI_BRICK_COMPACT : VDBGI_BRICK_PADDED,

@@ -140,6 +140,11 @@ static void *run_pass(void *arg)
     return NULL;
 }
 
+/*
+ * The passes over one set of buffers (about 90 lines, kept whole): each
+ * pass's map becomes the next one's light by a swap of buffers this
+ * function owns, and one cleanup frees them on every path.
+ */
 vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
                                  const vdbgi_bake_params *bp, const vdbgi_unwrap *un,
                                  const vdbgi_texels *tx, const vdbgi_lightmap_params *lp,

@@ -67,6 +67,35 @@ static vdbgi_result encode_page(vdbgi_context *ctx, const vdbgi_lightmap *m, siz
                                    exr_size);
 }
 
+/* The scene's base colour and emissive textures, linear in the scene, sRGB in the file. */
+static vdbgi_result encode_textures(vdbgi_context *ctx, const vdbgi_scene *s, uint8_t **png,
+                                    vdbgi_gltf_image *img)
+{
+    for (size_t t = 0; t < s->texture_count; t++) {
+        const vdbgi_texture *const tex = &s->textures[t];
+        const size_t count = (size_t)tex->width * (size_t)tex->height;
+        if (count == 0)
+            continue; /* a texture that did not load: its materials keep their factor */
+        float *const rgba = vdbgi_alloc(ctx, 4 * count * sizeof(float));
+        if (!rgba)
+            return VDBGI_ERR_OUT_OF_MEMORY;
+        for (size_t i = 0; i < 4 * count; i++)
+            rgba[i] = i % 4 == 3 ? tex->rgba[i] : vdbgi_srgb_from_linear(tex->rgba[i]);
+        const vdbgi_result r = vdbgi_image_encode(ctx, "texture", "png", tex->width, tex->height, 4,
+                                                  rgba, false, &png[t], &img[t].size);
+        img[t].png = png[t];
+        vdbgi_free(ctx, rgba);
+        VDBGI_TRY(r);
+    }
+    return VDBGI_OK;
+}
+
+/*
+ * The .glb from the bake's maps and the scene: one pass (about 120 lines)
+ * whose arrays share one set of indices (images, their slots in the .glb,
+ * primitives, materials, vertices), which helpers would each have to be
+ * handed again.
+ */
 vdbgi_result vdbgi_lightmap_encode(vdbgi_context *ctx, const vdbgi_scene *s, const vdbgi_unwrap *un,
                                    const vdbgi_texels *tx, const vdbgi_lightmap *m, bool ao,
                                    const vdbgi_lightmap_layers *ly, vdbgi_lightmap_files *out)
@@ -111,25 +140,7 @@ vdbgi_result vdbgi_lightmap_encode(vdbgi_context *ctx, const vdbgi_scene *s, con
     }
     out->exr_count = ao ? 0 : maps;
     out->scale = scales[0];
-    /* Base colour and emissive textures, linear in the scene, sRGB in the file. */
-    for (size_t t = 0; r == VDBGI_OK && t < s->texture_count; t++) {
-        const vdbgi_texture *const tex = &s->textures[t];
-        const size_t count = (size_t)tex->width * (size_t)tex->height;
-        if (count == 0)
-            continue; /* a texture that did not load: its materials keep their factor */
-        float *const rgba = vdbgi_alloc(ctx, 4 * (count ? count : 1) * sizeof(float));
-        if (!rgba) {
-            r = VDBGI_ERR_OUT_OF_MEMORY;
-            break;
-        }
-        for (size_t i = 0; i < 4 * count; i++)
-            rgba[i] = i % 4 == 3 ? tex->rgba[i] : vdbgi_srgb_from_linear(tex->rgba[i]);
-        r = vdbgi_image_encode(ctx, "texture", "png", tex->width, tex->height, 4, rgba, false,
-                               &png[maps + t], &img[maps + t].size);
-        img[maps + t].png = png[maps + t];
-        vdbgi_free(ctx, rgba);
-    }
-    if (r != VDBGI_OK)
+    if (r != VDBGI_OK || (r = encode_textures(ctx, s, &png[maps], &img[maps])) != VDBGI_OK)
         goto done;
     for (size_t t = 0; t < n; t++)
         order[t] =

@@ -197,20 +197,12 @@ static int split_bands(const vdbgi_pack_plan *pl, int threads, band_job *jobs,
     return nt;
 }
 
-vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count,
-                              const vdbgi_probes *probes, int threads, uint8_t **payload,
-                              size_t *payload_size)
+/* One level byte a cell (level + 1, 0 for none) for the bricks, in v's indirection; NULL: out of memory. */
+static uint8_t *level_bytes(const vdbgi_volume *v, const vdbgi_brick *bricks, size_t count)
 {
-    vdbgi_context *const ctx = v->ctx;
-    *payload = NULL;
-    *payload_size = 0;
-    qsort(bricks, count, sizeof(*bricks), brick_order);
     const uint32_t *const d = v->info.indirection_dims;
-    const size_t cells = (size_t)d[0] * d[1] * d[2];
-    uint8_t *const levels = vdbgi_calloc(ctx, cells, 1);
-    if (!levels)
-        return VDBGI_ERR_OUT_OF_MEMORY;
-    for (size_t b = 0; b < count; b++) {
+    uint8_t *const levels = vdbgi_calloc(v->ctx, (size_t)d[0] * d[1] * d[2], 1);
+    for (size_t b = 0; levels && b < count; b++) {
         const int32_t span = 1 << bricks[b].level;
         int32_t lo[3], hi[3];
         for (int k = 0; k < 3; k++) {
@@ -224,6 +216,65 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
                     levels[cell_index(d, c)] = (uint8_t)(bricks[b].level + 1);
                 }
     }
+    return levels;
+}
+
+/*
+ * A point no receiver reads takes the prediction itself: its residual is
+ * zero, which gzip all but drops. Such a point is read by level-0 bricks
+ * only (coarse_read marks the others) and has no valid probe among its 26
+ * neighbours (valid, grown into near over the three axes; valid is used up).
+ * Its prediction depends on the points before it, so these go in storage
+ * order, on one thread. Returns how many.
+ */
+static size_t predict_unread(const vdbgi_volume *v, const vdbgi_pack_plan *pl, uint8_t *values,
+                             uint8_t *coarse_read, uint64_t *valid, uint64_t *near)
+{
+    for (size_t b = 0; b < pl->brick_count; b++)
+        for (int t = 0; pl->level[b] && t < TEXELS; t++) {
+            size_t j;
+            int cl;
+            int32_t p[3];
+            texel_point(pl, b, t, p);
+            const int64_t i = stitched(pl, b, t, &j, &cl) ? -1 : point_index(pl, p);
+            if (i >= 0)
+                coarse_read[i] = 1;
+        }
+    grow(pl, valid, near, 0);
+    grow(pl, near, valid, 1);
+    grow(pl, valid, near, 2);
+    const bool rgbm = v->info.encoding == VDBGI_ENCODING_RGBM;
+    size_t unread = 0;
+    FOR_EACH_POINT(pl, p, i, {
+        size_t c = 0;
+        int own = 0;
+        grid_slot(pl, p, &c, &own); /* every stored point is in the grid */
+        if (!coarse_read[i] && !(near[c] >> own & 1u)) {
+            unread++;
+            int64_t nb[4];
+            neighbours(pl, p, nb);
+            for (int o = 0; o < 4; o++) {
+                const int k = byte_order(rgbm, o);
+                values[4 * i + k] = predict(values, nb, k, rgbm && k < 3, values[4 * i + 3]);
+            }
+        }
+    });
+    return unread;
+}
+
+vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count,
+                              const vdbgi_probes *probes, int threads, uint8_t **payload,
+                              size_t *payload_size)
+{
+    vdbgi_context *const ctx = v->ctx;
+    *payload = NULL;
+    *payload_size = 0;
+    qsort(bricks, count, sizeof(*bricks), brick_order);
+    const uint32_t *const d = v->info.indirection_dims;
+    const size_t cells = (size_t)d[0] * d[1] * d[2];
+    uint8_t *const levels = level_bytes(v, bricks, count);
+    if (!levels)
+        return VDBGI_ERR_OUT_OF_MEMORY;
     vdbgi_pack_plan pl;
     uint8_t *values = NULL, *coarse_read = NULL, *out = NULL;
     uint64_t *valid = NULL, *near = NULL;
@@ -258,46 +309,11 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
         clamped += jobs[t].clamped;
         v->info.fallback_count += jobs[t].fallback;
     }
-    for (size_t b = 0; b < count; b++)
-        for (int t = 0; pl.level[b] && t < TEXELS; t++) {
-            size_t j;
-            int cl;
-            int32_t p[3];
-            texel_point(&pl, b, t, p);
-            const int64_t i = stitched(&pl, b, t, &j, &cl) ? -1 : point_index(&pl, p);
-            if (i >= 0)
-                coarse_read[i] = 1;
-        }
-    /*
-     * A point no receiver reads takes the prediction itself: its residual is
-     * zero, which gzip all but drops. Its prediction depends on the points
-     * before it, so these go in storage order, on one thread; then every
-     * residual, from final values, in bands.
-     */
-    /* Points with a valid probe among their 26 neighbours, or themselves valid. */
-    grow(&pl, valid, near, 0);
-    grow(&pl, near, valid, 1);
-    grow(&pl, valid, near, 2);
     memcpy(out, levels, cells);
     for (size_t b = 0; b < count; b++)
         for (int k = 0; k < 3; k++)
             vdbgi_put_u16(out + cells + 2 * (k * count + b), pl.origin[b][k]);
-    const bool rgbm = v->info.encoding == VDBGI_ENCODING_RGBM;
-    size_t unread = 0;
-    FOR_EACH_POINT(&pl, p, i, {
-        size_t c = 0;
-        int own = 0;
-        grid_slot(&pl, p, &c, &own); /* every stored point is in the grid */
-        if (!coarse_read[i] && !(near[c] >> own & 1u)) {
-            unread++;
-            int64_t nb[4];
-            neighbours(&pl, p, nb);
-            for (int o = 0; o < 4; o++) {
-                const int k = byte_order(rgbm, o);
-                values[4 * i + k] = predict(values, nb, k, rgbm && k < 3, values[4 * i + 3]);
-            }
-        }
-    });
+    const size_t unread = predict_unread(v, &pl, values, coarse_read, valid, near);
     vdbgi_run_threads(bands, residual_worker, jobs, sizeof(jobs[0]));
     vdbgi_log(ctx, VDBGI_LOG_DEBUG, "%zu stored points, %zu of them read by no receiver", n,
               unread);

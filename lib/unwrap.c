@@ -293,6 +293,103 @@ static size_t grow_charts(const vdbgi_scene *s, const uint32_t *across, float co
     return charts;
 }
 
+/* The work arrays of one unwrap, per triangle or per chart (splitting may add charts). */
+typedef struct unwrap_work {
+    uint32_t *first, *order, *queue; /* each chart's triangles: order[first[c] .. first[c + 1]] */
+    double (*pts)[2];                /* a chart's points, then their hull */
+    double (*box)[4], (*frame)[8];   /* each chart's smallest box, on its plane */
+    int (*wh)[2];                    /* each chart's texels, gutters included */
+    stbrp_rect *rects;
+    stbrp_node *nodes;
+} unwrap_work;
+
+/*
+ * Each chart on the plane of its first triangle, turned to its smallest
+ * box. A chart that covers a texel centre twice there (a spiral ramp folds
+ * over itself) gives the second half of its triangles to a new chart, until
+ * none does. Returns the chart count in *charts.
+ */
+static vdbgi_result place_charts(vdbgi_unwrap *u, const vdbgi_scene *s, unwrap_work *w,
+                                 size_t *charts)
+{
+    const double gutter = u->gutter, texel = u->texel;
+    for (;;) {
+        sort_by_chart(u->chart, u->triangle_count, *charts, w->first, w->order, w->queue);
+        const size_t before = *charts;
+        for (size_t c = 0; c < before; c++) {
+            const uint32_t *const tris = &w->order[w->first[c]];
+            const uint32_t count = w->first[c + 1] - w->first[c];
+            place(s, tris, count, w->pts, w->frame[c], w->box[c]);
+            /* A chart larger than an atlas (gutters included) shrinks to fit one. */
+            const double room = u->size - 2 * gutter - 1;
+            const double want =
+                fmax(w->box[c][2] - w->box[c][0], w->box[c][3] - w->box[c][1]) / texel;
+            const double exact = want > room ? room / want / texel : 1.0 / texel;
+            /* Rounded down to a float: rounded up, a chart that fills the atlas overflows it. */
+            float density = (float)exact;
+            if ((double)density > exact)
+                density = nextafterf(density, 0.0f);
+            u->density[c] = density;
+            bool fold = false;
+            if (count > 1)
+                VDBGI_TRY(folds(u->ctx, s, tris, count, w->frame[c], w->box[c], density, &fold));
+            if (fold) {
+                for (uint32_t i = w->first[c] + count / 2; i < w->first[c + 1]; i++)
+                    u->chart[w->order[i]] = (uint32_t)*charts;
+                ++*charts;
+            }
+        }
+        if (*charts == before)
+            return VDBGI_OK;
+    }
+}
+
+/* Pages: pack what is left into a fresh atlas until nothing is; each triangle's uv from its chart's place. */
+static vdbgi_result pack_pages(vdbgi_unwrap *u, const vdbgi_scene *s, unwrap_work *w)
+{
+    const size_t charts = u->chart_count;
+    const int size = u->size, gutter = (int)u->gutter;
+    size_t left = charts;
+    for (size_t c = 0; c < charts; c++)
+        u->page[c] = UINT32_MAX;
+    while (left > 0) {
+        stbrp_context pack;
+        stbrp_init_target(&pack, size, size, w->nodes, size);
+        size_t k = 0;
+        for (size_t c = 0; c < charts; c++)
+            if (u->page[c] == UINT32_MAX)
+                w->rects[k++] = (stbrp_rect){.id = (int)c, .w = w->wh[c][0], .h = w->wh[c][1]};
+        stbrp_pack_rects(&pack, w->rects, (int)k);
+        size_t placed = 0;
+        for (size_t i = 0; i < k; i++) {
+            const stbrp_rect *const rc = &w->rects[i];
+            if (!rc->was_packed)
+                continue;
+            const size_t c = (size_t)rc->id;
+            u->page[c] = (uint32_t)u->page_count;
+            const int32_t rect[4] = {rc->x, rc->y, rc->w, rc->h};
+            memcpy(&u->rect[4 * c], rect, sizeof(rect));
+            placed++;
+            for (uint32_t j = w->first[c]; j < w->first[c + 1]; j++) {
+                const size_t t = w->order[j];
+                for (int q = 0; q < 3; q++) {
+                    double pp[2];
+                    project(w->frame[c], corner(s, (uint32_t)t, q), pp);
+                    u->uv[6 * t + 2 * q] =
+                        (float)(rc->x + gutter + 0.5 + (pp[0] - w->box[c][0]) * u->density[c]);
+                    u->uv[6 * t + 2 * q + 1] =
+                        (float)(rc->y + gutter + 0.5 + (pp[1] - w->box[c][1]) * u->density[c]);
+                }
+            }
+        }
+        /* Cannot happen: every chart fits an empty atlas. */
+        VDBGI_FAIL_IF(u->ctx, placed == 0, VDBGI_ERR_BACKEND, "rectangle packing placed nothing");
+        left -= placed;
+        u->page_count++;
+    }
+    return VDBGI_OK;
+}
+
 vdbgi_result vdbgi_unwrap_build(vdbgi_context *ctx, const vdbgi_scene *s,
                                 const vdbgi_unwrap_params *params, vdbgi_unwrap *u)
 {
@@ -318,132 +415,57 @@ vdbgi_result vdbgi_unwrap_build(vdbgi_context *ctx, const vdbgi_scene *s,
     u->size = size;
     u->texel = texel;
     u->gutter = (float)gutter;
-    uint32_t *id = NULL, *across = NULL, *queue = NULL, *first = NULL, *order = NULL;
-    double(*pts)[2] = NULL, (*box)[4] = NULL, (*frame)[8] = NULL;
-    int(*wh)[2] = NULL;
-    stbrp_rect *rects = NULL;
-    stbrp_node *nodes = NULL;
+    uint32_t *id = NULL, *across = NULL;
+    unwrap_work w = {0};
     u->uv = vdbgi_alloc(ctx, 6 * n * sizeof(*u->uv));
     u->chart = vdbgi_alloc(ctx, n * sizeof(*u->chart));
     across = vdbgi_alloc(ctx, 3 * n * sizeof(*across));
-    queue = vdbgi_alloc(ctx, n * sizeof(*queue));
-    vdbgi_result r = u->uv && u->chart && across && queue ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
+    w.queue = vdbgi_alloc(ctx, n * sizeof(*w.queue));
+    vdbgi_result r = u->uv && u->chart && across && w.queue ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
     if (r == VDBGI_OK && (r = weld(ctx, s, &id)) == VDBGI_OK)
         r = neighbours(ctx, s, id, across);
     if (r != VDBGI_OK)
         goto done;
-    size_t charts = grow_charts(s, across, cosf(angle * 3.14159265f / 180.0f), u->chart, queue);
+    size_t charts = grow_charts(s, across, cosf(angle * 3.14159265f / 180.0f), u->chart, w.queue);
     /* Per-chart arrays for as many charts as triangles: splitting may add charts. */
-    first = vdbgi_alloc(ctx, (n + 1) * sizeof(*first));
-    order = vdbgi_alloc(ctx, n * sizeof(*order));
-    pts = vdbgi_alloc(ctx, (6 * n + 1) * sizeof(*pts)); /* points, then their hull */
-    box = vdbgi_alloc(ctx, n * sizeof(*box));
-    frame = vdbgi_alloc(ctx, n * sizeof(*frame));
-    rects = vdbgi_alloc(ctx, n * sizeof(*rects));
-    wh = vdbgi_alloc(ctx, n * sizeof(*wh));
-    nodes = vdbgi_alloc(ctx, (size_t)size * sizeof(*nodes));
+    w.first = vdbgi_alloc(ctx, (n + 1) * sizeof(*w.first));
+    w.order = vdbgi_alloc(ctx, n * sizeof(*w.order));
+    w.pts = vdbgi_alloc(ctx, (6 * n + 1) * sizeof(*w.pts)); /* points, then their hull */
+    w.box = vdbgi_alloc(ctx, n * sizeof(*w.box));
+    w.frame = vdbgi_alloc(ctx, n * sizeof(*w.frame));
+    w.rects = vdbgi_alloc(ctx, n * sizeof(*w.rects));
+    w.wh = vdbgi_alloc(ctx, n * sizeof(*w.wh));
+    w.nodes = vdbgi_alloc(ctx, (size_t)size * sizeof(*w.nodes));
     u->page = vdbgi_alloc(ctx, n * sizeof(*u->page));
     u->density = vdbgi_alloc(ctx, n * sizeof(*u->density));
     u->rect = vdbgi_alloc(ctx, 4 * n * sizeof(*u->rect));
-    if (!first || !order || !pts || !box || !frame || !rects || !wh || !nodes || !u->page ||
-        !u->density || !u->rect) {
+    if (!w.first || !w.order || !w.pts || !w.box || !w.frame || !w.rects || !w.wh || !w.nodes ||
+        !u->page || !u->density || !u->rect) {
         r = VDBGI_ERR_OUT_OF_MEMORY;
         goto done;
     }
-    /*
-     * Each chart on the plane of its first triangle, turned to its smallest
-     * box. A chart that covers a texel centre twice there (a spiral ramp
-     * folds over itself) gives the second half of its triangles to a new
-     * chart, until none does.
-     */
-    for (;;) {
-        sort_by_chart(u->chart, n, charts, first, order, queue);
-        const size_t before = charts;
-        for (size_t c = 0; c < before && r == VDBGI_OK; c++) {
-            place(s, &order[first[c]], first[c + 1] - first[c], pts, frame[c], box[c]);
-            /* A chart larger than an atlas (gutters included) shrinks to fit one. */
-            const double room = size - 2 * gutter - 1;
-            const double want = fmax(box[c][2] - box[c][0], box[c][3] - box[c][1]) / texel;
-            const double exact = want > room ? room / want / texel : 1.0 / texel;
-            /* Rounded down to a float: rounded up, a chart that fills the atlas overflows it. */
-            float density = (float)exact;
-            if ((double)density > exact)
-                density = nextafterf(density, 0.0f);
-            u->density[c] = density;
-            bool fold = false;
-            if (first[c + 1] - first[c] > 1 &&
-                (r = folds(ctx, s, &order[first[c]], first[c + 1] - first[c], frame[c], box[c],
-                           u->density[c], &fold)) == VDBGI_OK &&
-                fold) {
-                for (uint32_t i = first[c] + (first[c + 1] - first[c]) / 2; i < first[c + 1]; i++)
-                    u->chart[order[i]] = (uint32_t)charts;
-                charts++;
-            }
-        }
-        if (r != VDBGI_OK)
-            goto done;
-        if (charts == before)
-            break;
-    }
+    if ((r = place_charts(u, s, &w, &charts)) != VDBGI_OK)
+        goto done;
     u->chart_count = charts;
     for (size_t c = 0; c < charts; c++) {
         /* Its footprint's texels, conservatively: the extent from half a texel in, plus one. */
-        wh[c][0] = (int)ceil((box[c][2] - box[c][0]) * u->density[c]) + 2 * gutter + 1;
-        wh[c][1] = (int)ceil((box[c][3] - box[c][1]) * u->density[c]) + 2 * gutter + 1;
-        u->chart_texels += (double)(wh[c][0] - 2 * gutter) * (wh[c][1] - 2 * gutter);
+        w.wh[c][0] = (int)ceil((w.box[c][2] - w.box[c][0]) * u->density[c]) + 2 * gutter + 1;
+        w.wh[c][1] = (int)ceil((w.box[c][3] - w.box[c][1]) * u->density[c]) + 2 * gutter + 1;
+        u->chart_texels += (double)(w.wh[c][0] - 2 * gutter) * (w.wh[c][1] - 2 * gutter);
     }
-    /* Pages: pack what is left into a fresh atlas until nothing is. */
-    size_t left = charts;
-    for (size_t c = 0; c < charts; c++)
-        u->page[c] = UINT32_MAX;
-    while (left > 0) {
-        stbrp_context pack;
-        stbrp_init_target(&pack, size, size, nodes, size);
-        size_t k = 0;
-        for (size_t c = 0; c < charts; c++)
-            if (u->page[c] == UINT32_MAX)
-                rects[k++] = (stbrp_rect){.id = (int)c, .w = wh[c][0], .h = wh[c][1]};
-        stbrp_pack_rects(&pack, rects, (int)k);
-        size_t placed = 0;
-        for (size_t i = 0; i < k; i++) {
-            if (!rects[i].was_packed)
-                continue;
-            const size_t c = (size_t)rects[i].id;
-            u->page[c] = (uint32_t)u->page_count;
-            const int32_t rect[4] = {rects[i].x, rects[i].y, rects[i].w, rects[i].h};
-            memcpy(&u->rect[4 * c], rect, sizeof(rect));
-            placed++;
-            for (uint32_t j = first[c]; j < first[c + 1]; j++) {
-                const size_t t = order[j];
-                for (int q = 0; q < 3; q++) {
-                    double pp[2];
-                    project(frame[c], corner(s, (uint32_t)t, q), pp);
-                    u->uv[6 * t + 2 * q] =
-                        (float)(rects[i].x + gutter + 0.5 + (pp[0] - box[c][0]) * u->density[c]);
-                    u->uv[6 * t + 2 * q + 1] =
-                        (float)(rects[i].y + gutter + 0.5 + (pp[1] - box[c][1]) * u->density[c]);
-                }
-            }
-        }
-        if (placed == 0) { /* cannot happen: every chart fits an empty atlas */
-            r = vdbgi_fail(ctx, VDBGI_ERR_BACKEND, "rectangle packing placed nothing");
-            goto done;
-        }
-        left -= placed;
-        u->page_count++;
-    }
+    r = pack_pages(u, s, &w);
 done:
     vdbgi_free(ctx, id);
     vdbgi_free(ctx, across);
-    vdbgi_free(ctx, queue);
-    vdbgi_free(ctx, first);
-    vdbgi_free(ctx, order);
-    vdbgi_free(ctx, pts);
-    vdbgi_free(ctx, box);
-    vdbgi_free(ctx, frame);
-    vdbgi_free(ctx, rects);
-    vdbgi_free(ctx, wh);
-    vdbgi_free(ctx, nodes);
+    vdbgi_free(ctx, w.queue);
+    vdbgi_free(ctx, w.first);
+    vdbgi_free(ctx, w.order);
+    vdbgi_free(ctx, w.pts);
+    vdbgi_free(ctx, w.box);
+    vdbgi_free(ctx, w.frame);
+    vdbgi_free(ctx, w.rects);
+    vdbgi_free(ctx, w.wh);
+    vdbgi_free(ctx, w.nodes);
     if (r != VDBGI_OK)
         vdbgi_unwrap_free(u);
     return r;
