@@ -12,11 +12,16 @@
 #include <string.h>
 #include <sys/stat.h>
 
-const float vdbgi_level_colour[5][3] = {{0.25f, 0.25f, 0.25f},
-                                        {0.1f, 0.35f, 1.0f},
-                                        {0.1f, 0.85f, 0.25f},
-                                        {1.0f, 0.85f, 0.1f},
-                                        {1.0f, 0.2f, 0.1f}};
+const float *vdbgi_level_colour(int level)
+{
+    /* A function, not a global table: sanitizers add symbols of their own beside global data. */
+    static const float colour[5][3] = {{0.25f, 0.25f, 0.25f},
+                                       {0.1f, 0.35f, 1.0f},
+                                       {0.1f, 0.85f, 0.25f},
+                                       {1.0f, 0.85f, 0.1f},
+                                       {1.0f, 0.2f, 0.1f}};
+    return colour[level < 0 || level > 3 ? 0 : level + 1];
+}
 
 /* Write name.exr (linear, scaled) and name.png (exposed, sRGB) from RGB pixels. */
 static vdbgi_result write_pair(vdbgi_context *ctx, const char *dir, const char *name, int w, int h,
@@ -133,7 +138,7 @@ vdbgi_result vdbgi_volume_write_slices(const vdbgi_volume *v, const vdbgi_probes
                           &v->tex.indirection[4 * ((cell[2] * d[1] + cell[1]) * d[0] + cell[0])])
                     : -1;
             for (int k = 0; k < 3; k++)
-                levels[3 * p + k] = vdbgi_srgb_from_linear(vdbgi_level_colour[level + 1][k]);
+                levels[3 * p + k] = vdbgi_srgb_from_linear(vdbgi_level_colour(level)[k]);
         }
 #undef PIXEL
     if (r == VDBGI_OK)

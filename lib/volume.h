@@ -21,10 +21,11 @@ struct vdbgi_volume {
 };
 
 /*
- * The colours of the level view, linear RGB (the web viewer's DebugView.LEVEL
- * and levels.png from vdbgi_volume_write_slices): no brick, then levels 0..3.
+ * The colour of the level view for a brick level 0..3, or -1 for no brick:
+ * linear RGB, 3 floats (the web viewer's DebugView.LEVEL and levels.png from
+ * vdbgi_volume_write_slices).
  */
-extern const float vdbgi_level_colour[5][3];
+const float *vdbgi_level_colour(int level);
 
 /* The textures and uniforms of a volume, as the sampler takes them. */
 vdbgi_volume_view vdbgi_volume_view_of(const vdbgi_volume *v);

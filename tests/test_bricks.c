@@ -1050,9 +1050,9 @@ static void levels_png_shows_each_cells_level(void)
                 const float *const got = &img.rgba[4 * ((size_t)y * (size_t)img.width + (size_t)x)];
                 bool same = true;
                 for (int k = 0; k < 3; k++)
-                    same = same && fabsf(got[k] -
-                                         vdbgi_srgb_from_linear(vdbgi_level_colour[level + 1][k])) <
-                                       0.6f / 255;
+                    same = same &&
+                           fabsf(got[k] - vdbgi_srgb_from_linear(vdbgi_level_colour(level)[k])) <
+                               0.6f / 255;
                 wrong += !same;
                 seen[level + 1]++;
             }
