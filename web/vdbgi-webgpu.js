@@ -166,7 +166,9 @@ function applyNodes(material, n, { set, perFragment }) {
     });
     If(n.debug.equal(DebugView.BRICKS), () => {
       const b = here.inBrick;
-      const d = min(b, b.oneMinus()).div(max(fwidth(b), vec3(1e-6)));
+      const d0 = min(b, b.oneMinus()).div(max(fwidth(b), vec3(1e-6)));
+      // Below its column's lowest brick (the lift): no face there, so y draws no line.
+      const d = vec3(d0.x, select(b.y.lessThan(0), float(1e6), d0.y), d0.z);
       const edge = clamp(min(d.x, min(d.y, d.z)).sub(0.5), 0, 1).oneMinus();
       out.assign(vec4(mix(here.irradiance, vec3(0), edge), 1));
     });

@@ -425,6 +425,9 @@ if (giDebug != ${DebugView.OFF}) {
         : ${glslVec3(LEVEL_COLOURS[4])};
   } else if (giDebug == ${DebugView.BRICKS}) {
     vec3 d = min(giL.inBrick, 1.0 - giL.inBrick) / max(fwidth(giL.inBrick), vec3(1e-6));
+    // Below its column's lowest brick (the lift) a position reads that brick's bottom
+    // plane: no face of it lies there, so y draws no line.
+    d.y = giL.inBrick.y < 0.0 ? 1e6 : d.y;
     float edge = 1.0 - clamp(min(d.x, min(d.y, d.z)) - 0.5, 0.0, 1.0);
     giC = mix(giL.irradiance, vec3(0.0), edge);
   } else {

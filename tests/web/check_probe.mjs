@@ -124,6 +124,15 @@ if (!(result.offPixel < 0.1)) { // measured 0.037: the rasteriser's interpolatio
   console.log(`${backend}: a pixel's world position projects ${result.offPixel} pixels away from it`);
   process.exit(1);
 }
+// The brick-boundary view: lines between bricks, 12 % of the lit pixels here (28 % when
+// the lifted ground below the lowest bricks came out black); a
+// position read from below its column's lowest brick (the lift) is no boundary.
+const { lit: litPixels, blackened } = result.bricksView;
+console.error(`  brick boundaries: ${blackened} of ${litPixels} lit pixels black`);
+if (!(blackened <= 0.18 * litPixels)) {
+  console.log(`${backend} ${enc} ${layout}: the brick-boundary view blacks out ${blackened} of ${litPixels} lit pixels`);
+  process.exit(1);
+}
 if (bad || levelBad || knobChecked < 300 || result.points.length < 300 || lit < 300) {
   console.log(`${backend} ${enc} ${layout}: ${bad} channels beyond tolerance (${knobBad} of them with the knobs), ` +
     `${levelBad} wrong level colours, ${knobChecked} pixels with the knobs, ` +

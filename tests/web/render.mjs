@@ -99,6 +99,7 @@ async function probe(task) {
   const pos = await readFloat(ctx, DebugView.POSITION);
   const irr = await readFloat(ctx, DebugView.PROBE);
   const level = await readFloat(ctx, DebugView.LEVEL);
+  const bricks = await readFloat(ctx, DebugView.BRICKS);
   // Lit by GI alone (the lights kept at zero: a node material with no light
   // at all would show its albedo), with the physical knobs and with task.knobs.
   for (const l of ctx.lights) l.intensity = 0;
@@ -113,6 +114,13 @@ async function probe(task) {
   const halfMetal = await readFloat(ctx);
   const covered = [];
   for (let i = 0; i < ctx.width * ctx.height; i++) if (pos[4 * i + 3] === 1) covered.push(i);
+  // The brick-boundary view darkens only the lines between bricks: lit pixels it paints black.
+  let lit = 0, blackened = 0;
+  for (const i of covered) {
+    if (irr[4 * i] + irr[4 * i + 1] + irr[4 * i + 2] <= 0) continue;
+    lit++;
+    blackened += bricks[4 * i] + bricks[4 * i + 1] + bricks[4 * i + 2] <= 0;
+  }
   const want = Math.min(task.points ?? 400, covered.length);
   const points = [];
   // The world position a pixel reports must project back onto that pixel's
@@ -131,7 +139,8 @@ async function probe(task) {
       physical: Array.from(physical.subarray(4 * i, 4 * i + 3)), styled: Array.from(styled.subarray(4 * i, 4 * i + 3)),
       halfMetal: Array.from(halfMetal.subarray(4 * i, 4 * i + 3)) });
   }
-  return { covered: covered.length, pixels: ctx.width * ctx.height, points, offPixel, header: headerOf(ctx.volume) };
+  return { covered: covered.length, pixels: ctx.width * ctx.height, points, offPixel, header: headerOf(ctx.volume),
+    bricksView: { lit, blackened } };
 }
 
 function headerOf(volume) {
