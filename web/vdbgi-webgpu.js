@@ -10,7 +10,7 @@
 // setKnobs(), `enabled` and `debug` reach every material without a rebuild.
 import { MeshStandardNodeMaterial, MeshLambertNodeMaterial } from 'three/webgpu';
 import {
-  Fn, If, uniform, texture3D, textureLoad, ivec2, vec3, vec4, float, floor, exp2, max, min, mod, clamp, dot, mix, select,
+  uniform, texture3D, textureLoad, ivec2, vec3, vec4, float, floor, exp2, max, min, mod, clamp, dot, mix, select,
   fwidth, positionWorld, varying, output, diffuseColor, materialEmissive,
 } from 'three/tsl';
 import * as TSL from 'three/tsl';
@@ -86,14 +86,15 @@ function giNodes(runtime) {
     return { irradiance, level: levelOut, inBrick: p.sub(originCell).div(span.mul(4)) };
   };
   // The seed's knobs: see vdbgiBounce() in vdbgi.js.
-  n.bounce = Fn(([irradiance, albedo, knobs]) => {
+  // Plain node arithmetic: an inline Fn() with a return makes three warn once per material.
+  n.bounce = (irradiance, albedo, knobs) => {
     const ownHue = albedo.sub(dot(albedo, vec3(1 / 3)));
     const hue = irradiance.sub(dot(irradiance, vec3(1 / 3)));
     const len2 = dot(ownHue, ownHue);
     const along = select(len2.greaterThan(1e-8), max(dot(hue, ownHue), 0).div(max(len2, 1e-8)), 0);
     const e = max(irradiance.sub(float(1).sub(knobs.y).mul(along).mul(ownHue)), 0);
     return e.mul(mix(albedo, vec3(1), knobs.z)).mul(knobs.x);
-  });
+  };
   return n;
 }
 
@@ -155,26 +156,25 @@ function applyNodes(material, n, { set, perFragment }) {
   const albedo = material.isMeshStandardNodeMaterial ? standardDiffuse() : diffuseColor.rgb;
   const bounce = n.bounce(irradiance, albedo, n[set]).mul(n.decode.y);
   material.emissiveNode = (material.emissiveNode ?? materialEmissive).add(bounce);
-  material.outputNode = Fn(() => {
-    const out = vec4(output).toVar();
-    If(n.debug.equal(DebugView.PROBE), () => out.assign(vec4(irradiance, 1)));
-    If(n.debug.equal(DebugView.LEVEL), () => {
-      const l = here.level;
-      const c = LEVEL_COLOURS.map((rgb) => vec3(...rgb));
-      out.assign(vec4(select(l.lessThan(0), c[0], select(l.lessThan(0.5), c[1],
-        select(l.lessThan(1.5), c[2], select(l.lessThan(2.5), c[3], c[4])))), 1));
-    });
-    If(n.debug.equal(DebugView.BRICKS), () => {
-      const b = here.inBrick;
-      const d0 = min(b, b.oneMinus()).div(max(fwidth(b), vec3(1e-6)));
-      // Below its column's lowest brick (the lift): no face there, so y draws no line.
-      const d = vec3(d0.x, select(b.y.lessThan(0), float(1e6), d0.y), d0.z);
-      const edge = clamp(min(d.x, min(d.y, d.z)).sub(0.5), 0, 1).oneMinus();
-      out.assign(vec4(mix(here.irradiance, vec3(0), edge), 1));
-    });
-    If(n.debug.equal(DebugView.POSITION), () => out.assign(vec4(positionWorld, 1)));
-    return out;
+  // The debug views as one select chain (no Fn() with a return, which three warns about).
+  const levelColour = (() => {
+    const l = here.level, c = LEVEL_COLOURS.map((rgb) => vec3(...rgb));
+    return select(l.lessThan(0), c[0], select(l.lessThan(0.5), c[1],
+      select(l.lessThan(1.5), c[2], select(l.lessThan(2.5), c[3], c[4]))));
   })();
+  const boundaries = (() => {
+    const b = here.inBrick;
+    const d0 = min(b, b.oneMinus()).div(max(fwidth(b), vec3(1e-6)));
+    // Below its column's lowest brick (the lift): no face there, so y draws no line.
+    const d = vec3(d0.x, select(b.y.lessThan(0), float(1e6), d0.y), d0.z);
+    const edge = clamp(min(d.x, min(d.y, d.z)).sub(0.5), 0, 1).oneMinus();
+    return mix(here.irradiance, vec3(0), edge);
+  })();
+  const view = (id) => n.debug.equal(id);
+  material.outputNode = select(view(DebugView.PROBE), vec4(irradiance, 1),
+    select(view(DebugView.LEVEL), vec4(levelColour, 1),
+      select(view(DebugView.BRICKS), vec4(boundaries, 1),
+        select(view(DebugView.POSITION), vec4(positionWorld, 1), output))));
   material.needsUpdate = true;
   return material;
 }

@@ -35,7 +35,8 @@ renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
 // tone=0: no tone mapping (the tests', since Neutral's desaturation can lower a channel as light is added).
 renderer.toneMapping = params.get('tone') === '0' ? THREE.NoToneMapping : THREE.NeutralToneMapping;
 renderer.shadowMap.enabled = params.get('shadows') !== '0';
-renderer.shadowMap.type = backend === 'webgpu' ? THREE.PCFShadowMap : THREE.PCFSoftShadowMap;
+// PCF in both: three 0.187 dropped PCFSoftShadowMap (with a warning) for WebGL2 too.
+renderer.shadowMap.type = THREE.PCFShadowMap;
 
 const scene = new THREE.Scene();
 scene.background = new THREE.Color(0.55, 0.7, 0.9);

@@ -24,22 +24,40 @@ export function haveChromium() {
 // run(task) that executes in the page, and fresh(), which opens another tab
 // of it (SwiftShader's WebGPU loses its device in a tab that had a WebGL2
 // context); closes everything afterwards.
-export async function withPage(mounts, fn, { width = 800, height = 600, page: pagePath = '/tests/web/render.html' } = {}) {
+// Any console warning or error, or uncaught exception, in any page fails the run,
+// but for those `allow` (regular expressions) expects: a test of a bad file.
+export async function withPage(mounts, fn, { width = 800, height = 600, page: pagePath = '/tests/web/render.html',
+  allow = [] } = {}) {
   const { server, url } = await serve({ mounts });
   const browser = await puppeteer.launch({ executablePath: CHROMIUM, args: FLAGS,
     defaultViewport: { width, height } });
   const messages = [];
+  // Every page's console, the test page's and those a test opens itself.
+  const listen = (page) => {
+    page.on('console', (m) => messages.push(`${m.type()}: ${m.text()}`));
+    page.on('pageerror', (e) => messages.push(`pageerror: ${e.message}`));
+  };
+  browser.on('targetcreated', async (target) => {
+    const page = await target.page().catch(() => null);
+    if (page) listen(page);
+  });
   try {
     const fresh = async () => {
       const page = await browser.newPage();
-      page.on('console', (m) => messages.push(`${m.type()}: ${m.text()}`));
-      page.on('pageerror', (e) => messages.push(`pageerror: ${e.message}`));
       await page.goto(`${url}${pagePath}`, { waitUntil: 'load' });
       await page.waitForFunction('window.vdbgiReady === true', { timeout: 30000 });
       return { page, run: (task) => page.evaluate((t) => window.vdbgiRun(t), task) };
     };
     const { page, run } = await fresh();
-    return await fn({ page, run, fresh, url, messages, browser });
+    const result = await fn({ page, run, fresh, url, messages, browser });
+    if (process.env.VDBGI_SHOW_CONSOLE)
+      for (const m of messages) console.error(`console ${m.slice(0, 200)}`);
+    const unexpected = messages.filter((m) => /^(warn|warning|error|assert|pageerror):/.test(m) &&
+      !allow.some((re) => re.test(m)));
+    if (unexpected.length)
+      throw new Error(`the pages said ${unexpected.length} warnings or errors:\n    ` +
+        [...new Set(unexpected)].slice(0, 5).map((m) => m.slice(0, 300)).join('\n    '));
+    return result;
   } catch (e) {
     if (messages.length) e.message += `\n  page said:\n    ${messages.slice(-10).join('\n    ')}`;
     throw e;
