@@ -44,6 +44,11 @@ mkdir -p "$OUT"
         "$BUILD/bin/vdb-to-gi" -q "$OUT/world200.vdb" -o "$OUT/world200.seed.gi.gz" --layout seed
         node tests/web/bench_web.mjs data/world.glb "$OUT/world.gi.gz" \
             "200 m, seed=$OUT/world200.seed.gi.gz" "200 m, compact=$OUT/world200.gi.gz"
+        echo
+        echo "The viewer, as a user sees it: from the volume's load to its first lit frame"
+        echo
+        node tests/web/bench_viewer.mjs "bundled=data/world.glb,$OUT/world.gi.gz" \
+            "200 m=$OUT/world200.glb,$OUT/world200.gi.gz"
     else
         echo "(skipped: chromium or web/node_modules missing; make deps installs both)"
     fi
