@@ -65,8 +65,33 @@ export async function gunzip(bytes, limit = Infinity) {
   return out;
 }
 
+// The first n bytes a gzip stream unpacks to (fewer if it ends first); the rest is never unpacked.
+async function gunzipPrefix(bytes, n) {
+  const reader = new Blob([bytes]).stream().pipeThrough(new DecompressionStream('gzip')).getReader();
+  const out = new Uint8Array(n);
+  let length = 0;
+  while (length < n) {
+    const { done, value } = await reader.read();
+    if (done) break;
+    const take = Math.min(value.length, n - length);
+    out.set(value.subarray(0, take), length);
+    length += take;
+  }
+  await reader.cancel().catch(() => {});
+  return out.subarray(0, length);
+}
+
 // Parse an uncompressed .gi. The returned textures are views into `buf`.
 export function parseGi(buf) {
+  const { gi, headerSize, stored } = parseHeader(buf);
+  if (buf.length !== headerSize + stored)
+    throw new Error(`file holds ${buf.length} bytes, header says ${headerSize + stored}`);
+  return parseBody(gi, buf, headerSize);
+}
+
+// A .gi's header, every field checked (docs/format.md), from its first bytes:
+// the header's fields, its size and the bytes that must follow it.
+function parseHeader(buf) {
   if (buf.length < HEADER_BYTES) throw new Error('shorter than a .gi header');
   const dv = new DataView(buf.buffer, buf.byteOffset, buf.byteLength);
   if (new TextDecoder().decode(buf.subarray(0, 8)) !== 'vdbgi.gi') throw new Error('not a .gi file');
@@ -133,9 +158,15 @@ export function parseGi(buf) {
   // stored point, not the textures.
   const brickCount = gi.bricks.reduce((a, b) => a + b, 0);
   const stored = packed ? indBytes / 4 + 6 * brickCount + 4 * gi.storedPoints : indBytes + atlasBytes;
-  if (buf.length !== headerSize + stored)
-    throw new Error(`file holds ${buf.length} bytes, header says ${headerSize + stored}`);
-  if (packed) {
+  return { gi, headerSize, stored };
+}
+
+// The textures after a checked header: rebuilt (packed) or checked in place.
+function parseBody(gi, buf, headerSize) {
+  const { brick } = layoutGeometry(gi.layout);
+  const compact = gi.layout === LAYOUT_COMPACT;
+  const indBytes = 4 * gi.indDims[0] * gi.indDims[1] * gi.indDims[2];
+  if (gi.version === 5) {
     const { indirection, atlas } = rebuildPacked(gi, buf.subarray(headerSize));
     gi.indirection = indirection;
     gi.atlas = atlas;
@@ -185,6 +216,19 @@ export async function decodeGi(fileBytes, timings = {}) {
     throw new Error(`not a whole .gi.gz file (its gzip trailer promises ${isize} bytes, ` +
       `impossible from ${fileBytes.length})`);
   let t = now();
+  // The header first, from the stream's first bytes, as the C reader does: what
+  // it says must follow it is what the trailer says the stream holds, before
+  // anything larger is unpacked.
+  let head;
+  try {
+    head = await gunzipPrefix(fileBytes, HEADER_BYTES);
+  } catch (e) {
+    throw new Error(`not a gzip'd .gi file, or cut short (${e.message})`);
+  }
+  if (head.length < HEADER_BYTES) throw new Error('damaged gzip data, or too short to be a .gi file');
+  const { headerSize, stored } = parseHeader(head);
+  if (headerSize + stored !== isize)
+    throw new Error('cut short or damaged (the gzip trailer disagrees with the header)');
   let buf;
   try {
     buf = await gunzip(fileBytes, isize);

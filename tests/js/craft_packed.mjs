@@ -43,6 +43,9 @@ write('header-counts-another-brick', (b, v) => { v.setUint32(80, u32(80) + 1, tr
 write('more-bricks-than-stored-points-allow', (b, v) => { v.setUint32(84, u32(108), true); });
 write('one-stored-point-more', (b, v) => { v.setUint32(108, u32(108) + 1, true); }, 4);
 write('stored-points-without-their-bytes', (b, v) => { v.setUint32(108, u32(108) + 1, true); });
+// 50 MB of zeros after the payload (a small file that unpacks large): the header,
+// read first, says less than the gzip trailer, so neither reader unpacks the rest.
+write('fifty-megabytes-of-zeros-after-it', () => {}, 50 << 20);
 write('packed-in-the-seed-layout', (b, v) => { v.setUint32(104, 1, true); });
 write('textures-with-a-point-count', (b, v) => { v.setUint32(8, 2, true); });
 write('atlas-too-large-for-its-bricks', (b, v) => {
