@@ -15,7 +15,7 @@ import {
 } from 'three/tsl';
 import * as TSL from 'three/tsl';
 import * as WEBGPU from 'three/webgpu';
-import { GiRuntimeBase, DebugView, LAYOUT_COMPACT, LEVEL_COLOURS, warnOnce } from './vdbgi.js';
+import { GiRuntimeBase, DebugView, LAYOUT_COMPACT, LEVEL_COLOURS } from './vdbgi.js';
 
 export {
   loadGi, GiVolume, DebugView, LEVEL_COLOURS, DEFAULT_KNOBS, ENCODING_RGBM, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT,
@@ -110,7 +110,6 @@ export class GiRuntime extends GiRuntimeBase {
     super();
     this._textureNodes = { ind: [], atlas: [] };
     this._nodes = giNodes(this);
-    this._applied = new WeakSet();
   }
 
   setVolume(volume) {
@@ -139,13 +138,8 @@ export class GiRuntime extends GiRuntimeBase {
     this._set(set);
     if (!material.isNodeMaterial && (material.isMeshStandardMaterial || material.isMeshLambertMaterial))
       material = toNodeMaterial(material);
-    if (!(material.isMeshStandardNodeMaterial || material.isMeshLambertNodeMaterial)) {
-      warnOnce(`vdbgi: ${material.type} materials take no GI (MeshStandardMaterial, MeshPhysicalMaterial and ` +
-        'MeshLambertMaterial and their node forms do); left as they are');
-      return material;
-    }
-    if (this._applied.has(material)) return material;
-    this._applied.add(material);
+    const supported = material.isMeshStandardNodeMaterial || material.isMeshLambertNodeMaterial;
+    if (!this._admits(material, supported, ' and their node forms')) return material;
     return applyNodes(material, this._nodes, { set, perFragment });
   }
 }

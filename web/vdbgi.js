@@ -167,6 +167,21 @@ export class GiRuntimeBase {
       character: { value: new THREE.Vector3(DEFAULT_KNOBS.intensity, DEFAULT_KNOBS.self, DEFAULT_KNOBS.bleed) },
     };
     this._enabled = true;
+    this._applied = new WeakSet();
+  }
+
+  // Whether apply() goes on with material: not when this back end does not light
+  // its kind (one warning a kind; `also` names more kinds it does light), nor
+  // when it has GI already.
+  _admits(material, supported, also) {
+    if (!supported) {
+      warnOnce(`vdbgi: ${material.type} materials take no GI (MeshStandardMaterial, MeshPhysicalMaterial and ` +
+        `MeshLambertMaterial${also} do); left as they are`);
+      return false;
+    }
+    if (this._applied.has(material)) return false;
+    this._applied.add(material);
+    return true;
   }
 
   // Show `volume` (or nothing, with null). The volume shown before is disposed
@@ -235,7 +250,7 @@ export class GiRuntimeBase {
 
 // Warn once per message: a traverse over a scene meets the same material many times.
 const warned = new Set();
-export function warnOnce(message) {
+function warnOnce(message) {
   if (warned.has(message)) return;
   warned.add(message);
   console.warn(message);
@@ -243,11 +258,6 @@ export function warnOnce(message) {
 
 // The WebGL2 runtime: apply() patches three's own shader text.
 export class GiRuntime extends GiRuntimeBase {
-  constructor() {
-    super();
-    this._applied = new WeakSet();
-  }
-
   // Add GI to a MeshStandardMaterial, MeshPhysicalMaterial or MeshLambertMaterial,
   // in place: giIrradiance x albedo as indirect diffuse, looked up per vertex
   // (seed 000's default: the rasteriser interpolates it) or per fragment.
@@ -257,13 +267,8 @@ export class GiRuntime extends GiRuntimeBase {
   // onBeforeCompile nor this mark).
   apply(material, { set = 'world', perFragment = false } = {}) {
     const knobs = this._set(set);
-    if (!(material.isMeshStandardMaterial || material.isMeshLambertMaterial)) {
-      warnOnce(`vdbgi: ${material.type} materials take no GI (MeshStandardMaterial, MeshPhysicalMaterial and ` +
-        'MeshLambertMaterial do); left as they are');
+    if (!this._admits(material, material.isMeshStandardMaterial || material.isMeshLambertMaterial, ''))
       return material;
-    }
-    if (this._applied.has(material)) return material;
-    this._applied.add(material);
     const previous = material.onBeforeCompile;
     const u = this.uniforms;
     material.onBeforeCompile = (shader, renderer) => {
