@@ -42,8 +42,10 @@ static void usage(void)
            "      --invalid-threshold F  back-face fraction above which a probe is invalid "
            "(0.25)\n"
            "      --trace METHOD       auto, single, packet8, packet16 or stream (auto)\n"
-           "      --basis B            scalar, or ambient-cube: also six directional colours\n"
-           "                           per probe, for Bevy's irradiance volumes (scalar)\n"
+           "      --basis B            scalar: one colour per probe (seed 000); ambient-cube:\n"
+           "                           also six directional colours, for Bevy's irradiance\n"
+           "                           volumes; sh2: also eight L2 spherical-harmonic terms,\n"
+           "                           so a surface reads the light on its own side (scalar)\n"
            "  -q, --quiet              errors only, no progress\n"
            "  -v, --verbose            more detail on stderr\n"
            "  -h, --help               print this help and exit\n"
@@ -53,7 +55,8 @@ static void usage(void)
            "  gi-bake data/world.glb -o world.vdb\n"
            "  gi-bake data/room.obj -o room.vdb --spacing 0.25 --sun-color 0,0,0\n"
            "  gi-bake data/world.glb -o world.vdb --sampling random --rays 256 --falloff inf\n"
-           "  gi-bake data/world.glb -o world.vdb --basis ambient-cube\n");
+           "  gi-bake data/world.glb -o world.vdb --basis ambient-cube\n"
+           "  gi-bake data/world.glb -o world.vdb --basis sh2\n");
 }
 
 enum {
@@ -154,8 +157,11 @@ static int parse_args(int argc, char **argv, options *o)
                 o->bake.basis = VDBGI_BASIS_SCALAR;
             else if (strcmp(optarg, "ambient-cube") == 0)
                 o->bake.basis = VDBGI_BASIS_AMBIENT_CUBE;
+            else if (strcmp(optarg, "sh2") == 0)
+                o->bake.basis = VDBGI_BASIS_SH2;
             else
-                return cli_usage_error("--basis must be scalar or ambient-cube (got '%s')", optarg);
+                return cli_usage_error("--basis must be scalar, ambient-cube or sh2 (got '%s')",
+                                       optarg);
             break;
         default: {
             const int done = cli_common_option(c, argv, usage);

@@ -1,6 +1,7 @@
 /* gi-bench: measure the bake against a bare Embree loop over the same rays. */
 #define _DEFAULT_SOURCE     /* mkstemps */
 #define VDBGI_BENCHMARK_API /* vdbgi_probes_trace_bare, vdbgi_lightmap_trace_bare, ... */
+#include "bench_truth.h"
 #include "cli.h"
 #include "vdbgi.h"
 
@@ -27,6 +28,7 @@ static void usage(void)
            "       gi-bench sweep SCENE [options]\n"
            "       gi-bench memory SCENE [options]\n"
            "       gi-bench lightmap SCENE [options]\n"
+           "       gi-bench truth SCENE [options]\n"
            "\n"
            "bake: measure, in one run on one machine, the ray throughput of:\n"
            "  - a bare Embree loop that traces exactly the bake's rays (primary rays, then a\n"
@@ -67,6 +69,14 @@ static void usage(void)
            "it, one pass, against 2048-ray estimates at 3000 points on the surfaces (only\n"
            "when --out is given).\n"
            "\n"
+           "truth: what each method gives a surface, against the hemisphere estimator\n"
+           "(2048 random rays over the receiver's own normal) at 3000 points on the\n"
+           "surfaces and at 400 character points 0.5-2 m over walkable ground read facing\n"
+           "up, the four horizontal directions and down: the scalar in bricks (today's\n"
+           "runtime), the scalar, ambient cube and L2 probes read directly, and a one-pass\n"
+           "lightmap at 0.25 m texels; at 0.5 and 0.25 m (--spacing S: that one only).\n"
+           "Prints a Markdown table and writes --out/truth.csv.\n"
+           "\n"
            "Options:\n"
            "      --spacing M     probe spacing in metres (0.5)\n"
            "      --rays N        rays per probe (128)\n"
@@ -84,7 +94,8 @@ static void usage(void)
            "  gi-bench convert world.vdb\n"
            "  gi-bench sweep data/world.glb --out build/chart\n"
            "  gi-bench memory data/world.glb --out build/chart\n"
-           "  gi-bench lightmap data/world.glb --out build/chart\n");
+           "  gi-bench lightmap data/world.glb --out build/chart\n"
+           "  gi-bench truth data/world.glb --out build/chart\n");
 }
 
 typedef struct options {
@@ -144,9 +155,9 @@ static int parse_args(int argc, char **argv, options *o)
     if (optind == argc ||
         (strcmp(argv[optind], "bake") != 0 && strcmp(argv[optind], "convert") != 0 &&
          strcmp(argv[optind], "sweep") != 0 && strcmp(argv[optind], "memory") != 0 &&
-         strcmp(argv[optind], "lightmap") != 0))
+         strcmp(argv[optind], "lightmap") != 0 && strcmp(argv[optind], "truth") != 0))
         return cli_usage_error("say which benchmark: gi-bench bake SCENE, convert PROBES.vdb, "
-                               "sweep SCENE, memory SCENE or lightmap SCENE");
+                               "sweep SCENE, memory SCENE, lightmap SCENE or truth SCENE");
     if (argc - optind != 2)
         return cli_usage_error("give one input: gi-bench %s FILE", argv[optind]);
     o->mode = argv[optind];
@@ -1021,6 +1032,8 @@ int main(int argc, char **argv)
         return bench_memory(&o, o.spacing_given);
     if (strcmp(o.mode, "lightmap") == 0)
         return bench_lightmap(&o, argv[0]);
+    if (strcmp(o.mode, "truth") == 0)
+        return bench_truth(o.scene, o.spacing, o.spacing_given, o.rays, o.threads, o.out);
 
     /* gi-bake lives beside gi-bench unless told otherwise. */
     char gi_bake[PATH_MAX];
@@ -1080,8 +1093,8 @@ int main(int argc, char **argv)
                 bake[m] = st.seconds;
         }
     }
-    /* The ambient-cube basis on the default query shape, against the scalar bake beside it. */
-    double scalar_auto = 0.0, cube_auto = 0.0;
+    /* The directional bases on the default query shape, against the scalar bake beside them. */
+    double scalar_auto = 0.0, cube_auto = 0.0, sh2_auto = 0.0;
     for (int rep = 0; rep < o.repeat; rep++) {
         vdbgi_bake_desc bd = {.rays = o.rays, .threads = o.threads};
         vdbgi_bake_stats s;
@@ -1096,6 +1109,12 @@ int main(int argc, char **argv)
             goto done;
         }
         cube_auto = rep == 0 || s.seconds < cube_auto ? s.seconds : cube_auto;
+        bd.basis = VDBGI_BASIS_SH2;
+        if ((r = vdbgi_probes_bake(probes, scene, &bd, &s)) != VDBGI_OK) {
+            code = cli_fail(ctx, r);
+            goto done;
+        }
+        sh2_auto = rep == 0 || s.seconds < sh2_auto ? s.seconds : sh2_auto;
     }
     int best = VDBGI_TRACE_SINGLE;
     for (int m = VDBGI_TRACE_SINGLE; m <= VDBGI_TRACE_STREAM; m++)
@@ -1139,19 +1158,23 @@ int main(int argc, char **argv)
     for (int m = VDBGI_TRACE_SINGLE; m <= VDBGI_TRACE_STREAM; m++)
         printf("| bake in-process, %s | %.3f | %.2f | %.0f | %.3f |\n", method_names[m], bake[m],
                nrays / bake[m] * 1e-6, (double)pi.probe_count / bake[m], bare[best] / bake[m]);
-    printf("| bake in-process, auto, scalar (paired with the next row) | %.3f | %.2f | %.0f | %.3f "
+    printf("| bake in-process, auto, scalar (paired with the next two rows) | %.3f | %.2f | %.0f | "
+           "%.3f "
            "|\n",
            scalar_auto, nrays / scalar_auto * 1e-6, (double)pi.probe_count / scalar_auto,
            bare[best] / scalar_auto);
     printf("| bake in-process, auto, ambient cube | %.3f | %.2f | %.0f | %.3f |\n", cube_auto,
            nrays / cube_auto * 1e-6, (double)pi.probe_count / cube_auto, bare[best] / cube_auto);
+    printf("| bake in-process, auto, L2 (sh2) | %.3f | %.2f | %.0f | %.3f |\n", sh2_auto,
+           nrays / sh2_auto * 1e-6, (double)pi.probe_count / sh2_auto, bare[best] / sh2_auto);
     printf("| **gi-bake process** (load, topology, trace, write) | %.3f | %.2f | %.0f | **%.3f** "
            "|\n\n",
            process, nrays / process * 1e-6, (double)pi.probe_count / process, bare[best] / process);
     struct stat fs;
-    printf("Fastest bare loop: %s. Ambient cubes cost %.1f%% of the scalar bake. gi-bake wrote "
-           "a %s .vdb.\n\n",
+    printf("Fastest bare loop: %s. Ambient cubes cost %.1f%%, L2 terms %.1f%% of the scalar "
+           "bake. gi-bake wrote a %s .vdb.\n\n",
            method_names[best], 100.0 * (cube_auto / scalar_auto - 1.0),
+           100.0 * (sh2_auto / scalar_auto - 1.0),
            stat(out, &fs) == 0 ? cli_bytes((double)fs.st_size, buf, sizeof(buf)) : "?");
     code = CLI_OK;
 done:

@@ -5,6 +5,8 @@
 
 #include <fcntl.h>
 #include <getopt.h>
+#include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,7 +15,7 @@
 
 static void usage(void)
 {
-    printf("Usage: gi-inspect FILE [--at X,Y,Z]... [--textures OUT.gi]\n"
+    printf("Usage: gi-inspect FILE [--at X,Y,Z]... [--normal NX,NY,NZ] [--textures OUT.gi]\n"
            "\n"
            "Print the header and statistics of FILE, either probes baked by gi-bake (.vdb)\n"
            "or a bricked volume written by vdb-to-gi (.gi.gz, or a plain .gi), told apart\n"
@@ -21,10 +23,13 @@ static void usage(void)
            ".gi the runtime shader's lookup, exactly; for a .vdb the trilinear\n"
            "interpolation of the valid probes around it. A compact .gi stores each probe\n"
            "once; --textures writes the textures a reader rebuilds from it, as the GPU\n"
-           "takes them (an uncompressed .gi, version 2).\n"
+           "takes them (an uncompressed .gi, version 2). With --normal, probes baked with\n"
+           "a directional basis (sh2, ambient-cube) give what a surface facing that way\n"
+           "receives (E / pi, clamped at 0), each term interpolated before evaluation.\n"
            "\n"
            "Options:\n"
            "      --at X,Y,Z    a world position in metres (repeat for more)\n"
+           "      --normal N    the receiving surface's normal at every --at (need not be unit)\n"
            "      --textures F  write a .gi's runtime textures to F (replaced on success)\n"
            "  -h, --help        print this help and exit\n"
            "      --version     print the version and exit\n"
@@ -32,10 +37,11 @@ static void usage(void)
            "Examples:\n"
            "  gi-inspect world.vdb\n"
            "  gi-inspect world.gi.gz --at 0,1,0 --at 10,0.5,-3\n"
+           "  gi-inspect world.vdb --at 0,0.1,0 --normal 0,1,0\n"
            "  gi-inspect world.gi.gz --textures world-textures.gi\n");
 }
 
-enum { OPT_AT = 256, OPT_TEXTURES };
+enum { OPT_AT = 256, OPT_NORMAL, OPT_TEXTURES };
 
 /*
  * VDB files start with the 64-bit magic 0x56444220 (" BDV" little-endian).
@@ -56,7 +62,8 @@ static int is_vdb(const char *path)
     return n == 8 && memcmp(m, magic, 8) == 0;
 }
 
-static int inspect_vdb(vdbgi_context *ctx, const char *path, float (*at)[3], int at_count)
+static int inspect_vdb(vdbgi_context *ctx, const char *path, float (*at)[3], int at_count,
+                       const float *normal)
 {
     vdbgi_probes *p = NULL;
     vdbgi_result r = vdbgi_probes_read(ctx, path, &p);
@@ -75,10 +82,16 @@ static int inspect_vdb(vdbgi_context *ctx, const char *path, float (*at)[3], int
     int code = CLI_OK;
     for (int i = 0; i < at_count; i++) {
         float rgb[3];
-        r = vdbgi_probes_sample(p, at[i], rgb);
+        unsigned char valid = 1;
+        r = normal ? vdbgi_probes_sample_points(p, 1, at[i], normal, 0.0f, rgb, &valid)
+                   : vdbgi_probes_sample(p, at[i], rgb);
         if (r != VDBGI_OK)
             code = cli_fail(ctx, r);
-        else
+        else if (!valid) {
+            cli_error("no valid probe around (%g, %g, %g)", (double)at[i][0], (double)at[i][1],
+                      (double)at[i][2]);
+            code = CLI_FAILED;
+        } else
             printf("at           %g,%g,%g -> %.6g %.6g %.6g\n", (double)at[i][0], (double)at[i][1],
                    (double)at[i][2], (double)rgb[0], (double)rgb[1], (double)rgb[2]);
     }
@@ -134,6 +147,7 @@ int main(int argc, char **argv)
 {
     cli_init("gi-inspect");
     static const struct option longs[] = {{"at", required_argument, NULL, OPT_AT},
+                                          {"normal", required_argument, NULL, OPT_NORMAL},
                                           {"textures", required_argument, NULL, OPT_TEXTURES},
                                           {"help", no_argument, NULL, 'h'},
                                           {"version", no_argument, NULL, CLI_OPT_VERSION},
@@ -141,6 +155,8 @@ int main(int argc, char **argv)
     float(*at)[3] = calloc((size_t)argc, sizeof(*at));
     int at_count = 0, c;
     const char *textures = NULL;
+    float normal[3];
+    bool has_normal = false;
     if (!at) {
         cli_error("out of memory");
         return CLI_FAILED;
@@ -155,6 +171,21 @@ int main(int argc, char **argv)
             }
             at_count++;
             break;
+        case OPT_NORMAL: {
+            const float *const n = normal;
+            const double len =
+                cli_parse_vec3(optarg, normal)
+                    ? sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2])
+                    : 0.0;
+            if (!(len > 1e-12) || !isfinite(len)) {
+                free(at);
+                return cli_usage_error("--normal must be a non-zero x,y,z (got '%s')", optarg);
+            }
+            for (int k = 0; k < 3; k++)
+                normal[k] = (float)(normal[k] / len);
+            has_normal = true;
+            break;
+        }
         case OPT_TEXTURES: textures = optarg; break;
         default: free(at); return cli_common_option(c, argv, usage);
         }
@@ -174,7 +205,12 @@ int main(int argc, char **argv)
         free(at);
         return cli_usage_error("--textures needs a .gi file, not probes");
     }
-    const int code = is_vdb(path) ? inspect_vdb(ctx, path, at, at_count)
+    if (has_normal && !is_vdb(path)) {
+        vdbgi_context_destroy(ctx);
+        free(at);
+        return cli_usage_error("--normal needs probes (.vdb): a .gi holds one colour a point");
+    }
+    const int code = is_vdb(path) ? inspect_vdb(ctx, path, at, at_count, has_normal ? normal : NULL)
                                   : inspect_gi(ctx, path, at, at_count, textures);
     vdbgi_context_destroy(ctx);
     free(at);

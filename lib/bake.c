@@ -24,7 +24,8 @@ typedef struct bake_shared {
     float *rgb, *backface;
     float *stderr_; /* per probe, or NULL */
     uint32_t *rays; /* per probe, or NULL */
-    float *cube;    /* 18 per probe, or NULL for the scalar basis */
+    float *cube;    /* 18 per probe, or NULL */
+    float *sh;      /* 24 per probe (L2 terms c1..c8), or NULL */
     int (*progress)(void *user, float done);
     void *progress_user;
     /* Work distribution. */
@@ -70,6 +71,8 @@ static void bake_point(bake_thread *th, size_t index)
         sh->rays[index] = e.rays;
     if (sh->cube)
         memcpy(&sh->cube[18 * index], e.cube, sizeof(e.cube));
+    if (sh->sh)
+        memcpy(&sh->sh[24 * index], e.sh, sizeof(e.sh));
 }
 
 /* Take chunks until none are left; returns after the last one or on cancel. */
@@ -118,7 +121,8 @@ static vdbgi_result bake_run(bake_shared *sh, const vdbgi_scene *scene, bool sha
                                   .bp = bp,
                                   .base_dirs = base_dirs,
                                   .shade = shade,
-                                  .cube = sh->cube};
+                                  .cube = sh->cube,
+                                  .sh2 = sh->sh != NULL};
     atomic_init(&sh->next, 0);
     atomic_init(&sh->done, 0);
     atomic_init(&sh->cancel, 0);
@@ -164,6 +168,11 @@ static vdbgi_result bake_run(bake_shared *sh, const vdbgi_scene *scene, bool sha
     return r;
 }
 
+static const char *basis_name(vdbgi_basis b)
+{
+    return b == VDBGI_BASIS_AMBIENT_CUBE ? "ambient-cube" : b == VDBGI_BASIS_SH2 ? "sh2" : "scalar";
+}
+
 static const char *sampling_name(vdbgi_sampling s)
 {
     return s == VDBGI_SAMPLING_RANDOM ? "random" : "fibonacci";
@@ -198,8 +207,7 @@ static void record_settings(vdbgi_probes *p, const vdbgi_scene *scene, const vdb
     vdbgi_meta_set_int(&p->meta, "seed", (int64_t)bp->seed);
     vdbgi_meta_set_double(&p->meta, "invalid_threshold", bp->invalid_threshold);
     vdbgi_meta_set_double(&p->meta, "ray_offset", scene->ray_offset);
-    vdbgi_meta_set_string(&p->meta, "basis",
-                          bp->basis == VDBGI_BASIS_AMBIENT_CUBE ? "ambient-cube" : "scalar");
+    vdbgi_meta_set_string(&p->meta, "basis", basis_name(bp->basis));
 }
 
 vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
@@ -210,18 +218,19 @@ vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
     vdbgi_bake_params bp;
     VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, &bp));
     const size_t n = p->count ? p->count : 1;
-    float *const rgb = vdbgi_calloc(ctx, n, 3 * sizeof(float));
-    float *const backface = vdbgi_calloc(ctx, n, sizeof(float));
-    float *const cube =
-        bp.basis == VDBGI_BASIS_AMBIENT_CUBE ? vdbgi_calloc(ctx, n, 18 * sizeof(float)) : NULL;
-    float *const stderr_ = vdbgi_calloc(ctx, n, sizeof(float));
-    uint32_t *const rays = bp.adaptive ? vdbgi_calloc(ctx, n, sizeof(uint32_t)) : NULL;
+    /* The new values, kept apart until complete: old ones are replaced only then. */
+    float *next[5] = {
+        vdbgi_calloc(ctx, n, 3 * sizeof(float)), vdbgi_calloc(ctx, n, sizeof(float)),
+        vdbgi_calloc(ctx, n, sizeof(float)),
+        bp.basis == VDBGI_BASIS_AMBIENT_CUBE ? vdbgi_calloc(ctx, n, 18 * sizeof(float)) : NULL,
+        bp.basis == VDBGI_BASIS_SH2 ? vdbgi_calloc(ctx, n, 24 * sizeof(float)) : NULL};
+    uint32_t *rays = bp.adaptive ? vdbgi_calloc(ctx, n, sizeof(uint32_t)) : NULL;
+    float *const rgb = next[0], *const backface = next[1], *const stderr_ = next[2];
+    float *const cube = next[3], *const shc = next[4];
     if (!rgb || !backface || !stderr_ || (bp.basis == VDBGI_BASIS_AMBIENT_CUBE && !cube) ||
-        (bp.adaptive && !rays)) {
-        vdbgi_free(ctx, rgb);
-        vdbgi_free(ctx, backface);
-        vdbgi_free(ctx, cube);
-        vdbgi_free(ctx, stderr_);
+        (bp.basis == VDBGI_BASIS_SH2 && !shc) || (bp.adaptive && !rays)) {
+        for (int a = 0; a < 5; a++)
+            vdbgi_free(ctx, next[a]);
         vdbgi_free(ctx, rays);
         return VDBGI_ERR_OUT_OF_MEMORY;
     }
@@ -235,29 +244,24 @@ vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
                       .stderr_ = stderr_,
                       .rays = rays,
                       .cube = cube,
+                      .sh = shc,
                       .progress = desc ? desc->progress : NULL,
                       .progress_user = desc ? desc->progress_user : NULL};
     memcpy(sh.origin, p->origin, sizeof(sh.origin));
     vdbgi_bake_stats st;
     const vdbgi_result r = bake_run(&sh, scene, true, &st);
     if (r != VDBGI_OK) {
-        vdbgi_free(ctx, rgb);
-        vdbgi_free(ctx, backface);
-        vdbgi_free(ctx, cube);
-        vdbgi_free(ctx, stderr_);
+        for (int a = 0; a < 5; a++)
+            vdbgi_free(ctx, next[a]);
         vdbgi_free(ctx, rays);
         return r;
     }
-    /* Replace old values only once the new ones are complete. */
-    vdbgi_free(ctx, p->rgb);
-    vdbgi_free(ctx, p->backface);
-    vdbgi_free(ctx, p->cube);
-    vdbgi_free(ctx, p->stderr_);
+    float **const cur[5] = {&p->rgb, &p->backface, &p->stderr_, &p->cube, &p->sh};
+    for (int a = 0; a < 5; a++) {
+        vdbgi_free(ctx, *cur[a]);
+        *cur[a] = next[a];
+    }
     vdbgi_free(ctx, p->rays);
-    p->rgb = rgb;
-    p->backface = backface;
-    p->cube = cube;
-    p->stderr_ = stderr_;
     p->rays = rays;
     p->invalid_threshold = bp.invalid_threshold;
     p->sampling = bp.sampling;
@@ -317,5 +321,44 @@ vdbgi_result vdbgi_scene_bake_points(const vdbgi_scene *scene, const vdbgi_bake_
     const vdbgi_result r = bake_run(&sh, scene, true, NULL);
     if (bf != backface)
         vdbgi_free(ctx, bf);
+    return r;
+}
+
+vdbgi_result vdbgi_scene_bake_points_sh2(const vdbgi_scene *scene, const vdbgi_bake_desc *desc,
+                                         const float *points, size_t point_count, float *sh)
+{
+    if (!scene)
+        return VDBGI_ERR_INVALID_ARG;
+    vdbgi_context *const ctx = scene->ctx;
+    VDBGI_FAIL_IF(ctx, point_count && (!points || !sh), VDBGI_ERR_INVALID_ARG,
+                  "no points or output given");
+    for (size_t i = 0; i < point_count * 3; i++)
+        VDBGI_FAIL_IF(ctx, !isfinite(points[i]), VDBGI_ERR_INVALID_ARG, "point %zu is not finite",
+                      i / 3);
+    vdbgi_bake_params bp;
+    VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, &bp));
+    const size_t n = point_count ? point_count : 1;
+    float *const rgb = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+    float *const bf = vdbgi_calloc(ctx, n, sizeof(float));
+    float *const terms = vdbgi_calloc(ctx, n, 24 * sizeof(float));
+    vdbgi_result r = rgb && bf && terms ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
+    bake_shared sh2 = {.ctx = ctx,
+                       .bp = &bp,
+                       .points = points,
+                       .count = point_count,
+                       .rgb = rgb,
+                       .backface = bf,
+                       .sh = terms,
+                       .progress = desc ? desc->progress : NULL,
+                       .progress_user = desc ? desc->progress_user : NULL};
+    if (r == VDBGI_OK)
+        r = bake_run(&sh2, scene, true, NULL);
+    for (size_t i = 0; r == VDBGI_OK && i < point_count; i++) {
+        memcpy(&sh[27 * i], &rgb[3 * i], 3 * sizeof(float));
+        memcpy(&sh[27 * i + 3], &terms[24 * i], 24 * sizeof(float));
+    }
+    vdbgi_free(ctx, rgb);
+    vdbgi_free(ctx, bf);
+    vdbgi_free(ctx, terms);
     return r;
 }

@@ -99,7 +99,7 @@ vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc
                   desc->trace_method < VDBGI_TRACE_AUTO || desc->trace_method > VDBGI_TRACE_STREAM,
                   VDBGI_ERR_INVALID_ARG, "unknown trace method %d", (int)desc->trace_method);
     bp->method = desc->trace_method == VDBGI_TRACE_AUTO ? VDBGI_TRACE_BEST : desc->trace_method;
-    VDBGI_FAIL_IF(ctx, desc->basis != VDBGI_BASIS_SCALAR && desc->basis != VDBGI_BASIS_AMBIENT_CUBE,
+    VDBGI_FAIL_IF(ctx, desc->basis < VDBGI_BASIS_SCALAR || desc->basis > VDBGI_BASIS_SH2,
                   VDBGI_ERR_INVALID_ARG, "unknown basis %d", (int)desc->basis);
     bp->basis = desc->basis;
     return VDBGI_OK;
@@ -175,6 +175,7 @@ typedef struct probe_sums {
     double sum[3]; /* radiance, per channel */
     double sum_sq; /* squares of the per-ray mean over channels, for the standard error */
     double cube[6][3], cube_w[6];
+    double sh[8][3]; /* radiance times each L2 term, per channel */
     size_t rays, hits, back, shadow;
 } probe_sums;
 
@@ -282,6 +283,27 @@ static void trace_batch(vdbgi_estimator *th, const float pos[3], const float *di
                         sums->cube[side][k] += w * (double)L[k];
             }
         }
+    if (th->sh2)
+        for (int i = 0; i < n; i++) {
+            const float *const L = &th->radiance[3 * i];
+            if (L[0] == 0.0f && L[1] == 0.0f && L[2] == 0.0f)
+                continue;
+            float p[8];
+            vdbgi_sh2_terms(&dirs[3 * i], p);
+            for (int t = 0; t < 8; t++)
+                for (int k = 0; k < 3; k++)
+                    sums->sh[t][k] += (double)p[t] * L[k];
+        }
+}
+
+/* c_k = w_k * mean(L p_k(d)): 4 pi Y_k^2 (the band's constant squared) times A_l / pi. */
+const float vdbgi_sh2_weights[8] = {2.0f, 2.0f, 2.0f, 3.75f, 3.75f, 0.3125f, 3.75f, 0.9375f};
+
+void vdbgi_sh2_terms(const float d[3], float p[8])
+{
+    const float x = d[0], y = d[1], z = d[2];
+    p[0] = x, p[1] = y, p[2] = z;
+    p[3] = x * y, p[4] = y * z, p[5] = 3.0f * z * z - 1.0f, p[6] = x * z, p[7] = x * x - y * y;
 }
 
 /* Standard error of a probe's value (the mean over channels), from its sums. */
@@ -325,6 +347,11 @@ static void report(const vdbgi_estimator *th, const probe_sums *sums, vdbgi_esti
                 out->cube[3 * side + k] = sums->cube_w[side] > 0.0
                                               ? (float)(sums->cube[side][k] / sums->cube_w[side])
                                               : 0.0f;
+    if (th->sh2)
+        for (int t = 0; t < 8; t++)
+            for (int k = 0; k < 3; k++)
+                out->sh[3 * t + k] =
+                    (float)(vdbgi_sh2_weights[t] * sums->sh[t][k] / (double)sums->rays);
 }
 
 void vdbgi_estimate_point(vdbgi_estimator *th, const float pos[3], uint64_t stream,

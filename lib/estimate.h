@@ -32,6 +32,10 @@ typedef struct vdbgi_bake_params {
 vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc *desc,
                                        vdbgi_bake_params *out);
 
+/* The L2 polynomial's terms 1..8 at unit direction d (term 0 is 1), and their weights. */
+void vdbgi_sh2_terms(const float d[3], float p[8]);
+extern const float vdbgi_sh2_weights[8];
+
 /* Spherical Fibonacci set of n unit directions (3 floats each). */
 void vdbgi_fibonacci_directions(int n, float *dirs);
 /*
@@ -61,6 +65,7 @@ typedef struct vdbgi_estimator {
     const float *base_dirs; /* from vdbgi_estimator_directions */
     bool shade;             /* false: rays and counts only (the bare benchmark loop) */
     bool cube;              /* also the ambient-cube sides */
+    bool sh2;               /* also the L2 terms c1..c8 */
     /*
      * Light a hit surface receives besides the fill and the sun, as the
      * estimator's E / pi (a lightmap's previous pass), or NULL for none;
@@ -86,6 +91,7 @@ typedef struct vdbgi_estimate {
     float backface; /* fraction of hits on back faces */
     float stderr_;  /* standard error of the mean over channels */
     float cube[18]; /* six sides x RGB, vdbgi_side order, when e->cube */
+    float sh[24];   /* L2 terms c1..c8 x RGB (VDBGI_SH2_TERMS), when e->sh2 */
     uint32_t rays;
     uint64_t hits, shadow;
 } vdbgi_estimate;

@@ -244,16 +244,19 @@ done:
     return r;
 }
 
-vdbgi_result vdbgi_scene_bake_surface(const vdbgi_scene *scene, const vdbgi_bake_desc *desc,
-                                      const uint32_t *prims, const float *uv, size_t count,
-                                      float *rgb, float *backface)
+/*
+ * The hemisphere estimator at count receivers, each at the position and
+ * unit normal place() gives for it (one thread: receivers for error charts
+ * are a few thousand). E, not E / pi, into rgb.
+ */
+typedef void (*place_fn)(const vdbgi_scene *s, const void *user, size_t i, float pos[3],
+                         float n[3]);
+
+static vdbgi_result bake_hemispheres(const vdbgi_scene *scene, const vdbgi_bake_desc *desc,
+                                     place_fn place, const void *user, size_t count, float *rgb,
+                                     float *backface)
 {
     vdbgi_context *const ctx = scene->ctx;
-    VDBGI_FAIL_IF(ctx, count && (!prims || !uv || !rgb), VDBGI_ERR_INVALID_ARG,
-                  "no receivers or output given");
-    for (size_t i = 0; i < count; i++)
-        VDBGI_FAIL_IF(ctx, prims[i] >= scene->triangle_count, VDBGI_ERR_INVALID_ARG,
-                      "receiver %zu: no triangle %u", i, prims[i]);
     vdbgi_bake_params bp;
     VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, &bp));
     VDBGI_FAIL_IF(ctx, bp.adaptive, VDBGI_ERR_INVALID_ARG, "a fixed ray count, not auto");
@@ -269,14 +272,8 @@ vdbgi_result vdbgi_scene_bake_surface(const vdbgi_scene *scene, const vdbgi_bake
         vdbgi_hemisphere_directions(bp.rays, dirs);
     }
     for (size_t i = 0; r == VDBGI_OK && i < count; i++) {
-        /* On the triangle, lifted off its front face as a texel's sample is. */
-        const uint32_t *const idx = &scene->indices[3 * (size_t)prims[i]];
-        const float *const n = scene->tris[prims[i]].normal;
-        const float u = uv[2 * i], v = uv[2 * i + 1], w = 1.0f - u - v;
-        float pos[3];
-        for (int k = 0; k < 3; k++)
-            pos[k] = w * scene->positions[3 * idx[0] + k] + u * scene->positions[3 * idx[1] + k] +
-                     v * scene->positions[3 * idx[2] + k] + scene->ray_offset * n[k];
+        float pos[3], n[3];
+        place(scene, user, i, pos, n);
         vdbgi_estimate est;
         vdbgi_estimate_hemisphere(&e, pos, n, vdbgi_point_stream((int32_t)i, 0, 0, bp.seed), &est);
         for (int k = 0; k < 3; k++)
@@ -290,4 +287,69 @@ vdbgi_result vdbgi_scene_bake_surface(const vdbgi_scene *scene, const vdbgi_bake
     vdbgi_tracer_destroy(tracer);
     vdbgi_free(ctx, dirs);
     return r;
+}
+
+typedef struct on_triangles {
+    const uint32_t *prims;
+    const float *uv;
+} on_triangles;
+
+/* On the triangle, lifted off its front face as a texel's sample is. */
+static void place_on_triangle(const vdbgi_scene *scene, const void *user, size_t i, float pos[3],
+                              float n[3])
+{
+    const on_triangles *const t = user;
+    const uint32_t *const idx = &scene->indices[3 * (size_t)t->prims[i]];
+    memcpy(n, scene->tris[t->prims[i]].normal, 3 * sizeof(float));
+    const float u = t->uv[2 * i], v = t->uv[2 * i + 1], w = 1.0f - u - v;
+    for (int k = 0; k < 3; k++)
+        pos[k] = w * scene->positions[3 * idx[0] + k] + u * scene->positions[3 * idx[1] + k] +
+                 v * scene->positions[3 * idx[2] + k] + scene->ray_offset * n[k];
+}
+
+vdbgi_result vdbgi_scene_bake_surface(const vdbgi_scene *scene, const vdbgi_bake_desc *desc,
+                                      const uint32_t *prims, const float *uv, size_t count,
+                                      float *rgb, float *backface)
+{
+    vdbgi_context *const ctx = scene->ctx;
+    VDBGI_FAIL_IF(ctx, count && (!prims || !uv || !rgb), VDBGI_ERR_INVALID_ARG,
+                  "no receivers or output given");
+    for (size_t i = 0; i < count; i++)
+        VDBGI_FAIL_IF(ctx, prims[i] >= scene->triangle_count, VDBGI_ERR_INVALID_ARG,
+                      "receiver %zu: no triangle %u", i, prims[i]);
+    const on_triangles t = {prims, uv};
+    return bake_hemispheres(scene, desc, place_on_triangle, &t, count, rgb, backface);
+}
+
+typedef struct at_points {
+    const float *points, *normals;
+} at_points;
+
+static void place_at_point(const vdbgi_scene *scene, const void *user, size_t i, float pos[3],
+                           float n[3])
+{
+    (void)scene;
+    const at_points *const a = user;
+    memcpy(pos, &a->points[3 * i], 3 * sizeof(float));
+    memcpy(n, &a->normals[3 * i], 3 * sizeof(float));
+}
+
+vdbgi_result vdbgi_scene_bake_hemispheres(const vdbgi_scene *scene, const vdbgi_bake_desc *desc,
+                                          const float *points, const float *normals, size_t count,
+                                          float *rgb, float *backface)
+{
+    vdbgi_context *const ctx = scene->ctx;
+    VDBGI_FAIL_IF(ctx, count && (!points || !normals || !rgb), VDBGI_ERR_INVALID_ARG,
+                  "no receivers or output given");
+    for (size_t i = 0; i < count; i++) {
+        const float *const n = &normals[3 * i];
+        const float len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+        VDBGI_FAIL_IF(ctx, !(fabsf(len2 - 1.0f) < 1e-3f), VDBGI_ERR_INVALID_ARG,
+                      "receiver %zu: the normal is not a unit vector", i);
+        for (int k = 0; k < 3; k++)
+            VDBGI_FAIL_IF(ctx, !isfinite(points[3 * i + k]), VDBGI_ERR_INVALID_ARG,
+                          "receiver %zu is not finite", i);
+    }
+    const at_points a = {points, normals};
+    return bake_hemispheres(scene, desc, place_at_point, &a, count, rgb, backface);
 }

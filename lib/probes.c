@@ -1,5 +1,7 @@
 /* probes.c: the probe object: its arrays, its file, its lookups and its metadata lines. */
 #include "probes.h"
+#include "estimate.h"
+#include "map.h"
 #include "vdb_shim.h"
 
 #include <errno.h>
@@ -38,6 +40,7 @@ void vdbgi_probes_destroy(vdbgi_probes *p)
     vdbgi_free(p->ctx, p->rgb);
     vdbgi_free(p->ctx, p->backface);
     vdbgi_free(p->ctx, p->cube);
+    vdbgi_free(p->ctx, p->sh);
     vdbgi_free(p->ctx, p->stderr_);
     vdbgi_free(p->ctx, p->rays);
     vdbgi_free(p->ctx, p);
@@ -69,7 +72,7 @@ typedef struct read_target {
 } read_target;
 
 static vdbgi_result make_probes(vdbgi_vdb_sink *sink, size_t count, bool with_stderr,
-                                bool with_rays, bool with_cube)
+                                bool with_rays, bool with_cube, bool with_sh)
 {
     read_target *const t = sink->user;
     VDBGI_TRY(vdbgi_probes_alloc(t->ctx, count, true, &t->p));
@@ -77,10 +80,11 @@ static vdbgi_result make_probes(vdbgi_vdb_sink *sink, size_t count, bool with_st
     const size_t n = count ? count : 1;
     if ((with_stderr && !(p->stderr_ = vdbgi_calloc(t->ctx, n, sizeof(float)))) ||
         (with_rays && !(p->rays = vdbgi_calloc(t->ctx, n, sizeof(uint32_t)))) ||
-        (with_cube && !(p->cube = vdbgi_calloc(t->ctx, n, 18 * sizeof(float)))))
+        (with_cube && !(p->cube = vdbgi_calloc(t->ctx, n, 18 * sizeof(float)))) ||
+        (with_sh && !(p->sh = vdbgi_calloc(t->ctx, n, 24 * sizeof(float)))))
         return VDBGI_ERR_OUT_OF_MEMORY;
     sink->ijk = p->ijk, sink->rgb = p->rgb, sink->backface = p->backface;
-    sink->stderr_ = p->stderr_, sink->rays = p->rays, sink->cube = p->cube;
+    sink->stderr_ = p->stderr_, sink->rays = p->rays, sink->cube = p->cube, sink->sh = p->sh;
     sink->meta = &p->meta;
     return VDBGI_OK;
 }
@@ -129,8 +133,17 @@ vdbgi_result vdbgi_probes_read(vdbgi_context *ctx, const char *path, vdbgi_probe
             ok = ok && q[k] >= 0.0f && isfinite(q[k]);
         for (int k = 0; k < 3; k++)
             ok = ok && c[k] >= 0.0f && isfinite(c[k]);
+        int bad_term = 0; /* the L2 terms are signed: any finite value */
+        for (int k = 0; p->sh && k < 24 && !bad_term; k++)
+            bad_term = isfinite(p->sh[24 * i + k]) ? 0 : 1 + k / 3;
+        const int32_t *const ijk = &p->ijk[3 * i];
+        if (bad_term) {
+            vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: probe %d,%d,%d: L2 term %d is not finite", path,
+                       ijk[0], ijk[1], ijk[2], bad_term);
+            vdbgi_probes_destroy(p);
+            return VDBGI_ERR_FORMAT;
+        }
         if (!ok) {
-            const int32_t *const ijk = &p->ijk[3 * i];
             vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
                        "%s: probe %d,%d,%d holds a negative or non-finite value (%g,%g,%g, "
                        "validity %g)",
@@ -155,7 +168,7 @@ void vdbgi_probes_get_info(const vdbgi_probes *p, vdbgi_probes_info *info)
     memcpy(info->origin, p->origin, sizeof(info->origin));
     info->invalid_threshold = p->invalid_threshold;
     info->baked = p->rgb != NULL;
-    info->basis = p->cube ? VDBGI_BASIS_AMBIENT_CUBE : VDBGI_BASIS_SCALAR;
+    info->basis = p->cube ? VDBGI_BASIS_AMBIENT_CUBE : p->sh ? VDBGI_BASIS_SH2 : VDBGI_BASIS_SCALAR;
     for (int k = 0; k < 3; k++) {
         info->ijk_min[k] = p->count ? INT32_MAX : 0;
         info->ijk_max[k] = p->count ? INT32_MIN : 0;
@@ -259,4 +272,139 @@ size_t vdbgi_probes_copy(const vdbgi_probes *p, int32_t *ijk, float *rgb, float 
     if (backface)
         memcpy(backface, p->backface, p->count * sizeof(float));
     return p->count;
+}
+
+vdbgi_result vdbgi_probes_get_sh2(const vdbgi_probes *p, size_t index, float sh[VDBGI_SH2_TERMS][3])
+{
+    VDBGI_FAIL_IF(p->ctx, index >= p->count, VDBGI_ERR_INVALID_ARG,
+                  "probe index %zu out of range (%zu probes)", index, p->count);
+    VDBGI_FAIL_IF(p->ctx, !p->sh, VDBGI_ERR_INVALID_ARG,
+                  "probes have no L2 terms: bake with the sh2 basis");
+    memcpy(sh[0], &p->rgb[3 * index], 3 * sizeof(float));
+    memcpy(sh[1], &p->sh[24 * index], 24 * sizeof(float));
+    return VDBGI_OK;
+}
+
+void vdbgi_sh2_eval(const float sh[VDBGI_SH2_TERMS][3], const float n[3], float rgb[3])
+{
+    float t[8];
+    vdbgi_sh2_terms(n, t);
+    for (int k = 0; k < 3; k++) {
+        float e = sh[0][k];
+        for (int i = 0; i < 8; i++)
+            e += sh[i + 1][k] * t[i];
+        rgb[k] = e > 0.0f ? e : 0.0f;
+    }
+}
+
+/* An ambient cube's E / pi for unit normal n: each axis's facing side, weighted by n_a^2. */
+static void cube_eval(const float cube[18], const float n[3], float rgb[3])
+{
+    rgb[0] = rgb[1] = rgb[2] = 0.0f;
+    for (int a = 0; a < 3; a++) {
+        const float *const side = &cube[3 * (2 * a + (n[a] < 0.0f))];
+        for (int k = 0; k < 3; k++)
+            rgb[k] += n[a] * n[a] * side[k];
+    }
+}
+
+/* Probe p's basis terms, c0 first: 3, 3 + 18 (cube) or 3 + 24 (L2) floats. */
+static int gather_terms(const vdbgi_probes *p, size_t i, float *out)
+{
+    memcpy(out, &p->rgb[3 * i], 3 * sizeof(float));
+    if (p->cube) {
+        memcpy(&out[3], &p->cube[18 * i], 18 * sizeof(float));
+        return 21;
+    }
+    if (p->sh) {
+        memcpy(&out[3], &p->sh[24 * i], 24 * sizeof(float));
+        return 27;
+    }
+    return 3;
+}
+
+/* One point of vdbgi_probes_sample_points: false when none of its eight probes is valid. */
+static bool sample_one(const vdbgi_probes *p, const vdbgi_map *index, const float pos[3],
+                       const float *normal, float bias, float rgb[3])
+{
+    double fr[3], at[3];
+    int32_t i0[3];
+    for (int k = 0; k < 3; k++) {
+        at[k] = (double)pos[k] + (normal ? (double)bias * normal[k] : 0.0);
+        const double t = (at[k] - p->origin[k]) / p->spacing;
+        if (!(fabs(t) < VDBGI_MAX_INDEX))
+            return false;
+        i0[k] = (int32_t)floor(t);
+        fr[k] = t - i0[k];
+    }
+    double acc[27] = {0.0}, wsum = 0.0;
+    int terms = 3;
+    for (int c = 0; c < 8; c++) {
+        const int32_t ijk[3] = {i0[0] + (c & 1), i0[1] + (c >> 1 & 1), i0[2] + (c >> 2)};
+        const long n = vdbgi_map_find(index, ijk);
+        if (n < 0 || p->backface[n] > p->invalid_threshold)
+            continue;
+        double w = (c & 1 ? fr[0] : 1.0 - fr[0]) * (c >> 1 & 1 ? fr[1] : 1.0 - fr[1]) *
+                   (c >> 2 ? fr[2] : 1.0 - fr[2]);
+        if (normal && bias > 0.0f) {
+            /* A probe behind the surface sees the other side of it: weigh it down (DDGI's
+               backface weight), never to nothing, so a point between probes still reads. */
+            double d[3], len = 1e-12, facing = 0.0;
+            for (int k = 0; k < 3; k++) {
+                d[k] = p->origin[k] + p->spacing * ijk[k] - at[k];
+                len += d[k] * d[k];
+            }
+            for (int k = 0; k < 3; k++)
+                facing += d[k] * normal[k];
+            const double half = 0.5 * (facing / sqrt(len) + 1.0);
+            w *= half * half + 0.05;
+        }
+        float v[27];
+        terms = gather_terms(p, (size_t)n, v);
+        for (int t = 0; t < terms; t++)
+            acc[t] += w * v[t];
+        wsum += w;
+    }
+    rgb[0] = rgb[1] = rgb[2] = 0.0f;
+    if (!(wsum > 0.0))
+        return false;
+    float v[27];
+    for (int t = 0; t < terms; t++)
+        v[t] = (float)(acc[t] / wsum);
+    if (normal && terms == 21)
+        cube_eval(&v[3], normal, rgb);
+    else if (normal && terms == 27)
+        vdbgi_sh2_eval((const float(*)[3])v, normal, rgb);
+    else
+        memcpy(rgb, v, 3 * sizeof(float));
+    return true;
+}
+
+vdbgi_result vdbgi_probes_sample_points(const vdbgi_probes *p, size_t count, const float *pos,
+                                        const float *normals, float normal_bias, float *rgb,
+                                        unsigned char *valid)
+{
+    VDBGI_FAIL_IF(p->ctx, !p->rgb, VDBGI_ERR_INVALID_ARG, "probes have no values");
+    VDBGI_FAIL_IF(p->ctx, count && (!pos || !rgb), VDBGI_ERR_INVALID_ARG,
+                  "no positions or output given");
+    VDBGI_FAIL_IF(p->ctx, !(fabsf(normal_bias) <= 4.0f * (float)p->spacing), VDBGI_ERR_INVALID_ARG,
+                  "normal bias must be within 4 spacings (got %g m)", (double)normal_bias);
+    vdbgi_map index;
+    VDBGI_TRY(vdbgi_map_init(p->ctx, &index, p->count));
+    vdbgi_result r = VDBGI_OK;
+    for (size_t i = 0; r == VDBGI_OK && i < p->count; i++) {
+        size_t at;
+        bool added;
+        r = vdbgi_map_insert(&index, &p->ijk[3 * i], &at, &added);
+        if (r == VDBGI_OK && !added) /* the lookup numbers probes by first insertion */
+            r = vdbgi_fail(p->ctx, VDBGI_ERR_INVALID_ARG, "probe %zu repeats a lattice point", i);
+    }
+    for (size_t i = 0; r == VDBGI_OK && i < count; i++) {
+        const bool ok = sample_one(p, &index, &pos[3 * i], normals ? &normals[3 * i] : NULL,
+                                   normal_bias, &rgb[3 * i]);
+        if (valid)
+            valid[i] = ok;
+    }
+    vdbgi_map_free(&index);
+    return r;
 }

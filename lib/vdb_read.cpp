@@ -292,10 +292,10 @@ vdbgi_result check_lattice(vdbgi_context *ctx, const char *path, const openvdb::
     return VDBGI_OK;
 }
 
-/* The per-probe extras beside the irradiance: noise, rays and cube sides, at p's n probes. */
+/* The per-probe extras beside the irradiance: noise, rays, cube sides and L2 terms, at n probes. */
 void copy_extras(vdbgi_vdb_sink *p, size_t n, const openvdb::FloatGrid::Ptr &se,
-                 const openvdb::Int32Grid::Ptr &rays, const openvdb::Vec3SGrid::Ptr side_grids[6],
-                 bool has_cube)
+                 const openvdb::Int32Grid::Ptr &rays, const openvdb::Vec3SGrid::Ptr *vec_grids,
+                 int vec_count)
 {
     if (se || rays) {
         // Grids of another type under these names are not ours: left as absent.
@@ -311,12 +311,13 @@ void copy_extras(vdbgi_vdb_sink *p, size_t n, const openvdb::FloatGrid::Ptr &se,
                 p->rays[i] = uint32_t(std::max(0, ra.getValue(c)));
         }
     }
-    for (int side = 0; has_cube && side < 6; side++) {
-        const auto a = side_grids[side]->getConstAccessor();
+    float *const values = vec_count == 6 ? p->cube : p->sh;
+    for (int e = 0; e < vec_count; e++) {
+        const auto a = vec_grids[e]->getConstAccessor();
         for (size_t i = 0; i < n; i++) {
             const openvdb::Vec3s v =
                 a.getValue(openvdb::Coord(p->ijk[3 * i], p->ijk[3 * i + 1], p->ijk[3 * i + 2]));
-            float *const c = &p->cube[18 * i + 3 * side];
+            float *const c = &values[3 * vec_count * i + 3 * e];
             c[0] = v.x(), c[1] = v.y(), c[2] = v.z();
         }
     }
@@ -360,20 +361,24 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     VDBGI_SHIM_BEGIN
     openvdb::initialize();
     GridLayout layout;
-    VDBGI_TRY(
-        read_layout(ctx, path, layout,
-                    {"irradiance", "validity", "stderr", "rays", vdbgi_side_grid_name(0),
-                     vdbgi_side_grid_name(1), vdbgi_side_grid_name(2), vdbgi_side_grid_name(3),
-                     vdbgi_side_grid_name(4), vdbgi_side_grid_name(5)}));
+    std::vector<std::string> names{"irradiance", "validity", "stderr", "rays"};
+    for (int side = 0; side < 6; side++)
+        names.push_back(vdbgi_side_grid_name(side));
+    for (int term = 1; term <= 8; term++)
+        names.push_back(vdbgi_sh_grid_name(term));
+    VDBGI_TRY(read_layout(ctx, path, layout, names));
     const auto grid = [&](const char *name) { return layout.find(name); };
     const openvdb::GridBase::Ptr base = grid("irradiance"), vbase = grid("validity");
     const openvdb::GridBase::Ptr sebase = grid("stderr"), raysbase = grid("rays");
     if (!base)
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: no grid named 'irradiance'", path);
-    openvdb::GridBase::Ptr sides[6];
-    bool has_cube = true;
+    // A basis is all its grids or none: six cube sides, or eight L2 terms.
+    bool has_cube = true, has_sh = true;
     for (int side = 0; side < 6; side++)
-        has_cube = has_cube && (sides[side] = grid(vdbgi_side_grid_name(side)));
+        has_cube = has_cube && grid(vdbgi_side_grid_name(side));
+    for (int term = 1; term <= 8; term++)
+        has_sh = has_sh && grid(vdbgi_sh_grid_name(term));
+    const int vec_count = has_cube ? 6 : has_sh ? 8 : 0;
     const auto irr = openvdb::gridPtrCast<openvdb::Vec3SGrid>(base);
     if (!irr)
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid 'irradiance' is %s, not vec3s", path,
@@ -382,11 +387,14 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     if (vbase && !val)
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid 'validity' is %s, not float", path,
                           vbase->valueType().c_str());
-    openvdb::Vec3SGrid::Ptr side_grids[6];
-    for (int side = 0; has_cube && side < 6; side++)
-        if (!(side_grids[side] = openvdb::gridPtrCast<openvdb::Vec3SGrid>(sides[side])))
-            return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid '%s' is %s, not vec3s", path,
-                              vdbgi_side_grid_name(side), sides[side]->valueType().c_str());
+    openvdb::Vec3SGrid::Ptr vec_grids[8];
+    for (int e = 0; e < vec_count; e++) {
+        const char *const name = has_cube ? vdbgi_side_grid_name(e) : vdbgi_sh_grid_name(e + 1);
+        const openvdb::GridBase::Ptr b = grid(name);
+        if (!(vec_grids[e] = openvdb::gridPtrCast<openvdb::Vec3SGrid>(b)))
+            return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid '%s' is %s, not vec3s", path, name,
+                              b->valueType().c_str());
+    }
     VDBGI_TRY(check_lattice(ctx, path, *irr));
     if (val && val->tree().activeTileCount() != 0)
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
@@ -397,7 +405,7 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     const size_t count = size_t(irr->activeVoxelCount());
     const auto se = openvdb::gridPtrCast<openvdb::FloatGrid>(sebase);
     const auto rays = openvdb::gridPtrCast<openvdb::Int32Grid>(raysbase);
-    VDBGI_TRY(p->make(p, count, se != nullptr, rays != nullptr, has_cube));
+    VDBGI_TRY(p->make(p, count, se != nullptr, rays != nullptr, has_cube, !has_cube && has_sh));
     p->spacing = vs.x();
     p->origin[0] = o.x(), p->origin[1] = o.y(), p->origin[2] = o.z();
     read_meta(*irr, p->meta);
@@ -411,7 +419,7 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
         p->rgb[3 * n] = v.x(), p->rgb[3 * n + 1] = v.y(), p->rgb[3 * n + 2] = v.z();
         p->backface[n] = va ? va->getValue(c) : 0.0f;
     }
-    copy_extras(p, n, se, rays, side_grids, has_cube);
+    copy_extras(p, n, se, rays, vec_grids, vec_count);
     p->count = n;
     return VDBGI_OK;
     VDBGI_SHIM_END(ctx, "openvdb")

@@ -23,6 +23,14 @@ extern "C" const char *vdbgi_side_grid_name(int side)
     return names[side];
 }
 
+extern "C" const char *vdbgi_sh_grid_name(int term)
+{
+    static const char *const names[8] = {"irradiance_sh1", "irradiance_sh2", "irradiance_sh3",
+                                         "irradiance_sh4", "irradiance_sh5", "irradiance_sh6",
+                                         "irradiance_sh7", "irradiance_sh8"};
+    return names[term - 1];
+}
+
 namespace
 {
 
@@ -160,22 +168,23 @@ extern "C" vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, co
         if (p->rays)
             grids.push_back(rays);
     }
-    if (p->cube) {
-        // Ambient-cube sides: one Vec3s grid each, sharing the topology.
-        for (int side = 0; side < 6; side++) {
-            auto g = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
-            g->setName(vdbgi_side_grid_name(side));
-            g->setTransform(xf->copy());
-            g->setGridClass(openvdb::GRID_UNKNOWN);
-            g->setVectorType(openvdb::VEC_INVARIANT);
-            auto a = g->getAccessor();
-            for (size_t n = 0; n < p->count; n++) {
-                const float *const c = &p->cube[18 * n + 3 * side];
-                a.setValue(openvdb::Coord(p->ijk[3 * n], p->ijk[3 * n + 1], p->ijk[3 * n + 2]),
-                           openvdb::Vec3s(c[0], c[1], c[2]));
-            }
-            grids.push_back(g);
+    // Ambient-cube sides or L2 terms: one Vec3s grid each, sharing the topology.
+    const int extra = p->cube ? 6 : p->sh ? 8 : 0;
+    for (int e = 0; e < extra; e++) {
+        const float *const values = p->cube ? p->cube : p->sh;
+        const int stride = p->cube ? 18 : 24;
+        auto g = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+        g->setName(p->cube ? vdbgi_side_grid_name(e) : vdbgi_sh_grid_name(e + 1));
+        g->setTransform(xf->copy());
+        g->setGridClass(openvdb::GRID_UNKNOWN);
+        g->setVectorType(openvdb::VEC_INVARIANT);
+        auto a = g->getAccessor();
+        for (size_t n = 0; n < p->count; n++) {
+            const float *const c = &values[stride * n + 3 * e];
+            a.setValue(openvdb::Coord(p->ijk[3 * n], p->ijk[3 * n + 1], p->ijk[3 * n + 2]),
+                       openvdb::Vec3s(c[0], c[1], c[2]));
         }
+        grids.push_back(g);
     }
     for (auto &g : grids)
         for (size_t m = 0; m < p->meta.count; m++)

@@ -26,6 +26,8 @@ vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, const char *n
 
 /* The name of the ambient cube's grid for side 0..5: +x -x +y -y +z -z (docs/format.md). */
 const char *vdbgi_side_grid_name(int side);
+/* The name of the L2 term's grid for term 1..8: irradiance_sh1 .. irradiance_sh8. */
+const char *vdbgi_sh_grid_name(int term);
 
 /*
  * Where vdbgi_vdb_read hands what it read across: plain arrays that the
@@ -36,7 +38,7 @@ const char *vdbgi_side_grid_name(int side);
  */
 typedef struct vdbgi_vdb_sink {
     vdbgi_result (*make)(struct vdbgi_vdb_sink *sink, size_t count, bool with_stderr,
-                         bool with_rays, bool with_cube);
+                         bool with_rays, bool with_cube, bool with_sh);
     void *user;
     double spacing, origin[3];
     size_t count;    /* probes the arrays hold (set by the reader) */
@@ -46,6 +48,7 @@ typedef struct vdbgi_vdb_sink {
     float *stderr_;  /* per probe, or NULL */
     uint32_t *rays;  /* per probe, or NULL */
     float *cube;     /* 18 per probe, or NULL */
+    float *sh;       /* 24 per probe, or NULL */
     vdbgi_meta_store *meta;
 } vdbgi_vdb_sink;
 

@@ -287,9 +287,26 @@ typedef enum vdbgi_sampling {
 } vdbgi_sampling;
 
 typedef enum vdbgi_basis {
-    VDBGI_BASIS_SCALAR = 0,      /* one colour per probe (seed 000) */
-    VDBGI_BASIS_AMBIENT_CUBE = 1 /* also six colours, one per axis direction (Bevy, HL2) */
+    VDBGI_BASIS_SCALAR = 0,       /* one colour per probe (seed 000) */
+    VDBGI_BASIS_AMBIENT_CUBE = 1, /* also six colours, one per axis direction (Bevy, HL2) */
+    VDBGI_BASIS_SH2 = 2           /* also eight colours: L2 spherical harmonics (vdbgi_sh2_eval) */
 } vdbgi_basis;
+
+/*
+ * The L2 basis, stored cosine-convolved as the polynomial a reader evaluates:
+ *
+ *   E(n) / pi = max(0, c0 + c1 x + c2 y + c3 z + c4 xy + c5 yz + c6 (3z^2 - 1)
+ *                        + c7 xz + c8 (x^2 - y^2))
+ *
+ * for a unit normal n = (x, y, z) in world axes, per channel. c0 is the
+ * scalar value (the mean over the sphere); with radiance L over N rays of
+ * directions d, c_k = w_k * sum(L * p_k(d)) / N with p_k the k-th term above
+ * and w = 2, 2, 2, 15/4, 15/4, 5/16, 15/4, 15/16 (the band's SH constant
+ * squared, times 4 pi, times its cosine lobe's A_l / pi: 1, 2/3, 1/4). The
+ * units are the estimator's: E / pi, so uniform radiance L gives L for
+ * every n. The .vdb holds c1..c8 as grids irradiance_sh1 .. irradiance_sh8.
+ */
+#define VDBGI_SH2_TERMS 9
 
 /*
  * Ambient-cube sides, in the order vdbgi_probes_get_cube returns them and
@@ -344,8 +361,9 @@ typedef enum vdbgi_trace_method {
  *                all hits) exceeds this is invalid. 0 == 0.25.
  *   trace_method: Embree query shape, see vdbgi_trace_method.
  *   basis:       VDBGI_BASIS_AMBIENT_CUBE adds six directional colours per
- *                probe from the same rays (see vdbgi_side); the scalar value
- *                keeps its meaning and its bits.
+ *                probe from the same rays (see vdbgi_side), VDBGI_BASIS_SH2
+ *                eight L2 terms (see VDBGI_SH2_TERMS); the scalar value keeps
+ *                its meaning and its bits.
  *   progress:    called on the caller's thread with the fraction done, at
  *                most about 100 times; a non-zero return stops the bake with
  *                VDBGI_ERR_CANCELLED. May be NULL.
@@ -405,6 +423,17 @@ VDBGI_API vdbgi_result vdbgi_scene_bake_points(const vdbgi_scene *scene,
 
 #ifdef VDBGI_BENCHMARK_API
 /*
+ * For benchmarks: vdbgi_scene_bake_points's estimate with the L2 basis,
+ * VDBGI_SH2_TERMS colours (27 floats) a point into sh: the best a probe
+ * standing exactly there could give.
+ */
+VDBGI_API vdbgi_result vdbgi_scene_bake_points_sh2(const vdbgi_scene *scene,
+                                                   const vdbgi_bake_desc *desc, const float *points,
+                                                   size_t point_count, float *sh);
+#endif
+
+#ifdef VDBGI_BENCHMARK_API
+/*
  * For benchmarks: trace exactly the rays the bake would (primary rays, then a
  * shadow ray from each hit whose facing normal sees the sun) with no shading,
  * on desc's threads and trace_method. Fills stats; no probe value changes.
@@ -447,7 +476,7 @@ typedef struct vdbgi_probes_info {
     int32_t ijk_min[3], ijk_max[3]; /* inclusive bounds of the probes */
     float invalid_threshold;        /* back-face fraction above which a probe is invalid */
     int baked;                      /* non-zero once values are present */
-    vdbgi_basis basis;              /* VDBGI_BASIS_AMBIENT_CUBE when cubes are present */
+    vdbgi_basis basis;              /* which directional grids the probes hold */
 } vdbgi_probes_info;
 
 VDBGI_API void vdbgi_probes_get_info(const vdbgi_probes *probes, vdbgi_probes_info *info);
@@ -494,6 +523,38 @@ VDBGI_API vdbgi_result vdbgi_probes_get_noise(const vdbgi_probes *probes, size_t
  */
 VDBGI_API vdbgi_result vdbgi_probes_get_cube(const vdbgi_probes *probes, size_t index,
                                              float cube[6][3]);
+
+/*
+ * Probe number index's L2 terms c0..c8 (VDBGI_SH2_TERMS colours; c0 is its
+ * irradiance). VDBGI_ERR_INVALID_ARG for an index out of range or probes
+ * baked (or read) without the L2 basis.
+ */
+VDBGI_API vdbgi_result vdbgi_probes_get_sh2(const vdbgi_probes *probes, size_t index,
+                                            float sh[VDBGI_SH2_TERMS][3]);
+
+/* E(n) / pi of L2 terms sh (as VDBGI_SH2_TERMS above) for unit normal n, clamped at 0. */
+VDBGI_API void vdbgi_sh2_eval(const float sh[VDBGI_SH2_TERMS][3], const float n[3], float rgb[3]);
+
+/*
+ * The baked field at count world positions pos (3 floats each) as a surface
+ * with unit normal normals[i] (3 floats each; NULL: no normal) receives it.
+ * A surface's reading (normal_bias > 0) first moves the point normal_bias
+ * metres along its normal, and weighs each of the eight probes around it,
+ * beside its trilinear weight, by ((1 + cos)/2)^2 + 0.05 of the angle
+ * between the normal and the direction to the probe: a probe behind the
+ * surface sees its other side. A character's (0) reads where it is, with
+ * trilinear weights alone. Over the valid ones among
+ * the eight (weights renormalised) each basis term is interpolated, then
+ * evaluated for the normal: the L2 polynomial, the ambient cube's
+ * n^2-weighted sides, or the scalar whatever the normal (and without
+ * normals, which is vdbgi_probes_sample). E / pi into rgb (3 floats each);
+ * valid[i] (may be NULL) says whether any of the eight was valid, rgb zero
+ * where none was. Builds a lookup of its own: meant for batches.
+ */
+VDBGI_API vdbgi_result vdbgi_probes_sample_points(const vdbgi_probes *probes, size_t count,
+                                                  const float *pos, const float *normals,
+                                                  float normal_bias, float *rgb,
+                                                  unsigned char *valid);
 
 /*
  * Metadata stored with the grids, as "name=value" text, index 0..n-1; NULL
@@ -930,6 +991,15 @@ VDBGI_API vdbgi_result vdbgi_scene_bake_surface(const vdbgi_scene *scene,
                                                 const vdbgi_bake_desc *desc, const uint32_t *prims,
                                                 const float *uv, size_t count, float *rgb,
                                                 float *backface);
+/*
+ * The same estimator at count points (3 floats each) with unit normals
+ * (3 floats each), each used as given: E into rgb, the back-face fraction
+ * into backface (may be NULL). The truth a volume's reading is held to.
+ */
+VDBGI_API vdbgi_result vdbgi_scene_bake_hemispheres(const vdbgi_scene *scene,
+                                                    const vdbgi_bake_desc *desc,
+                                                    const float *points, const float *normals,
+                                                    size_t count, float *rgb, float *backface);
 /* A lightmap's E (map 0, bilinear as a GPU filters it) at triangle prim, barycentrics u, v. */
 VDBGI_API void vdbgi_lightmap_result_sample(const vdbgi_lightmap_result *result, uint32_t prim,
                                             float u, float v, float rgb[3]);

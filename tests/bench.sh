@@ -2,7 +2,8 @@
 # bench.sh: `make bench`. On the bundled world and a generated 200 x 200 m world:
 # bake throughput against a bare Embree loop over the same rays, then conversion
 # size, error and time against reading the .vdb; then gi-lightmap against a
-# bare loop over its rays, per pass, and its packing against potpack; then where the bytes of the
+# bare loop over its rays, per pass, and its packing against potpack; then what each method
+# gives a surface against the hemisphere truth (gi-bench truth); then where the bytes of the
 # default volume go on those two and the town (tests/breakdown.py, Debian's
 # python3); then the browser runtime's load and frame times in headless
 # Chromium (tests/web/bench_web.mjs, docs/web.md). Writes build/bench/bench.md.
@@ -29,6 +30,12 @@ mkdir -p "$OUT"
     echo
     "$BUILD/bin/gi-bench" lightmap "$OUT/world200.glb" --repeat 1
     node tests/js/potpack.mjs build/chart/lightmap_boxes.json
+    echo
+    echo "### What a surface receives, against the hemisphere truth (docs/directional.md)"
+    echo
+    "$BUILD/bin/gi-bench" truth data/world.glb --out "$OUT/truth"
+    echo
+    "$BUILD/bin/gi-bench" truth "$OUT/world200.glb" --spacing 0.5 --out "$OUT/truth200"
     echo
     echo "### Where the bytes go (default conversion; docs/converter.md, section 10)"
     echo

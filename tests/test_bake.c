@@ -625,6 +625,126 @@ static void ambient_cube_in_uniform_surroundings_agrees_and_keeps_the_scalar(voi
     vdbgi_context_destroy(ctx);
 }
 
+/*
+ * L2 probes over a plane lit from above, falloff off: uniform radiance L from
+ * below (out to ray_dist), black sky. A surface facing down reads the plane's
+ * full value, one facing up nothing, one facing sideways about half: the sphere's
+ * mean (the scalar basis) reads half for all three. At the probes, the
+ * sampler returns what the terms say for any normal.
+ */
+static void sh2_above_a_plane_reads_each_side(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = plane_scene(ctx, 24.0f);
+    const vdbgi_place_desc pd = {.spacing = 1.0, .margin = 2.0};
+    vdbgi_probes *p = NULL;
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
+    vdbgi_bake_desc bd = plane_desc(4096, 10.0f, INFINITY, VDBGI_SAMPLING_FIBONACCI);
+    bd.basis = VDBGI_BASIS_SH2;
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &bd, NULL), VDBGI_OK);
+    vdbgi_probes_info info;
+    vdbgi_probes_get_info(p, &info);
+    CHECK(info.basis == VDBGI_BASIS_SH2);
+    static const float normals[6][3] = {{0, -1, 0}, {0, 1, 0},       {1, 0, 0},
+                                        {0, 0, -1}, {0.6f, 0, 0.8f}, {-0.8f, 0, 0.6f}};
+    size_t checked = 0;
+    double scalar_worst = 0.0;
+    for (size_t i = 0; i < info.probe_count; i++) {
+        int32_t ijk[3];
+        float sh[VDBGI_SH2_TERMS][3], e[6][3], got[6][3], pos[6][3];
+        vdbgi_probes_get(p, i, ijk, NULL, NULL);
+        const double x = info.origin[0] + ijk[0], y = info.origin[1] + ijk[1],
+                     z = info.origin[2] + ijk[2];
+        if (fabs(x) > 1.0 || fabs(z) > 1.0 || y < 0.0)
+            continue;
+        CHECK_RESULT(ctx, vdbgi_probes_get_sh2(p, i, sh), VDBGI_OK);
+        /* Rays end at ray_dist: the plane fills a cone of half-angle a about straight down. */
+        const double down = plane_facing_down_closed_form(y, 10.0, INFINITY);
+        const double a = acos(y / 10.0), L = rho * (ambient + 1.0);
+        const double side = L * (a - sin(a) * cos(a)) / 3.14159265358979;
+        for (int n = 0; n < 6; n++) {
+            vdbgi_sh2_eval(sh, normals[n], e[n]);
+            pos[n][0] = (float)x, pos[n][1] = (float)y, pos[n][2] = (float)z;
+        }
+        /* L2's own truncation of the cone's edge: within 2.5 %. */
+        CHECK_NEAR(e[0][0], down, 0.025 * down);
+        CHECK_NEAR(e[1][0], 0.0, 0.025 * down);
+        for (int n = 2; n < 6; n++)
+            CHECK_NEAR(e[n][0], side, 0.025 * down);
+        /* The scalar is the sphere's mean: half of the plane's value whichever way a surface faces. */
+        scalar_worst = fmax(scalar_worst, fabs(sh[0][0] - down) / down);
+        CHECK_RESULT(ctx, vdbgi_probes_sample_points(p, 6, pos[0], normals[0], 0.0f, got[0], NULL),
+                     VDBGI_OK);
+        for (int n = 0; n < 6; n++)
+            CHECK_NEAR(got[n][0], e[n][0], 1e-6);
+        checked++;
+    }
+    CHECK(checked == 4 * 2);
+    CHECK(scalar_worst > 0.4);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+/* In a closed box lit only by the fill every direction brings the same light: E(n) is flat. */
+static void sh2_in_uniform_surroundings_is_flat_and_thread_independent(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    const float lo[3] = {-2, -2, -2}, hi[3] = {2, 2, 2};
+    test_mesh_box(&m, lo, hi, 1);
+    const vdbgi_mesh_desc md = test_mesh_desc(&m, (float)rho, 0);
+    vdbgi_scene *s = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &s), VDBGI_OK);
+    vdbgi_probes *p = NULL, *q = NULL;
+    const vdbgi_place_desc pd = {.spacing = 0.5};
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &q), VDBGI_OK);
+    vdbgi_bake_desc bd = {.rays = 1024,
+                          .falloff = INFINITY,
+                          .sampling = VDBGI_SAMPLING_RANDOM,
+                          .basis = VDBGI_BASIS_SH2,
+                          .threads = 1};
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &bd, NULL), VDBGI_OK);
+    bd.threads = 3;
+    CHECK_RESULT(ctx, vdbgi_probes_bake(q, s, &bd, NULL), VDBGI_OK);
+    vdbgi_probes_info info;
+    vdbgi_probes_get_info(p, &info);
+    size_t inside = 0;
+    int same = 1;
+    float worst = 0.0f;
+    for (size_t i = 0; i < info.probe_count; i++) {
+        int32_t ijk[3];
+        float a[VDBGI_SH2_TERMS][3], b[VDBGI_SH2_TERMS][3];
+        vdbgi_probes_get(p, i, ijk, NULL, NULL);
+        vdbgi_probes_get_sh2(p, i, a);
+        vdbgi_probes_get_sh2(q, i, b);
+        same &= memcmp(a, b, sizeof(a)) == 0;
+        int in = 1;
+        for (int k = 0; k < 3; k++)
+            in &= fabs(info.origin[k] + 0.5 * ijk[k]) < 1.9;
+        if (!in)
+            continue;
+        for (int n = 0; n < 26; n++) { /* the 26 directions to a cube's faces, edges, corners */
+            const int c = n < 13 ? n : n + 1; /* 13 is the centre */
+            const int d[3] = {c % 3 - 1, c / 3 % 3 - 1, c / 9 - 1};
+            const float len = sqrtf((float)(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+            const float nrm[3] = {d[0] / len, d[1] / len, d[2] / len};
+            float e[3];
+            vdbgi_sh2_eval(a, nrm, e);
+            worst = fmaxf(worst, fabsf(e[1] - (float)(rho * ambient)));
+        }
+        inside++;
+    }
+    CHECK(same); /* any thread count, the same bits */
+    CHECK(inside > 100);
+    CHECK(worst < 0.01f * (float)(rho * ambient));
+    vdbgi_probes_destroy(p);
+    vdbgi_probes_destroy(q);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
 static void adaptive_rays_stop_early_where_light_is_even(void)
 {
     vdbgi_context *ctx = test_context();
@@ -755,6 +875,8 @@ int main(void)
     RUN(failing_allocations_are_reported_without_leaks);
     RUN(ambient_cube_above_a_plane_matches_closed_form);
     RUN(ambient_cube_in_uniform_surroundings_agrees_and_keeps_the_scalar);
+    RUN(sh2_above_a_plane_reads_each_side);
+    RUN(sh2_in_uniform_surroundings_is_flat_and_thread_independent);
     RUN(adaptive_rays_stop_early_where_light_is_even);
     RUN(standard_error_tracks_the_actual_error);
     return CHECK_EXIT();

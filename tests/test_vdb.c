@@ -218,6 +218,43 @@ static void ambient_cubes_round_trip_as_six_grids(void)
     vdbgi_context_destroy(ctx);
 }
 
+static void sh2_terms_round_trip_as_eight_grids(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    test_mesh_plane(&m, 6.0f, 0.0f);
+    const vdbgi_mesh_desc d = test_mesh_desc(&m, 0.6f, 0);
+    vdbgi_scene *s = NULL;
+    vdbgi_probes *p = NULL, *q = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &d, 1, &s), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, NULL, &p), VDBGI_OK);
+    const vdbgi_bake_desc bd = {.rays = 32, .basis = VDBGI_BASIS_SH2};
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &bd, NULL), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_write(p, tmp_path("sh2.vdb")), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_read(ctx, tmp_path("sh2.vdb"), &q), VDBGI_OK);
+    if (q) {
+        vdbgi_probes_info info;
+        vdbgi_probes_get_info(q, &info);
+        CHECK(info.basis == VDBGI_BASIS_SH2);
+        CHECK(strcmp(meta(q, "basis"), "sh2") == 0);
+        int same = 1, signs = 0;
+        for (size_t i = 0; i < info.probe_count; i++) {
+            float a[VDBGI_SH2_TERMS][3], b[VDBGI_SH2_TERMS][3];
+            vdbgi_probes_get_sh2(p, i, a);
+            vdbgi_probes_get_sh2(q, i, b);
+            same &= memcmp(a, b, sizeof(a)) == 0;
+            signs += a[2][0] < 0.0f; /* light from the plane below: the y term is negative */
+        }
+        CHECK(same && signs > 0);
+        float cube[6][3];
+        CHECK_RESULT(ctx, vdbgi_probes_get_cube(q, 0, cube), VDBGI_ERR_INVALID_ARG);
+    }
+    vdbgi_probes_destroy(q);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
 int main(void)
 {
     test_tmpdir_make("test-vdb");
@@ -225,6 +262,7 @@ int main(void)
     RUN(failed_writes_leave_nothing_and_clobber_nothing);
     RUN(unreadable_files_are_refused);
     RUN(ambient_cubes_round_trip_as_six_grids);
+    RUN(sh2_terms_round_trip_as_eight_grids);
     test_tmpdir_remove();
     return CHECK_EXIT();
 }

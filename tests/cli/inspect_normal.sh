@@ -1,0 +1,38 @@
+# Directional probes (--basis sh2) read with a normal: over the open ground a
+# surface facing down gets the lit ground, one facing up the black sky, one
+# facing sideways lies between; the scalar reads the same whatever the normal.
+# The L2 terms open in pyopenvdb as eight vec3s grids; a file missing one of
+# them reads as scalar, one holding a NaN term is refused by name.
+"$BIN/gi-bake" -q "$DATA/world.glb" -o sh.vdb --basis sh2 --rays 64 >/dev/null
+"$BIN/gi-bake" -q "$DATA/world.glb" -o scalar.vdb --rays 64 >/dev/null
+first() { "$BIN/gi-inspect" "$@" | sed -n 's/^at .*-> \([^ ]*\) \([^ ]*\) .*/\1 \2/p'; }
+up=$(first sh.vdb --at 0,0.1,0 --normal 0,1,0)
+down=$(first sh.vdb --at 0,0.1,0 --normal 0,-2,0)
+side=$(first sh.vdb --at 0,0.1,0 --normal 1,0,0)
+echo "$up|$down|$side" | awk -F'|' '{ split($1, u, " "); split($2, d, " "); split($3, s, " ");
+    print "down > 5 x up:", (d[2] > 5 * u[2]) ? "yes" : "no";
+    print "up < side < down:", (u[2] < s[2] && s[2] < d[2]) ? "yes" : "no" }'
+a=$(first scalar.vdb --at 0,0.1,0 --normal 0,1,0)
+b=$(first scalar.vdb --at 0,0.1,0 --normal 0,-1,0)
+c=$(first scalar.vdb --at 0,0.1,0)
+[ "$a" = "$b" ] && [ "$b" = "$c" ] && echo "scalar: one value for every normal"
+"$BIN/gi-inspect" sh.vdb | grep -E '^meta +basis='
+"$BIN/gi-inspect" sh.vdb --at 0,0.1,0 --normal 0,0,0 >/dev/null 2>err; echo "exit $? $(cat err)"
+"$BIN/gi-inspect" sh.vdb --at 0,0.1,0 --normal 1,nan,0 >/dev/null 2>err; echo "exit $? $(cat err)"
+"$BIN/vdb-to-gi" -q sh.vdb -o sh.gi.gz
+"$BIN/gi-inspect" sh.gi.gz --at 0,0.1,0 --normal 0,1,0 >/dev/null 2>err; echo "exit $? $(cat err)"
+/usr/bin/python3 - <<'PY'
+import math
+import pyopenvdb as vdb
+grids, meta = vdb.readAll("sh.vdb")
+sh = sorted(g.name for g in grids if g.name.startswith("irradiance_sh"))
+print(sh[0], "..", sh[-1], len(sh), {g.valueTypeName for g in grids if g.name in sh})
+vdb.write("seven.vdb", grids=[g for g in grids if g.name != "irradiance_sh5"], metadata=meta)
+by = {g.name: g for g in grids}
+item = next(by["irradiance"].citerOnValues())
+by["irradiance_sh3"].getAccessor().setValueOn(item.min, (0.0, math.nan, 0.0))
+vdb.write("nan.vdb", grids=grids, metadata=meta)
+PY
+"$BIN/gi-inspect" seven.vdb --at 0,0.1,0 --normal 0,1,0 | sed -n 's/^at .*-> \([^ ]*\) \([^ ]*\) .*/\1 \2/p' > seven
+[ "$(cat seven)" = "$(first scalar.vdb --at 0,0.1,0)" ] && echo "seven terms of eight: read as scalar"
+"$BIN/gi-inspect" nan.vdb >/dev/null 2>err; echo "exit $? $(sed 's/probe [-0-9,]*/probe I,J,K/' err)"
