@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/vfs.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -361,12 +362,16 @@ vdbgi_result vdbgi_input_check(vdbgi_context *ctx, const char *path)
     const int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
     VDBGI_FAIL_IF(ctx, fd < 0, VDBGI_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     struct stat st;
-    const int stat_r = fstat(fd, &st);
+    struct statfs fs;
+    const int stat_r = fstat(fd, &st) == 0 && fstatfs(fd, &fs) == 0 ? 0 : -1;
     close(fd);
     VDBGI_FAIL_IF(ctx, stat_r != 0, VDBGI_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     VDBGI_FAIL_IF(ctx, S_ISDIR(st.st_mode), VDBGI_ERR_IO, "%s: is a directory, not a file", path);
     VDBGI_FAIL_IF(ctx, !S_ISREG(st.st_mode), VDBGI_ERR_IO,
                   "%s: not a regular file (a pipe or device is never read)", path);
+    /* procfs and sysfs files claim to be regular, and some never end. */
+    VDBGI_FAIL_IF(ctx, fs.f_type == 0x9fa0 || fs.f_type == 0x62656572, VDBGI_ERR_IO,
+                  "%s: a /proc or /sys file, never read", path);
     return VDBGI_OK;
 }
 

@@ -14,7 +14,14 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <fstream>
 #include <sstream>
+#include <vector>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/vfs.h>
+#include <unistd.h>
 
 namespace
 {
@@ -239,7 +246,252 @@ bool ends_with(const std::string &s, const char *tail)
     const size_t n = std::strlen(tail);
     return s.size() >= n && s.compare(s.size() - n, n, tail) == 0;
 }
+
+bool has_extension(const char *path, const char *ext)
+{
+    std::string name(path);
+    for (char &c : name)
+        c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ends_with(name, ext);
+}
+
+// A file a scene names: only a regular file outside procfs and sysfs (whose files claim
+// to be regular and never end), opened without blocking, of at most `limit` bytes.
+bool read_regular(std::vector<unsigned char> *out, std::string *err, const std::string &path,
+                  uint64_t limit)
+{
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    struct stat st;
+    struct statfs fs;
+    if (fd < 0 || fstat(fd, &st) != 0 || fstatfs(fd, &fs) != 0) {
+        *err = "'" + path + "': cannot open: " + std::strerror(errno);
+        if (fd >= 0)
+            ::close(fd);
+        return false;
+    }
+    const bool pseudo = fs.f_type == 0x9fa0 /* procfs */ || fs.f_type == 0x62656572 /* sysfs */;
+    if (!S_ISREG(st.st_mode) || pseudo) {
+        *err = "'" + path + "' is not a regular file (a pipe, device or /proc file is never read)";
+        ::close(fd);
+        return false;
+    }
+    if (uint64_t(st.st_size) > limit) {
+        *err = "'" + path + "' holds " + std::to_string(st.st_size) + " bytes, over the limit of " +
+               std::to_string(limit);
+        ::close(fd);
+        return false;
+    }
+    out->resize(size_t(st.st_size));
+    size_t got = 0;
+    while (got < out->size()) {
+        const ssize_t n = ::read(fd, out->data() + got, out->size() - got);
+        if (n <= 0)
+            break;
+        got += size_t(n);
+    }
+    ::close(fd);
+    if (got != out->size()) {
+        *err = "'" + path + "': cannot read it whole";
+        return false;
+    }
+    return true;
+}
+
+bool fs_exists(const std::string &path, void *)
+{
+    struct stat st;
+    return ::stat(path.c_str(), &st) == 0;
+}
+
+std::string fs_expand(const std::string &path, void *)
+{
+    return path; // no ~ or $VAR expansion: a scene names files, not shells
+}
+
+bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *)
+{
+    return read_regular(out, err, path, VDBGI_GLTF_MAX_BUFFER);
+}
+
+bool fs_write(std::string *err, const std::string &, const std::vector<unsigned char> &, void *)
+{
+    *err = "writing is not for a reader";
+    return false;
+}
+
+// The files a glTF names, through our checks: never a FIFO, device or /proc file.
+void guard_files(tinygltf::TinyGLTF &loader)
+{
+    tinygltf::FsCallbacks fs = {fs_exists, fs_expand, fs_read, fs_write, nullptr};
+    loader.SetFsCallbacks(fs);
+    loader.SetImageLoader(skip_image, nullptr);
+}
+
+// How deep JSON text nests arrays and objects (outside strings): recursive parsers
+// (assimp's, tinygltf's) overflow the stack long before memory runs out.
+size_t json_depth(const unsigned char *p, size_t n)
+{
+    size_t depth = 0, deepest = 0;
+    bool in_string = false;
+    for (size_t i = 0; i < n; i++) {
+        const unsigned char c = p[i];
+        if (in_string) {
+            if (c == '\\')
+                i++;
+            else if (c == '"')
+                in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            deepest = std::max(deepest, ++depth);
+        } else if ((c == ']' || c == '}') && depth) {
+            depth--;
+        }
+    }
+    return deepest;
+}
+
+uint32_t le32(const unsigned char *p)
+{
+    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
+
+// A .glb's 12-byte header and chunk table against the file: where its JSON lies.
+bool glb_json(const std::vector<unsigned char> &f, size_t *begin, size_t *size, std::string *err)
+{
+    if (f.size() < 20) {
+        *err = "a .glb shorter than its 20-byte header";
+        return false;
+    }
+    const uint32_t length = le32(&f[8]), json = le32(&f[12]);
+    if (le32(&f[4]) != 2) {
+        *err = "glb version " + std::to_string(le32(&f[4])) + ", not 2";
+        return false;
+    }
+    if (length != f.size()) {
+        *err = "the .glb header says " + std::to_string(length) + " bytes, the file holds " +
+               std::to_string(f.size());
+        return false;
+    }
+    if (json > f.size() - 20 || le32(&f[16]) != 0x4E4F534Au) {
+        *err = "the .glb's JSON chunk claims " + std::to_string(json) + " bytes of " +
+               std::to_string(f.size() - 20) + " left, or is not JSON";
+        return false;
+    }
+    const size_t bin = 20 + size_t(json);
+    if (bin + 8 <= f.size() && uint64_t(le32(&f[bin])) > f.size() - bin - 8) {
+        *err = "the .glb's binary chunk claims " + std::to_string(le32(&f[bin])) + " bytes of " +
+               std::to_string(f.size() - bin - 8) + " left";
+        return false;
+    }
+    *begin = 20;
+    *size = json;
+    return true;
+}
+
+// Triangles one mesh adds each time a node instances it.
+uint64_t mesh_triangles(const tinygltf::Model &m, int mesh)
+{
+    uint64_t t = 0;
+    for (const tinygltf::Primitive &p : m.meshes[size_t(mesh)].primitives) {
+        const auto pos = p.attributes.find("POSITION");
+        const int a = p.indices >= 0 ? p.indices : pos != p.attributes.end() ? pos->second : -1;
+        if (a >= 0 && size_t(a) < m.accessors.size())
+            t += m.accessors[size_t(a)].count / 3;
+    }
+    return t;
+}
+
+// The node forest: every index in range, no node with two parents or under itself, at
+// most VDBGI_GLTF_MAX_NODE_DEPTH deep, and its instances' triangles within the budget.
+bool check_nodes(const tinygltf::Model &m, std::string *err)
+{
+    const size_t n = m.nodes.size();
+    std::vector<int> parent(n, -1);
+    for (size_t i = 0; i < n; i++)
+        for (int c : m.nodes[i].children) {
+            if (c < 0 || size_t(c) >= n) {
+                *err = "node " + std::to_string(i) + " has child " + std::to_string(c) + " of " +
+                       std::to_string(n) + " nodes";
+                return false;
+            }
+            if (parent[size_t(c)] >= 0 || size_t(c) == i) {
+                *err = "node " + std::to_string(c) + " has two parents, or is its own";
+                return false;
+            }
+            parent[size_t(c)] = int(i);
+        }
+    uint64_t triangles = 0;
+    std::vector<std::pair<size_t, size_t>> stack; // node, depth
+    for (size_t i = 0; i < n; i++)
+        if (parent[i] < 0)
+            stack.emplace_back(i, 1);
+    size_t seen = 0;
+    while (!stack.empty()) {
+        const auto [node, depth] = stack.back();
+        stack.pop_back();
+        seen++;
+        if (depth > VDBGI_GLTF_MAX_NODE_DEPTH) {
+            *err = "nodes nest more than " + std::to_string(VDBGI_GLTF_MAX_NODE_DEPTH) + " deep";
+            return false;
+        }
+        const int mesh = m.nodes[node].mesh;
+        if (mesh >= 0 && size_t(mesh) < m.meshes.size())
+            triangles += mesh_triangles(m, mesh);
+        if (triangles > VDBGI_GLTF_MAX_TRIANGLES) {
+            *err = "its instances add up to more than " + std::to_string(VDBGI_GLTF_MAX_TRIANGLES) +
+                   " triangles";
+            return false;
+        }
+        for (int c : m.nodes[node].children)
+            stack.emplace_back(size_t(c), depth + 1);
+    }
+    if (seen != n) { // a cycle: its nodes have parents but no root reaches them
+        *err = "its nodes form a cycle";
+        return false;
+    }
+    return true;
+}
 } // namespace
+
+extern "C" bool vdbgi_gltf_precheck(const char *path, char *err, size_t err_size)
+{
+    return guarded(err, err_size, [&]() -> bool {
+        std::vector<unsigned char> file;
+        std::string why;
+        const auto fail = [&](const std::string &w) {
+            std::snprintf(err, err_size, "%s", w.c_str());
+            return false;
+        };
+        if (!read_regular(&file, &why, path, VDBGI_GLTF_MAX_BUFFER))
+            return fail(why);
+        const bool glb = file.size() >= 4 && std::memcmp(file.data(), "glTF", 4) == 0;
+        if (!glb && !has_extension(path, ".gltf"))
+            return true;
+        size_t begin = 0, size = file.size();
+        if (glb && !glb_json(file, &begin, &size, &why))
+            return fail(why);
+        const size_t depth = json_depth(&file[begin], size);
+        if (depth > VDBGI_GLTF_MAX_NESTING)
+            return fail("its JSON nests " + std::to_string(depth) + " deep (more than " +
+                        std::to_string(VDBGI_GLTF_MAX_NESTING) + ")");
+        tinygltf::Model m;
+        tinygltf::TinyGLTF loader;
+        guard_files(loader);
+        const std::string p(path);
+        const size_t slash = p.rfind('/');
+        const std::string dir = slash == std::string::npos ? "." : p.substr(0, slash);
+        std::string error, warning;
+        const bool ok = glb ? loader.LoadBinaryFromMemory(&m, &error, &warning, file.data(),
+                                                          unsigned(file.size()), dir)
+                            : loader.LoadASCIIFromString(
+                                  &m, &error, &warning, reinterpret_cast<const char *>(file.data()),
+                                  unsigned(file.size()), dir);
+        if (!ok)
+            return fail(error.empty() ? "tinygltf cannot read it" : error);
+        return check_nodes(m, &why) ? true : fail(why);
+    });
+}
 
 extern "C" bool vdbgi_gltf_materials(const char *path, vdbgi_gltf_material_info **out,
                                      size_t *count, char *err, size_t err_size)
@@ -255,7 +507,7 @@ extern "C" bool vdbgi_gltf_materials(const char *path, vdbgi_gltf_material_info 
             return true;
         tinygltf::Model m;
         tinygltf::TinyGLTF loader;
-        loader.SetImageLoader(skip_image, nullptr);
+        guard_files(loader);
         std::string error, warning;
         const bool ok = glb ? loader.LoadBinaryFromFile(&m, &error, &warning, path)
                             : loader.LoadASCIIFromFile(&m, &error, &warning, path);

@@ -76,6 +76,22 @@ typedef struct vdbgi_gltf_material_info {
 bool vdbgi_gltf_materials(const char *path, vdbgi_gltf_material_info **out, size_t *count,
                           char *err, size_t err_size);
 
+/* What a glTF may ask of the importers (docs: README, "Limits and what is refused"). */
+#define VDBGI_GLTF_MAX_NESTING 64            /* JSON arrays and objects inside each other */
+#define VDBGI_GLTF_MAX_NODE_DEPTH 256        /* nodes under nodes */
+#define VDBGI_GLTF_MAX_TRIANGLES 20000000ull /* every instance counted: about 4 GB to trace */
+#define VDBGI_GLTF_MAX_BUFFER (1ull << 31)   /* bytes of one external buffer */
+
+/*
+ * Check a glTF (.glb by its magic, .gltf by its name) before any importer
+ * parses it: a .glb's chunk sizes against the file, the JSON's nesting, the
+ * node hierarchy (indices in range, a forest, its depth), the triangles its
+ * instances add up to, and every external buffer and image a regular file
+ * (not /proc, /sys or a device) of a sane size. Files of other kinds pass.
+ * False with the reason in err.
+ */
+bool vdbgi_gltf_precheck(const char *path, char *err, size_t err_size);
+
 #ifdef __cplusplus
 }
 #endif

@@ -295,6 +295,9 @@ vdbgi_result vdbgi_scene_load(vdbgi_context *ctx, const char *path, vdbgi_scene 
     VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
     *out = NULL;
     VDBGI_TRY(vdbgi_input_check(ctx, path));
+    char refusal[512];
+    VDBGI_FAIL_IF(ctx, !vdbgi_gltf_precheck(path, refusal, sizeof(refusal)), VDBGI_ERR_FORMAT,
+                  "%s: %s", path, refusal);
 
     const struct aiScene *const as = aiImportFile(
         path, aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_ValidateDataStructure);

@@ -1,0 +1,70 @@
+# Hostile glTF files, made here (issue 27): each is refused in one line naming the file
+# and the problem, or baked with a warning, by gi-bake and gi-lightmap, within 20 s and
+# 4 GB, leaving no output. Before the checks: nodes 40 000 deep and extras 100 000 deep
+# crashed (SIGSEGV in assimp and tinygltf), a FIFO buffer or image hung, a .glb whose JSON
+# chunk claims 3 GiB took 3 GB, a node cycle, and 20 000 instances asked for 13 GB.
+limit="ulimit -v 4000000"
+case "$BIN" in
+*/asan/* | */ubsan/*)
+    limit=true
+    export ASAN_OPTIONS="allocator_may_return_null=1:max_allocation_size_mb=4000"
+    ;;
+esac
+/usr/bin/python3 - <<'PY'
+import base64, json, struct
+tri = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 0, 1)
+def gltf(nodes, buffer_uri=None, images=None, emissive=False):
+    g = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": nodes,
+         "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+         "buffers": [{"byteLength": 36, "uri": buffer_uri or
+                      "data:application/octet-stream;base64," + base64.b64encode(tri).decode()}],
+         "bufferViews": [{"buffer": 0, "byteLength": 36}],
+         "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                        "min": [0, 0, 0], "max": [1, 0, 1]}]}
+    if emissive:
+        g["materials"] = [{"emissiveFactor": [1, 1, 1]}]
+        g["meshes"][0]["primitives"][0]["material"] = 0
+    if images:
+        g["images"] = [{"uri": u} for u in images]
+    return g
+def save(name, g, tail=""):
+    s = json.dumps(g)
+    open(name, "w").write(s[:-1] + tail + "}" if tail else s)
+save("deep_nodes.gltf", gltf([{"children": [i + 1]} for i in range(39999)] + [{"mesh": 0}]))
+save("deep_extras.gltf", gltf([{"mesh": 0}], emissive=True),
+     ', "extras": ' + "[" * 100000 + "]" * 100000)
+save("cycle.gltf", gltf([{"children": [1], "mesh": 0}, {"children": [2]}, {"children": [1]}]))
+save("fifo_buffer.gltf", gltf([{"mesh": 0}], buffer_uri="fifo.bin"))
+save("fifo_image.gltf", gltf([{"mesh": 0}], images=["fifo.png"], emissive=True))
+save("proc_buffer.gltf", gltf([{"mesh": 0}], buffer_uri="/proc/self/pagemap"))
+# A mesh instanced by 20 000 000 nodes would be 80 MB of JSON: 2000 nodes of a mesh
+# whose accessor claims 10 001 triangles (the buffer is checked later) say the same.
+g = gltf([{"children": list(range(1, 2001))}] + [{"mesh": 0}] * 2000)
+g["accessors"][0]["count"] = 30003
+save("instances.gltf", g)
+# A .glb of 1 kB whose JSON chunk claims 3 GiB.
+js = json.dumps(gltf([{"mesh": 0}])).encode()
+js += b" " * (-len(js) % 4)
+glb = struct.pack("<4sII", b"glTF", 2, 12 + 8 + len(js)) + struct.pack("<I4s", 3 << 30, b"JSON") + js
+open("huge_chunk.glb", "wb").write(glb)
+open("good.gltf", "w").write(json.dumps(gltf([{"children": [1]}, {"mesh": 0}])))
+PY
+mkfifo fifo.bin fifo.png
+for f in deep_nodes.gltf deep_extras.gltf cycle.gltf fifo_buffer.gltf proc_buffer.gltf \
+    instances.gltf huge_chunk.glb fifo_image.gltf good.gltf; do
+    for tool in gi-bake gi-lightmap; do
+        ($limit; timeout 20 "$BIN/$tool" "$f" -o "out.$tool.$([ $tool = gi-bake ] && echo vdb || echo glb)" -q) >/dev/null 2>err
+        rc=$?
+        left=$(ls out.* 2>/dev/null | wc -l)
+        echo "$tool $f: exit $rc, $(wc -l < err) line(s), $left output(s): $(head -n 1 err)"
+        rm -f out.*
+    done
+done
+# An OBJ texture naming a /proc file that claims to be regular and never ends: a warning.
+printf 'mtllib proc.mtl\nv 0 0 0\nv 1 0 0\nv 0 0 1\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3\n' > proc.obj
+printf 'newmtl m\nmap_Kd /proc/self/pagemap\n' > proc.mtl
+for tool in gi-bake gi-lightmap; do
+    ($limit; timeout 20 "$BIN/$tool" proc.obj -o "out.$([ $tool = gi-bake ] && echo vdb || echo glb)") >/dev/null 2>err
+    echo "$tool proc.obj: exit $?: $(grep -m 1 ignored err)"
+    rm -f out.*
+done
