@@ -293,9 +293,11 @@ vdbgi_result vdbgi_probes_trace_bare(const vdbgi_probes *p, const vdbgi_scene *s
     return bake_run(&sh, scene, false, stats);
 }
 
-vdbgi_result vdbgi_scene_bake_points(const vdbgi_scene *scene, const vdbgi_bake_desc *desc,
-                                     const float *points, size_t point_count, float *rgb,
-                                     float *backface)
+/* Points baked as given: rgb (3 floats each), backface (1, may be NULL) and, when terms is
+   not NULL, the L2 terms c1..c8 (24 floats each). */
+static vdbgi_result bake_points(const vdbgi_scene *scene, const vdbgi_bake_desc *desc,
+                                const float *points, size_t point_count, float *rgb,
+                                float *backface, float *terms)
 {
     if (!scene)
         return VDBGI_ERR_INVALID_ARG;
@@ -316,6 +318,7 @@ vdbgi_result vdbgi_scene_bake_points(const vdbgi_scene *scene, const vdbgi_bake_
                       .count = point_count,
                       .rgb = rgb,
                       .backface = bf,
+                      .sh = terms,
                       .progress = desc ? desc->progress : NULL,
                       .progress_user = desc ? desc->progress_user : NULL};
     const vdbgi_result r = bake_run(&sh, scene, true, NULL);
@@ -324,41 +327,31 @@ vdbgi_result vdbgi_scene_bake_points(const vdbgi_scene *scene, const vdbgi_bake_
     return r;
 }
 
+vdbgi_result vdbgi_scene_bake_points(const vdbgi_scene *scene, const vdbgi_bake_desc *desc,
+                                     const float *points, size_t point_count, float *rgb,
+                                     float *backface)
+{
+    return bake_points(scene, desc, points, point_count, rgb, backface, NULL);
+}
+
 vdbgi_result vdbgi_scene_bake_points_sh2(const vdbgi_scene *scene, const vdbgi_bake_desc *desc,
                                          const float *points, size_t point_count, float *sh)
 {
     if (!scene)
         return VDBGI_ERR_INVALID_ARG;
-    vdbgi_context *const ctx = scene->ctx;
-    VDBGI_FAIL_IF(ctx, point_count && (!points || !sh), VDBGI_ERR_INVALID_ARG,
-                  "no points or output given");
-    for (size_t i = 0; i < point_count * 3; i++)
-        VDBGI_FAIL_IF(ctx, !isfinite(points[i]), VDBGI_ERR_INVALID_ARG, "point %zu is not finite",
-                      i / 3);
-    vdbgi_bake_params bp;
-    VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, &bp));
     const size_t n = point_count ? point_count : 1;
-    float *const rgb = vdbgi_calloc(ctx, n, 3 * sizeof(float));
-    float *const bf = vdbgi_calloc(ctx, n, sizeof(float));
-    float *const terms = vdbgi_calloc(ctx, n, 24 * sizeof(float));
-    vdbgi_result r = rgb && bf && terms ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
-    bake_shared sh2 = {.ctx = ctx,
-                       .bp = &bp,
-                       .points = points,
-                       .count = point_count,
-                       .rgb = rgb,
-                       .backface = bf,
-                       .sh = terms,
-                       .progress = desc ? desc->progress : NULL,
-                       .progress_user = desc ? desc->progress_user : NULL};
+    float *const rgb = vdbgi_calloc(scene->ctx, n, 3 * sizeof(float));
+    float *const terms = vdbgi_calloc(scene->ctx, n, 24 * sizeof(float));
+    vdbgi_result r = rgb && terms ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
+    if (r == VDBGI_OK && point_count && !sh)
+        r = vdbgi_fail(scene->ctx, VDBGI_ERR_INVALID_ARG, "no points or output given");
     if (r == VDBGI_OK)
-        r = bake_run(&sh2, scene, true, NULL);
+        r = bake_points(scene, desc, points, point_count, rgb, NULL, terms);
     for (size_t i = 0; r == VDBGI_OK && i < point_count; i++) {
         memcpy(&sh[27 * i], &rgb[3 * i], 3 * sizeof(float));
         memcpy(&sh[27 * i + 3], &terms[24 * i], 24 * sizeof(float));
     }
-    vdbgi_free(ctx, rgb);
-    vdbgi_free(ctx, bf);
-    vdbgi_free(ctx, terms);
+    vdbgi_free(scene->ctx, rgb);
+    vdbgi_free(scene->ctx, terms);
     return r;
 }
