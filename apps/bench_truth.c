@@ -214,7 +214,7 @@ static vdbgi_result truth_at_spacing(vdbgi_context *ctx, const vdbgi_scene *scen
     if (r == VDBGI_OK)
         r = vdbgi_probes_bake(cube, scene, &bd, NULL);
     /* Today's runtime: the scalar in bricks at the converter's defaults. */
-    const vdbgi_convert_desc cd = {.threads = threads};
+    const vdbgi_convert_desc cd = {.threads = threads, .scalar_only = 1};
     if (r == VDBGI_OK)
         r = vdbgi_volume_build(ctx, p, &cd, &v);
     if (r == VDBGI_OK) {
@@ -224,6 +224,25 @@ static vdbgi_result truth_at_spacing(vdbgi_context *ctx, const vdbgi_scene *scen
                 got[3 * i + k] *= (float)PI;
         }
         print_row(csv, spacing, "scalar, bricks (defaults)", rv, got);
+    }
+    /* The directional runtime: the same bricks carrying L2 terms, read with the normal a
+       quarter spacing off a surface, as the shaders read them. */
+    vdbgi_volume_destroy(v);
+    v = NULL;
+    if (r == VDBGI_OK)
+        r = vdbgi_volume_build(ctx, p, &(vdbgi_convert_desc){.threads = threads}, &v);
+    if (r == VDBGI_OK) {
+        const float off = 0.25f * (float)spacing;
+        for (size_t i = 0; i < rv->count; i++) {
+            const float *const n = &rv->normal[3 * i];
+            float at[3];
+            for (int k = 0; k < 3; k++)
+                at[k] = rv->pos[3 * i + k] + (i < rv->surface ? off * n[k] : 0.0f);
+            vdbgi_volume_sample_normal(v, at, n, &got[3 * i]);
+            for (int k = 0; k < 3; k++)
+                got[3 * i + k] *= (float)PI;
+        }
+        print_row(csv, spacing, "L2, bricks (defaults)", rv, got);
     }
     if (r == VDBGI_OK && (r = probes_reading(p, rv, false, got)) == VDBGI_OK)
         print_row(csv, spacing, "scalar, every probe", rv, got);

@@ -307,7 +307,7 @@ void cli_print_runtime(FILE *f, const vdbgi_volume_info *vi)
     fprintf(f, "runtime      indirection as columns %ux%u texels, %s; VRAM %s\n",
             vi->columns_dims[0], vi->columns_dims[1],
             cli_bytes((double)vi->columns_size, a, sizeof(a)),
-            cli_bytes((double)(vi->columns_size + vi->atlas_size), b, sizeof(b)));
+            cli_bytes((double)(vi->columns_size + vi->atlas_size + vi->sh_size), b, sizeof(b)));
 }
 
 bool cli_parse_vec3(const char *s, float out[3])

@@ -23,9 +23,10 @@ static void usage(void)
            ".gi the runtime shader's lookup, exactly; for a .vdb the trilinear\n"
            "interpolation of the valid probes around it. A compact .gi stores each probe\n"
            "once; --textures writes the textures a reader rebuilds from it, as the GPU\n"
-           "takes them (an uncompressed .gi, version 2). With --normal, probes baked with\n"
-           "a directional basis (sh2, ambient-cube) give what a surface facing that way\n"
-           "receives (E / pi, clamped at 0), each term interpolated before evaluation.\n"
+           "takes them (an uncompressed .gi, version 2; not for L2 terms). With --normal,\n"
+           "probes baked with a directional basis (sh2, ambient-cube), and a .gi converted\n"
+           "from sh2 probes, give what a surface facing that way receives (E / pi, clamped\n"
+           "at 0), each term interpolated before evaluation.\n"
            "\n"
            "Options:\n"
            "      --at X,Y,Z    a world position in metres (repeat for more)\n"
@@ -38,6 +39,7 @@ static void usage(void)
            "  gi-inspect world.vdb\n"
            "  gi-inspect world.gi.gz --at 0,1,0 --at 10,0.5,-3\n"
            "  gi-inspect world.vdb --at 0,0.1,0 --normal 0,1,0\n"
+           "  gi-inspect world-sh2.gi.gz --at 0,0.1,0 --normal 0,1,0\n"
            "  gi-inspect world.gi.gz --textures world-textures.gi\n");
 }
 
@@ -100,7 +102,7 @@ static int inspect_vdb(vdbgi_context *ctx, const char *path, float (*at)[3], int
 }
 
 static int inspect_gi(vdbgi_context *ctx, const char *path, float (*at)[3], int at_count,
-                      const char *textures)
+                      const float *normal, const char *textures)
 {
     vdbgi_volume *v = NULL;
     const vdbgi_result r = vdbgi_volume_read(ctx, path, &v);
@@ -108,6 +110,13 @@ static int inspect_gi(vdbgi_context *ctx, const char *path, float (*at)[3], int 
         return cli_fail(ctx, r);
     vdbgi_volume_info vi;
     vdbgi_volume_get_info(v, &vi);
+    if (normal && vi.basis == VDBGI_BASIS_SCALAR) {
+        vdbgi_volume_destroy(v);
+        cli_error("%s: one colour a point (the scalar basis): --normal needs L2 terms "
+                  "(gi-bake --basis sh2, then vdb-to-gi)",
+                  path);
+        return CLI_FAILED;
+    }
     char a[32], b[32], c[32];
     printf("file         %s (.gi, %s)\n", path, cli_bytes((double)vi.file_size, a, sizeof(a)));
     printf("encoding     %s", vi.encoding == VDBGI_ENCODING_RGB9E5 ? "rgb9e5\n" : "rgbm");
@@ -128,9 +137,15 @@ static int inspect_gi(vdbgi_context *ctx, const char *path, float (*at)[3], int 
     if (vi.stored_points)
         printf("stored       %zu probe values, each once; the textures rebuilt from them\n",
                vi.stored_points);
+    if (vi.basis == VDBGI_BASIS_SH2)
+        printf("basis        L2: eight terms a texel beside the atlas, %s more VRAM\n",
+               cli_bytes((double)vi.sh_size, b, sizeof(b)));
     for (int i = 0; i < at_count; i++) {
         float rgb[3];
-        vdbgi_volume_sample(v, at[i], rgb);
+        if (normal)
+            vdbgi_volume_sample_normal(v, at[i], normal, rgb);
+        else
+            vdbgi_volume_sample(v, at[i], rgb);
         printf("at           %g,%g,%g -> %.6g %.6g %.6g\n", (double)at[i][0], (double)at[i][1],
                (double)at[i][2], (double)rgb[0], (double)rgb[1], (double)rgb[2]);
     }
@@ -205,13 +220,9 @@ int main(int argc, char **argv)
         free(at);
         return cli_usage_error("--textures needs a .gi file, not probes");
     }
-    if (has_normal && !is_vdb(path)) {
-        vdbgi_context_destroy(ctx);
-        free(at);
-        return cli_usage_error("--normal needs probes (.vdb): a .gi holds one colour a point");
-    }
-    const int code = is_vdb(path) ? inspect_vdb(ctx, path, at, at_count, has_normal ? normal : NULL)
-                                  : inspect_gi(ctx, path, at, at_count, textures);
+    const float *const n = has_normal ? normal : NULL;
+    const int code = is_vdb(path) ? inspect_vdb(ctx, path, at, at_count, n)
+                                  : inspect_gi(ctx, path, at, at_count, n, textures);
     vdbgi_context_destroy(ctx);
     free(at);
     return code;

@@ -46,6 +46,9 @@ static void usage(void)
            "                        is; compact: 5^3 texels, coarse probes at block corners,\n"
            "                        levels stitched, neighbours sharing borders\n"
            "                        (docs/format.md) (compact)\n"
+           "      --basis B         auto: probes baked with --basis sh2 keep their L2 terms\n"
+           "                        in the compact layout (.gi version 6, read with the\n"
+           "                        surface's normal); scalar: one colour a probe (auto)\n"
            "      --slices DIR      write slice images (PNG and EXR) into DIR\n"
            "      --slice-axis A    x, y or z (y)\n"
            "      --slice-at M      world coordinate of the slice (the plane with most probes)\n"
@@ -79,6 +82,7 @@ enum {
     OPT_NOISE_SIGMAS,
     OPT_FILL,
     OPT_LAYOUT,
+    OPT_BASIS,
     OPT_SLICES,
     OPT_SLICE_AXIS,
     OPT_SLICE_AT,
@@ -114,6 +118,7 @@ static int parse_args(int argc, char **argv, options *o)
         {"noise-sigmas", required_argument, NULL, OPT_NOISE_SIGMAS},
         {"fill", required_argument, NULL, OPT_FILL},
         {"layout", required_argument, NULL, OPT_LAYOUT},
+        {"basis", required_argument, NULL, OPT_BASIS},
         {"slices", required_argument, NULL, OPT_SLICES},
         {"slice-axis", required_argument, NULL, OPT_SLICE_AXIS},
         {"slice-at", required_argument, NULL, OPT_SLICE_AT},
@@ -176,6 +181,14 @@ static int parse_args(int argc, char **argv, options *o)
                 o->convert.fill = VDBGI_FILL_DARKEST;
             else
                 return cli_usage_error("--fill must be mean or darkest (got '%s')", optarg);
+            break;
+        case OPT_BASIS:
+            if (strcmp(optarg, "scalar") == 0)
+                o->convert.scalar_only = 1;
+            else if (strcmp(optarg, "auto") == 0)
+                o->convert.scalar_only = 0;
+            else
+                return cli_usage_error("--basis must be auto or scalar (got '%s')", optarg);
             break;
         case OPT_LAYOUT:
             if (strcmp(optarg, "seed") == 0)
@@ -303,7 +316,7 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             ",\n  \"probes\": %zu,\n"
             "  \"valid_probes\": %zu,\n  \"filled_points\": %zu,\n  \"unreached_points\": %zu,\n"
             "  \"fallback_values\": %zu,\n  \"spacing\": %g,\n  \"max_level\": %u,\n"
-            "  \"encoding\": \"%s\",\n  \"layout\": \"%s\",\n"
+            "  \"encoding\": \"%s\",\n  \"layout\": \"%s\",\n  \"basis\": \"%s\",\n"
             "  \"bricks_per_level\": [%u, %u, %u, %u],\n"
             "  \"bricks\": %u,\n  \"atlas_dims\": [%u, %u, %u],\n"
             "  \"indirection_dims\": [%u, %u, %u],\n  \"atlas_bytes\": %zu,\n"
@@ -320,12 +333,13 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             vi->probe_count, vi->valid_count, vi->filled_count, vi->unreached_count,
             vi->fallback_count, (double)vi->spacing, vi->max_level,
             vi->encoding == VDBGI_ENCODING_RGB9E5 ? "rgb9e5" : "rgbm",
-            vi->layout == VDBGI_LAYOUT_COMPACT ? "compact" : "seed", vi->bricks[0], vi->bricks[1],
+            vi->layout == VDBGI_LAYOUT_COMPACT ? "compact" : "seed",
+            vi->basis == VDBGI_BASIS_SH2 ? "sh2" : "scalar", vi->bricks[0], vi->bricks[1],
             vi->bricks[2], vi->bricks[3], vi->brick_count, vi->atlas_dims[0], vi->atlas_dims[1],
             vi->atlas_dims[2], vi->indirection_dims[0], vi->indirection_dims[1],
             vi->indirection_dims[2], vi->atlas_size, vi->indirection_size, raw, vi->columns_dims[0],
-            vi->columns_dims[1], vi->columns_size, vi->columns_size + vi->atlas_size, vi->file_size,
-            vi->dense_rgba8_size, (double)vi->dense_rgba8_size / raw,
+            vi->columns_dims[1], vi->columns_size, vi->columns_size + vi->atlas_size + vi->sh_size,
+            vi->file_size, vi->dense_rgba8_size, (double)vi->dense_rgba8_size / raw,
             (double)vi->dense_rgba8_size / (double)vi->file_size, vi->clamped_count,
             vi->mean_irradiance, vi->rmse, vi->p99, vi->max_error, vi->rmse / mean, vi->p99 / mean,
             vi->max_error / mean, read_seconds, vi->seconds, vi->seconds / read_seconds,
@@ -347,6 +361,10 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
     fprintf(f, "indirection  %ux%ux%u cells, %s\n", vi->indirection_dims[0],
             vi->indirection_dims[1], vi->indirection_dims[2],
             cli_bytes((double)vi->indirection_size, b, sizeof(b)));
+    if (vi->basis == VDBGI_BASIS_SH2)
+        fprintf(f,
+                "basis        L2: eight terms a texel beside the atlas (signed ratios to L0), %s\n",
+                cli_bytes((double)vi->sh_size, d, sizeof(d)));
     cli_print_runtime(f, vi);
     if (vi->stored_points)
         fprintf(f, "file         %s: %s gzip'd, %zu probe values each stored once (textures %s)\n",

@@ -173,7 +173,11 @@ vdbgi_result vdbgi_bevy_build(vdbgi_context *ctx, const vdbgi_probes *p,
     /* A voxel 4 probes wide filters across solids' insides, which bricks never read:
        fill a cell around every cell holding a valid probe, as the converter once did. */
     fp.margin_cells = 1;
-    const vdbgi_fill_input in = {p->count, p->ijk, p->cube, p->backface, 6};
+    const vdbgi_fill_input in = {.count = p->count,
+                                 .ijk = p->ijk,
+                                 .values = p->cube,
+                                 .backface = p->backface,
+                                 .channels = 6};
     vdbgi_field field = {0};
     int32_t *cells = NULL;
     size_t cell_count = 0, unreached = 0;

@@ -131,7 +131,9 @@ size_t vdbgi_brick_samples(const vdbgi_field *filled, const int32_t key[3], int 
                     if ((valued = f != NULL))
                         memcpy(v, f, 3 * sizeof(float));
                 } else {
-                    valued = vdbgi_field_trilinear(filled, pos, v, &cache);
+                    float all[3 * VDBGI_FIELD_MAX_CHANNELS]; /* L0 first, then any terms */
+                    if ((valued = vdbgi_field_trilinear(filled, pos, all, &cache)))
+                        memcpy(v, all, 3 * sizeof(float));
                 }
                 if (!valued) {
                     memcpy(v, mean, 3 * sizeof(float));
@@ -344,7 +346,7 @@ static vdbgi_result build_pyramid(builder *b, const int32_t *cells, size_t cell_
                         const unsigned n = (unsigned)(x << 6 | y << 3 | z);
                         if (!(leaf->mask[n >> 6] >> (n & 63) & 1))
                             continue;
-                        const float *const v = leaf->values + 3 * n;
+                        const float *const v = leaf->values + 3 * (size_t)f->channels * n;
                         for (int k = 0; k < 3; k++) {
                             st->lo[k] = fminf(st->lo[k], v[k]);
                             st->hi[k] = fmaxf(st->hi[k], v[k]);

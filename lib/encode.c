@@ -159,3 +159,29 @@ float vdbgi_half_to_float(uint16_t h)
     memcpy(&f, &x, 4);
     return f;
 }
+
+/*
+ * With stored c_k = w_k mean(L p_k) and c_0 = mean(L), L >= 0: |c_k| <= w_k
+ * max|p_k| c_0. The weights are estimate.c's vdbgi_sh2_weights; the term
+ * bounds 1 (x, y, z), 1/2 (xy, yz, xz), 2 (3z^2 - 1) and 1 (x^2 - y^2).
+ */
+float vdbgi_sh_ratio_range(int term)
+{
+    static const float range[8] = {2.0f, 2.0f, 2.0f, 1.875f, 1.875f, 0.625f, 1.875f, 0.9375f};
+    return range[term];
+}
+
+int8_t vdbgi_sh_ratio_encode(float term_value, float l0, int term)
+{
+    if (!(l0 > 0.0f) || !isfinite(term_value))
+        return 0;
+    float r = term_value / l0 / vdbgi_sh_ratio_range(term);
+    r = r > 1.0f ? 1.0f : r < -1.0f ? -1.0f : r;
+    return (int8_t)lrintf(r * 127.0f);
+}
+
+float vdbgi_sh_ratio_decode(int8_t q, int term)
+{
+    const float r = (float)q / 127.0f;
+    return (r < -1.0f ? -1.0f : r) * vdbgi_sh_ratio_range(term);
+}

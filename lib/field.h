@@ -10,8 +10,8 @@ extern "C" {
 
 #define VDBGI_LEAF_DIM 8
 #define VDBGI_LEAF_VOXELS 512
-/* Colours a point may carry: 1 (irradiance) up to 6 (ambient-cube sides). */
-#define VDBGI_FIELD_MAX_CHANNELS 6
+/* Colours a point may carry: 1 (irradiance), 6 (ambient-cube sides), 9 (L0 and the L2 terms). */
+#define VDBGI_FIELD_MAX_CHANNELS 9
 
 /* One leaf: point (x, y, z) of the leaf is number x*64 + y*8 + z (VDB's order). */
 typedef struct vdbgi_leaf {
@@ -82,6 +82,8 @@ typedef struct vdbgi_fill_input {
     const float *values;   /* 3 * channels per point */
     const float *backface; /* per point; a point above the threshold is no source */
     int channels;          /* 1..VDBGI_FIELD_MAX_CHANNELS */
+    bool signed_terms;     /* channels past the first are signed terms (L2): the first
+                              alone says which neighbour is darkest */
 } vdbgi_fill_input;
 
 /*
@@ -95,7 +97,8 @@ typedef struct vdbgi_fill_input {
  * neighbours (weights by face, edge, corner), ring after ring, until the
  * target is covered or a ring is empty. An invalid point with valued face
  * neighbours on both sides of one axis takes instead its darkest valued
- * neighbour (fp->darkest), darkest by the sum over all channels: one choice
+ * neighbour (fp->darkest), darkest by the sum over all channels (the first
+ * alone with in->signed_terms): one choice
  * of neighbour a point, applied to every channel. Writes the field, the
  * occupied cells (3 int32 each, in tree order) into *cells_out, with
  * fp->lift and top_only_out not NULL those of them whose filter reads sources

@@ -20,6 +20,7 @@ typedef struct grid_leaf {
 typedef struct grid {
     vdbgi_context *ctx;
     int channels;
+    int judged;    /* leading channels the darkest choice sums */
     vdbgi_map map; /* origin -> leaf */
     grid_leaf *leaves;
     size_t leaf_capacity;
@@ -158,10 +159,10 @@ static void fill_point(const grid *g, const vdbgi_fill_params *fp, point_ref p)
                 wsum += w[k];
                 if (invalid_probe) {
                     valued |= 1u << ((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1));
-                    /* Darkest by the sum of every channel's r + g + b; the first of
-                       equals, in this fixed order. */
+                    /* Darkest by the sum of the judged channels' r + g + b; the first
+                       of equals, in this fixed order. */
                     float s = 0.0f;
-                    for (int i = 0; i < ch3; i += 3)
+                    for (int i = 0; i < 3 * g->judged; i += 3)
                         s += c[i] + c[i + 1] + c[i + 2];
                     if (s < best) {
                         best = s;
@@ -481,7 +482,7 @@ vdbgi_result vdbgi_field_fill(vdbgi_context *ctx, const vdbgi_fill_input *in,
                   VDBGI_FIELD_MAX_CHANNELS, in->channels);
     vdbgi_map cells = {0};
     size_t sources = 0;
-    grid g = {.ctx = ctx, .channels = in->channels};
+    grid g = {.ctx = ctx, .channels = in->channels, .judged = in->signed_terms ? 1 : in->channels};
     int32_t *out = NULL;
     vdbgi_result r = occupied_cells(ctx, in, fp, &cells, &sources, &off_top);
     if (r != VDBGI_OK)
@@ -545,7 +546,7 @@ vdbgi_result vdbgi_fill_dense(vdbgi_context *ctx, const int res[3], int channels
     VDBGI_FAIL_IF(ctx, channels < 1 || channels > VDBGI_FIELD_MAX_CHANNELS, VDBGI_ERR_INVALID_ARG,
                   "a field holds 1 to %d colours a point (got %d)", VDBGI_FIELD_MAX_CHANNELS,
                   channels);
-    grid g = {.ctx = ctx, .channels = channels};
+    grid g = {.ctx = ctx, .channels = channels, .judged = channels};
     const size_t ch3 = 3 * (size_t)channels;
     vdbgi_fill_params dense = *fp;
     dense.darkest = false;

@@ -19,18 +19,20 @@
 
 static const char gi_magic[8] = {'v', 'd', 'b', 'g', 'i', '.', 'g', 'i'};
 
-void vdbgi_gifile_header(const vdbgi_volume_info *in, bool packed, uint8_t h[VDBGI_GI_HEADER_SIZE])
+size_t vdbgi_gifile_header(const vdbgi_volume_info *in, bool packed, uint8_t h[VDBGI_GI_HEADER_MAX])
 {
-    memset(h, 0, VDBGI_GI_HEADER_SIZE);
+    memset(h, 0, VDBGI_GI_HEADER_MAX);
     memcpy(h, gi_magic, 8);
     /*
      * Seed-layout files stay version 1, byte for byte (their layout field is
-     * reserved, 0); the compact layout is version 5 packed, version 2 as
-     * textures.
+     * reserved, 0); the compact layout is version 5 packed (6 with L2 terms),
+     * version 2 as textures.
      */
     const bool compact = in->layout == VDBGI_LAYOUT_COMPACT;
-    vdbgi_put_u32(h + 8, compact ? (packed ? 5 : 2) : 1);
-    vdbgi_put_u32(h + 12, VDBGI_GI_HEADER_SIZE);
+    const bool sh = packed && in->basis == VDBGI_BASIS_SH2;
+    const size_t size = sh ? VDBGI_GI_HEADER_MAX : VDBGI_GI_HEADER_SIZE;
+    vdbgi_put_u32(h + 8, compact ? (packed ? (sh ? 6 : 5) : 2) : 1);
+    vdbgi_put_u32(h + 12, (uint32_t)size);
     vdbgi_put_u32(h + 16, (uint32_t)in->encoding);
     vdbgi_put_f32(h + 20, in->rgbm_range);
     for (int k = 0; k < 3; k++) {
@@ -48,25 +50,27 @@ void vdbgi_gifile_header(const vdbgi_volume_info *in, bool packed, uint8_t h[VDB
     vdbgi_put_u32(h + 104, compact ? VDBGI_LAYOUT_COMPACT : 0);
     if (packed)
         vdbgi_put_u32(h + 108, (uint32_t)in->stored_points);
+    if (sh)
+        vdbgi_put_u32(h + 112, VDBGI_BASIS_SH2);
+    return size;
 }
 
-vdbgi_result vdbgi_gifile_gzip(vdbgi_context *ctx, const uint8_t h[VDBGI_GI_HEADER_SIZE],
+vdbgi_result vdbgi_gifile_gzip(vdbgi_context *ctx, const uint8_t *h, size_t header_size,
                                const uint8_t *body, size_t body_size, uint8_t **out,
                                size_t *out_size)
 {
     *out = NULL;
     *out_size = 0;
-    uint8_t *const in = vdbgi_alloc(ctx, VDBGI_GI_HEADER_SIZE + body_size);
+    uint8_t *const in = vdbgi_alloc(ctx, header_size + body_size);
     /* libdeflate: one call over the whole buffer, several times faster than zlib at level 6. */
     struct libdeflate_compressor *const z = libdeflate_alloc_compressor(6);
-    const size_t capacity =
-        z ? libdeflate_gzip_compress_bound(z, VDBGI_GI_HEADER_SIZE + body_size) : 0;
+    const size_t capacity = z ? libdeflate_gzip_compress_bound(z, header_size + body_size) : 0;
     uint8_t *const gz = z ? vdbgi_alloc(ctx, capacity) : NULL;
     size_t written = 0;
     if (in && gz) {
-        memcpy(in, h, VDBGI_GI_HEADER_SIZE);
-        memcpy(in + VDBGI_GI_HEADER_SIZE, body, body_size);
-        written = libdeflate_gzip_compress(z, in, VDBGI_GI_HEADER_SIZE + body_size, gz, capacity);
+        memcpy(in, h, header_size);
+        memcpy(in + header_size, body, body_size);
+        written = libdeflate_gzip_compress(z, in, header_size + body_size, gz, capacity);
     }
     libdeflate_free_compressor(z);
     vdbgi_free(ctx, in);
@@ -95,7 +99,7 @@ static vdbgi_result parse_version(vdbgi_context *ctx, const char *path, const ui
      * Version 1 is the seed layout (its field is reserved, 0); version 2 says
      * which; version 5 is the packed compact layout. Versions 3 and 4 were
      * older compact forms: in 5^3 slots, and packed with placement left to
-     * the reader.
+     * the reader. Version 6 is version 5 with L2 terms.
      */
     VDBGI_FAIL_IF(ctx, version == 3 || version == 4, VDBGI_ERR_FORMAT,
                   "%s: an older vdbgi's compact layout (.gi version %u): convert the .vdb again",
@@ -104,9 +108,9 @@ static vdbgi_result parse_version(vdbgi_context *ctx, const char *path, const ui
     const bool compact = field == VDBGI_LAYOUT_COMPACT || field == VDBGI_GI_LAYOUT_COMPACT_OLD;
     const bool seed = field == VDBGI_LAYOUT_SEED || field == VDBGI_GI_LAYOUT_SEED_OLD;
     VDBGI_FAIL_IF(ctx,
-                  version == 1   ? field != 0
-                  : version == 5 ? field != VDBGI_LAYOUT_COMPACT
-                                 : !compact && !seed,
+                  version == 1                   ? field != 0
+                  : version == 5 || version == 6 ? field != VDBGI_LAYOUT_COMPACT
+                                                 : !compact && !seed,
                   VDBGI_ERR_FORMAT, "%s: unknown brick layout %u for version %u", path, field,
                   version);
     *layout = compact ? VDBGI_LAYOUT_COMPACT : VDBGI_LAYOUT_SEED;
@@ -122,9 +126,14 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
     const uint32_t version = vdbgi_get_u32(h + 8);
     const bool compact = layout == VDBGI_LAYOUT_COMPACT;
     *header_size = vdbgi_get_u32(h + 12);
-    VDBGI_FAIL_IF(ctx, *header_size < VDBGI_GI_HEADER_SIZE || *header_size > 65536,
-                  VDBGI_ERR_FORMAT, "%s: bad header size %zu", path, *header_size);
+    const size_t least_header = version == 6 ? VDBGI_GI_HEADER_MAX : VDBGI_GI_HEADER_SIZE;
+    VDBGI_FAIL_IF(ctx, *header_size < least_header || *header_size > 65536, VDBGI_ERR_FORMAT,
+                  "%s: bad header size %zu", path, *header_size);
     memset(info, 0, sizeof(*info));
+    /* Version 6 says its basis: L2 is the only one it holds (5 and older: the scalar). */
+    VDBGI_FAIL_IF(ctx, version == 6 && vdbgi_get_u32(h + 112) != VDBGI_BASIS_SH2, VDBGI_ERR_FORMAT,
+                  "%s: unknown basis %u", path, vdbgi_get_u32(h + 112));
+    info->basis = version == 6 ? VDBGI_BASIS_SH2 : VDBGI_BASIS_SCALAR;
     const uint32_t enc = vdbgi_get_u32(h + 16);
     VDBGI_FAIL_IF(ctx, enc > 1, VDBGI_ERR_FORMAT, "%s: unknown encoding %u", path, enc);
     info->encoding = (vdbgi_encoding)enc;
@@ -168,8 +177,8 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
                   "%s: texture sizes disagree with their dimensions", path);
     VDBGI_FAIL_IF(ctx, version < 5 && vdbgi_get_u32(h + 108) != 0, VDBGI_ERR_FORMAT,
                   "%s: reserved header field is not 0", path);
-    /* Version 5 stores the level bytes, the placement and the points instead of the textures. */
-    const bool packed = version == 5;
+    /* Versions 5 and 6 store the level bytes, the placement and the points, not the textures. */
+    const bool packed = version >= 5;
     info->stored_points = packed ? vdbgi_get_u32(h + 108) : 0;
     /*
      * Every brick stores inner points no other brick reads and no stitching
@@ -182,9 +191,10 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
     VDBGI_FAIL_IF(ctx, packed && least > info->stored_points, VDBGI_ERR_FORMAT,
                   "%s: the header's bricks need at least %llu stored points, it has %zu", path,
                   (unsigned long long)least, info->stored_points);
-    *stored_size = packed ? ind / 4 + VDBGI_PLACEMENT_BYTES * (uint64_t)info->brick_count +
-                                4 * (uint64_t)info->stored_points
-                          : ind + atlas;
+    *stored_size =
+        packed ? ind / 4 + VDBGI_PLACEMENT_BYTES * (uint64_t)info->brick_count +
+                     (4 + (version == 6 ? VDBGI_SH_BYTES : 0)) * (uint64_t)info->stored_points
+               : ind + atlas;
     return VDBGI_OK;
 }
 
@@ -216,13 +226,13 @@ vdbgi_result vdbgi_gifile_slurp(vdbgi_context *ctx, const char *path, uint8_t **
     return VDBGI_OK;
 }
 
-/* The first header bytes of a gzip stream, inflated no further than that. */
-static bool gunzip_prefix(const uint8_t *in, size_t in_size, uint8_t *out, size_t out_size)
+/* The first bytes of a gzip stream, up to out_size, inflated no further: how many it gave. */
+static size_t gunzip_prefix(const uint8_t *in, size_t in_size, uint8_t *out, size_t out_size)
 {
     z_stream zs;
     memset(&zs, 0, sizeof(zs));
     if (inflateInit2(&zs, 16 + MAX_WBITS) != Z_OK)
-        return false;
+        return 0;
     zs.next_in = (Bytef *)(uintptr_t)in;
     zs.avail_in = (uInt)(in_size > UINT32_MAX ? UINT32_MAX : in_size);
     zs.next_out = out;
@@ -231,7 +241,7 @@ static bool gunzip_prefix(const uint8_t *in, size_t in_size, uint8_t *out, size_
     while (zs.avail_out > 0 && z == Z_OK)
         z = inflate(&zs, Z_SYNC_FLUSH);
     inflateEnd(&zs);
-    return zs.avail_out == 0;
+    return out_size - zs.avail_out;
 }
 
 /*
@@ -249,17 +259,22 @@ vdbgi_result vdbgi_gifile_parse(vdbgi_context *ctx, const char *path, const uint
     *body = NULL;
     *body_size = 0;
     const bool gz = file_size >= 18 && file[0] == 0x1f && file[1] == 0x8b;
-    uint8_t h[VDBGI_GI_HEADER_SIZE];
+    uint8_t h[VDBGI_GI_HEADER_MAX] = {0};
     size_t header_size = 0;
     vdbgi_result r = VDBGI_OK;
-    if (gz ? !gunzip_prefix(file, file_size, h, sizeof(h)) : file_size < sizeof(h)) {
+    const size_t got = gz ? gunzip_prefix(file, file_size, h, sizeof(h))
+                          : (file_size < sizeof(h) ? file_size : sizeof(h));
+    if (!gz)
+        memcpy(h, file, got);
+    /* The first 112 bytes say the version; version 6's basis follows them. */
+    const size_t want =
+        got >= 12 && vdbgi_get_u32(h + 8) == 6 ? VDBGI_GI_HEADER_MAX : VDBGI_GI_HEADER_SIZE;
+    if (got < want) {
         r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %s", path,
                        gz ? "damaged gzip data, or too short to be a .gi file"
                           : "too short to be a .gi file");
         goto done;
     }
-    if (!gz)
-        memcpy(h, file, sizeof(h));
     uint64_t stored = 0;
     if ((r = parse_header(ctx, path, h, info, &header_size, &stored)) != VDBGI_OK)
         goto done;

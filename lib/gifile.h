@@ -4,13 +4,18 @@
 
 #include "context.h"
 
+/* Versions 1 to 5 have 112 header bytes; version 6 adds the basis, 116. */
 #define VDBGI_GI_HEADER_SIZE 112
+#define VDBGI_GI_HEADER_MAX 116
 /*
  * The versions (docs/format.md has the table): 1 the seed layout's textures,
  * 2 either layout's textures, 5 the compact layout packed with its bricks'
- * places. 3 and 4 were older compact forms, refused.
+ * places, 6 version 5 with L2 terms (a basis field, then 24 bytes a stored
+ * point). 3 and 4 were older compact forms, refused.
  */
-#define VDBGI_GI_VERSION 5
+#define VDBGI_GI_VERSION 6
+/* Version 6: the L2 terms' bytes a stored point (8 terms x RGB, signed ratios to L0). */
+#define VDBGI_SH_BYTES 24
 /*
  * The layout field holds vdbgi_layout's numbers (1 seed, 2 compact). Two
  * older values are still read in version 2: 0 for the seed layout, and 3 for
@@ -30,13 +35,15 @@
 /*
  * The header of a volume's file: version 1 for the seed layout, 2 for the
  * compact layout's textures, 5 with packed set (info->stored_points then
- * counts the stored values).
+ * counts the stored values), 6 packed with info->basis VDBGI_BASIS_SH2.
+ * Returns its size in bytes.
  */
-void vdbgi_gifile_header(const vdbgi_volume_info *info, bool packed,
-                         uint8_t h[VDBGI_GI_HEADER_SIZE]);
+size_t vdbgi_gifile_header(const vdbgi_volume_info *info, bool packed,
+                           uint8_t h[VDBGI_GI_HEADER_MAX]);
 
-/* Header and body gzip'd (libdeflate, level 6) into *out, allocated through ctx. */
-vdbgi_result vdbgi_gifile_gzip(vdbgi_context *ctx, const uint8_t h[VDBGI_GI_HEADER_SIZE],
+/* Header (header_size bytes) and body gzip'd (libdeflate, level 6) into *out, allocated
+   through ctx. */
+vdbgi_result vdbgi_gifile_gzip(vdbgi_context *ctx, const uint8_t *h, size_t header_size,
                                const uint8_t *body, size_t body_size, uint8_t **out,
                                size_t *out_size);
 

@@ -241,10 +241,12 @@ static inline bool encode_texel(const vdbgi_volume *v, const float rgb[3], uint8
 vdbgi_result vdbgi_pack_place(vdbgi_context *ctx, vdbgi_pack_plan *pl, uint32_t dims[3]);
 
 /*
- * The atlas from the stored values (4 bytes a point, interleaved), over
- * threads; *clamped gets how many stitched texels clamped (packed.c).
+ * The atlas from the stored values (4 bytes a point, interleaved) and, with
+ * sh not NULL, the L2 terms' texels from theirs (VDBGI_SH_BYTES a point),
+ * over threads; *clamped gets how many stitched texels clamped (packed.c).
  */
 vdbgi_result vdbgi_pack_rebuild_values(vdbgi_volume *v, const vdbgi_pack_plan *pl,
-                                       const uint8_t *values, int threads, size_t *clamped);
+                                       const uint8_t *values, const int8_t *sh, int threads,
+                                       size_t *clamped);
 
 #endif /* VDBGI_PACK_COMMON_H */

@@ -124,6 +124,7 @@ typedef struct band_job {
     const vdbgi_brick *bricks;
     size_t count;
     uint8_t *values; /* 4 bytes a point */
+    uint8_t *sh;     /* VDBGI_SH_BYTES a point, or NULL: the L2 terms */
     uint8_t *out;    /* the residual planes */
     int32_t z0, z1;
     size_t i0;
@@ -143,6 +144,7 @@ static void *values_worker(void *arg)
                                p[1] + VDBGI_BRICK * v->origin_cell[1],
                                p[2] + VDBGI_BRICK * v->origin_cell[2]};
         const float *f = vdbgi_field_at(&v->filled, at, &cache);
+        const bool valued = f != NULL;
         if (!f) { /* every stored point has a reader: the plan stored it for one */
             static const float none[3];
             const size_t b = first_reader(job->pl, p);
@@ -150,8 +152,19 @@ static void *values_worker(void *arg)
             job->fallback++;
         }
         job->clamped += encode_texel(v, f, &job->values[4 * i]);
+        /* L2 terms as ratios to the field's own L0 (a fallback point has none: flat). */
+        for (int k = 0; job->sh && k < VDBGI_SH_BYTES; k++)
+            job->sh[VDBGI_SH_BYTES * i + k] =
+                valued ? (uint8_t)vdbgi_sh_ratio_encode(f[3 + k], f[k % 3], k / 3) : 0;
     });
     return NULL;
+}
+
+/* The L2 terms' prediction for point p: the bytes of the stored point at p - x, else p - y,
+   else p - z; -1 for none (then 0). */
+static int64_t term_source(const int64_t nb[4])
+{
+    return nb[0] >= 0 ? nb[0] : nb[1] >= 0 ? nb[1] : nb[3];
 }
 
 /* Each point's residual against its prediction from values that are final. */
@@ -168,6 +181,11 @@ static void *residual_worker(void *arg)
             const uint8_t pred = predict(job->values, nb, k, rgbm && k < 3, job->values[4 * i + 3]);
             job->out[k * n + i] = (uint8_t)(job->values[4 * i + k] - pred);
         }
+        const int64_t j = term_source(nb);
+        for (int k = 0; job->sh && k < VDBGI_SH_BYTES; k++)
+            job->out[(4 + k) * n + i] =
+                (uint8_t)(job->sh[VDBGI_SH_BYTES * i + k] -
+                          (j >= 0 ? job->sh[VDBGI_SH_BYTES * (size_t)j + k] : 0));
     });
     return NULL;
 }
@@ -228,7 +246,7 @@ static uint8_t *level_bytes(const vdbgi_volume *v, const vdbgi_brick *bricks, si
  * order, on one thread. Returns how many.
  */
 static size_t predict_unread(const vdbgi_volume *v, const vdbgi_pack_plan *pl, uint8_t *values,
-                             uint8_t *coarse_read, uint64_t *valid, uint64_t *near)
+                             uint8_t *sh, uint8_t *coarse_read, uint64_t *valid, uint64_t *near)
 {
     for (size_t b = 0; b < pl->brick_count; b++)
         for (int t = 0; pl->level[b] && t < TEXELS; t++) {
@@ -257,6 +275,9 @@ static size_t predict_unread(const vdbgi_volume *v, const vdbgi_pack_plan *pl, u
                 const int k = byte_order(rgbm, o);
                 values[4 * i + k] = predict(values, nb, k, rgbm && k < 3, values[4 * i + 3]);
             }
+            const int64_t j = term_source(nb);
+            for (int k = 0; sh && k < VDBGI_SH_BYTES; k++)
+                sh[VDBGI_SH_BYTES * i + k] = j >= 0 ? sh[VDBGI_SH_BYTES * (size_t)j + k] : 0;
         }
     });
     return unread;
@@ -276,7 +297,7 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
     if (!levels)
         return VDBGI_ERR_OUT_OF_MEMORY;
     vdbgi_pack_plan pl;
-    uint8_t *values = NULL, *coarse_read = NULL, *out = NULL;
+    uint8_t *values = NULL, *sh = NULL, *coarse_read = NULL, *out = NULL;
     uint64_t *valid = NULL, *near = NULL;
     vdbgi_result r = vdbgi_pack_plan_make(v, levels, NULL, NULL, "converter", threads, &pl);
     if (r != VDBGI_OK) {
@@ -284,14 +305,17 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
         return r;
     }
     const size_t n = pl.points;
+    const bool with_sh = v->info.basis == VDBGI_BASIS_SH2;
+    const size_t point_bytes = 4 + (with_sh ? VDBGI_SH_BYTES : 0);
     values = vdbgi_calloc(ctx, 4 * (n ? n : 1), 1);
+    sh = with_sh ? vdbgi_calloc(ctx, n ? n : 1, VDBGI_SH_BYTES) : NULL;
     coarse_read = vdbgi_calloc(ctx, n ? n : 1, 1); /* 1: a coarse brick reads the point */
     const size_t table = VDBGI_PLACEMENT_BYTES * count;
-    out = vdbgi_alloc(ctx, cells + table + 4 * n);
+    out = vdbgi_alloc(ctx, cells + table + point_bytes * n);
     valid = valid_bits(v, &pl, probes);
     const size_t grid_cells = (size_t)pl.grid[0] * pl.grid[1] * pl.grid[2];
     near = vdbgi_alloc(ctx, grid_cells * sizeof(*near));
-    if (!values || !coarse_read || !out || !valid || !near) {
+    if (!values || (with_sh && !sh) || !coarse_read || !out || !valid || !near) {
         r = VDBGI_ERR_OUT_OF_MEMORY;
         goto done;
     }
@@ -301,6 +325,7 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
                             .bricks = bricks,
                             .count = count,
                             .values = values,
+                            .sh = sh,
                             .out = out + cells + table};
     const int bands = split_bands(&pl, threads, jobs, &proto);
     vdbgi_run_threads(bands, values_worker, jobs, sizeof(jobs[0]));
@@ -313,22 +338,24 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
     for (size_t b = 0; b < count; b++)
         for (int k = 0; k < 3; k++)
             vdbgi_put_u16(out + cells + 2 * (k * count + b), pl.origin[b][k]);
-    const size_t unread = predict_unread(v, &pl, values, coarse_read, valid, near);
+    const size_t unread = predict_unread(v, &pl, values, sh, coarse_read, valid, near);
     vdbgi_run_threads(bands, residual_worker, jobs, sizeof(jobs[0]));
     vdbgi_log(ctx, VDBGI_LOG_DEBUG, "%zu stored points, %zu of them read by no receiver", n,
               unread);
     size_t stitched_clamps = 0;
-    if ((r = vdbgi_pack_rebuild_values(v, &pl, values, threads, &stitched_clamps)) != VDBGI_OK)
+    if ((r = vdbgi_pack_rebuild_values(v, &pl, values, (const int8_t *)sh, threads,
+                                       &stitched_clamps)) != VDBGI_OK)
         goto done;
     v->info.clamped_count += clamped + stitched_clamps;
     v->info.stored_points = n;
     *payload = out;
-    *payload_size = cells + table + 4 * n;
+    *payload_size = cells + table + point_bytes * n;
     out = NULL;
 done:
     vdbgi_pack_plan_free(ctx, &pl);
     vdbgi_free(ctx, levels);
     vdbgi_free(ctx, values);
+    vdbgi_free(ctx, sh);
     vdbgi_free(ctx, coarse_read);
     vdbgi_free(ctx, out);
     vdbgi_free(ctx, valid);

@@ -15,6 +15,7 @@
 #include "pack_common.h"
 #include "util.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -392,20 +393,61 @@ vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels, const 
     return VDBGI_OK;
 }
 
-static uint8_t *atlas_texel(const vdbgi_volume *v, const vdbgi_pack_plan *pl, size_t b, int t)
+/*
+ * What one rebuild pass reads and writes: each stored point's bytes (stride
+ * apart, from values), copied into the atlas texels (atlas_stride apart), or
+ * for a stitched texel interpolated and encoded. The L0 colours are the
+ * volume's encoding; an L2 term's three bytes are signed 127ths, which
+ * interpolate as numbers (docs/format.md, "Version 6").
+ */
+typedef struct texel_codec {
+    const uint8_t *values;
+    size_t stride;
+    uint8_t *atlas;
+    size_t atlas_stride;
+    bool term; /* three int8 of an L2 term, not a 4-byte colour */
+} texel_codec;
+
+static uint8_t *atlas_texel(const vdbgi_volume *v, const vdbgi_pack_plan *pl, const texel_codec *tc,
+                            size_t b, int t)
 {
     const uint32_t *const d = v->info.atlas_dims;
     const uint16_t *const o = pl->origin[b];
     const size_t x = o[0] + (size_t)(t % N), y = o[1] + (size_t)(t / N % N),
                  z = o[2] + (size_t)(t / (N * N));
-    return &v->tex.atlas[4 * ((z * d[1] + y) * d[0] + x)];
+    return &tc->atlas[tc->atlas_stride * ((z * d[1] + y) * d[0] + x)];
+}
+
+static void decode_any(const vdbgi_volume *v, const texel_codec *tc, const uint8_t *in,
+                       float out[3])
+{
+    if (!tc->term) {
+        decode_texel(v, in, out);
+        return;
+    }
+    for (int k = 0; k < 3; k++) {
+        const int8_t q = (int8_t)in[k];
+        out[k] = q < -127 ? -127.0f : (float)q; /* snorm8: -128 reads as -1 */
+    }
+}
+
+static bool encode_any(const vdbgi_volume *v, const texel_codec *tc, const float in[3],
+                       uint8_t *out)
+{
+    if (!tc->term)
+        return encode_texel(v, in, out);
+    for (int k = 0; k < 3; k++) {
+        const float q = in[k] > 127.0f ? 127.0f : in[k] < -127.0f ? -127.0f : in[k];
+        out[k] = (uint8_t)(int8_t)lrintf(q); /* float32, to nearest even */
+    }
+    return false;
 }
 
 /* One thread's share of the rebuild: the bricks whose first texel lies in rows y_begin..y_end. */
 typedef struct rebuild_job {
     const vdbgi_volume *v;
     const vdbgi_pack_plan *pl;
-    const uint8_t *values;
+    const texel_codec *tc;
     float (*fs)[TEXELS][3]; /* coarse bricks' samples, by cidx */
     const int32_t *cidx;
     int level; /* the coarse level whose samples to compute, or -1: write the atlas */
@@ -417,8 +459,10 @@ static void *rebuild_worker(void *arg)
 {
     rebuild_job *const job = arg;
     const vdbgi_pack_plan *const pl = job->pl;
+    const texel_codec *const tc = job->tc;
     float(*const fs)[TEXELS][3] = job->fs;
     const int32_t *const cidx = job->cidx;
+    const int bytes = tc->term ? 3 : 4;
     for (size_t b = 0; b < pl->brick_count; b++) {
         if (pl->origin[b][1] < job->y_begin || pl->origin[b][1] >= job->y_end ||
             (job->level >= 0 && pl->level[b] != job->level))
@@ -437,15 +481,16 @@ static void *rebuild_worker(void *arg)
                 } else {
                     const int64_t i = point_index(pl, p);
                     static const uint8_t zero[4];
-                    decode_texel(job->v, i >= 0 ? &job->values[4 * i] : zero, fs[cidx[b]][t]);
+                    decode_any(job->v, tc, i >= 0 ? &tc->values[tc->stride * (size_t)i] : zero,
+                               fs[cidx[b]][t]);
                 }
                 continue;
             }
-            uint8_t *const out = atlas_texel(job->v, pl, b, t);
+            uint8_t *const out = atlas_texel(job->v, pl, tc, b, t);
             if (!stitch) {
                 const int64_t i = point_index(pl, p);
                 if (i >= 0)
-                    memcpy(out, &job->values[4 * i], 4);
+                    memcpy(out, &tc->values[tc->stride * (size_t)i], (size_t)bytes);
                 continue;
             }
             float rgb[3];
@@ -454,22 +499,21 @@ static void *rebuild_worker(void *arg)
             else
                 vdbgi_brick_interpolate((const float(*)[3])fs[cidx[j]], VDBGI_LAYOUT_COMPACT,
                                         pl->key[j], cl, pos, rgb);
-            job->clamped += encode_texel(job->v, rgb, out);
+            job->clamped += encode_any(job->v, tc, rgb, out);
         }
     }
     return NULL;
 }
 
 /*
- * The atlas from the stored values (4 bytes a point, interleaved). Coarse
- * bricks' samples are kept as floats, coarsest level first, so a stitched
- * texel interpolates exactly what the converter's stitching always did:
- * the coarser brick's values, its own stitched ones unrounded. Threads take
- * whole layers of the atlas: bricks that share texels lie in one layer, and
- * write the same bytes there.
+ * One pass of the rebuild. Coarse bricks' samples are kept as floats,
+ * coarsest level first, so a stitched texel interpolates exactly what the
+ * converter's stitching always did: the coarser brick's values, its own
+ * stitched ones unrounded. Threads take whole layers of the atlas: bricks
+ * that share texels lie in one layer, and write the same bytes there.
  */
-vdbgi_result vdbgi_pack_rebuild_values(vdbgi_volume *v, const vdbgi_pack_plan *pl,
-                                       const uint8_t *values, int threads, size_t *clamped_out)
+static vdbgi_result rebuild_pass(vdbgi_volume *v, const vdbgi_pack_plan *pl, const texel_codec *tc,
+                                 int threads, size_t *clamped_out)
 {
     vdbgi_context *const ctx = v->ctx;
     const size_t count = pl->brick_count;
@@ -488,14 +532,13 @@ vdbgi_result vdbgi_pack_rebuild_values(vdbgi_volume *v, const vdbgi_pack_plan *p
     const uint32_t layers = v->info.atlas_dims[1] / N;
     int nt = job_count(threads);
     nt = (uint32_t)nt > layers ? (int)layers : nt;
-    *clamped_out = 0;
     for (int level = (int)v->info.max_level; level >= -1; level--) {
         if (level == 0)
             continue;
         for (int t = 0; t < nt; t++)
             jobs[t] = (rebuild_job){.v = v,
                                     .pl = pl,
-                                    .values = values,
+                                    .tc = tc,
                                     .fs = fs,
                                     .cidx = cidx,
                                     .level = level,
@@ -510,13 +553,58 @@ vdbgi_result vdbgi_pack_rebuild_values(vdbgi_volume *v, const vdbgi_pack_plan *p
     return VDBGI_OK;
 }
 
+vdbgi_result vdbgi_pack_rebuild_values(vdbgi_volume *v, const vdbgi_pack_plan *pl,
+                                       const uint8_t *values, const int8_t *sh, int threads,
+                                       size_t *clamped_out)
+{
+    *clamped_out = 0;
+    const texel_codec l0 = {
+        .values = values, .stride = 4, .atlas = v->tex.atlas, .atlas_stride = 4};
+    VDBGI_TRY(rebuild_pass(v, pl, &l0, threads, clamped_out));
+    if (!sh)
+        return VDBGI_OK;
+    VDBGI_TRY(vdbgi_textures_alloc_sh(v->ctx, &v->tex));
+    for (int term = 0; term < 8; term++) {
+        const texel_codec tc = {.values = (const uint8_t *)sh + 3 * term,
+                                .stride = VDBGI_SH_BYTES,
+                                .atlas = (uint8_t *)v->tex.sh + 3 * term,
+                                .atlas_stride = VDBGI_SH_BYTES,
+                                .term = true};
+        VDBGI_TRY(rebuild_pass(v, pl, &tc, threads, clamped_out));
+    }
+    return VDBGI_OK;
+}
+
+/*
+ * The L2 terms' bytes from their planes: plane 3 term + channel, each byte
+ * plus the same byte of the stored point at p - x, else p - y, else p - z
+ * (else 0), mod 256 (docs/format.md, "Version 6").
+ */
+static void undo_term_residuals(const vdbgi_pack_plan *pl, const uint8_t *planes, uint8_t *sh)
+{
+    const size_t n = pl->points;
+    FOR_EACH_POINT(pl, p, i, {
+        int64_t nb[4];
+        neighbours(pl, p, nb);
+        const int64_t j = nb[0] >= 0 ? nb[0] : nb[1] >= 0 ? nb[1] : nb[3];
+        for (int k = 0; k < VDBGI_SH_BYTES; k++)
+            sh[VDBGI_SH_BYTES * i + k] =
+                (uint8_t)(planes[k * n + i] + (j >= 0 ? sh[VDBGI_SH_BYTES * (size_t)j + k] : 0));
+    });
+}
+
 vdbgi_result vdbgi_pack_rebuild(vdbgi_volume *v, const vdbgi_pack_plan *pl, const uint8_t *planes,
                                 int threads, size_t *clamped)
 {
-    uint8_t *const values = vdbgi_calloc(v->ctx, pl->points ? pl->points : 1, 4);
-    if (!values)
-        return VDBGI_ERR_OUT_OF_MEMORY;
     const size_t n = pl->points;
+    const bool with_sh = v->info.basis == VDBGI_BASIS_SH2;
+    uint8_t *const values = vdbgi_calloc(v->ctx, n ? n : 1, 4);
+    uint8_t *const sh = with_sh ? vdbgi_calloc(v->ctx, n ? n : 1, VDBGI_SH_BYTES) : NULL;
+    if (!values || (with_sh && !sh)) {
+        vdbgi_free(v->ctx, values);
+        vdbgi_free(v->ctx, sh);
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    }
     const bool rgbm = v->info.encoding == VDBGI_ENCODING_RGBM;
     FOR_EACH_POINT(pl, p, i, {
         int64_t nb[4];
@@ -527,8 +615,12 @@ vdbgi_result vdbgi_pack_rebuild(vdbgi_volume *v, const vdbgi_pack_plan *pl, cons
                                           predict(values, nb, k, rgbm && k < 3, values[4 * i + 3]));
         }
     });
-    const vdbgi_result r = vdbgi_pack_rebuild_values(v, pl, values, threads, clamped);
+    if (with_sh)
+        undo_term_residuals(pl, planes + 4 * n, sh);
+    const vdbgi_result r =
+        vdbgi_pack_rebuild_values(v, pl, values, (const int8_t *)sh, threads, clamped);
     vdbgi_free(v->ctx, values);
+    vdbgi_free(v->ctx, sh);
     return r;
 }
 

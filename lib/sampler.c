@@ -15,10 +15,19 @@ static int clampi(int v, int lo, int hi)
     return v < lo ? lo : v > hi ? hi : v;
 }
 
-/* One atlas texel as the texture unit sees it after format conversion. */
-static void fetch(const vdbgi_volume_view *v, int x, int y, int z, float out[4])
+/*
+ * One atlas texel as the texture unit sees it after format conversion; term
+ * 0..7 reads that L2 term's three snorm8 ratios instead.
+ */
+static void fetch(const vdbgi_volume_view *v, int x, int y, int z, int term, float out[4])
 {
     const size_t i = ((size_t)z * v->atlas_dims[1] + (size_t)y) * v->atlas_dims[0] + (size_t)x;
+    if (term >= 0) {
+        for (int k = 0; k < 3; k++)
+            out[k] = fmaxf((float)v->sh[24 * i + 3 * term + k] / 127.0f, -1.0f);
+        out[3] = 0.0f;
+        return;
+    }
     const uint8_t *const t = &v->atlas[4 * i];
     if (v->encoding == 1) {
         /* rgb9e5ufloat is decoded before filtering. */
@@ -34,8 +43,8 @@ static void fetch(const vdbgi_volume_view *v, int x, int y, int z, float out[4])
     }
 }
 
-/* LINEAR filtering at normalised coordinate uvw (texture-unit convention). */
-static void sample_linear(const vdbgi_volume_view *v, const float uvw[3], float out[4])
+/* LINEAR filtering at normalised coordinate uvw (texture-unit convention), of fetch's term. */
+static void sample_linear(const vdbgi_volume_view *v, const float uvw[3], int term, float out[4])
 {
     int i0[3], i1[3];
     float f[3];
@@ -53,7 +62,7 @@ static void sample_linear(const vdbgi_volume_view *v, const float uvw[3], float 
         const float w = (c & 1 ? f[0] : 1.0f - f[0]) * (c & 2 ? f[1] : 1.0f - f[1]) *
                         (c & 4 ? f[2] : 1.0f - f[2]);
         float t[4];
-        fetch(v, x, y, z, t);
+        fetch(v, x, y, z, term, t);
         for (int k = 0; k < 4; k++)
             out[k] += w * t[k];
     }
@@ -88,7 +97,8 @@ int vdbgi_cell_level(const vdbgi_volume_view *v, const uint8_t texel[4])
     return (int)texel[3] - 1;
 }
 
-void vdbgi_sampler_sample(const vdbgi_volume_view *v, const float pos[3], float rgb[3])
+/* Where the lookup reads the atlas for world position pos: normalised texture coordinates. */
+static void atlas_coordinates(const vdbgi_volume_view *v, const float pos[3], float uvw[3])
 {
     float p[3], base[3], ind[4];
     /* const p = box.mul(giRes).sub(0.5); const baseBrick = p.div(BRICK).floor() */
@@ -131,7 +141,6 @@ void vdbgi_sampler_sample(const vdbgi_volume_view *v, const float pos[3], float 
         b[k] = floorf(ind[k] * 255.0f + 0.5f);
     const float level = compact ? fmodf(b[3], 4.0f) : fmaxf(b[3] - 1.0f, 0.0f);
     const float span = exp2f(level);
-    float uvw[3];
     for (int k = 0; k < 3; k++) {
         const float origin_cell = floorf(base[k] / span) * span * (float)VDBGI_BRICK;
         float atlas_texel;
@@ -146,9 +155,43 @@ void vdbgi_sampler_sample(const vdbgi_volume_view *v, const float pos[3], float 
         }
         uvw[k] = (atlas_texel + 0.5f) / (float)v->atlas_dims[k];
     }
+}
+
+/* The atlas's colour at uvw: irr = sample.rgb * sample.a * RANGE for RGBM; RGB9E5 is linear. */
+static void colour_at(const vdbgi_volume_view *v, const float uvw[3], float rgb[3])
+{
     float s[4];
-    sample_linear(v, uvw, s);
-    /* irr = sample.rgb * sample.a * RANGE for RGBM; RGB9E5 is already linear. */
+    sample_linear(v, uvw, -1, s);
     for (int k = 0; k < 3; k++)
         rgb[k] = v->encoding == 1 ? s[k] : s[k] * s[3] * v->rgbm_range;
+}
+
+void vdbgi_sampler_sample(const vdbgi_volume_view *v, const float pos[3], float rgb[3])
+{
+    float uvw[3];
+    atlas_coordinates(v, pos, uvw);
+    colour_at(v, uvw, rgb);
+}
+
+void vdbgi_sampler_sample_normal(const vdbgi_volume_view *v, const float pos[3], const float n[3],
+                                 float rgb[3])
+{
+    float uvw[3];
+    atlas_coordinates(v, pos, uvw);
+    colour_at(v, uvw, rgb);
+    if (!v->sh)
+        return;
+    /* The eight polynomials of the normal (estimate.c's vdbgi_sh2_terms, in float32 here). */
+    const float x = n[0], y = n[1], z = n[2];
+    const float poly[8] = {x, y, z, x * y, y * z, 3.0f * z * z - 1.0f, x * z, x * x - y * y};
+    static const float range[8] = {2.0f, 2.0f, 2.0f, 1.875f, 1.875f, 0.625f, 1.875f, 0.9375f};
+    float sum[3] = {1.0f, 1.0f, 1.0f};
+    for (int t = 0; t < 8; t++) {
+        float r[4];
+        sample_linear(v, uvw, t, r);
+        for (int k = 0; k < 3; k++)
+            sum[k] += r[k] * range[t] * poly[t];
+    }
+    for (int k = 0; k < 3; k++)
+        rgb[k] = fmaxf(rgb[k] * sum[k], 0.0f);
 }

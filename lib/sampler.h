@@ -14,6 +14,7 @@ typedef struct vdbgi_volume_view {
     const uint8_t *indirection;
     uint32_t atlas_dims[3]; /* 4-byte texels, x fastest */
     const uint8_t *atlas;
+    const int8_t *sh; /* NULL, or the L2 terms: 24 snorm8 a texel (textures.h) */
 } vdbgi_volume_view;
 
 /* 4^3 probes a brick: 6^3 texels with a one-texel apron (seed), or 5^3 with a + border. */
@@ -28,6 +29,13 @@ static inline int vdbgi_slot_texels(uint32_t layout)
 }
 
 void vdbgi_sampler_sample(const vdbgi_volume_view *v, const float pos[3], float rgb[3]);
+/*
+ * With the normal n: L0 and, where the view has L2 terms, their ratios read
+ * with the same trilinear weights, then E(n) / pi = L0 (1 + sum r_k p_k(n)),
+ * at least 0 (docs/format.md, "Version 6"). Without terms, vdbgi_sampler_sample.
+ */
+void vdbgi_sampler_sample_normal(const vdbgi_volume_view *v, const float pos[3], const float n[3],
+                                 float rgb[3]);
 
 /*
  * The level of the brick an indirection texel points at, or -1 where the

@@ -26,8 +26,19 @@ vdbgi_result vdbgi_textures_alloc(vdbgi_context *ctx, vdbgi_textures *t, const u
     return VDBGI_OK;
 }
 
+vdbgi_result vdbgi_textures_alloc_sh(vdbgi_context *ctx, vdbgi_textures *t)
+{
+    int8_t *const sh = vdbgi_calloc(ctx, vdbgi_texels(t->atlas_dims), 24);
+    if (!sh)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    vdbgi_free(ctx, t->sh);
+    t->sh = sh;
+    return VDBGI_OK;
+}
+
 void vdbgi_textures_free(vdbgi_context *ctx, vdbgi_textures *t)
 {
+    vdbgi_free(ctx, t->sh);
     vdbgi_free(ctx, t->indirection);
     memset(t, 0, sizeof(*t));
 }

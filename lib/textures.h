@@ -14,6 +14,8 @@ typedef struct vdbgi_textures {
     uint32_t atlas_dims[3]; /* texels */
     uint8_t *indirection;   /* 4 x cells bytes, then the atlas's: one block */
     uint8_t *atlas;
+    int8_t *sh; /* L2 terms, or NULL: 24 a texel (term-major, RGB), a ratio to L0 in 127ths
+                   of the term's range (docs/format.md, "Version 6"); a block of its own */
 } vdbgi_textures;
 
 static inline size_t vdbgi_texels(const uint32_t d[3])
@@ -37,6 +39,8 @@ vdbgi_result vdbgi_textures_alloc(vdbgi_context *ctx, vdbgi_textures *t, const u
 void vdbgi_textures_adopt(vdbgi_textures *t, uint8_t *block, const uint32_t ind_dims[3],
                           const uint32_t atlas_dims[3]);
 
+/* The L2 terms' texels (zeroed) beside t's atlas, replacing any. */
+vdbgi_result vdbgi_textures_alloc_sh(vdbgi_context *ctx, vdbgi_textures *t);
 void vdbgi_textures_free(vdbgi_context *ctx, vdbgi_textures *t);
 
 #endif /* VDBGI_TEXTURES_H */

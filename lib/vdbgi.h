@@ -634,6 +634,11 @@ typedef enum vdbgi_fill {
  *   threads:    worker threads, 0 == every online core. The bytes do not
  *               depend on it.
  *   layout:     see vdbgi_layout (0: the compact layout).
+ *   scalar_only: 0: a volume of the compact layout carries the probes'
+ *               L2 terms when they have them (VDBGI_BASIS_SH2; .gi version
+ *               6, read with a normal: vdbgi_volume_sample_normal); 1: the
+ *               scalar alone, as seed 000 (version 5). The seed layout holds
+ *               the scalar only.
  */
 typedef struct vdbgi_convert_desc {
     float eps;
@@ -646,6 +651,7 @@ typedef struct vdbgi_convert_desc {
     void *progress_user;
     int threads;
     vdbgi_layout layout;
+    int scalar_only;
 } vdbgi_convert_desc;
 
 /* The RGBM range: colours up to this are encoded, brighter ones clamp. */
@@ -739,6 +745,7 @@ VDBGI_API void vdbgi_volume_destroy(vdbgi_volume *volume);
 typedef struct vdbgi_volume_info {
     vdbgi_encoding encoding;
     vdbgi_layout layout;
+    vdbgi_basis basis; /* VDBGI_BASIS_SCALAR, or VDBGI_BASIS_SH2: L2 terms beside the atlas */
     float rgbm_range;
     float spacing;                /* finest probe spacing, metres */
     float box_min[3], box_max[3]; /* world box the indirection covers, metres */
@@ -762,7 +769,8 @@ typedef struct vdbgi_volume_info {
     /* The runtime's indirection, as vdbgi's shaders upload it instead of the 3D one
        (docs/format.md): a 2D RGBA8 texture; size 0 above VDBGI_COLUMNS_ROW^2 texels. */
     uint32_t columns_dims[2];
-    size_t columns_size; /* bytes; the GPU holds columns_size + atlas_size */
+    size_t columns_size; /* bytes; the GPU holds columns_size + atlas_size + sh_size */
+    size_t sh_size;      /* L2 terms: 24 bytes an atlas texel (six RGBA8 snorm textures), or 0 */
 } vdbgi_volume_info;
 
 VDBGI_API void vdbgi_volume_get_info(const vdbgi_volume *volume, vdbgi_volume_info *info);
@@ -797,6 +805,17 @@ VDBGI_API size_t vdbgi_volume_copy_columns(const vdbgi_volume *volume, void *buf
  * docs/format.md).
  */
 VDBGI_API void vdbgi_volume_sample(const vdbgi_volume *volume, const float pos[3], float rgb[3]);
+
+/*
+ * What a surface with unit normal n reads at pos, E(n) / pi: with L2 terms,
+ * the L0 colour and the eight terms' ratios to it, each read as
+ * vdbgi_volume_sample reads the atlas (one trilinear weight set), then
+ * c0 (1 + sum r_k p_k(n)) clamped at 0 a channel (docs/format.md, "Version
+ * 6"); a scalar volume reads what vdbgi_volume_sample does. The caller moves
+ * pos off its surface as it sees fit (the runtime: a quarter spacing).
+ */
+VDBGI_API void vdbgi_volume_sample_normal(const vdbgi_volume *volume, const float pos[3],
+                                          const float n[3], float rgb[3]);
 
 typedef enum vdbgi_axis { VDBGI_AXIS_X = 0, VDBGI_AXIS_Y = 1, VDBGI_AXIS_Z = 2 } vdbgi_axis;
 

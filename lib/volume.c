@@ -62,6 +62,7 @@ vdbgi_volume_view vdbgi_volume_view_of(const vdbgi_volume *v)
     }
     view.indirection = v->tex.indirection;
     view.atlas = v->tex.atlas;
+    view.sh = v->tex.sh;
     return view;
 }
 
@@ -69,6 +70,13 @@ void vdbgi_volume_sample(const vdbgi_volume *v, const float pos[3], float rgb[3]
 {
     const vdbgi_volume_view view = vdbgi_volume_view_of(v);
     vdbgi_sampler_sample(&view, pos, rgb);
+}
+
+void vdbgi_volume_sample_normal(const vdbgi_volume *v, const float pos[3], const float n[3],
+                                float rgb[3])
+{
+    const vdbgi_volume_view view = vdbgi_volume_view_of(v);
+    vdbgi_sampler_sample_normal(&view, pos, n, rgb);
 }
 
 /* Column (x, z)'s run: the cells from its lowest to its highest that are not 0,0,0,0. */
@@ -137,6 +145,7 @@ void vdbgi_volume_get_info(const vdbgi_volume *v, vdbgi_volume_info *info)
 {
     *info = v->info;
     info->columns_size = columns(v, NULL, 0, info->columns_dims);
+    info->sh_size = v->info.basis == VDBGI_BASIS_SH2 ? 6 * v->info.atlas_size : 0;
 }
 
 size_t vdbgi_volume_copy_columns(const vdbgi_volume *v, void *buffer, size_t capacity)
@@ -475,9 +484,28 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
         probes->invalid_threshold, desc ? desc->fill : VDBGI_FILL_AUTO, cp.threads);
     fp.filter_below = cp.layout == VDBGI_LAYOUT_COMPACT ? 0 : 1; /* compact: no apron */
     fp.lift = cp.layout == VDBGI_LAYOUT_COMPACT;
-    const vdbgi_fill_input in = {probes->count, probes->ijk, probes->rgb, probes->backface, 1};
+    /* L2 terms go through the fill with L0, as one field of nine colours a point. */
+    float *joined = NULL;
+    if (probes->sh && cp.layout == VDBGI_LAYOUT_COMPACT && !(desc && desc->scalar_only)) {
+        info->basis = VDBGI_BASIS_SH2;
+        if (!(joined = vdbgi_alloc(ctx, 27 * sizeof(float) * probes->count))) {
+            vdbgi_volume_destroy(v);
+            return VDBGI_ERR_OUT_OF_MEMORY;
+        }
+        for (size_t i = 0; i < probes->count; i++) {
+            memcpy(&joined[27 * i], &probes->rgb[3 * i], 3 * sizeof(float));
+            memcpy(&joined[27 * i + 3], &probes->sh[24 * i], 24 * sizeof(float));
+        }
+    }
+    const vdbgi_fill_input in = {.count = probes->count,
+                                 .ijk = probes->ijk,
+                                 .values = joined ? joined : probes->rgb,
+                                 .backface = probes->backface,
+                                 .channels = joined ? 9 : 1,
+                                 .signed_terms = joined != NULL};
     vdbgi_result r = vdbgi_field_fill(ctx, &in, &fp, &v->filled, &cells, &cell_count, &top_only,
                                       &top_count, &info->unreached_count);
+    vdbgi_free(ctx, joined);
     if (r != VDBGI_OK)
         goto fail;
     for (size_t li = 0; li < v->filled.leaf_count; li++)

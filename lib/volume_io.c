@@ -58,7 +58,7 @@ static vdbgi_result from_body(vdbgi_context *ctx, const char *name, const vdbgi_
     v->ctx = ctx;
     v->info = *info;
     vdbgi_result r;
-    if (version == VDBGI_GI_VERSION) { /* packed: kept, so that it writes back as it came */
+    if (version >= 5) { /* packed: kept, so that it writes back as it came */
         v->payload = body;
         v->payload_size = body_size;
         r = vdbgi_pack_read(v, name);
@@ -120,13 +120,14 @@ static vdbgi_result file_bytes(const vdbgi_volume *v)
         return VDBGI_OK;
     VDBGI_FAIL_IF(v->ctx, !v->payload && !v->tex.indirection, VDBGI_ERR_INVALID_ARG,
                   "volume has nothing to write");
-    uint8_t h[VDBGI_GI_HEADER_SIZE];
-    vdbgi_gifile_header(&v->info, v->payload != NULL, h);
+    uint8_t h[VDBGI_GI_HEADER_MAX];
+    const size_t header_size = vdbgi_gifile_header(&v->info, v->payload != NULL, h);
     vdbgi_volume *const cache = (vdbgi_volume *)(uintptr_t)v;
     const uint8_t *const body = v->payload ? v->payload : v->tex.indirection;
     const size_t body_size =
         v->payload ? v->payload_size : v->info.indirection_size + v->info.atlas_size;
-    return vdbgi_gifile_gzip(v->ctx, h, body, body_size, &cache->file, &cache->info.file_size);
+    return vdbgi_gifile_gzip(v->ctx, h, header_size, body, body_size, &cache->file,
+                             &cache->info.file_size);
 }
 
 vdbgi_result vdbgi_volume_write(const vdbgi_volume *v, const char *path)
@@ -146,7 +147,7 @@ size_t vdbgi_volume_write_memory(const vdbgi_volume *v, void *buffer, size_t cap
 
 typedef struct texture_file {
     const vdbgi_volume *v;
-    uint8_t header[VDBGI_GI_HEADER_SIZE];
+    uint8_t header[VDBGI_GI_HEADER_MAX];
 } texture_file;
 
 static vdbgi_result write_textures(vdbgi_context *ctx, const char *tmp, const void *user)
@@ -156,7 +157,7 @@ static vdbgi_result write_textures(vdbgi_context *ctx, const char *tmp, const vo
     FILE *const f = fopen(tmp, "wb");
     VDBGI_FAIL_IF(ctx, !f, VDBGI_ERR_IO, "%s: cannot write: %s", tmp, strerror(errno));
     const size_t body = v->info.indirection_size + v->info.atlas_size;
-    const bool ok = fwrite(tf->header, 1, sizeof(tf->header), f) == sizeof(tf->header) &&
+    const bool ok = fwrite(tf->header, 1, VDBGI_GI_HEADER_SIZE, f) == VDBGI_GI_HEADER_SIZE &&
                     fwrite(v->tex.indirection, 1, body, f) == body;
     const int saved = errno;
     if (fclose(f) != 0 || !ok)
@@ -168,6 +169,9 @@ static vdbgi_result write_textures(vdbgi_context *ctx, const char *tmp, const vo
 vdbgi_result vdbgi_volume_write_textures(const vdbgi_volume *v, const char *path)
 {
     VDBGI_FAIL_IF(v->ctx, !v->tex.atlas, VDBGI_ERR_INVALID_ARG, "volume has no textures");
+    VDBGI_FAIL_IF(v->ctx, v->info.basis != VDBGI_BASIS_SCALAR, VDBGI_ERR_INVALID_ARG,
+                  "the textures' file (version 2) holds no L2 terms: convert with the scalar "
+                  "basis for it");
     texture_file tf = {.v = v};
     vdbgi_gifile_header(&v->info, false, tf.header);
     return vdbgi_write_atomic(v->ctx, path, write_textures, &tf);

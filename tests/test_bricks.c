@@ -1147,6 +1147,121 @@ static void textures_and_probes_copy_into_caller_buffers_after_a_size_query(void
     vdbgi_context_destroy(ctx);
 }
 
+/*
+ * L2 terms in bricks (.gi version 6): a surface reads its own side, as the
+ * probes' own L2 does; the L0 atlas is the scalar volume's, byte for byte;
+ * the file round-trips, does not depend on the thread count, and a damaged
+ * basis, a cut or a wrong version is refused.
+ */
+static void l2_bricks_read_each_side_and_round_trip(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    const float lo[3] = {-4.0f, 0.0f, -4.0f}, hi[3] = {4.0f, 8.0f, 4.0f};
+    test_mesh_plane(&m, 16.0f, 0.0f);
+    test_mesh_box(&m, lo, hi, 0);
+    const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.6f, 0);
+    vdbgi_scene *scene = NULL;
+    vdbgi_probes *p = NULL;
+    const vdbgi_place_desc pd = {.spacing = 0.5, .origin = {0.25, 0.25, 0.25}, .origin_is_set = 1};
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &scene), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, scene, &pd, &p), VDBGI_OK);
+    const vdbgi_bake_desc bd = {.rays = 64, .basis = VDBGI_BASIS_SH2};
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, scene, &bd, NULL), VDBGI_OK);
+    vdbgi_convert_desc cd = {.eps = VDBGI_ZERO, .max_level = VDBGI_ZERO, .threads = 1};
+    vdbgi_volume *v = NULL, *v3 = NULL, *scalar = NULL, *back = NULL;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
+    cd.threads = 3;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v3), VDBGI_OK);
+    cd.scalar_only = 1;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &scalar), VDBGI_OK);
+    if (!v || !v3 || !scalar)
+        goto done;
+    CHECK(v->info.basis == VDBGI_BASIS_SH2 && scalar->info.basis == VDBGI_BASIS_SCALAR);
+    CHECK(v->tex.sh != NULL && scalar->tex.sh == NULL);
+    /* The terms leave L0 alone: the fill's choices, the bricks and the atlas are the scalar's. */
+    CHECK(v->info.atlas_size == scalar->info.atlas_size &&
+          memcmp(v->tex.atlas, scalar->tex.atlas, v->info.atlas_size) == 0);
+    /* Half a metre over the lit floor, two metres from the box: all eight probes valid. */
+    const float at[3] = {6.1f, 0.5f, 0.1f}, up[3] = {0, 1, 0}, down[3] = {0, -1, 0};
+    float vu[3], vd[3], pu[3], pdn[3], flat[3];
+    vdbgi_volume_sample_normal(v, at, up, vu);
+    vdbgi_volume_sample_normal(v, at, down, vd);
+    vdbgi_volume_sample_normal(scalar, at, up, flat);
+    CHECK_RESULT(ctx, vdbgi_probes_sample_points(p, 1, at, up, 0.0f, pu, NULL), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_sample_points(p, 1, at, down, 0.0f, pdn, NULL), VDBGI_OK);
+    for (int k = 0; k < 3; k++) {
+        CHECK_NEAR(vu[k], pu[k], 0.1f * pdn[k] + 1e-4f);
+        CHECK_NEAR(vd[k], pdn[k], 0.1f * pdn[k] + 1e-4f);
+    }
+    /* Facing the floor reads far more than facing the black sky; the scalar sits between. */
+    CHECK(vd[1] > 2.0f * vu[1] && flat[1] < vd[1] && flat[1] > vu[1]);
+    /* Same bytes for one thread and three; the file reads back to the same textures. */
+    const size_t size = vdbgi_volume_write_memory(v, NULL, 0);
+    CHECK(size > 0 && size == vdbgi_volume_write_memory(v3, NULL, 0) &&
+          memcmp(v->file, v3->file, size) == 0);
+    CHECK_RESULT(ctx, vdbgi_volume_write(v, tmp_path("l2.gi.gz")), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("l2.gi.gz"), &back), VDBGI_OK);
+    if (back) {
+        CHECK(back->info.basis == VDBGI_BASIS_SH2 && back->tex.sh);
+        CHECK(memcmp(back->tex.atlas, v->tex.atlas, v->info.atlas_size) == 0);
+        CHECK(back->tex.sh && memcmp(back->tex.sh, v->tex.sh, 6 * v->info.atlas_size) == 0);
+        float again[3];
+        vdbgi_volume_sample_normal(back, at, down, again);
+        CHECK(memcmp(again, vd, sizeof(again)) == 0);
+        CHECK_RESULT(ctx, vdbgi_volume_write_textures(back, tmp_path("l2-textures.gi")),
+                     VDBGI_ERR_INVALID_ARG);
+        CHECK(strstr(vdbgi_context_error(ctx), "L2") != NULL);
+    }
+    /* The plain file: header (116 bytes, version 6) and payload; then damaged. */
+    uint8_t h[VDBGI_GI_HEADER_MAX];
+    const size_t hs = vdbgi_gifile_header(&v->info, true, h);
+    CHECK(hs == 116 && vdbgi_get_u32(h + 8) == 6 && vdbgi_get_u32(h + 112) == 2);
+    const size_t raw = hs + v->payload_size;
+    CHECK(v->payload_size ==
+          v->info.indirection_size / 4 + 6 * v->info.brick_count + 28 * v->info.stored_points);
+    uint8_t *const plain = malloc(raw);
+    memcpy(plain, h, hs);
+    memcpy(plain + hs, v->payload, v->payload_size);
+    const struct {
+        size_t offset, size; /* bytes written; size < raw cuts the file */
+        uint32_t value;      /* at offset, if offset < hs */
+        const char *says;
+    } damage[] = {{raw, raw, 0, NULL},
+                  {112, raw, 3, "unknown basis 3"},
+                  {8, raw, 5, "cannot come from"},
+                  {12, raw, 112, "bad header size"},
+                  {raw, raw - 1, 0, "cannot come from"},
+                  {raw, 114, 0, "too short"}};
+    for (size_t d = 0; d < sizeof(damage) / sizeof(damage[0]); d++) {
+        uint8_t *const copy = malloc(raw);
+        memcpy(copy, plain, raw);
+        if (damage[d].offset < hs)
+            vdbgi_put_u32(copy + damage[d].offset, damage[d].value);
+        FILE *f = fopen(tmp_path("l2-damaged.gi"), "wb");
+        fwrite(copy, 1, damage[d].size, f);
+        fclose(f);
+        vdbgi_volume *r = NULL;
+        CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("l2-damaged.gi"), &r),
+                     damage[d].says ? VDBGI_ERR_FORMAT : VDBGI_OK);
+        if (damage[d].says && !strstr(vdbgi_context_error(ctx), damage[d].says)) {
+            fprintf(stderr, "case %zu: %s\n", d, vdbgi_context_error(ctx));
+            CHECK(false);
+        }
+        vdbgi_volume_destroy(r);
+        free(copy);
+    }
+    free(plain);
+done:
+    vdbgi_volume_destroy(back);
+    vdbgi_volume_destroy(scalar);
+    vdbgi_volume_destroy(v3);
+    vdbgi_volume_destroy(v);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(scene);
+    vdbgi_context_destroy(ctx);
+}
+
 int main(void)
 {
     test_tmpdir_make("test-bricks");
@@ -1170,6 +1285,7 @@ int main(void)
     RUN(levels_png_shows_each_cells_level);
     RUN(failing_allocations_are_reported_without_leaks);
     RUN(textures_and_probes_copy_into_caller_buffers_after_a_size_query);
+    RUN(l2_bricks_read_each_side_and_round_trip);
     test_tmpdir_remove();
     return CHECK_EXIT();
 }

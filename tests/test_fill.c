@@ -25,7 +25,8 @@ static vdbgi_result fill(vdbgi_context *ctx, const int32_t *ijk, const float *va
 {
     vdbgi_fill_params fp =
         vdbgi_fill_params_default(0.25f, darkest ? VDBGI_FILL_DARKEST : VDBGI_FILL_MEAN, threads);
-    const vdbgi_fill_input in = {count, ijk, values, backface, channels};
+    const vdbgi_fill_input in = {
+        .count = count, .ijk = ijk, .values = values, .backface = backface, .channels = channels};
     return vdbgi_field_fill(ctx, &in, &fp, field, cells, cell_count, NULL, NULL, unreached);
 }
 
@@ -274,7 +275,9 @@ static void no_source_is_refused(void)
                  VDBGI_ERR_FORMAT);
     CHECK(strstr(vdbgi_context_error(ctx), "no valid probe") != NULL);
     CHECK(cells == NULL && f.leaves == NULL);
-    CHECK_RESULT(ctx, fill(ctx, ijk, rgb, &bf, 1, 7, true, 0, &f, &cells, &cell_count, &unreached),
+    CHECK_RESULT(ctx,
+                 fill(ctx, ijk, rgb, &bf, 1, VDBGI_FIELD_MAX_CHANNELS + 1, true, 0, &f, &cells,
+                      &cell_count, &unreached),
                  VDBGI_ERR_INVALID_ARG);
     vdbgi_context_destroy(ctx);
 }

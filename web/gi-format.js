@@ -3,7 +3,8 @@
 // in a worker and in node (tests/js), and it refuses, with an Error naming the
 // problem, every file docs/format.md says a reader must refuse, so no lookup
 // can ever leave the textures. A version 5 file (the compact layout, each
-// probe stored once) has its textures rebuilt by gi-packed.js.
+// probe stored once) has its textures rebuilt by gi-packed.js; version 6 adds
+// L2 terms, rebuilt there too into six RGBA8 snorm textures (gi.sh).
 import { rebuildPacked } from './gi-packed.js';
 
 export const ENCODING_RGBM = 0;
@@ -16,6 +17,10 @@ const OLD_LAYOUT_SEED = 0, OLD_LAYOUT_COMPACT = 3;
 const ATLAS_MAX = 1024; // a compact brick's first texel is 4 r + two bits of a: at most 1023
 
 const HEADER_BYTES = 112;
+// Version 6: the basis field follows, and 24 term bytes a stored point.
+const HEADER_BYTES_V6 = 116;
+export const BASIS_SCALAR = 0;
+export const BASIS_SH2 = 2;
 
 // Texels a brick side, the border before its first probe, and where a coarse
 // probe stands inside its block (0.5: block centres, seed; 0: corners, compact).
@@ -104,19 +109,23 @@ function parseHeader(buf) {
   // Versions 3 and 4 were older compact forms, no longer read.
   if (version === 3 || version === 4)
     throw new Error(`an older vdbgi's compact layout (.gi version ${version}): convert the .vdb again`);
-  if (version < 1 || version > 5) throw new Error(`unsupported version ${version}`);
+  if (version < 1 || version > 6) throw new Error(`unsupported version ${version}`);
   const field = u32(104);
   const isCompact = field === LAYOUT_COMPACT || field === OLD_LAYOUT_COMPACT;
   const isSeed = field === LAYOUT_SEED || field === OLD_LAYOUT_SEED;
   if (version === 1 ? field !== 0
-    : version === 5 ? field !== LAYOUT_COMPACT
+    : version >= 5 ? field !== LAYOUT_COMPACT
       : !isSeed && !isCompact)
     throw new Error(`unknown layout ${field} for version ${version}`);
   const layout = isCompact ? LAYOUT_COMPACT : LAYOUT_SEED;
   const headerSize = u32(12);
+  // Version 6 says its basis: L2, the only one it holds.
+  if (version === 6 && buf.length < HEADER_BYTES_V6) throw new Error('shorter than a .gi header');
+  if (version === 6 && u32(112) !== BASIS_SH2) throw new Error(`unknown basis ${u32(112)}`);
   const gi = {
     version,
     layout,
+    basis: version === 6 ? BASIS_SH2 : BASIS_SCALAR,
     encoding: u32(16),
     rgbmRange: f32(20),
     indDims: vec(24, u32),
@@ -131,7 +140,8 @@ function parseHeader(buf) {
   const compact = layout === LAYOUT_COMPACT;
   // The seed atlas is whole 6^3 slots, 256 an axis; the compact one's texels are free.
   const [step, lo, hi] = compact ? [1, brick, ATLAS_MAX] : [brick, brick, 256 * brick];
-  if (headerSize < HEADER_BYTES || headerSize > 65536) throw new Error(`bad header size ${headerSize}`);
+  if (headerSize < (version === 6 ? HEADER_BYTES_V6 : HEADER_BYTES) || headerSize > 65536)
+    throw new Error(`bad header size ${headerSize}`);
   if (gi.encoding > ENCODING_RGB9E5) throw new Error(`unknown encoding ${gi.encoding}`);
   if (!(gi.rgbmRange > 0) || !Number.isFinite(gi.rgbmRange)) throw new Error('bad RGBM range');
   for (let k = 0; k < 3; k++) {
@@ -147,7 +157,7 @@ function parseHeader(buf) {
   if (indBytes !== bytes(gi.indDims) || atlasBytes !== bytes(gi.atlasDims))
     throw new Error('texture sizes disagree with their dimensions');
   if (version < 5 && u32(108) !== 0) throw new Error('reserved header field is not 0');
-  const packed = version === 5;
+  const packed = version >= 5;
   gi.storedPoints = packed ? u32(108) : 0;
   // Every brick stores inner points of its own (27 at levels 0 and 1, 8 at 2, 1 at 3):
   // the bricks are bounded by what the file holds.
@@ -155,9 +165,10 @@ function parseHeader(buf) {
   if (packed && least > gi.storedPoints)
     throw new Error(`the header's bricks need at least ${least} stored points, it has ${gi.storedPoints}`);
   // Version 5 stores a level byte a cell, 6 bytes a brick (its place) and 4 a
-  // stored point, not the textures.
+  // stored point, not the textures; version 6 24 more a point, the L2 terms.
   const brickCount = gi.bricks.reduce((a, b) => a + b, 0);
-  const stored = packed ? indBytes / 4 + 6 * brickCount + 4 * gi.storedPoints : indBytes + atlasBytes;
+  const pointBytes = version === 6 ? 28 : 4;
+  const stored = packed ? indBytes / 4 + 6 * brickCount + pointBytes * gi.storedPoints : indBytes + atlasBytes;
   return { gi, headerSize, stored };
 }
 
@@ -166,10 +177,11 @@ function parseBody(gi, buf, headerSize) {
   const { brick } = layoutGeometry(gi.layout);
   const compact = gi.layout === LAYOUT_COMPACT;
   const indBytes = 4 * gi.indDims[0] * gi.indDims[1] * gi.indDims[2];
-  if (gi.version === 5) {
-    const { indirection, atlas } = rebuildPacked(gi, buf.subarray(headerSize));
+  if (gi.version >= 5) {
+    const { indirection, atlas, sh } = rebuildPacked(gi, buf.subarray(headerSize));
     gi.indirection = indirection;
     gi.atlas = atlas;
+    if (sh) gi.sh = sh;
     return gi;
   }
   gi.indirection = buf.subarray(headerSize, headerSize + indBytes);
@@ -221,7 +233,7 @@ export async function decodeGi(fileBytes, timings = {}) {
   // anything larger is unpacked.
   let head;
   try {
-    head = await gunzipPrefix(fileBytes, HEADER_BYTES);
+    head = await gunzipPrefix(fileBytes, HEADER_BYTES_V6);
   } catch (e) {
     throw new Error(`not a gzip'd .gi file, or cut short (${e.message})`);
   }

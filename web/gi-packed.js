@@ -1,6 +1,6 @@
-// gi-packed.js: the runtime textures of a version 5 .gi (docs/format.md,
-// "Version 5"), rebuilt from its level bytes, its bricks' places and the
-// probe values it stores once. Bit for bit what lib/packed.c rebuilds: every float operation below
+// gi-packed.js: the runtime textures of a version 5 or 6 .gi (docs/format.md,
+// "Version 5" and "Version 6"), rebuilt from its level bytes, its bricks'
+// places and the probe values (and L2 terms) it stores once. Bit for bit what lib/packed.c rebuilds: every float operation below
 // is a float32 one (Math.fround) in the C code's order, and the encoders
 // round as the C ones do, so a test can compare the two byte for byte.
 
@@ -299,40 +299,55 @@ export function rebuildPacked(gi, payload) {
     if (m === 0) return values[4 * j + k];
     return Math.min(Math.floor((2 * values[4 * j + k] * values[4 * j + 3] + m) / (2 * m)), 255);
   };
-  let i = 0;
-  for (let cz = 0; cz < g[2]; cz++)
-    for (let cy = 0; cy < g[1]; cy++)
-      for (let cx = 0; cx < g[0]; cx++) {
-        const c = (cz * g[1] + cy) * g[0] + cx;
-        if (!lo32[c] && !hi32[c]) continue;
-        for (let bit = 0; bit < 64; bit++) {
-          if (!(((bit < 32 ? lo32[c] : hi32[c]) >>> (bit & 31)) & 1)) continue;
-          const x = cx * 4 + (bit & 3), y = cy * 4 + ((bit >> 2) & 3), z = cz * 4 + (bit >> 4);
-          const a = at3(x - 1, y, z), b = at3(x, y - 1, z), cc = at3(x - 1, y - 1, z), e = at3(x, y, z - 1);
-          for (let o = 0; o < 4; o++) {
-            const k = order[o];
-            const m = rgbm && k < 3 ? values[4 * i + 3] : 0;
-            let pred = 0;
-            if (a >= 0 && b >= 0 && cc >= 0) {
-              const A = rescaled(a, k, m), B = rescaled(b, k, m), C = rescaled(cc, k, m);
-              const lo = Math.min(A, B), hi = Math.max(A, B);
-              pred = C >= hi ? lo : C <= lo ? hi : A + B - C;
-            } else {
-              const j = a >= 0 ? a : b >= 0 ? b : e;
-              if (j >= 0) pred = rescaled(j, k, m);
-            }
-            values[4 * i + k] = (planes[k * points + i] + pred) & 255;
+  // Every stored point in storage order: visit(i, x, y, z).
+  const forEachPoint = (visit) => {
+    let i = 0;
+    for (let cz = 0; cz < g[2]; cz++)
+      for (let cy = 0; cy < g[1]; cy++)
+        for (let cx = 0; cx < g[0]; cx++) {
+          const c = (cz * g[1] + cy) * g[0] + cx;
+          if (!lo32[c] && !hi32[c]) continue;
+          for (let bit = 0; bit < 64; bit++) {
+            if (!(((bit < 32 ? lo32[c] : hi32[c]) >>> (bit & 31)) & 1)) continue;
+            visit(i++, cx * 4 + (bit & 3), cy * 4 + ((bit >> 2) & 3), cz * 4 + (bit >> 4));
           }
-          i++;
         }
-      }
-  // The atlas: stored texels copied; stitched ones interpolated from their
-  // coarser brick (coarse bricks' samples kept as floats, coarsest first).
-  const decode = (idx, out) => {
-    if (idx < 0) out.fill(0);
-    else if (rgbm) rgbmDecode(values, 4 * idx, gi.rgbmRange, out);
-    else rgb9e5Decode(values, 4 * idx, out);
   };
+  forEachPoint((i, x, y, z) => {
+    const a = at3(x - 1, y, z), b = at3(x, y - 1, z), cc = at3(x - 1, y - 1, z), e = at3(x, y, z - 1);
+    for (let o = 0; o < 4; o++) {
+      const k = order[o];
+      const m = rgbm && k < 3 ? values[4 * i + 3] : 0;
+      let pred = 0;
+      if (a >= 0 && b >= 0 && cc >= 0) {
+        const A = rescaled(a, k, m), B = rescaled(b, k, m), C = rescaled(cc, k, m);
+        const lo = Math.min(A, B), hi = Math.max(A, B);
+        pred = C >= hi ? lo : C <= lo ? hi : A + B - C;
+      } else {
+        const j = a >= 0 ? a : b >= 0 ? b : e;
+        if (j >= 0) pred = rescaled(j, k, m);
+      }
+      values[4 * i + k] = (planes[k * points + i] + pred) & 255;
+    }
+  });
+  // Version 6: each stored point's 24 L2 term bytes, from the 24 planes after
+  // the values: a residual on the same byte of the point at -x, else -y, else -z.
+  let terms = null;
+  if (gi.version === 6) {
+    terms = new Uint8Array(24 * points);
+    const tplanes = planes.subarray(4 * points);
+    forEachPoint((i, x, y, z) => {
+      const a = at3(x - 1, y, z), b = at3(x, y - 1, z), e = at3(x, y, z - 1);
+      const j = a >= 0 ? a : b >= 0 ? b : e;
+      for (let k = 0; k < 24; k++)
+        terms[24 * i + k] = (tplanes[k * points + i] + (j >= 0 ? terms[24 * j + k] : 0)) & 255;
+    });
+  }
+  // One pass of the rebuild (lib/packed.c's rebuild_pass): stored texels
+  // copied, stitched ones interpolated from their coarser brick (coarse
+  // bricks' samples kept as floats, coarsest first) and encoded.
+  // decode(idx, out): a stored point's three numbers; copy(idx, texel): its
+  // bytes into atlas texel `texel`; encode(rgb, texel): a stitched value.
   const cidx = new Int32Array(count).fill(-1);
   let coarse = 0;
   for (let b = 0; b < count; b++) if (lv[b]) cidx[b] = coarse++;
@@ -342,38 +357,68 @@ export function rebuildPacked(gi, payload) {
     interpolate(fs.subarray(cidx[j] * TEXELS * 3, (cidx[j] + 1) * TEXELS * 3), keys[j], cl, p, tmp);
     out[0] = tmp[0], out[1] = tmp[1], out[2] = tmp[2];
   };
-  for (let level = gi.maxLevel; level >= 1; level--)
-    for (let b = 0; b < count; b++) {
-      if (lv[b] !== level) continue;
-      for (let t = 0; t < TEXELS; t++) {
-        const s = fs.subarray((cidx[b] * TEXELS + t) * 3, (cidx[b] * TEXELS + t) * 3 + 3);
-        if (stitched(b, t)) interpolateFrom(coarseIndex, coarseLevel, point, s);
-        else {
-          texelPoint(b, t, point);
-          decode(indexOf(point), s);
+  const pass = (decode, copy, encode) => {
+    for (let level = gi.maxLevel; level >= 1; level--)
+      for (let b = 0; b < count; b++) {
+        if (lv[b] !== level) continue;
+        for (let t = 0; t < TEXELS; t++) {
+          const s = fs.subarray((cidx[b] * TEXELS + t) * 3, (cidx[b] * TEXELS + t) * 3 + 3);
+          if (stitched(b, t)) interpolateFrom(coarseIndex, coarseLevel, point, s);
+          else {
+            texelPoint(b, t, point);
+            decode(indexOf(point), s);
+          }
         }
       }
-    }
-  const atlas = new Uint8Array(4 * dims[0] * dims[1] * dims[2]);
-  for (let b = 0; b < count; b++) {
-    const bx = origin[3 * b], by = origin[3 * b + 1], bz = origin[3 * b + 2];
-    const span = 1 << lv[b], key = keys[b], any = stitch[4 * b] | stitch[4 * b + 1] | stitch[4 * b + 2] | stitch[4 * b + 3];
-    for (let t = 0, qz = 0; qz < N; qz++)
-      for (let qy = 0; qy < N; qy++)
-        for (let qx = 0; qx < N; qx++, t++) {
-          const o = 4 * (((bz + qz) * dims[1] + by + qy) * dims[0] + bx + qx);
-          if (!(any && stitched(b, t))) {
-            const idx = at3((key[0] * 4 + qx) * span, (key[1] * 4 + qy) * span, (key[2] * 4 + qz) * span);
-            if (idx >= 0)
-              atlas[o] = values[4 * idx], atlas[o + 1] = values[4 * idx + 1],
-              atlas[o + 2] = values[4 * idx + 2], atlas[o + 3] = values[4 * idx + 3];
-            continue;
+    for (let b = 0; b < count; b++) {
+      const bx = origin[3 * b], by = origin[3 * b + 1], bz = origin[3 * b + 2];
+      const span = 1 << lv[b], key = keys[b], any = stitch[4 * b] | stitch[4 * b + 1] | stitch[4 * b + 2] | stitch[4 * b + 3];
+      for (let t = 0, qz = 0; qz < N; qz++)
+        for (let qy = 0; qy < N; qy++)
+          for (let qx = 0; qx < N; qx++, t++) {
+            const texel = ((bz + qz) * dims[1] + by + qy) * dims[0] + bx + qx;
+            if (!(any && stitched(b, t))) {
+              const idx = at3((key[0] * 4 + qx) * span, (key[1] * 4 + qy) * span, (key[2] * 4 + qz) * span);
+              if (idx >= 0) copy(idx, texel);
+              continue;
+            }
+            if (cidx[b] >= 0) rgb.set(fs.subarray((cidx[b] * TEXELS + t) * 3, (cidx[b] * TEXELS + t) * 3 + 3));
+            else interpolateFrom(coarseIndex, coarseLevel, point, rgb);
+            encode(rgb, texel);
           }
-          if (cidx[b] >= 0) rgb.set(fs.subarray((cidx[b] * TEXELS + t) * 3, (cidx[b] * TEXELS + t) * 3 + 3));
-          else interpolateFrom(coarseIndex, coarseLevel, point, rgb);
-          if (rgbm) rgbmEncode(rgb, gi.rgbmRange, atlas, o);
-          else rgb9e5Encode(rgb, atlas, o);
-        }
-  }
-  return { indirection, atlas, storedPoints: points };
+    }
+  };
+  const atlas = new Uint8Array(4 * dims[0] * dims[1] * dims[2]);
+  pass((idx, out) => {
+    if (idx < 0) out.fill(0);
+    else if (rgbm) rgbmDecode(values, 4 * idx, gi.rgbmRange, out);
+    else rgb9e5Decode(values, 4 * idx, out);
+  }, (idx, texel) => {
+    atlas.set(values.subarray(4 * idx, 4 * idx + 4), 4 * texel);
+  }, (c, texel) => {
+    if (rgbm) rgbmEncode(c, gi.rgbmRange, atlas, 4 * texel);
+    else rgb9e5Encode(c, atlas, 4 * texel);
+  });
+  if (!terms) return { indirection, atlas, storedPoints: points };
+  // The L2 terms (docs/format.md, "Version 6"): term byte j = 3 term + channel
+  // of a texel goes to texture j >> 2, component j & 3; each term's three
+  // signed bytes interpolate as numbers (-128 as -127), rounded half to even.
+  const texels = dims[0] * dims[1] * dims[2];
+  const sh = Array.from({ length: 6 }, () => new Int8Array(4 * texels));
+  const signed = (v) => (v > 127 ? Math.max(v - 256, -127) : v);
+  for (let term = 0; term < 8; term++)
+    pass((idx, out) => {
+      for (let k = 0; k < 3; k++) out[k] = idx < 0 ? 0 : signed(terms[24 * idx + 3 * term + k]);
+    }, (idx, texel) => {
+      for (let k = 0; k < 3; k++) {
+        const j = 3 * term + k;
+        sh[j >> 2][4 * texel + (j & 3)] = terms[24 * idx + j];
+      }
+    }, (c, texel) => {
+      for (let k = 0; k < 3; k++) {
+        const j = 3 * term + k;
+        sh[j >> 2][4 * texel + (j & 3)] = rint(Math.min(Math.max(c[k], -127), 127));
+      }
+    });
+  return { indirection, atlas, storedPoints: points, sh };
 }

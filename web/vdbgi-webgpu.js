@@ -11,7 +11,8 @@
 import { MeshStandardNodeMaterial, MeshLambertNodeMaterial } from 'three/webgpu';
 import {
   uniform, texture3D, textureLoad, ivec2, vec3, vec4, float, floor, exp2, max, min, mod, clamp, dot, mix, select,
-  fwidth, positionWorld, varying, output, diffuseColor, materialEmissive,
+  fwidth, positionWorld, normalView, normalLocal, modelNormalMatrix, cameraViewMatrix, inverseSqrt, Fn, varying,
+  output, diffuseColor, materialEmissive,
 } from 'three/tsl';
 import * as TSL from 'three/tsl';
 import * as WEBGPU from 'three/webgpu';
@@ -35,18 +36,27 @@ function giNodes(runtime) {
     layout: uniform(u.giLayout.value),
     decode: uniform(u.giDecode.value),
     debug: uniform(0, 'int').onRenderUpdate(() => u.giDebug.value),
+    basis: uniform(0).onRenderUpdate(() => u.giBasis.value),
     world: uniform(u.world.value),
     character: uniform(u.character.value),
     // Each lookup gets its own texture nodes; a new volume re-points them all.
     texture: (which, at) => {
-      const t = which === 'ind' ? textureLoad(u.giColumns.value, at) : texture3D(u.giAtlas.value, at);
+      const t = which === 'ind' ? textureLoad(u.giColumns.value, at)
+        : texture3D(which === 'atlas' ? u.giAtlas.value : u.giSh.value[Number(which.slice(2))], at);
       textures[which].push(new WeakRef(t));
       return t;
     },
   };
   // Seed 000's volumeIrradiance(), as vdbgi.js's GLSL: returns irradiance,
-  // level (-1: no brick) and the position inside the brick (0..1).
-  n.lookup = (pos) => {
+  // level (-1: no brick) and the position inside the brick (0..1). With L2
+  // terms, read a quarter spacing off the surface along its world normal nrm,
+  // and evaluated for it (docs/format.md, "Version 6").
+  n.lookup = (pos0, nrm0) => {
+    // A zero normal (a mesh without normals, per vertex) reads L0 alone.
+    const nn = dot(nrm0, nrm0);
+    const l2 = n.basis.greaterThan(0).and(nn.greaterThan(0.25));
+    const nrm = select(l2, nrm0.mul(inverseSqrt(max(nn, 0.25))), vec3(0));
+    const pos = pos0.add(nrm.mul(n.boxSize.x.div(n.indDims.x.mul(4)).mul(0.25)));
     const p = pos.sub(n.boxMin).div(n.boxSize).mul(n.indDims.mul(4)).sub(0.5);
     const baseBrick0 = floor(p.div(4));
     // The cell's indirection texel from its column's run, as the GLSL (docs/format.md).
@@ -79,8 +89,20 @@ function giNodes(runtime) {
     const low = mod(floor(vec3(ind.a).div(vec3(4, 16, 64))), 4);
     const first = select(compact, ind.rgb.mul(4).add(low), ind.rgb.mul(6).add(n.layout.y));
     const texel = first.add(q);
-    const s = n.texture('atlas', texel.add(0.5).div(n.atlasDims));
-    const irradiance = select(n.decode.x.greaterThan(0), s.rgb.mul(s.a).mul(n.decode.x), s.rgb);
+    const uvw = texel.add(0.5).div(n.atlasDims);
+    const s = n.texture('atlas', uvw);
+    const l0 = select(n.decode.x.greaterThan(0), s.rgb.mul(s.a).mul(n.decode.x), s.rgb);
+    // Term byte j = 3 term + channel in texture j / 4, component j mod 4, as q + 128.
+    const c = [];
+    for (let i = 0; i < 6; i++) {
+      const q = max(n.texture(`sh${i}`, uvw).mul(255).sub(128).div(127), -1);
+      c.push(q.x, q.y, q.z, q.w);
+    }
+    const poly = [nrm.x.mul(2), nrm.y.mul(2), nrm.z.mul(2), nrm.x.mul(nrm.y).mul(1.875), nrm.y.mul(nrm.z).mul(1.875),
+      nrm.z.mul(nrm.z).mul(3).sub(1).mul(0.625), nrm.x.mul(nrm.z).mul(1.875), nrm.x.mul(nrm.x).sub(nrm.y.mul(nrm.y)).mul(0.9375)];
+    let sum = vec3(1);
+    for (let k = 0; k < 8; k++) sum = sum.add(vec3(c[3 * k], c[3 * k + 1], c[3 * k + 2]).mul(poly[k]));
+    const irradiance = select(l2, max(l0.mul(sum), 0), l0);
     const empty = ind.r.add(ind.g).add(ind.b).add(ind.a).equal(0);
     const levelOut = select(compact, select(empty, float(-1), level), ind.a.sub(1));
     return { irradiance, level: levelOut, inBrick: p.sub(originCell).div(span.mul(4)) };
@@ -108,22 +130,25 @@ const standardDiffuse = () => TSL.diffuseContribution ?? WEBGPU.TSL?.diffuseCont
 export class GiRuntime extends GiRuntimeBase {
   constructor() {
     super();
-    this._textureNodes = { ind: [], atlas: [] };
+    this._textureNodes = { ind: [], atlas: [], sh0: [], sh1: [], sh2: [], sh3: [], sh4: [], sh5: [] };
     this._nodes = giNodes(this);
   }
 
   setVolume(volume) {
     super.setVolume(volume);
-    for (const [which, name] of [['ind', 'giColumns'], ['atlas', 'giAtlas']])
-      for (const ref of this._textureNodes[which]) {
+    const u = this.uniforms;
+    const now = { ind: u.giColumns.value, atlas: u.giAtlas.value };
+    u.giSh.value.forEach((t, i) => { now[`sh${i}`] = t; });
+    for (const [which, refs] of Object.entries(this._textureNodes))
+      for (const ref of refs) {
         const t = ref.deref();
-        if (t) t.value = this.uniforms[name].value;
+        if (t) t.value = now[which];
       }
   }
 
-  // The irradiance node at world position `pos` (default: the fragment's).
-  irradianceNode(pos = positionWorld) {
-    return this._nodes.lookup(pos).irradiance;
+  // The irradiance node at world position `pos` for world normal `normal` (default: the fragment's).
+  irradianceNode(pos = positionWorld, normal = fragmentNormal()) {
+    return this._nodes.lookup(pos, normal).irradiance;
   }
 
   // Add GI to a material, as vdbgi.js's apply(): a MeshStandardMaterial,
@@ -144,9 +169,18 @@ export class GiRuntime extends GiRuntimeBase {
   }
 }
 
+// The fragment's world normal, from its view normal in the fragment stage (flat
+// shading's derivatives included): three 0.175's normalWorld is a varying, made
+// in the vertex stage, where a flat-shaded material's derivatives do not exist.
+const fragmentNormal = () => normalView.transformDirection(cameraViewMatrix);
+// A vertex's world normal (instancing already in normalLocal), or zero for a mesh
+// without normals (normalLocal would warn there): the lookup then reads L0.
+const vertexNormal = () =>
+  Fn((builder) => (builder.geometry?.hasAttribute?.('normal') ? modelNormalMatrix.mul(normalLocal) : vec3(0)))();
+
 function applyNodes(material, n, { set, perFragment }) {
-  const here = n.lookup(positionWorld);
-  const irradiance = perFragment ? here.irradiance : varying(n.lookup(positionWorld).irradiance);
+  const here = n.lookup(positionWorld, fragmentNormal());
+  const irradiance = perFragment ? here.irradiance : varying(n.lookup(positionWorld, vertexNormal()).irradiance);
   const albedo = material.isMeshStandardNodeMaterial ? standardDiffuse() : diffuseColor.rgb;
   const bounce = n.bounce(irradiance, albedo, n[set]).mul(n.decode.y);
   material.emissiveNode = (material.emissiveNode ?? materialEmissive).add(bounce);
@@ -168,7 +202,8 @@ function applyNodes(material, n, { set, perFragment }) {
   material.outputNode = select(view(DebugView.PROBE), vec4(irradiance, 1),
     select(view(DebugView.LEVEL), vec4(levelColour, 1),
       select(view(DebugView.BRICKS), vec4(boundaries, 1),
-        select(view(DebugView.POSITION), vec4(positionWorld, 1), output))));
+        select(view(DebugView.POSITION), vec4(positionWorld, 1),
+          select(view(DebugView.NORMAL), vec4(fragmentNormal().normalize(), 1), output)))));
   material.needsUpdate = true;
   return material;
 }

@@ -21,7 +21,7 @@ export { ENCODING_RGBM, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT } from './g
 
 // Debug views: what a material with GI shows instead of its lit colour. The
 // runtime's `debug` takes one of these or its name in lower case ('level').
-export const DebugView = Object.freeze({ OFF: 0, PROBE: 1, LEVEL: 2, BRICKS: 3, POSITION: 4 });
+export const DebugView = Object.freeze({ OFF: 0, PROBE: 1, LEVEL: 2, BRICKS: 3, POSITION: 4, NORMAL: 5 });
 
 function debugViewId(view) {
   if (typeof view === 'string' && Object.hasOwn(DebugView, view.toUpperCase())) return DebugView[view.toUpperCase()];
@@ -62,6 +62,7 @@ export async function loadGi(source, { renderer = null, signal } = {}) {
   if (renderer) {
     renderer.initTexture(volume.columns);
     renderer.initTexture(volume.atlas);
+    for (const t of volume.sh ?? []) renderer.initTexture(t);
     const gl = renderer.getContext?.();
     if (gl && gl.finish) gl.finish();
   }
@@ -76,7 +77,7 @@ export async function loadGi(source, { renderer = null, signal } = {}) {
 // storedPoints); `columns` and `atlas` are the two textures the GPU gets.
 export class GiVolume {
   constructor(header, fileBytes) {
-    const { indirection, atlas: atlasBytes, ...info } = header;
+    const { indirection, atlas: atlasBytes, sh: shBytes, ...info } = header;
     this.info = Object.freeze(info);
     this.fileBytes = fileBytes;
     const [ax, ay, az] = header.atlasDims;
@@ -101,7 +102,17 @@ export class GiVolume {
       atlas.type = THREE.UnsignedByteType;
     }
     atlas.minFilter = atlas.magFilter = THREE.LinearFilter;
-    for (const t of [ind, atlas]) {
+    // L2 terms (version 6): six textures of four signed ratios, uploaded as
+    // unorm bytes q + 128 (filtering is linear either way; WebGL2 and WebGPU
+    // both filter RGBA8), read back as (255 t - 128) / 127 in the shader.
+    this.sh = shBytes ? shBytes.map((q) => {
+      const t = new THREE.Data3DTexture(Uint8Array.from(q, (v) => v + 128), ax, ay, az);
+      t.format = THREE.RGBAFormat;
+      t.type = THREE.UnsignedByteType;
+      t.minFilter = t.magFilter = THREE.LinearFilter;
+      return t;
+    }) : null;
+    for (const t of [ind, atlas, ...(this.sh ?? [])]) {
       t.wrapS = t.wrapT = t.wrapR = THREE.ClampToEdgeWrapping;
       t.generateMipmaps = false;
       t.unpackAlignment = 4;
@@ -113,7 +124,7 @@ export class GiVolume {
     this.boxMin = new THREE.Vector3(...header.boxMin);
     this.boxMax = new THREE.Vector3(...header.boxMax);
     // No mipmaps, 4 bytes a texel: what the GPU holds is the atlas and the columns.
-    this.vramBytes = columns.data.length + atlasBytes.length;
+    this.vramBytes = columns.data.length + atlasBytes.length * (this.sh ? 7 : 1);
   }
 
   get bricks() { return this.info.bricks; }
@@ -121,6 +132,7 @@ export class GiVolume {
   dispose() {
     this.columns.dispose();
     this.atlas.dispose();
+    for (const t of this.sh ?? []) t.dispose();
   }
 }
 
@@ -153,6 +165,9 @@ export class GiRuntimeBase {
       giColumns: { value: this._empty.ind },
       giColumnsDims: { value: new THREE.Vector2(2, 1) },
       giAtlas: { value: this._empty.atlas },
+      // L2 terms: six textures (the empty one without), and whether there are any.
+      giSh: { value: Array(6).fill(this._empty.atlas) },
+      giBasis: { value: 0 },
       giBoxMin: { value: new THREE.Vector3(0, 0, 0) },
       giBoxSize: { value: new THREE.Vector3(1, 1, 1) },
       giIndDims: { value: new THREE.Vector3(1, 1, 1) },
@@ -196,6 +211,8 @@ export class GiRuntimeBase {
       u.giColumnsDims.value.set(2, 1);
       u.giIndDims.value.set(1, 1, 1);
       u.giAtlas.value = this._empty.atlas;
+      u.giSh.value = Array(6).fill(this._empty.atlas);
+      u.giBasis.value = 0;
       u.giDecode.value.set(0, 0);
       return;
     }
@@ -204,6 +221,8 @@ export class GiRuntimeBase {
     u.giColumns.value = volume.columns;
     u.giColumnsDims.value.set(volume.columns.image.width, volume.columns.image.height);
     u.giAtlas.value = volume.atlas;
+    u.giSh.value = volume.sh ?? Array(6).fill(this._empty.atlas);
+    u.giBasis.value = volume.sh ? 2 : 0;
     u.giBoxMin.value.copy(volume.boxMin);
     u.giBoxSize.value.subVectors(volume.boxMax, volume.boxMin);
     u.giIndDims.value.set(...h.indDims);
@@ -273,8 +292,8 @@ export class GiRuntime extends GiRuntimeBase {
     const u = this.uniforms;
     material.onBeforeCompile = (shader, renderer) => {
       previous?.call(material, shader, renderer);
-      for (const name of ['giColumns', 'giColumnsDims', 'giAtlas', 'giBoxMin', 'giBoxSize', 'giIndDims', 'giAtlasDims',
-        'giLayout', 'giDecode', 'giDebug'])
+      for (const name of ['giColumns', 'giColumnsDims', 'giAtlas', 'giSh', 'giBasis', 'giBoxMin', 'giBoxSize',
+        'giIndDims', 'giAtlasDims', 'giLayout', 'giDecode', 'giDebug'])
         shader.uniforms[name] = u[name];
       shader.uniforms.giKnobs = knobs;
       shader.vertexShader = shader.vertexShader
@@ -301,6 +320,8 @@ export class GiRuntime extends GiRuntimeBase {
 const GLSL_LOOKUP = /* glsl */ `
 uniform highp sampler2D giColumns;
 uniform highp sampler3D giAtlas;
+uniform highp sampler3D giSh[6];
+uniform int giBasis;
 uniform vec3 giBoxMin, giBoxSize, giIndDims, giAtlasDims, giLayout;
 uniform vec2 giColumnsDims, giDecode;
 uniform int giDebug;
@@ -315,7 +336,15 @@ vec4 vdbgiColumnsTexel(float i) {
   row += col < 0.0 ? -1.0 : (col >= w ? 1.0 : 0.0);
   return floor(texelFetch(giColumns, ivec2(int(i - row * w), int(row)), 0) * 255.0 + 0.5);
 }
-GiLookup vdbgiLookup(vec3 pos) {
+// n: the receiver's world normal. With L2 terms (docs/format.md, "Version 6")
+// the position moves a quarter spacing along it, off its own surface, and the
+// six term textures, read where the atlas is, turn L0 into E(n) / pi. A zero
+// normal (a mesh without normals, per vertex) reads L0 alone.
+GiLookup vdbgiLookup(vec3 pos, vec3 n) {
+  float nn = dot(n, n);
+  bool l2 = giBasis > 0 && nn > 0.25;
+  n = l2 ? n * inversesqrt(nn) : vec3(0.0);
+  pos += n * (0.25 * giBoxSize.x / (giIndDims.x * 4.0));
   vec3 p = (pos - giBoxMin) / giBoxSize * (giIndDims * 4.0) - 0.5;
   vec3 baseBrick = floor(p / 4.0);
   // The cell's texel of the indirection, read from its column's run (docs/format.md,
@@ -343,9 +372,22 @@ GiLookup vdbgiLookup(vec3 pos) {
   vec3 first = compact ? ind.rgb * 4.0 + mod(floor(ind.a / vec3(4.0, 16.0, 64.0)), 4.0)
                        : ind.rgb * 6.0 + giLayout.y;
   vec3 texel = first + q;
-  vec4 s = texture(giAtlas, (texel + 0.5) / giAtlasDims);
+  vec3 uvw = (texel + 0.5) / giAtlasDims;
+  vec4 s = texture(giAtlas, uvw);
   GiLookup r;
   r.irradiance = giDecode.x > 0.0 ? s.rgb * s.a * giDecode.x : s.rgb;
+  if (l2) {
+    // Term byte j = 3 term + channel in texture j / 4, component j mod 4.
+    // (GLSL ES 3.0 indexes a sampler array by constants only: one line a texture.)
+    float t[24];
+    ${[0, 1, 2, 3, 4, 5].map((i) => `vec4 q${i} = max((texture(giSh[${i}], uvw) * 255.0 - 128.0) / 127.0, -1.0);
+    t[${4 * i}] = q${i}.x; t[${4 * i + 1}] = q${i}.y; t[${4 * i + 2}] = q${i}.z; t[${4 * i + 3}] = q${i}.w;`).join('\n    ')}
+    float poly[8] = float[8](n.x * 2.0, n.y * 2.0, n.z * 2.0, n.x * n.y * 1.875, n.y * n.z * 1.875,
+                             (3.0 * n.z * n.z - 1.0) * 0.625, n.x * n.z * 1.875, (n.x * n.x - n.y * n.y) * 0.9375);
+    vec3 sum = vec3(1.0);
+    for (int k = 0; k < 8; k++) sum += vec3(t[3 * k], t[3 * k + 1], t[3 * k + 2]) * poly[k];
+    r.irradiance = max(r.irradiance * sum, 0.0);
+  }
   r.level = compact ? (ind == vec4(0.0) ? -1.0 : level) : ind.a - 1.0;
   r.inBrick = (p - originCell) / (4.0 * span);
   return r;
@@ -359,6 +401,10 @@ varying vec3 vGiIrradiance;
 #endif
 `;
 
+// The world normal from three's view-space one (instancing and the normal
+// matrix already in it).
+const GLSL_WORLD_NORMAL = (viewNormal) => `(vec4(${viewNormal}, 0.0) * viewMatrix).xyz`;
+
 const GLSL_VERTEX = /* glsl */ `
 {
   vec4 giWorld = vec4(transformed, 1.0);
@@ -371,7 +417,7 @@ const GLSL_VERTEX = /* glsl */ `
   giWorld = modelMatrix * giWorld;
   vGiWorld = giWorld.xyz;
   #ifdef VDBGI_PER_VERTEX
-  vGiIrradiance = vdbgiLookup(vGiWorld).irradiance;
+  vGiIrradiance = vdbgiLookup(vGiWorld, ${GLSL_WORLD_NORMAL('transformedNormal')}).irradiance;
   #endif
 }
 `;
@@ -382,11 +428,12 @@ varying vec3 vGiWorld;
 varying vec3 vGiIrradiance;
 #endif
 uniform vec3 giKnobs; // intensity, self, bleed
-vec3 vdbgiIrradianceHere() {
+// n: the fragment's world normal (main()'s normal, turned to world space).
+vec3 vdbgiIrradianceHere(vec3 n) {
   #ifdef VDBGI_PER_VERTEX
   return vGiIrradiance;
   #else
-  return vdbgiLookup(vGiWorld).irradiance;
+  return vdbgiLookup(vGiWorld, n).irradiance;
   #endif
 }
 // The seed's stylisation: self scales the part of the bounce's colour that
@@ -410,20 +457,20 @@ const STANDARD_DIFFUSE = THREE.ShaderChunk.lights_physical_pars_fragment.include
 
 const GLSL_SHADE = /* glsl */ `
 #if defined( STANDARD )
-reflectedLight.indirectDiffuse += giDecode.y * vdbgiBounce(vdbgiIrradianceHere(), material.${STANDARD_DIFFUSE}, giKnobs);
+reflectedLight.indirectDiffuse += giDecode.y * vdbgiBounce(vdbgiIrradianceHere(${GLSL_WORLD_NORMAL('normal')}), material.${STANDARD_DIFFUSE}, giKnobs);
 #else
-reflectedLight.indirectDiffuse += giDecode.y * vdbgiBounce(vdbgiIrradianceHere(), material.diffuseColor, giKnobs);
+reflectedLight.indirectDiffuse += giDecode.y * vdbgiBounce(vdbgiIrradianceHere(${GLSL_WORLD_NORMAL('normal')}), material.diffuseColor, giKnobs);
 #endif
 `;
 
-// Debug views replace the final colour; PROBE and POSITION write linear
+// Debug views replace the final colour; PROBE, POSITION and NORMAL write linear
 // values, so a float render target reads back exactly what the lookup returned.
 const GLSL_DEBUG = /* glsl */ `
 if (giDebug != ${DebugView.OFF}) {
-  GiLookup giL = vdbgiLookup(vGiWorld);
+  GiLookup giL = vdbgiLookup(vGiWorld, ${GLSL_WORLD_NORMAL('normal')});
   vec3 giC;
   if (giDebug == ${DebugView.PROBE}) {
-    giC = vdbgiIrradianceHere();
+    giC = vdbgiIrradianceHere(${GLSL_WORLD_NORMAL('normal')});
   } else if (giDebug == ${DebugView.LEVEL}) {
     giC = giL.level < 0.0 ? ${glslVec3(LEVEL_COLOURS[0])} : giL.level < 0.5 ? ${glslVec3(LEVEL_COLOURS[1])}
         : giL.level < 1.5 ? ${glslVec3(LEVEL_COLOURS[2])} : giL.level < 2.5 ? ${glslVec3(LEVEL_COLOURS[3])}
@@ -435,11 +482,13 @@ if (giDebug != ${DebugView.OFF}) {
     d.y = giL.inBrick.y < 0.0 ? 1e6 : d.y;
     float edge = 1.0 - clamp(min(d.x, min(d.y, d.z)) - 0.5, 0.0, 1.0);
     giC = mix(giL.irradiance, vec3(0.0), edge);
+  } else if (giDebug == ${DebugView.NORMAL}) {
+    giC = normalize(${GLSL_WORLD_NORMAL('normal')});
   } else {
     giC = vGiWorld;
   }
-  // Positions go out raw; colours through the output's colour space
+  // Positions and normals go out raw; colours through the output's colour space
   // (the identity for a linear float target).
-  gl_FragColor = giDebug == ${DebugView.POSITION} ? vec4(giC, 1.0) : linearToOutputTexel(vec4(giC, 1.0));
+  gl_FragColor = giDebug >= ${DebugView.POSITION} ? vec4(giC, 1.0) : linearToOutputTexel(vec4(giC, 1.0));
 }
 `;

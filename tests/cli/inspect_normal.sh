@@ -1,6 +1,7 @@
 # Directional probes (--basis sh2) read with a normal: over the open ground a
 # surface facing down gets the lit ground, one facing up the black sky, one
 # facing sideways lies between; the scalar reads the same whatever the normal.
+# The bricks carry the terms (.gi version 6) and read alike.
 # The L2 terms open in pyopenvdb as eight vec3s grids; a file missing one of
 # them reads as scalar, one holding a NaN term is refused by name.
 "$BIN/gi-bake" -q "$DATA/world.glb" -o sh.vdb --basis sh2 --rays 64 >/dev/null
@@ -19,8 +20,15 @@ c=$(first scalar.vdb --at 0,0.1,0)
 "$BIN/gi-inspect" sh.vdb | grep -E '^meta +basis='
 "$BIN/gi-inspect" sh.vdb --at 0,0.1,0 --normal 0,0,0 >/dev/null 2>err; echo "exit $? $(cat err)"
 "$BIN/gi-inspect" sh.vdb --at 0,0.1,0 --normal 1,nan,0 >/dev/null 2>err; echo "exit $? $(cat err)"
+# The same through the bricks (.gi version 6); a scalar .gi has no side to read.
 "$BIN/vdb-to-gi" -q sh.vdb -o sh.gi.gz
-"$BIN/gi-inspect" sh.gi.gz --at 0,0.1,0 --normal 0,1,0 >/dev/null 2>err; echo "exit $? $(cat err)"
+"$BIN/vdb-to-gi" -q sh.vdb -o flat.gi.gz --basis scalar
+up=$(first sh.gi.gz --at 0,0.1,0 --normal 0,1,0)
+down=$(first sh.gi.gz --at 0,0.1,0 --normal 0,-1,0)
+echo "$up|$down" | awk -F'|' '{ split($1, u, " "); split($2, d, " ");
+    print "bricks: down > 5 x up:", (d[2] > 5 * u[2]) ? "yes" : "no" }'
+"$BIN/gi-inspect" sh.gi.gz | sed -n 's/^\(basis  *L2: eight terms a texel beside the atlas\).*/\1/p'
+"$BIN/gi-inspect" flat.gi.gz --at 0,0.1,0 --normal 0,1,0 >/dev/null 2>err; echo "exit $? $(cat err)"
 /usr/bin/python3 - <<'PY'
 import math
 import pyopenvdb as vdb

@@ -26,7 +26,7 @@ function atlasTexel(gi, x, y, z) {
 // A texture unit's LINEAR filter at normalised coordinates, clamp to edge.
 // With `detail`, also the spread (largest minus smallest) of each channel over
 // the eight texels it blends, which bounds what a filter's weight error can do.
-function sampleLinear(gi, uvw, detail) {
+function sampleLinear(gi, uvw, detail, texel = atlasTexel) {
   const i0 = [], i1 = [], fr = [];
   for (let k = 0; k < 3; k++) {
     const dim = gi.atlasDims[k];
@@ -40,7 +40,7 @@ function sampleLinear(gi, uvw, detail) {
   for (let c = 0; c < 8; c++) {
     const w = f(f((c & 1 ? fr[0] : f(1 - fr[0])) * (c & 2 ? fr[1] : f(1 - fr[1]))) *
                 (c & 4 ? fr[2] : f(1 - fr[2])));
-    const t = atlasTexel(gi, c & 1 ? i1[0] : i0[0], c & 2 ? i1[1] : i0[1], c & 4 ? i1[2] : i0[2]);
+    const t = texel(gi, c & 1 ? i1[0] : i0[0], c & 2 ? i1[1] : i0[1], c & 4 ? i1[2] : i0[2]);
     for (let k = 0; k < 4; k++) {
       out[k] = f(out[k] + f(w * t[k]));
       lo[k] = Math.min(lo[k], t[k]);
@@ -54,9 +54,23 @@ function sampleLinear(gi, uvw, detail) {
   return out;
 }
 
+// L2 term `term`'s three ratios at an atlas texel, as a snorm8 texture reads them.
+const termTexel = (term) => (gi, x, y, z) => {
+  const [dx, dy] = gi.atlasDims;
+  const out = [0, 0, 0, 0];
+  for (let k = 0; k < 3; k++) {
+    const j = 3 * term + k;
+    out[k] = Math.max(f(gi.sh[j >> 2][4 * ((z * dy + y) * dx + x) + (j & 3)] / 127), -1);
+  }
+  return out;
+};
+const RANGE = [2, 2, 2, 1.875, 1.875, 0.625, 1.875, 0.9375];
+
 // The seed's volumeIrradiance(): NEAREST indirection, level and slot, LINEAR atlas, decode;
-// the compact layout changes only where a brick's probes stand.
-export function sampleGi(gi, pos, detail = null) {
+// the compact layout changes only where a brick's probes stand. With a unit
+// normal and L2 terms (version 6), what a surface facing it reads
+// (docs/format.md, "Version 6"), in lib/sampler.c's float32 order.
+export function sampleGi(gi, pos, detail = null, normal = null) {
   const p = [], base = [];
   for (let k = 0; k < 3; k++) {
     const box = f(f(pos[k] - gi.boxMin[k]) / f(gi.boxMax[k] - gi.boxMin[k]));
@@ -109,6 +123,25 @@ export function sampleGi(gi, pos, detail = null) {
     uvw[k] = f(f(texel + 0.5) / gi.atlasDims[k]);
   }
   const s = sampleLinear(gi, uvw, detail);
-  return gi.encoding === 1 ? [s[0], s[1], s[2]]
-                           : [0, 1, 2].map((k) => f(f(s[k] * s[3]) * gi.rgbmRange));
+  const rgb = gi.encoding === 1 ? [s[0], s[1], s[2]]
+                                : [0, 1, 2].map((k) => f(f(s[k] * s[3]) * gi.rgbmRange));
+  if (!normal || !gi.sh) return rgb;
+  const [x, y, z] = normal;
+  const poly = [x, y, z, f(x * y), f(y * z), f(f(f(3 * z) * z) - 1), f(x * z), f(f(x * x) - f(y * y))];
+  const sum = [1, 1, 1];
+  // detail.termWeight[k]: how far channel k's sum moves per unit of filter error, over the terms.
+  if (detail) detail.termWeight = [0, 0, 0];
+  for (let t = 0; t < 8; t++) {
+    const d = detail ? {} : null;
+    const r = sampleLinear(gi, uvw, d, termTexel(t));
+    for (let k = 0; k < 3; k++) {
+      sum[k] = f(sum[k] + f(f(r[k] * RANGE[t]) * poly[t]));
+      if (detail) detail.termWeight[k] += d.spread[k] * RANGE[t] * Math.abs(poly[t]);
+    }
+  }
+  if (detail) {
+    detail.sum = sum;
+    detail.l0 = rgb;
+  }
+  return rgb.map((v, k) => Math.max(f(v * sum[k]), 0));
 }

@@ -97,6 +97,7 @@ async function probe(task) {
   const ctx = await setup(task);
   ctx.mode('fragment');
   const pos = await readFloat(ctx, DebugView.POSITION);
+  const normal = await readFloat(ctx, DebugView.NORMAL);
   const irr = await readFloat(ctx, DebugView.PROBE);
   const level = await readFloat(ctx, DebugView.LEVEL);
   const bricks = await readFloat(ctx, DebugView.BRICKS);
@@ -135,6 +136,7 @@ async function probe(task) {
     const y = (ctx.backend === 'webgpu' ? 1 - v.y : v.y + 1) / 2 * ctx.height; // readback rows
     offPixel = Math.max(offPixel, Math.hypot(x - (i % ctx.width + 0.5), y - (Math.floor(i / ctx.width) + 0.5)));
     points.push({ pixel: i, pos: Array.from(pos.subarray(4 * i, 4 * i + 3)),
+      normal: Array.from(normal.subarray(4 * i, 4 * i + 3)),
       irr: Array.from(irr.subarray(4 * i, 4 * i + 3)), level: Array.from(level.subarray(4 * i, 4 * i + 3)),
       physical: Array.from(physical.subarray(4 * i, 4 * i + 3)), styled: Array.from(styled.subarray(4 * i, 4 * i + 3)),
       halfMetal: Array.from(halfMetal.subarray(4 * i, 4 * i + 3)) });
