@@ -397,7 +397,7 @@ vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels, const 
  * What one rebuild pass reads and writes: each stored point's bytes (stride
  * apart, from values), copied into the atlas texels (atlas_stride apart), or
  * for a stitched texel interpolated and encoded. The L0 colours are the
- * volume's encoding; an L2 term's three bytes are signed 127ths, which
+ * volume's encoding; the L2 terms' 24 bytes are signed 127ths, which
  * interpolate as numbers (docs/format.md, "Version 6").
  */
 typedef struct texel_codec {
@@ -405,7 +405,8 @@ typedef struct texel_codec {
     size_t stride;
     uint8_t *atlas;
     size_t atlas_stride;
-    bool term; /* three int8 of an L2 term, not a 4-byte colour */
+    bool terms;   /* the 24 int8 of the L2 terms, not a 4-byte colour */
+    int channels; /* floats a sample: 3, or 24 */
 } texel_codec;
 
 static uint8_t *atlas_texel(const vdbgi_volume *v, const vdbgi_pack_plan *pl, const texel_codec *tc,
@@ -418,25 +419,23 @@ static uint8_t *atlas_texel(const vdbgi_volume *v, const vdbgi_pack_plan *pl, co
     return &tc->atlas[tc->atlas_stride * ((z * d[1] + y) * d[0] + x)];
 }
 
-static void decode_any(const vdbgi_volume *v, const texel_codec *tc, const uint8_t *in,
-                       float out[3])
+static void decode_any(const vdbgi_volume *v, const texel_codec *tc, const uint8_t *in, float *out)
 {
-    if (!tc->term) {
+    if (!tc->terms) {
         decode_texel(v, in, out);
         return;
     }
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < VDBGI_SH_BYTES; k++) {
         const int8_t q = (int8_t)in[k];
         out[k] = q < -127 ? -127.0f : (float)q; /* snorm8: -128 reads as -1 */
     }
 }
 
-static bool encode_any(const vdbgi_volume *v, const texel_codec *tc, const float in[3],
-                       uint8_t *out)
+static bool encode_any(const vdbgi_volume *v, const texel_codec *tc, const float *in, uint8_t *out)
 {
-    if (!tc->term)
+    if (!tc->terms)
         return encode_texel(v, in, out);
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < VDBGI_SH_BYTES; k++) {
         const float q = in[k] > 127.0f ? 127.0f : in[k] < -127.0f ? -127.0f : in[k];
         out[k] = (uint8_t)(int8_t)lrintf(q); /* float32, to nearest even */
     }
@@ -448,7 +447,7 @@ typedef struct rebuild_job {
     const vdbgi_volume *v;
     const vdbgi_pack_plan *pl;
     const texel_codec *tc;
-    float (*fs)[TEXELS][3]; /* coarse bricks' samples, by cidx */
+    float *fs; /* coarse bricks' samples, by cidx: TEXELS x channels floats each */
     const int32_t *cidx;
     int level; /* the coarse level whose samples to compute, or -1: write the atlas */
     uint32_t y_begin, y_end;
@@ -460,9 +459,11 @@ static void *rebuild_worker(void *arg)
     rebuild_job *const job = arg;
     const vdbgi_pack_plan *const pl = job->pl;
     const texel_codec *const tc = job->tc;
-    float(*const fs)[TEXELS][3] = job->fs;
+    const int ch = tc->channels;
     const int32_t *const cidx = job->cidx;
-    const int bytes = tc->term ? 3 : 4;
+    const size_t bytes = tc->terms ? VDBGI_SH_BYTES : 4;
+    /* Coarse brick c's sample t. */
+#define SAMPLE(c, t) (&job->fs[((size_t)(c)*TEXELS + (size_t)(t)) * (size_t)ch])
     for (size_t b = 0; b < pl->brick_count; b++) {
         if (pl->origin[b][1] < job->y_begin || pl->origin[b][1] >= job->y_end ||
             (job->level >= 0 && pl->level[b] != job->level))
@@ -476,13 +477,13 @@ static void *rebuild_worker(void *arg)
             const double pos[3] = {p[0], p[1], p[2]};
             if (job->level >= 0) { /* a coarse brick's samples */
                 if (stitch) {
-                    vdbgi_brick_interpolate((const float(*)[3])fs[cidx[j]], VDBGI_LAYOUT_COMPACT,
-                                            pl->key[j], cl, pos, fs[cidx[b]][t]);
+                    vdbgi_brick_interpolate_n(SAMPLE(cidx[j], 0), ch, VDBGI_LAYOUT_COMPACT,
+                                              pl->key[j], cl, pos, SAMPLE(cidx[b], t));
                 } else {
                     const int64_t i = point_index(pl, p);
-                    static const uint8_t zero[4];
+                    static const uint8_t zero[VDBGI_SH_BYTES];
                     decode_any(job->v, tc, i >= 0 ? &tc->values[tc->stride * (size_t)i] : zero,
-                               fs[cidx[b]][t]);
+                               SAMPLE(cidx[b], t));
                 }
                 continue;
             }
@@ -490,18 +491,19 @@ static void *rebuild_worker(void *arg)
             if (!stitch) {
                 const int64_t i = point_index(pl, p);
                 if (i >= 0)
-                    memcpy(out, &tc->values[tc->stride * (size_t)i], (size_t)bytes);
+                    memcpy(out, &tc->values[tc->stride * (size_t)i], bytes);
                 continue;
             }
-            float rgb[3];
+            float got[VDBGI_SH_BYTES];
             if (cidx[b] >= 0)
-                memcpy(rgb, fs[cidx[b]][t], sizeof(rgb));
+                memcpy(got, SAMPLE(cidx[b], t), (size_t)ch * sizeof(float));
             else
-                vdbgi_brick_interpolate((const float(*)[3])fs[cidx[j]], VDBGI_LAYOUT_COMPACT,
-                                        pl->key[j], cl, pos, rgb);
-            job->clamped += encode_any(job->v, tc, rgb, out);
+                vdbgi_brick_interpolate_n(SAMPLE(cidx[j], 0), ch, VDBGI_LAYOUT_COMPACT, pl->key[j],
+                                          cl, pos, got);
+            job->clamped += encode_any(job->v, tc, got, out);
         }
     }
+#undef SAMPLE
     return NULL;
 }
 
@@ -523,7 +525,8 @@ static vdbgi_result rebuild_pass(vdbgi_volume *v, const vdbgi_pack_plan *pl, con
         return VDBGI_ERR_OUT_OF_MEMORY;
     for (size_t b = 0; b < count; b++)
         cidx[b] = pl->level[b] ? (int32_t)coarse++ : -1;
-    float(*fs)[TEXELS][3] = vdbgi_alloc(ctx, (coarse ? coarse : 1) * sizeof(*fs));
+    float *const fs =
+        vdbgi_alloc(ctx, (coarse ? coarse : 1) * TEXELS * (size_t)tc->channels * sizeof(float));
     if (!fs) {
         vdbgi_free(ctx, cidx);
         return VDBGI_ERR_OUT_OF_MEMORY;
@@ -559,20 +562,18 @@ vdbgi_result vdbgi_pack_rebuild_values(vdbgi_volume *v, const vdbgi_pack_plan *p
 {
     *clamped_out = 0;
     const texel_codec l0 = {
-        .values = values, .stride = 4, .atlas = v->tex.atlas, .atlas_stride = 4};
+        .values = values, .stride = 4, .atlas = v->tex.atlas, .atlas_stride = 4, .channels = 3};
     VDBGI_TRY(rebuild_pass(v, pl, &l0, threads, clamped_out));
     if (!sh)
         return VDBGI_OK;
     VDBGI_TRY(vdbgi_textures_alloc_sh(v->ctx, &v->tex));
-    for (int term = 0; term < 8; term++) {
-        const texel_codec tc = {.values = (const uint8_t *)sh + 3 * term,
-                                .stride = VDBGI_SH_BYTES,
-                                .atlas = (uint8_t *)v->tex.sh + 3 * term,
-                                .atlas_stride = VDBGI_SH_BYTES,
-                                .term = true};
-        VDBGI_TRY(rebuild_pass(v, pl, &tc, threads, clamped_out));
-    }
-    return VDBGI_OK;
+    const texel_codec terms = {.values = (const uint8_t *)sh,
+                               .stride = VDBGI_SH_BYTES,
+                               .atlas = (uint8_t *)v->tex.sh,
+                               .atlas_stride = VDBGI_SH_BYTES,
+                               .terms = true,
+                               .channels = VDBGI_SH_BYTES};
+    return rebuild_pass(v, pl, &terms, threads, clamped_out);
 }
 
 /*
