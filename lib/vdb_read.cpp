@@ -216,6 +216,13 @@ struct GridLayout : openvdb::io::Archive {
         meta->setCompression(compression());
         meta->setSeekable(true);
         openvdb::io::setStreamMetadataPtr(is, meta, /*transfer=*/false);
+        // Two grids of one name vdbgi reads: which one holds the probes is anyone's guess.
+        for (size_t i = 0; i < descriptors.size(); i++)
+            for (size_t j = 0; j < i; j++)
+                if (!descriptors[i].isInstance() && !descriptors[j].isInstance() &&
+                    descriptors[i].gridName() == descriptors[j].gridName() &&
+                    std::find(names.begin(), names.end(), descriptors[i].gridName()) != names.end())
+                    throw Damaged{"two grids are named '" + descriptors[i].gridName() + "'"};
         for (size_t i = 0; i < descriptors.size(); i++) {
             const openvdb::io::GridDescriptor &gd = descriptors[i];
             const openvdb::GridBase &g = *grids[i];

@@ -1,5 +1,6 @@
 # Bad .vdb inputs: one line naming the problem, exit 1, no output file; an existing
-# output survives. The odd files are made with pyopenvdb (Debian's system python3).
+# output survives (two grids named irradiance: refused, not the first taken). The odd
+# files are made with pyopenvdb (Debian's system python3).
 "$BIN/gi-bake" -q "$DATA/room.obj" -o good.vdb --rays 8 >/dev/null
 head -c 300 good.vdb > truncated.vdb
 printf 'not a vdb file\n' > text.vdb
@@ -11,9 +12,12 @@ f = vdb.FloatGrid(); f.name = "irradiance"; f.getAccessor().setValueOn((0, 0, 0)
 vdb.write("wrongtype.vdb", grids=[f])
 e = vdb.Vec3SGrid(); e.name = "irradiance"
 vdb.write("empty.vdb", grids=[e])
+a = vdb.Vec3SGrid(); a.name = "irradiance"; a.getAccessor().setValueOn((0, 0, 0), (1, 1, 1))
+b = vdb.Vec3SGrid(); b.name = "irradiance"; b.getAccessor().setValueOn((0, 0, 0), (2, 2, 2))
+vdb.write("twice.vdb", grids=[a, b])
 PY
 printf '\037\213keep' > out.gi.gz # a gzip magic, then data
-for f in missing.vdb text.vdb truncated.vdb nogrid.vdb wrongtype.vdb empty.vdb; do
+for f in missing.vdb text.vdb truncated.vdb nogrid.vdb wrongtype.vdb empty.vdb twice.vdb; do
     "$BIN/vdb-to-gi" "$f" -o out.gi.gz 2>err >/dev/null
     echo "$? $(cat err)"
 done
