@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -540,8 +541,9 @@ extern "C" bool vdbgi_gltf_materials(const char *path, vdbgi_gltf_material_info 
             const auto ext = src.extensions.find("KHR_materials_emissive_strength");
             if (ext != src.extensions.end()) {
                 const tinygltf::Value &v = ext->second.Get("emissiveStrength");
+                // As written: the importer refuses a negative one and caps a large one.
                 const double d = v.IsNumber() ? v.GetNumberAsDouble() : 1.0;
-                o.strength = d >= 0.0 && d <= 1e6 ? float(d) : 1.0f;
+                o.strength = d > 3e38 ? HUGE_VALF : float(d);
             }
         }
         *out = info;

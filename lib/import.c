@@ -131,6 +131,18 @@ static bool same3(const float a[3], const float b[3])
     return fabsf(a[0] - b[0]) < 1e-6f && fabsf(a[1] - b[1]) < 1e-6f && fabsf(a[2] - b[2]) < 1e-6f;
 }
 
+/* Emission above VDBGI_MAX_EMISSION is capped there (docs/lightmap.md), with one warning. */
+static void cap_emission(vdbgi_scene *s, const char *material, float e[3])
+{
+    const float most = fmaxf(e[0], fmaxf(e[1], e[2]));
+    if (!(most > VDBGI_MAX_EMISSION))
+        return;
+    vdbgi_log(s->ctx, VDBGI_LOG_WARNING, "%s: material '%s': emission %g capped at %g", s->name,
+              material, (double)most, (double)VDBGI_MAX_EMISSION);
+    for (int k = 0; k < 3; k++)
+        e[k] = fminf(e[k], VDBGI_MAX_EMISSION);
+}
+
 /*
  * glTF's KHR_materials_emissive_strength, which Debian's assimp 5.2 drops:
  * each emitting material takes the strength of the glTF material it came
@@ -140,15 +152,17 @@ static bool same3(const float a[3], const float b[3])
  * material with those factors has the same strength; else it keeps 1, with
  * a warning.
  */
-static void apply_emissive_strength(vdbgi_scene *s, const struct aiScene *as, const char *path)
+static vdbgi_result apply_emissive_strength(vdbgi_scene *s, const struct aiScene *as,
+                                            const char *path)
 {
     vdbgi_gltf_material_info *info = NULL;
     size_t count = 0;
     char err[256] = "";
     if (!vdbgi_gltf_materials(path, &info, &count, err, sizeof(err))) {
         vdbgi_log(s->ctx, VDBGI_LOG_WARNING, "%s: emissive strength ignored: %s", s->name, err);
-        return;
+        return VDBGI_OK;
     }
+    vdbgi_result r = VDBGI_OK;
     for (size_t m = 0; m < as->mNumMaterials && count; m++) {
         vdbgi_material *const mat = &s->materials[m];
         if (!(mat->emissive[0] > 0.0f || mat->emissive[1] > 0.0f || mat->emissive[2] > 0.0f))
@@ -169,8 +183,16 @@ static void apply_emissive_strength(vdbgi_scene *s, const struct aiScene *as, co
                     by_factors++, hit = by_factors == 1 ? g : hit;
                 }
         if (by_name == 1 || (by_factors > 0 && agree)) {
+            const float strength = info[hit].strength;
+            if (!(strength >= 0.0f) || !isfinite(strength)) {
+                r = vdbgi_fail(s->ctx, VDBGI_ERR_FORMAT,
+                               "%s: material '%s': emissive strength %g is not a number >= 0", path,
+                               info[hit].name, (double)strength);
+                break;
+            }
             for (int k = 0; k < 3; k++)
-                mat->emissive[k] = fminf(mat->emissive[k] * info[hit].strength, VDBGI_MAX_EMISSION);
+                mat->emissive[k] *= strength;
+            cap_emission(s, info[hit].name, mat->emissive);
         } else if (info_has_strength(info, count)) {
             vdbgi_log(s->ctx, VDBGI_LOG_WARNING,
                       "%s: cannot tell which glTF material '%s' is: its emissive strength is taken "
@@ -179,6 +201,7 @@ static void apply_emissive_strength(vdbgi_scene *s, const struct aiScene *as, co
         }
     }
     free(info); /* the shim's calloc */
+    return r;
 }
 
 /*
@@ -187,8 +210,8 @@ static void apply_emissive_strength(vdbgi_scene *s, const struct aiScene *as, co
  * is glTF's emissiveFactor times KHR_materials_emissive_strength (which
  * Debian's assimp 5.2 does not read: the glTF shim does), or OBJ's Ke.
  */
-static void load_materials(vdbgi_scene *s, const struct aiScene *as, const char *path,
-                           const char *dir)
+static vdbgi_result load_materials(vdbgi_scene *s, const struct aiScene *as, const char *path,
+                                   const char *dir)
 {
     static const enum aiTextureType base_types[2] = {aiTextureType_BASE_COLOR,
                                                      aiTextureType_DIFFUSE};
@@ -209,10 +232,17 @@ static void load_materials(vdbgi_scene *s, const struct aiScene *as, const char 
             mat->double_sided = two_sided != 0;
         mat->texture = load_material_texture(s, as, am, dir, base_types, m);
         if (aiGetMaterialColor(am, AI_MATKEY_COLOR_EMISSIVE, &c) == aiReturn_SUCCESS) {
-            /* OBJ's Ke may pass 1 to carry a strength; glTF's factor may not. */
+            /* OBJ's Ke may pass 1 to carry a strength. A negative or NaN one is no light. */
             const float e[3] = {c.r, c.g, c.b};
-            for (int k = 0; k < 3; k++)
-                mat->emissive[k] = e[k] > 0.0f && e[k] <= VDBGI_MAX_EMISSION ? e[k] : 0.0f;
+            struct aiString name;
+            const char *const called =
+                aiGetMaterialString(am, AI_MATKEY_NAME, &name) == aiReturn_SUCCESS ? name.data
+                                                                                   : "(unnamed)";
+            VDBGI_FAIL_IF(s->ctx, !(e[0] >= 0.0f && e[1] >= 0.0f && e[2] >= 0.0f), VDBGI_ERR_FORMAT,
+                          "%s: material '%s': emissive colour %g,%g,%g is not >= 0", path, called,
+                          (double)e[0], (double)e[1], (double)e[2]);
+            memcpy(mat->emissive, e, sizeof(e));
+            cap_emission(s, called, mat->emissive);
         }
         if (mat->emissive[0] > 0.0f || mat->emissive[1] > 0.0f || mat->emissive[2] > 0.0f) {
             emits = true;
@@ -220,8 +250,7 @@ static void load_materials(vdbgi_scene *s, const struct aiScene *as, const char 
                 load_material_texture(s, as, am, dir, emissive_types, s->material_count + m);
         }
     }
-    if (emits)
-        apply_emissive_strength(s, as, path);
+    return emits ? apply_emissive_strength(s, as, path) : VDBGI_OK;
 }
 
 typedef struct walk_state {
@@ -337,8 +366,13 @@ vdbgi_result vdbgi_scene_load(vdbgi_context *ctx, const char *path, vdbgi_scene 
     dir[dir_len] = '\0';
     for (size_t m = 0; m < s->material_count; m++)
         s->materials[m].base[0] = s->materials[m].base[1] = s->materials[m].base[2] = 1.0f;
-    load_materials(s, as, path, dir);
+    r = load_materials(s, as, path, dir);
     vdbgi_free(ctx, dir);
+    if (r != VDBGI_OK) {
+        aiReleaseImport(as);
+        vdbgi_scene_destroy(s);
+        return r;
+    }
     w = (walk_state){.s = s, .as = as, .fill = true};
     walk_nodes(&w, as->mRootNode, &identity);
     aiReleaseImport(as);

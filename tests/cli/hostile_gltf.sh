@@ -1,6 +1,6 @@
 # Hostile glTF files, made here (issue 27): each is refused in one line naming the file
 # and the problem, or baked with a warning, by gi-bake and gi-lightmap, within 20 s and
-# 4 GB, leaving no output. Before the checks: nodes 40 000 deep and extras 100 000 deep
+# 4 GB, leaving no output; emission out of range refused or capped with a warning. Before the checks: nodes 40 000 deep and extras 100 000 deep
 # crashed (SIGSEGV in assimp and tinygltf), a FIFO buffer or image hung, a .glb whose JSON
 # chunk claims 3 GiB took 3 GB, a node cycle, and 20 000 instances asked for 13 GB.
 limit="ulimit -v 4000000"
@@ -13,7 +13,7 @@ esac
 /usr/bin/python3 - <<'PY'
 import base64, json, struct
 tri = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 0, 1)
-def gltf(nodes, buffer_uri=None, images=None, emissive=False):
+def gltf(nodes, buffer_uri=None, images=None, emissive=False, factor=1, strength=None):
     g = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": nodes,
          "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
          "buffers": [{"byteLength": 36, "uri": buffer_uri or
@@ -22,7 +22,11 @@ def gltf(nodes, buffer_uri=None, images=None, emissive=False):
          "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
                         "min": [0, 0, 0], "max": [1, 0, 1]}]}
     if emissive:
-        g["materials"] = [{"emissiveFactor": [1, 1, 1]}]
+        g["materials"] = [{"name": "lamp", "emissiveFactor": [factor, factor, factor]}]
+        if strength is not None:
+            g["materials"][0]["extensions"] = {
+                "KHR_materials_emissive_strength": {"emissiveStrength": strength}}
+            g["extensionsUsed"] = ["KHR_materials_emissive_strength"]
         g["meshes"][0]["primitives"][0]["material"] = 0
     if images:
         g["images"] = [{"uri": u} for u in images]
@@ -48,6 +52,10 @@ js += b" " * (-len(js) % 4)
 glb = struct.pack("<4sII", b"glTF", 2, 12 + 8 + len(js)) + struct.pack("<I4s", 3 << 30, b"JSON") + js
 open("huge_chunk.glb", "wb").write(glb)
 open("good.gltf", "w").write(json.dumps(gltf([{"children": [1]}, {"mesh": 0}])))
+# Emission out of range: a negative strength is refused, a huge strength or factor capped.
+save("strength_negative.gltf", gltf([{"mesh": 0}], emissive=True, strength=-50))
+save("strength_huge.gltf", gltf([{"mesh": 0}], emissive=True, strength=1e9))
+save("factor_huge.gltf", gltf([{"mesh": 0}], emissive=True, factor=1e9))
 PY
 mkfifo fifo.bin fifo.png
 for f in deep_nodes.gltf deep_extras.gltf cycle.gltf fifo_buffer.gltf proc_buffer.gltf \
@@ -67,4 +75,12 @@ for tool in gi-bake gi-lightmap; do
     ($limit; timeout 20 "$BIN/$tool" proc.obj -o "out.$([ $tool = gi-bake ] && echo vdb || echo glb)") >/dev/null 2>err
     echo "$tool proc.obj: exit $?: $(grep -m 1 ignored err)"
     rm -f out.*
+done
+# Emission: refused where it is no light, capped at 10^6 with a warning where it is too much.
+for f in strength_negative.gltf strength_huge.gltf factor_huge.gltf; do
+    for tool in gi-bake gi-lightmap; do
+        ($limit; timeout 20 "$BIN/$tool" "$f" -o "out.$([ $tool = gi-bake ] && echo vdb || echo glb)") >/dev/null 2>err
+        echo "$tool $f: exit $?, $(ls out.* 2>/dev/null | wc -l) output(s): $(grep -m 1 -v '^gi-[a-z]*: [0-9]' err)"
+        rm -f out.*
+    done
 done
