@@ -19,10 +19,17 @@ static bool is_zero3(const float v[3])
     return v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f;
 }
 
-static bool nonneg_finite3(const float v[3])
+/*
+ * The brightest light a setting may ask for, as emission's cap (scene.h):
+ * 3e38 would overflow every sum into Inf and NaN, and a half-float map long
+ * before.
+ */
+#define MAX_LIGHT VDBGI_MAX_EMISSION
+
+static bool in_light_range3(const float v[3])
 {
     for (int k = 0; k < 3; k++)
-        if (!(v[k] >= 0.0f) || !isfinite(v[k]))
+        if (!(v[k] >= 0.0f && v[k] <= MAX_LIGHT))
             return false;
     return true;
 }
@@ -53,8 +60,8 @@ vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc
     bp->ambient = desc->ambient == 0.0f         ? 0.15f
                   : desc->ambient == VDBGI_ZERO ? 0.0f
                                                 : desc->ambient;
-    VDBGI_FAIL_IF(ctx, !(bp->ambient >= 0.0f) || !isfinite(bp->ambient), VDBGI_ERR_INVALID_ARG,
-                  "ambient must be >= 0 and finite (got %g)", (double)desc->ambient);
+    VDBGI_FAIL_IF(ctx, !(bp->ambient >= 0.0f && bp->ambient <= MAX_LIGHT), VDBGI_ERR_INVALID_ARG,
+                  "ambient must be in 0..%g (got %g)", (double)MAX_LIGHT, (double)desc->ambient);
 
     static const float default_sun[3] = {0.4f, 0.8f, 0.3f};
     const float *const sd = is_zero3(desc->sun_dir) ? default_sun : desc->sun_dir;
@@ -71,18 +78,19 @@ vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc
         bp->sun_color[k] = !bp->sun_on                 ? 0.0f
                            : is_zero3(desc->sun_color) ? 1.0f
                                                        : desc->sun_color[k];
-    VDBGI_FAIL_IF(ctx, !nonneg_finite3(bp->sun_color), VDBGI_ERR_INVALID_ARG,
-                  "sun colour must be >= 0 and finite (got %g,%g,%g)", (double)desc->sun_color[0],
-                  (double)desc->sun_color[1], (double)desc->sun_color[2]);
+    VDBGI_FAIL_IF(ctx, !in_light_range3(bp->sun_color), VDBGI_ERR_INVALID_ARG,
+                  "sun colour must be in 0..%g (got %g,%g,%g)", (double)MAX_LIGHT,
+                  (double)desc->sun_color[0], (double)desc->sun_color[1],
+                  (double)desc->sun_color[2]);
     bp->sun_on = bp->sun_on && !is_zero3(bp->sun_color);
 
     bp->falloff = desc->falloff != 0.0f ? desc->falloff : 4.0f;
     VDBGI_FAIL_IF(ctx, !(bp->falloff > 0.0f), VDBGI_ERR_INVALID_ARG,
                   "falloff must be > 0 or inf (got %g)", (double)desc->falloff);
     memcpy(bp->sky, desc->sky, sizeof(bp->sky));
-    VDBGI_FAIL_IF(ctx, !nonneg_finite3(bp->sky), VDBGI_ERR_INVALID_ARG,
-                  "sky colour must be >= 0 and finite (got %g,%g,%g)", (double)desc->sky[0],
-                  (double)desc->sky[1], (double)desc->sky[2]);
+    VDBGI_FAIL_IF(ctx, !in_light_range3(bp->sky), VDBGI_ERR_INVALID_ARG,
+                  "sky colour must be in 0..%g (got %g,%g,%g)", (double)MAX_LIGHT,
+                  (double)desc->sky[0], (double)desc->sky[1], (double)desc->sky[2]);
     VDBGI_FAIL_IF(
         ctx, desc->sampling != VDBGI_SAMPLING_FIBONACCI && desc->sampling != VDBGI_SAMPLING_RANDOM,
         VDBGI_ERR_INVALID_ARG, "unknown sampling method %d", (int)desc->sampling);

@@ -15,6 +15,7 @@ static const vdbgi_image_host *host;
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -112,7 +113,14 @@ extern "C" VDBGI_MODULE_API vdbgi_result vdbgi_image_module_encode(
     if (!out->supports("ioproxy"))
         return host->fail(ctx, VDBGI_ERR_BACKEND,
                           "openimageio: the %s writer cannot write to memory", ext);
-    ImageSpec spec(width, height, channels, exr ? TypeDesc::HALF : TypeDesc::UINT8);
+    // Half floats hold up to 65504: a map with brighter texels (emission near its cap)
+    // is written as 32-bit floats, every texel finite, rather than as Inf.
+    bool beyond_half = false;
+    const size_t n = size_t(width) * size_t(height) * size_t(channels);
+    for (size_t i = 0; exr && i < n && !beyond_half; i++)
+        beyond_half = std::fabs(pixels[i]) > 65504.0f;
+    ImageSpec spec(width, height, channels,
+                   exr ? (beyond_half ? TypeDesc::FLOAT : TypeDesc::HALF) : TypeDesc::UINT8);
     if (exr) {
         spec.attribute("compression", "zip");
         // The same pixels give the same bytes: no time of writing in the header.

@@ -343,15 +343,15 @@ typedef enum vdbgi_trace_method {
  *   max_rays:    the cap of VDBGI_RAYS_AUTO, a power of two, 64..2^20.
  *                0 == 1024.
  *   ray_dist:    longest ray, metres, > 0. 0 == 40.
- *   ambient:     fill light added at every hit, >= 0. 0 == 0.15;
+ *   ambient:     fill light added at every hit, 0..1e6. 0 == 0.15;
  *                VDBGI_ZERO for no fill.
  *   sun_dir:     direction towards the sun. (0,0,0) == (0.4, 0.8, 0.3).
  *                Normalised by the bake.
- *   sun_color:   sun radiance, linear RGB >= 0. (0,0,0) == (1,1,1);
+ *   sun_color:   sun radiance, linear RGB in 0..1e6. (0,0,0) == (1,1,1);
  *                VDBGI_ZERO in every component turns the sun off.
  *   falloff:     distance weight 1 / (1 + (d/falloff)^2), metres, > 0.
  *                0 == 4; INFINITY turns the falloff off.
- *   sky:         what a miss contributes, linear RGB >= 0. (0,0,0) == black.
+ *   sky:         what a miss contributes, linear RGB in 0..1e6. (0,0,0) == black.
  *   sampling:    direction set, see vdbgi_sampling.
  *   seed:        random seed of VDBGI_SAMPLING_RANDOM; every probe's stream
  *                is derived from its ijk and this seed.

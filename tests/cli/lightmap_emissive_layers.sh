@@ -1,4 +1,5 @@
-# Emissive materials light the scene, and --layers splits the map by light:
+# Emissive materials light the scene, and --layers splits the map by light
+# (and a map past half floats is written as floats; absurd lights are refused):
 # a closed room (Kd 0.7) with a ceiling lamp (OBJ Ke 4 3 2) and the sun off
 # gives two layers, the ambient fill and the lamp, each its own EXR and its own
 # texture in the .glb's extras, adding up to the map. The .glb carries the lamp
@@ -61,3 +62,13 @@ sed -i '/^Ke/d' lamp.mtl
 "$BIN/gi-lightmap" -q lamp.obj -o dark.glb --texel 0.1 --size 256 --sun-color 0,0,0 --layers
 echo "no Ke: $(ls dark.*.exr | tr '\n' ' '), max E: $(max dark.lightmap0.exr)"
 "$BIN/gi-lightmap" lamp.obj -o ao.glb --mode ao --layers 2>&1; echo "ao with layers: exit $?"
+# A lamp at the emission cap (10^6) gives E in the millions, past half floats (65504):
+# that map is written as 32-bit floats, every texel finite; lights past the cap are refused.
+sed 's/^mtllib lamp.mtl/mtllib bright.mtl/' lamp.obj > bright.obj
+printf 'newmtl wall\nKd 0.7 0.7 0.7\nnewmtl lamp\nKd 0.8 0.8 0.8\nKe 1000000 1000000 1000000\n' > bright.mtl
+"$BIN/gi-lightmap" -q bright.obj -o bright.glb --texel 0.1 --size 256 --sun-color 0,0,0
+oiiotool --stats bright.lightmap0.exr | awk '/openexr/ { print $8, $9 } /InfCount|NanCount/ { print $2, $3, $4, $5 }' | tr '\n' ' '
+echo
+for light in "--sky 3e38,0,0" "--ambient 1e38" "--sun-color 3e38,1,1"; do
+    "$BIN/gi-lightmap" -q lamp.obj -o refused.glb $light 2>&1; echo "exit $?, $(ls refused.* 2>/dev/null | wc -l) output(s)"
+done
