@@ -21,16 +21,7 @@
 static const float character_normals[6][3] = {{0, 1, 0}, {1, 0, 0},  {-1, 0, 0},
                                               {0, 0, 1}, {0, 0, -1}, {0, -1, 0}};
 
-/* Receivers and what the truth says there; kinds: 0 floor, 1 wall, 2 other, 3 character. */
-typedef struct receivers {
-    size_t surface, count; /* surface receivers first, then character ones */
-    float *pos, *normal, *truth;
-    uint32_t *prim;
-    float *uv;
-    unsigned char *kind;
-} receivers;
-
-static void receivers_free(receivers *r)
+void bench_receivers_free(bench_receivers *r)
 {
     free(r->pos);
     free(r->normal);
@@ -46,7 +37,7 @@ static void receivers_free(receivers *r)
  * six normals. Receivers whose rays mostly meet back faces (inside solids)
  * are dropped.
  */
-static vdbgi_result make_receivers(const vdbgi_scene *scene, receivers *rv)
+vdbgi_result bench_receivers_make(const vdbgi_scene *scene, bench_receivers *rv)
 {
     const size_t n = SURFACE_POINTS, most = n + 6 * CHARACTER_POINTS;
     memset(rv, 0, sizeof(*rv));
@@ -125,13 +116,7 @@ static vdbgi_result make_receivers(const vdbgi_scene *scene, receivers *rv)
     return r;
 }
 
-/* Error of got against the truth over one kind of receiver (kind < 0: every surface one). */
-typedef struct error {
-    double rmse, bias; /* RMSE over the truth's mean; mean of got over mean of truth */
-    size_t n;
-} error;
-
-static error error_of(const receivers *rv, const float *got, int kind)
+bench_error bench_error_of(const bench_receivers *rv, const float *got, int kind)
 {
     double se = 0.0, sum_got = 0.0, sum_ref = 0.0;
     size_t n = 0;
@@ -148,7 +133,7 @@ static error error_of(const receivers *rv, const float *got, int kind)
         n++;
     }
     const double mean = n ? sum_ref / (3.0 * (double)n) : 0.0;
-    error e = {0.0, 0.0, n};
+    bench_error e = {0.0, 0.0, n};
     if (n && mean > 0.0) {
         e.rmse = sqrt(se / (3.0 * (double)n)) / mean;
         e.bias = sum_got / sum_ref;
@@ -156,11 +141,11 @@ static error error_of(const receivers *rv, const float *got, int kind)
     return e;
 }
 
-static void print_row(FILE *csv, double spacing, const char *method, const receivers *rv,
+static void print_row(FILE *csv, double spacing, const char *method, const bench_receivers *rv,
                       const float *got)
 {
-    const error all = error_of(rv, got, -1), floors = error_of(rv, got, 0),
-                walls = error_of(rv, got, 1), chars = error_of(rv, got, 3);
+    const bench_error all = bench_error_of(rv, got, -1), floors = bench_error_of(rv, got, 0),
+                      walls = bench_error_of(rv, got, 1), chars = bench_error_of(rv, got, 3);
     char at[32] = "-";
     if (spacing > 0.0)
         snprintf(at, sizeof(at), "%g m", spacing);
@@ -179,7 +164,7 @@ static void print_row(FILE *csv, double spacing, const char *method, const recei
  * normal; with it, a surface's point moved a quarter spacing off the surface
  * first, a character's where it is.
  */
-static vdbgi_result probes_reading(const vdbgi_probes *p, const receivers *rv, bool normal,
+static vdbgi_result probes_reading(const vdbgi_probes *p, const bench_receivers *rv, bool normal,
                                    float *got)
 {
     vdbgi_probes_info pi;
@@ -196,10 +181,27 @@ static vdbgi_result probes_reading(const vdbgi_probes *p, const receivers *rv, b
     return r;
 }
 
+void bench_volume_reading(const vdbgi_volume *v, const bench_receivers *rv, float *got)
+{
+    vdbgi_volume_info vi;
+    vdbgi_volume_get_info(v, &vi);
+    const bool l2 = vi.basis == VDBGI_BASIS_SH2;
+    const float off = 0.25f * vi.spacing;
+    for (size_t i = 0; i < rv->count; i++) {
+        const float *const n = &rv->normal[3 * i];
+        float at[3];
+        for (int k = 0; k < 3; k++)
+            at[k] = rv->pos[3 * i + k] + (l2 && i < rv->surface ? off * n[k] : 0.0f);
+        vdbgi_volume_sample_normal(v, at, n, &got[3 * i]);
+        for (int k = 0; k < 3; k++)
+            got[3 * i + k] *= (float)PI;
+    }
+}
+
 /* One spacing: bake both bases, read every method at every receiver, a row each. */
 static vdbgi_result truth_at_spacing(vdbgi_context *ctx, const vdbgi_scene *scene,
-                                     const receivers *rv, double spacing, int rays, int threads,
-                                     FILE *csv, float *got)
+                                     const bench_receivers *rv, double spacing, int rays,
+                                     int threads, FILE *csv, float *got)
 {
     const vdbgi_place_desc pd = {.spacing = spacing, .margin = 2.5};
     vdbgi_probes *p = NULL, *cube = NULL;
@@ -218,11 +220,7 @@ static vdbgi_result truth_at_spacing(vdbgi_context *ctx, const vdbgi_scene *scen
     if (r == VDBGI_OK)
         r = vdbgi_volume_build(ctx, p, &cd, &v);
     if (r == VDBGI_OK) {
-        for (size_t i = 0; i < rv->count; i++) {
-            vdbgi_volume_sample(v, &rv->pos[3 * i], &got[3 * i]);
-            for (int k = 0; k < 3; k++)
-                got[3 * i + k] *= (float)PI;
-        }
+        bench_volume_reading(v, rv, got);
         print_row(csv, spacing, "scalar, bricks (defaults)", rv, got);
     }
     /* The directional runtime: the same bricks carrying L2 terms, read with the normal a
@@ -232,16 +230,7 @@ static vdbgi_result truth_at_spacing(vdbgi_context *ctx, const vdbgi_scene *scen
     if (r == VDBGI_OK)
         r = vdbgi_volume_build(ctx, p, &(vdbgi_convert_desc){.threads = threads}, &v);
     if (r == VDBGI_OK) {
-        const float off = 0.25f * (float)spacing;
-        for (size_t i = 0; i < rv->count; i++) {
-            const float *const n = &rv->normal[3 * i];
-            float at[3];
-            for (int k = 0; k < 3; k++)
-                at[k] = rv->pos[3 * i + k] + (i < rv->surface ? off * n[k] : 0.0f);
-            vdbgi_volume_sample_normal(v, at, n, &got[3 * i]);
-            for (int k = 0; k < 3; k++)
-                got[3 * i + k] *= (float)PI;
-        }
+        bench_volume_reading(v, rv, got);
         print_row(csv, spacing, "L2, bricks (defaults)", rv, got);
     }
     if (r == VDBGI_OK && (r = probes_reading(p, rv, false, got)) == VDBGI_OK)
@@ -260,7 +249,7 @@ static vdbgi_result truth_at_spacing(vdbgi_context *ctx, const vdbgi_scene *scen
  * The best any L2 probe could do: one baked exactly at each receiver, moved
  * off a surface by `off` metres along its normal (characters where they are).
  */
-static vdbgi_result truth_of_perfect_probes(const vdbgi_scene *scene, const receivers *rv,
+static vdbgi_result truth_of_perfect_probes(const vdbgi_scene *scene, const bench_receivers *rv,
                                             float off, int rays, int threads, FILE *csv, float *got)
 {
     float *const at = calloc(3 * rv->count + 3, sizeof(float));
@@ -290,18 +279,18 @@ static vdbgi_result truth_of_perfect_probes(const vdbgi_scene *scene, const rece
 
 /* The lightmap at 0.25 m texels, one pass (the truth's one bounce), at the surface receivers. */
 static vdbgi_result truth_of_lightmap(vdbgi_context *ctx, const vdbgi_scene *scene,
-                                      const receivers *rv, int threads, FILE *csv, float *got)
+                                      const bench_receivers *rv, int threads, FILE *csv, float *got)
 {
     vdbgi_lightmap_result *res = NULL;
     const vdbgi_lightmap_desc d = {.texel = 0.25f, .passes = 1, .bake = {.threads = threads}};
     const vdbgi_result r = vdbgi_lightmap_bake_scene(ctx, scene, &d, &res, NULL);
     if (r == VDBGI_OK) {
-        const receivers surface = {.surface = rv->surface,
-                                   .count = rv->surface,
-                                   .pos = rv->pos,
-                                   .normal = rv->normal,
-                                   .truth = rv->truth,
-                                   .kind = rv->kind};
+        const bench_receivers surface = {.surface = rv->surface,
+                                         .count = rv->surface,
+                                         .pos = rv->pos,
+                                         .normal = rv->normal,
+                                         .truth = rv->truth,
+                                         .kind = rv->kind};
         for (size_t i = 0; i < rv->surface; i++)
             vdbgi_lightmap_result_sample(res, rv->prim[i], rv->uv[2 * i], rv->uv[2 * i + 1],
                                          &got[3 * i]);
@@ -325,17 +314,17 @@ int bench_truth(const char *scene_path, double spacing, bool spacing_given, int 
     if (!ctx)
         return CLI_FAILED;
     vdbgi_scene *scene = NULL;
-    receivers rv = {0};
+    bench_receivers rv = {0};
     FILE *csv = NULL;
     float *got = NULL;
     vdbgi_result r = vdbgi_scene_load(ctx, scene_path, &scene);
     if (r == VDBGI_OK)
-        r = make_receivers(scene, &rv);
+        r = bench_receivers_make(scene, &rv);
     if (r == VDBGI_OK && !(got = calloc(3 * rv.count + 3, sizeof(float))))
         r = VDBGI_ERR_OUT_OF_MEMORY;
     if (r == VDBGI_OK && !(csv = fopen(path, "w"))) {
         cli_error("%s: cannot write: %s", path, strerror(errno));
-        receivers_free(&rv);
+        bench_receivers_free(&rv);
         vdbgi_scene_destroy(scene);
         vdbgi_context_destroy(ctx);
         return CLI_FAILED;
@@ -368,7 +357,7 @@ int bench_truth(const char *scene_path, double spacing, bool spacing_given, int 
     if (r == VDBGI_OK)
         printf("\ntruth: %s\n", path);
     free(got);
-    receivers_free(&rv);
+    bench_receivers_free(&rv);
     vdbgi_scene_destroy(scene);
     const int code = r == VDBGI_OK ? CLI_OK : cli_fail(ctx, r);
     vdbgi_context_destroy(ctx);

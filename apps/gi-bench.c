@@ -49,15 +49,17 @@ static void usage(void)
            "16..1024 per sampling, and adaptive targets, against a 4096-ray random bake of\n"
            "the same probes at 1 m), size.csv (bytes against error over eps, max level,\n"
            "criterion and encoding), spacing.csv (0.25..2 m: probes, time, bytes, and\n"
-           "the error at 3000 points on the surfaces, against 2048-ray estimates there,\n"
-           "under the default darkest fill, the mean fill and the compact layout).\n"
+           "the error and bias at the surface receivers against the hemisphere truth (as\n"
+           "truth below), under the default darkest fill, the mean fill and the compact\n"
+           "layout).\n"
            "\n"
            "memory: memory against the error a player sees on SCENE, as --out/memory.csv:\n"
-           "at 0.25, 0.5 and 1 m (--spacing S limits it to one), a dense RGBM grid over the\n"
-           "probes' box and both brick layouts under the interp and rmse criteria at eps\n"
-           "0.05..0.4: VRAM, gzip'd bytes, RMSE at the probes, at 3000 points 10 cm off the\n"
-           "surfaces and at a character layer 0.5-2 m above walkable ground; probes within\n"
-           "2.5 m of a surface at every spacing.\n"
+           "at 0.25, 0.5 and 1 m (--spacing S limits it to one), a dense grid of every\n"
+           "probe (scalar RGBM, and with L2 terms), seed 000's brick layout and the compact\n"
+           "one (scalar, and with L2 terms) at eps 0.05..0.4: VRAM, gzip'd bytes, RMSE at\n"
+           "the probes, and RMSE and bias against the hemisphere truth (as truth below) at\n"
+           "the surface receivers and the character layer, each read as the runtime reads\n"
+           "it; probes within 2.5 m of a surface at every spacing.\n"
            "\n"
            "lightmap: gi-lightmap on SCENE. Throughput at its defaults (0.25 m texels, 64\n"
            "rays, 2 passes): a bare Embree loop over the same rays (nothing shaded nor\n"
@@ -441,43 +443,22 @@ static int sweep_size(sweep *w, const char *dir)
     return r == VDBGI_OK && f ? CLI_OK : (r != VDBGI_OK ? cli_fail(ctx, r) : CLI_FAILED);
 }
 
-/* Error of a volume at the receivers pts against their estimates ref; got is scratch. */
-static void receiver_error(const vdbgi_volume *v, const float *pts, const float *ref, float *got,
-                           int n, double *rmse, double *p99)
-{
-    for (int k = 0; k < n; k++)
-        vdbgi_volume_sample(v, &pts[3 * k], &got[3 * k]);
-    compare(ref, got, (size_t)n, rmse, p99);
-}
-
 static int sweep_spacing(sweep *w, const char *dir)
 {
     vdbgi_context *const ctx = w->ctx;
-    enum { RECEIVERS = 3000 };
-    float *const pts = calloc(3 * RECEIVERS, sizeof(float));
-    float *const ref = calloc(3 * RECEIVERS, sizeof(float));
-    float *const got = calloc(3 * RECEIVERS, sizeof(float));
-    float *const bf = calloc(RECEIVERS, sizeof(float));
-    /* Receivers 10 cm off the surfaces, and what 2048 random rays see there. */
-    vdbgi_result r = vdbgi_scene_sample_surface(w->scene, RECEIVERS, 0.1f, 7, pts);
-    const vdbgi_bake_desc rd = {.rays = 2048, .sampling = VDBGI_SAMPLING_RANDOM, .seed = 5};
-    if (r == VDBGI_OK)
-        r = vdbgi_scene_bake_points(w->scene, &rd, pts, RECEIVERS, ref, bf);
-    /* Faces nobody sees (under the ground, inside solids) are not receivers: drop them. */
-    int kept = 0;
-    for (int k = 0; r == VDBGI_OK && k < RECEIVERS; k++)
-        if (bf[k] <= 0.25f) {
-            memmove(&pts[3 * kept], &pts[3 * k], 3 * sizeof(float));
-            memmove(&ref[3 * kept], &ref[3 * k], 3 * sizeof(float));
-            kept++;
-        }
+    /* The surface receivers and their hemisphere truth (gi-bench truth's). */
+    bench_receivers rv = {0};
+    float *got = NULL;
+    vdbgi_result r = bench_receivers_make(w->scene, &rv);
+    if (r == VDBGI_OK && !(got = calloc(3 * rv.count + 3, sizeof(float))))
+        r = VDBGI_ERR_OUT_OF_MEMORY;
     FILE *const f = r == VDBGI_OK ? open_csv(dir, "spacing.csv",
                                              "spacing,probes,bake_seconds,raw_bytes,gzip_bytes,"
                                              "dense_bytes,receivers,receiver_rmse_rel,"
-                                             "receiver_p99_rel,mean_fill_rmse_rel,"
-                                             "mean_fill_p99_rel,compact_raw_bytes,"
+                                             "receiver_bias,mean_fill_rmse_rel,"
+                                             "mean_fill_bias,compact_raw_bytes,"
                                              "compact_gzip_bytes,compact_receiver_rmse_rel,"
-                                             "compact_receiver_p99_rel")
+                                             "compact_receiver_bias")
                                   : NULL;
     static const double spacing[] = {0.25, 0.5, 1.0, 2.0};
     for (int i = 0; f && r == VDBGI_OK && i < 4; i++) {
@@ -500,18 +481,20 @@ static int sweep_spacing(sweep *w, const char *dir)
         if (r == VDBGI_OK)
             r = vdbgi_volume_build(ctx, p, &cd, &compact);
         if (r == VDBGI_OK) {
-            double rmse, p99, mean_rmse, mean_p99, c_rmse, c_p99;
-            receiver_error(v, pts, ref, got, kept, &rmse, &p99);
-            receiver_error(mean, pts, ref, got, kept, &mean_rmse, &mean_p99);
-            receiver_error(compact, pts, ref, got, kept, &c_rmse, &c_p99);
+            bench_error e[3];
+            const vdbgi_volume *const vs[3] = {v, mean, compact};
+            for (int k = 0; k < 3; k++) {
+                bench_volume_reading(vs[k], &rv, got);
+                e[k] = bench_error_of(&rv, got, -1);
+            }
             vdbgi_volume_info vi, ci;
             bench_info(v, &vi);
             bench_info(compact, &ci);
-            fprintf(f, "%g,%llu,%.4f,%zu,%zu,%zu,%d,%.6f,%.6f,%.6f,%.6f,%zu,%zu,%.6f,%.6f\n",
+            fprintf(f, "%g,%llu,%.4f,%zu,%zu,%zu,%zu,%.6f,%.6f,%.6f,%.6f,%zu,%zu,%.6f,%.6f\n",
                     spacing[i], (unsigned long long)st.probe_count, st.seconds,
-                    vi.indirection_size + vi.atlas_size, vi.file_size, vi.dense_rgba8_size, kept,
-                    rmse, p99, mean_rmse, mean_p99, ci.indirection_size + ci.atlas_size,
-                    ci.file_size, c_rmse, c_p99);
+                    vi.indirection_size + vi.atlas_size, vi.file_size, vi.dense_rgba8_size,
+                    rv.surface, e[0].rmse, e[0].bias, e[1].rmse, e[1].bias,
+                    ci.indirection_size + ci.atlas_size, ci.file_size, e[2].rmse, e[2].bias);
             fflush(f);
         }
         vdbgi_volume_destroy(compact);
@@ -521,56 +504,9 @@ static int sweep_spacing(sweep *w, const char *dir)
     }
     if (f)
         fclose(f);
-    free(pts);
-    free(ref);
     free(got);
-    free(bf);
+    bench_receivers_free(&rv);
     return r == VDBGI_OK && f ? CLI_OK : (r != VDBGI_OK ? cli_fail(ctx, r) : CLI_FAILED);
-}
-
-/*
- * Receivers where a player's eye reads light: `count` points 10 cm off the
- * surfaces, then as many at a character layer, each lifted 0.5-2 m above a
- * walkable (upward-facing) surface point; each with what 2048 random rays see
- * there. Points inside solids or under the ground (more than a quarter of
- * back faces) are dropped. Returns the number kept of each kind.
- */
-static vdbgi_result receivers(const vdbgi_scene *scene, int count, float *pts, float *ref,
-                              int *surface, int *character)
-{
-    float *const flat = calloc(3 * (size_t)count, sizeof(float));
-    float *const bf = calloc(2 * (size_t)count, sizeof(float));
-    vdbgi_result r = flat && bf ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
-    if (r == VDBGI_OK)
-        r = vdbgi_scene_sample_surface(scene, (size_t)count, 0.1f, 7, pts);
-    if (r == VDBGI_OK) /* the same points on the surface: their offset is the normal */
-        r = vdbgi_scene_sample_surface(scene, (size_t)count, 0.0f, 7, flat);
-    int n = 0;
-    for (int k = 0; r == VDBGI_OK && k < count; k++) {
-        const float up = (pts[3 * k + 1] - flat[3 * k + 1]) / 0.1f;
-        if (up < 0.7f)
-            continue; /* not walkable: steeper than about 45 degrees */
-        float *const c = &pts[3 * (count + n)];
-        const unsigned h = (unsigned)k * 2654435761u;
-        memcpy(c, &flat[3 * k], 3 * sizeof(float));
-        c[1] += 0.5f + 1.5f * (float)(h >> 8) / 16777216.0f;
-        n++;
-    }
-    const vdbgi_bake_desc rd = {.rays = 2048, .sampling = VDBGI_SAMPLING_RANDOM, .seed = 5};
-    if (r == VDBGI_OK)
-        r = vdbgi_scene_bake_points(scene, &rd, pts, (size_t)(count + n), ref, bf);
-    int kept = 0;
-    *surface = *character = 0;
-    for (int k = 0; r == VDBGI_OK && k < count + n; k++)
-        if (bf[k] <= 0.25f) {
-            memmove(&pts[3 * kept], &pts[3 * k], 3 * sizeof(float));
-            memmove(&ref[3 * kept], &ref[3 * k], 3 * sizeof(float));
-            kept++;
-            ++*(k < count ? surface : character);
-        }
-    free(flat);
-    free(bf);
-    return r;
 }
 
 /* Bytes of a dense RGBM grid over the probes' box, gzip'd as the .gi is (level 6). */
@@ -613,21 +549,24 @@ static size_t dense_gzip_bytes(const vdbgi_volume *exact, const vdbgi_probes_inf
     return total;
 }
 
-/* One row of memory.csv: a volume's bytes and its errors at the probes and receivers. */
-static void memory_row(FILE *f, double spacing, const char *layout, const char *criterion,
+/*
+ * One row of memory.csv: a volume's bytes, its error at the probes (against
+ * the filled field, its own quantity) and what it gives the receivers
+ * against the hemisphere truth, each read as the runtime reads it.
+ */
+static void memory_row(FILE *f, double spacing, const char *layout, const char *basis,
                        const char *eps, const vdbgi_volume *v, size_t vram, size_t file,
-                       const float *pts, const float *ref, float *got, int surface, int character)
+                       const bench_receivers *rv, float *got)
 {
     vdbgi_volume_info vi;
     bench_info(v, &vi);
-    double s_rmse, s_p99, c_rmse, c_p99;
-    receiver_error(v, pts, ref, got, surface, &s_rmse, &s_p99);
-    receiver_error(v, &pts[3 * surface], &ref[3 * surface], got, character, &c_rmse, &c_p99);
+    bench_volume_reading(v, rv, got);
+    const bench_error s = bench_error_of(rv, got, -1), c = bench_error_of(rv, got, 3);
     const double mean = vi.mean_irradiance > 0.0 ? vi.mean_irradiance : 1.0;
-    fprintf(f, "%g,%s,%s,%s,%zu,%zu,%zu,%u,%u,%u,%u,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%d,%d\n", spacing,
-            layout, criterion, eps, vi.valid_count, vram, file, vi.bricks[0], vi.bricks[1],
-            vi.bricks[2], vi.bricks[3], vi.rmse / mean, vi.p99 / mean, s_rmse, s_p99, c_rmse, c_p99,
-            surface, character);
+    fprintf(f, "%g,%s,%s,%s,%zu,%zu,%zu,%u,%u,%u,%u,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%zu,%zu\n",
+            spacing, layout, basis, eps, vi.valid_count, vram, file, vi.bricks[0], vi.bricks[1],
+            vi.bricks[2], vi.bricks[3], vi.rmse / mean, vi.p99 / mean, s.rmse, s.bias, c.rmse,
+            c.bias, s.n, c.n);
     fflush(f);
 }
 
@@ -642,22 +581,20 @@ static int bench_memory(const options *o, bool one_spacing)
     if (!ctx)
         return CLI_FAILED;
     vdbgi_scene *scene = NULL;
-    enum { RECEIVERS = 3000 };
-    float *const pts = calloc(6 * RECEIVERS, sizeof(float));
-    float *const ref = calloc(6 * RECEIVERS, sizeof(float));
-    float *const got = calloc(6 * RECEIVERS, sizeof(float));
-    int surface = 0, character = 0;
-    vdbgi_result r =
-        pts && ref && got ? vdbgi_scene_load(ctx, o->scene, &scene) : VDBGI_ERR_OUT_OF_MEMORY;
+    bench_receivers rv = {0};
+    float *got = NULL;
+    vdbgi_result r = vdbgi_scene_load(ctx, o->scene, &scene);
     if (r == VDBGI_OK)
-        r = receivers(scene, RECEIVERS, pts, ref, &surface, &character);
+        r = bench_receivers_make(scene, &rv);
+    if (r == VDBGI_OK && !(got = calloc(3 * rv.count + 3, sizeof(float))))
+        r = VDBGI_ERR_OUT_OF_MEMORY;
     FILE *const f =
         r == VDBGI_OK
             ? open_csv(dir, "memory.csv",
-                       "spacing,layout,criterion,eps,valid_probes,vram_bytes,file_bytes,"
+                       "spacing,layout,basis,eps,valid_probes,vram_bytes,file_bytes,"
                        "bricks_l0,bricks_l1,bricks_l2,bricks_l3,probe_rmse_rel,probe_p99_rel,"
-                       "surface_rmse_rel,surface_p99_rel,character_rmse_rel,"
-                       "character_p99_rel,surface_points,character_points")
+                       "surface_rmse_rel,surface_bias,character_rmse_rel,character_bias,"
+                       "surface_points,character_points")
             : NULL;
     static const double spacings[] = {0.25, 0.5, 1.0};
     static const float eps[] = {0.05f, 0.1f, 0.2f, 0.4f};
@@ -668,55 +605,58 @@ static int bench_memory(const options *o, bool one_spacing)
             break;
         /* Probes up to 2.5 m from a surface at every spacing, so that a character's
            head (2 m) and the lattice step above it have probes (the default margin,
-           4 spacings, is 1 m at 0.25 m). */
+           4 spacings, is 1 m at 0.25 m). One L2 bake gives both bases: its L0 is
+           the scalar bake, bit for bit. */
         const vdbgi_place_desc pd = {.spacing = spacing, .margin = 2.5};
-        const vdbgi_bake_desc bd = {.rays = o->rays};
+        const vdbgi_bake_desc bd = {.rays = o->rays, .basis = VDBGI_BASIS_SH2};
         vdbgi_probes *p = NULL;
         r = vdbgi_probes_place(ctx, scene, &pd, &p);
         if (r == VDBGI_OK)
             r = vdbgi_probes_bake(p, scene, &bd, NULL);
-        /* The dense grid holds every probe as it is: the bricks at eps 0, level 0. */
-        vdbgi_volume *exact = NULL;
-        const vdbgi_convert_desc ed = {.eps = VDBGI_ZERO, .max_level = VDBGI_ZERO};
-        if (r == VDBGI_OK)
-            r = vdbgi_volume_build(ctx, p, &ed, &exact);
-        if (r == VDBGI_OK) {
-            vdbgi_probes_info pi;
-            vdbgi_volume_info ei;
-            vdbgi_probes_get_info(p, &pi);
-            bench_info(exact, &ei);
-            memory_row(f, spacing, "dense", "-", "0", exact, ei.dense_rgba8_size,
-                       dense_gzip_bytes(exact, &pi), pts, ref, got, surface, character);
+        /* A dense grid holds every probe as it is: the bricks at eps 0, level 0, with the
+           dense grid's bytes (RGBM; L2: 24 more a probe). */
+        for (int b = 0; r == VDBGI_OK && b < 2; b++) {
+            vdbgi_volume *exact = NULL;
+            const vdbgi_convert_desc ed = {
+                .eps = VDBGI_ZERO, .max_level = VDBGI_ZERO, .scalar_only = !b};
+            if ((r = vdbgi_volume_build(ctx, p, &ed, &exact)) == VDBGI_OK) {
+                vdbgi_probes_info pi;
+                vdbgi_volume_info ei;
+                vdbgi_probes_get_info(p, &pi);
+                bench_info(exact, &ei);
+                memory_row(f, spacing, "dense", b ? "L2" : "scalar", "0", exact,
+                           ei.dense_rgba8_size * (b ? 7 : 1), b ? 0 : dense_gzip_bytes(exact, &pi),
+                           &rv, got);
+            }
+            vdbgi_volume_destroy(exact);
         }
-        vdbgi_volume_destroy(exact);
-        for (int l = 0; r == VDBGI_OK && l < 2; l++)
-            for (int c = 0; r == VDBGI_OK && c < 2; c++)
-                for (int e = 0; r == VDBGI_OK && e < 4; e++) {
-                    const vdbgi_convert_desc d = {
-                        .eps = eps[e],
-                        .layout = l ? VDBGI_LAYOUT_COMPACT : VDBGI_LAYOUT_SEED,
-                        .criterion = c ? VDBGI_CRITERION_RMSE : VDBGI_CRITERION_INTERP};
-                    vdbgi_volume *v = NULL;
-                    r = vdbgi_volume_build(ctx, p, &d, &v);
-                    if (r == VDBGI_OK) {
-                        vdbgi_volume_info vi;
-                        bench_info(v, &vi);
-                        memory_row(f, spacing, l ? "compact" : "seed", c ? "rmse" : "interp",
-                                   eps_text[e], v, vi.columns_size + vi.atlas_size, vi.file_size,
-                                   pts, ref, got, surface, character);
-                    }
-                    vdbgi_volume_destroy(v);
+        /* Bricks: seed 000's layout (scalar only), the compact one scalar and with L2. */
+        for (int m = 0; r == VDBGI_OK && m < 3; m++)
+            for (int e = 0; r == VDBGI_OK && e < 4; e++) {
+                const vdbgi_convert_desc d = {.eps = eps[e],
+                                              .layout =
+                                                  m ? VDBGI_LAYOUT_COMPACT : VDBGI_LAYOUT_SEED,
+                                              .scalar_only = m < 2};
+                vdbgi_volume *v = NULL;
+                r = vdbgi_volume_build(ctx, p, &d, &v);
+                if (r == VDBGI_OK) {
+                    vdbgi_volume_info vi;
+                    bench_info(v, &vi);
+                    memory_row(f, spacing, m ? "compact" : "seed", m == 2 ? "L2" : "scalar",
+                               eps_text[e], v, vi.columns_size + vi.atlas_size + vi.sh_size,
+                               vi.file_size, &rv, got);
                 }
+                vdbgi_volume_destroy(v);
+            }
         vdbgi_probes_destroy(p);
     }
     if (f)
         fclose(f);
     if (r == VDBGI_OK && f)
-        printf("memory: %s/memory.csv (%d surface and %d character receivers)\n", dir, surface,
-               character);
-    free(pts);
-    free(ref);
+        printf("memory: %s/memory.csv (%zu surface and %zu character receivers)\n", dir, rv.surface,
+               rv.count - rv.surface);
     free(got);
+    bench_receivers_free(&rv);
     vdbgi_scene_destroy(scene);
     const int code = r == VDBGI_OK && f ? CLI_OK : (r != VDBGI_OK ? cli_fail(ctx, r) : CLI_FAILED);
     vdbgi_context_destroy(ctx);

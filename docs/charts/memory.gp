@@ -1,27 +1,28 @@
-# memory.gp: memory against the error receivers see (gi-bench memory), one world.
+# memory.gp: memory against the error a player sees (gi-bench memory), one world.
 # gnuplot -e "csv='DIR/memory.csv'; out='PNG'; name='WORLD'" memory.gp
-# Columns: 1 spacing, 2 layout, 3 criterion, 4 eps, 6 vram, 7 file, 14 surface RMSE,
-# 16 character RMSE. Each line is one method at one spacing over eps (dense: one
-# point a spacing); point shapes tell the spacings apart.
+# Columns: 1 spacing, 2 layout, 3 basis, 4 eps, 6 vram, 7 file, 14 surface RMSE,
+# 16 character RMSE, both against the hemisphere truth. Each line is one method at
+# one spacing over eps (dense: one point a spacing); point shapes tell the spacings apart.
 set terminal pngcairo size 1100,760 font "sans,10"
 set output out
 set datafile separator ","
-set multiplot layout 2,2 title name.": memory against the error a player sees (0.25, 0.5, 1 m; eps 0.05 .. 0.4)"
+set multiplot layout 2,2 title name.": memory against the error a player sees, against the hemisphere truth (0.25, 0.5, 1 m; eps 0.05 .. 0.4)"
 set logscale xy
 set grid
 set key top right font ",9"
-methods = "dense,- seed,interp compact,interp compact,rmse seed,rmse"
-label(m) = m eq "dense,-" ? "dense RGBM grid" : m eq "seed,interp" ? "seed layout, interp" : \
-           m eq "compact,interp" ? "compact, interp" : m eq "compact,rmse" ? "compact, rmse" : "seed layout, rmse"
+methods = "dense,scalar seed,scalar compact,scalar dense,L2 compact,L2"
+label(m) = m eq "dense,scalar" ? "dense RGBM grid, scalar" : m eq "seed,scalar" ? "seed layout, scalar" : \
+           m eq "compact,scalar" ? "compact, scalar" : m eq "dense,L2" ? "dense grid, L2" : "compact, L2"
 colour(i) = word("#000000 #d95f02 #1b9e77 #7570b3 #e7298a", i)
 pick(m, s) = (strcol(2).",".strcol(3) eq m && $1 == s)
 spacings = "0.25 0.5 1"
 do for [panel = 1:4] {
     col = panel <= 2 ? 16 : 14
     ycol = panel % 2 ? 6 : 7
-    set xlabel (col == 16 ? "RMSE at the character layer, 0.5-2 m above walkable ground (% of mean)" \
-                          : "RMSE at surface receivers, 10 cm off the surfaces (% of mean)")
+    set xlabel (col == 16 ? "character layer RMSE, six normals (% of mean)" \
+                          : "surface RMSE, each with its normal (% of mean)")
     set ylabel (ycol == 6 ? "VRAM, MB" : "gzip'd file, MB")
+    if (ycol == 6) { set yrange [0.1:300] } else { set yrange [0.01:100] }
     if (panel > 1) { unset key }
     plot for [i = 1:5] for [j = 1:3] csv using (pick(word(methods, i), word(spacings, j) + 0) ? 100 * column(col) : 1/0):(column(ycol) / 1e6) \
          with linespoints lc rgb colour(i) pt (j == 1 ? 7 : j == 2 ? 5 : 9) ps 0.8 \

@@ -13,9 +13,10 @@ plot csv."/spacing.csv" using 1:($5/1e6) with linespoints title "gzip'd .gi", \
      csv."/spacing.csv" using 1:($6/1e6) with linespoints title "dense RGBA8 grid", \
      csv."/spacing.csv" using 1:3 with linespoints title "bake seconds"
 unset logscale y
-set ylabel "error at surface receivers (% of mean)"
-set key top left
-plot csv."/spacing.csv" using 1:(100*$8) with linespoints title "RMSE", \
-     csv."/spacing.csv" using 1:(100*$9) with linespoints title "99th percentile", \
+set ylabel "surface RMSE against the hemisphere truth (% of mean)"
+set key bottom left
+# The scalar volume read at a surface: one colour a probe, whose error grows as the
+# lattice nears the surfaces (docs/directional.md).
+plot csv."/spacing.csv" using 1:(100*$8) with linespoints title "RMSE, scalar volume (defaults)", \
      csv."/spacing.csv" using 1:(100*$10) with linespoints dashtype 2 title "RMSE, --fill mean"
 unset multiplot
