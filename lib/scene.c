@@ -151,6 +151,14 @@ vdbgi_result vdbgi_scene_finish(vdbgi_scene *s, size_t nonfinite_count)
      * ~80 ulps there, yet only 2 cm in a 2 km world and 10 um in a 1 m room.
      */
     s->ray_offset = 1e-5f * fmaxf(max_abs, sqrtf(diag2));
+    /* A room with one triangle 1000 km away starts its rays 10 m off every surface and
+       bakes black: say so (5 cm is a 5 km scene). */
+    if (s->ray_offset > 0.05f)
+        vdbgi_log(ctx, VDBGI_LOG_WARNING,
+                  "%s: geometry reaches %g m from the origin, so rays start %g m off every "
+                  "surface (1e-5 of that) and anything nearer reads dark: is some of it far "
+                  "from the rest?",
+                  s->name, (double)fmaxf(max_abs, sqrtf(diag2)), (double)s->ray_offset);
     classify_triangles(s);
     return VDBGI_OK;
 }
