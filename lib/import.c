@@ -327,6 +327,7 @@ vdbgi_result vdbgi_scene_load(vdbgi_context *ctx, const char *path, vdbgi_scene 
     char refusal[512];
     VDBGI_FAIL_IF(ctx, !vdbgi_gltf_precheck(path, refusal, sizeof(refusal)), VDBGI_ERR_FORMAT,
                   "%s: %s", path, refusal);
+    VDBGI_TRY(vdbgi_scene_counts_check(ctx, path));
 
     const struct aiScene *const as = aiImportFile(
         path, aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_ValidateDataStructure);
