@@ -283,6 +283,9 @@ static vdbgi_volume *volume_start(vdbgi_context *ctx, const vdbgi_probes *probes
     return v;
 }
 
+/* Cells of the indirection any lattice may have, however sparse: 16 M, about 500 MB. */
+#define VDBGI_SPARSE_CELLS (1 << 24)
+
 /*
  * The indirection's size from the valid probes alone, before the fill spends
  * memory on a lattice the texture limit refuses anyway: the same cells
@@ -301,13 +304,27 @@ static vdbgi_result check_extent(vdbgi_context *ctx, const vdbgi_probes *p)
             hi[k] = c > hi[k] ? c : hi[k];
         }
     }
+    double cells = 1.0;
+    size_t valid = 0;
+    for (size_t i = 0; i < p->count; i++)
+        valid += p->backface[i] <= p->invalid_threshold;
     for (int k = 0; k < 3 && lo[k] <= hi[k]; k++) {
         const int64_t dim = (int64_t)hi[k] + 1 - (int64_t)vdbgi_floor_div(lo[k] - 1, 8) * 8 + 1;
         VDBGI_FAIL_IF(ctx, dim > VDBGI_MAX_TEXTURE_DIM, VDBGI_ERR_OUT_OF_MEMORY,
                       "the indirection texture would be %lld cells along %c, above the "
                       "%d-texel limit of 3D textures: raise the probe spacing",
                       (long long)dim, "xyz"[k], VDBGI_MAX_TEXTURE_DIM);
+        cells *= (double)dim;
     }
+    /*
+     * The indirection and the packer's grids cost ~30 bytes a cell: a lattice of
+     * a few probes spread thousands of spacings apart asked for gigabytes. A
+     * scene's own lattice holds a probe in far more than one cell in 64.
+     */
+    VDBGI_FAIL_IF(ctx, cells > VDBGI_SPARSE_CELLS && cells > 64.0 * (double)valid, VDBGI_ERR_FORMAT,
+                  "%zu valid probes spread over %.0f cells of the indirection (more than 64 a "
+                  "probe, and more than %d): too sparse a lattice to convert",
+                  valid, cells, VDBGI_SPARSE_CELLS);
     return VDBGI_OK;
 }
 

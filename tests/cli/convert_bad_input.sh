@@ -1,5 +1,6 @@
 # Bad .vdb inputs: one line naming the problem, exit 1, no output file; an existing
-# output survives (two grids named irradiance: refused, not the first taken). The odd
+# output survives (two grids named irradiance: refused, not the first taken; eight
+# probes 2000 spacings apart: refused before gigabytes are spent). The odd
 # files are made with pyopenvdb (Debian's system python3).
 "$BIN/gi-bake" -q "$DATA/room.obj" -o good.vdb --rays 8 >/dev/null
 head -c 300 good.vdb > truncated.vdb
@@ -15,9 +16,14 @@ vdb.write("empty.vdb", grids=[e])
 a = vdb.Vec3SGrid(); a.name = "irradiance"; a.getAccessor().setValueOn((0, 0, 0), (1, 1, 1))
 b = vdb.Vec3SGrid(); b.name = "irradiance"; b.getAccessor().setValueOn((0, 0, 0), (2, 2, 2))
 vdb.write("twice.vdb", grids=[a, b])
+# Eight probes 2000 spacings apart: the indirection would be 133 M cells (gigabytes).
+g = vdb.Vec3SGrid(); g.name = "irradiance"
+for i in range(8):
+    g.getAccessor().setValueOn((i % 2 * 2000, i // 2 % 2 * 2000, i // 4 * 2000), (1, 1, 1))
+vdb.write("sparse.vdb", grids=[g])
 PY
 printf '\037\213keep' > out.gi.gz # a gzip magic, then data
-for f in missing.vdb text.vdb truncated.vdb nogrid.vdb wrongtype.vdb empty.vdb twice.vdb; do
+for f in missing.vdb text.vdb truncated.vdb nogrid.vdb wrongtype.vdb empty.vdb twice.vdb sparse.vdb; do
     "$BIN/vdb-to-gi" "$f" -o out.gi.gz 2>err >/dev/null
     echo "$? $(cat err)"
 done
