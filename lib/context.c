@@ -208,35 +208,50 @@ int vdbgi_run_threads(int n, void *(*fn)(void *), void *args, size_t stride)
 
 /*
  * Temporaries being written, so that a signal handler can remove them
- * (vdbgi_remove_temporaries). Slots are claimed and released atomically; a
- * full table only means a temporary a signal would leave behind.
+ * (vdbgi_remove_temporaries): however many, in a list of slots that only
+ * grows. A slot is claimed and released with an atomic swap of its path; a
+ * new slot is pushed on the head atomically, whole before it is seen, so
+ * the handler can walk the list at any moment. Slots are the process's, not
+ * a context's (the handler has none), and stay for its life: as many as it
+ * ever held temporaries at once.
  */
-#define LIVE_SLOTS 64
-static char *live_temporaries[LIVE_SLOTS];
+typedef struct live_slot {
+    char *path; /* NULL: free */
+    struct live_slot *next;
+} live_slot;
+static live_slot *live_head;
 
 static void live_add(char *tmp)
 {
-    for (int i = 0; i < LIVE_SLOTS; i++) {
+    for (live_slot *s = __atomic_load_n(&live_head, __ATOMIC_SEQ_CST); s; s = s->next) {
         char *expected = NULL;
-        if (__atomic_compare_exchange_n(&live_temporaries[i], &expected, tmp, false,
-                                        __ATOMIC_SEQ_CST, __ATOMIC_SEQ_CST))
+        if (__atomic_compare_exchange_n(&s->path, &expected, tmp, false, __ATOMIC_SEQ_CST,
+                                        __ATOMIC_SEQ_CST))
             return;
     }
+    live_slot *const s = calloc(1, sizeof(*s));
+    if (!s)
+        return; /* out of memory: only a temporary a signal would leave behind */
+    s->path = tmp;
+    s->next = __atomic_load_n(&live_head, __ATOMIC_SEQ_CST);
+    while (!__atomic_compare_exchange_n(&live_head, &s->next, s, false, __ATOMIC_SEQ_CST,
+                                        __ATOMIC_SEQ_CST))
+        ;
 }
 
 static void live_remove(const char *tmp)
 {
-    for (int i = 0; i < LIVE_SLOTS; i++) {
+    for (live_slot *s = __atomic_load_n(&live_head, __ATOMIC_SEQ_CST); s; s = s->next) {
         char *expected = (char *)(uintptr_t)tmp;
-        __atomic_compare_exchange_n(&live_temporaries[i], &expected, NULL, false, __ATOMIC_SEQ_CST,
+        __atomic_compare_exchange_n(&s->path, &expected, NULL, false, __ATOMIC_SEQ_CST,
                                     __ATOMIC_SEQ_CST);
     }
 }
 
 void vdbgi_remove_temporaries(void)
 {
-    for (int i = 0; i < LIVE_SLOTS; i++) {
-        const char *const p = __atomic_load_n(&live_temporaries[i], __ATOMIC_SEQ_CST);
+    for (live_slot *s = __atomic_load_n(&live_head, __ATOMIC_SEQ_CST); s; s = s->next) {
+        const char *const p = __atomic_load_n(&s->path, __ATOMIC_SEQ_CST);
         if (p)
             unlink(p); /* async-signal-safe */
     }
@@ -375,8 +390,18 @@ vdbgi_result vdbgi_input_check(vdbgi_context *ctx, const char *path)
     return VDBGI_OK;
 }
 
+/* A directory where an output goes would take none of it: say so before any is written. */
+static vdbgi_result not_a_directory(vdbgi_context *ctx, const char *path)
+{
+    struct stat st;
+    VDBGI_FAIL_IF(ctx, stat(path, &st) == 0 && S_ISDIR(st.st_mode), VDBGI_ERR_IO,
+                  "%s: is a directory, not a file to write", path);
+    return VDBGI_OK;
+}
+
 vdbgi_result vdbgi_output_check(vdbgi_context *ctx, const char *path)
 {
+    VDBGI_TRY(not_a_directory(ctx, path));
     char *tmp = NULL;
     VDBGI_TRY(temp_create(ctx, path, &tmp));
     temp_discard(ctx, tmp);
@@ -482,7 +507,10 @@ static void release_held(vdbgi_context *ctx)
 
 vdbgi_result vdbgi_context_commit_outputs(vdbgi_context *ctx)
 {
+    /* Every place checked before the first rename: all of them, or none. */
     vdbgi_result r = VDBGI_OK;
+    for (size_t i = 0; i < ctx->held_count && r == VDBGI_OK; i++)
+        r = not_a_directory(ctx, ctx->held_path[i]);
     for (size_t i = 0; i < ctx->held_count; i++) {
         char *const tmp = ctx->held_tmp[i];
         if (r == VDBGI_OK && rename(tmp, ctx->held_path[i]) != 0)

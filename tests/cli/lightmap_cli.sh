@@ -33,3 +33,8 @@ echo "keep me" > notes.glb
 printf 'v 0 0 0\nv 1 0 0\nv 0 0 nan\nf 1 2 3\n' > nan.obj
 "$BIN/gi-lightmap" nan.obj -o y.glb 2> err.txt; echo "only a NaN triangle: exit $?, $(tail -1 err.txt)"
 echo "files left: $(ls | grep -v -e err.txt -e notes.glb -e nan.obj | wc -l)"
+# All outputs or none: a --stats or -o naming a directory is refused before anything is
+# written (the .glb and its EXR used to be renamed into place first).
+mkdir -p dirstats.json dirout.glb
+"$BIN/gi-lightmap" -q "$DATA/room.obj" -o keep.glb --stats dirstats.json 2>&1; echo "stats a directory: exit $?, $(ls keep.* 2>/dev/null | wc -l) output(s)"
+"$BIN/gi-lightmap" -q "$DATA/room.obj" -o dirout.glb 2>&1; echo "-o a directory: exit $?, $(ls dirout.* 2>/dev/null | grep -vc '^dirout.glb$') output(s) beside it"
