@@ -59,11 +59,13 @@ static vdbgi_result load_embedded(vdbgi_context *ctx, const struct aiTexture *at
 /*
  * Find a material's texture of the first of types (two) it has and decode it
  * into texture slot `slot`; returns the slot, or -1 when it has none or it
- * does not load.
+ * does not load. An image an earlier slot holds (sources[i], by the name the
+ * scene gives it) is that slot, decoded once however many materials share
+ * it (24 materials on one 4096^2 image took 3.4 GB).
  */
 static int load_material_texture(vdbgi_scene *s, const struct aiScene *as,
                                  const struct aiMaterial *am, const char *dir,
-                                 const enum aiTextureType types[2], size_t slot)
+                                 const enum aiTextureType types[2], size_t slot, char **sources)
 {
     vdbgi_context *const ctx = s->ctx;
     struct aiString tex_path;
@@ -73,6 +75,10 @@ static int load_material_texture(vdbgi_scene *s, const struct aiScene *as,
             aiReturn_SUCCESS)
         return -1;
     const char *const p = tex_path.data;
+    for (size_t i = 0; i < s->texture_count; i++)
+        if (sources[i] && strcmp(sources[i], p) == 0)
+            return s->textures[i].width ? (int)i : -1;
+    sources[slot] = vdbgi_strdup(ctx, p); /* NULL: only no sharing */
     const struct aiTexture *embedded = NULL;
     if (p[0] == '*') {
         const long i = strtol(p + 1, NULL, 10);
@@ -218,7 +224,12 @@ static vdbgi_result load_materials(vdbgi_scene *s, const struct aiScene *as, con
     static const enum aiTextureType emissive_types[2] = {aiTextureType_EMISSIVE,
                                                          aiTextureType_EMISSION_COLOR};
     bool emits = false;
-    for (size_t m = 0; m < as->mNumMaterials; m++) {
+    char **const sources =
+        vdbgi_calloc(s->ctx, s->texture_count ? s->texture_count : 1, sizeof(char *));
+    if (!sources)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    vdbgi_result r = VDBGI_OK;
+    for (size_t m = 0; m < as->mNumMaterials && r == VDBGI_OK; m++) {
         const struct aiMaterial *const am = as->mMaterials[m];
         vdbgi_material *const mat = &s->materials[m];
         struct aiColor4D c;
@@ -230,7 +241,7 @@ static vdbgi_result load_materials(vdbgi_scene *s, const struct aiScene *as, con
         unsigned int max = 1;
         if (aiGetMaterialIntegerArray(am, AI_MATKEY_TWOSIDED, &two_sided, &max) == aiReturn_SUCCESS)
             mat->double_sided = two_sided != 0;
-        mat->texture = load_material_texture(s, as, am, dir, base_types, m);
+        mat->texture = load_material_texture(s, as, am, dir, base_types, m, sources);
         if (aiGetMaterialColor(am, AI_MATKEY_COLOR_EMISSIVE, &c) == aiReturn_SUCCESS) {
             /* OBJ's Ke may pass 1 to carry a strength. A negative or NaN one is no light. */
             const float e[3] = {c.r, c.g, c.b};
@@ -238,19 +249,25 @@ static vdbgi_result load_materials(vdbgi_scene *s, const struct aiScene *as, con
             const char *const called =
                 aiGetMaterialString(am, AI_MATKEY_NAME, &name) == aiReturn_SUCCESS ? name.data
                                                                                    : "(unnamed)";
-            VDBGI_FAIL_IF(s->ctx, !(e[0] >= 0.0f && e[1] >= 0.0f && e[2] >= 0.0f), VDBGI_ERR_FORMAT,
-                          "%s: material '%s': emissive colour %g,%g,%g is not >= 0", path, called,
-                          (double)e[0], (double)e[1], (double)e[2]);
+            if (!(e[0] >= 0.0f && e[1] >= 0.0f && e[2] >= 0.0f)) {
+                r = vdbgi_fail(s->ctx, VDBGI_ERR_FORMAT,
+                               "%s: material '%s': emissive colour %g,%g,%g is not >= 0", path,
+                               called, (double)e[0], (double)e[1], (double)e[2]);
+                break;
+            }
             memcpy(mat->emissive, e, sizeof(e));
             cap_emission(s, called, mat->emissive);
         }
         if (mat->emissive[0] > 0.0f || mat->emissive[1] > 0.0f || mat->emissive[2] > 0.0f) {
             emits = true;
-            mat->emissive_texture =
-                load_material_texture(s, as, am, dir, emissive_types, s->material_count + m);
+            mat->emissive_texture = load_material_texture(s, as, am, dir, emissive_types,
+                                                          s->material_count + m, sources);
         }
     }
-    return emits ? apply_emissive_strength(s, as, path) : VDBGI_OK;
+    for (size_t i = 0; i < s->texture_count; i++)
+        vdbgi_free(s->ctx, sources[i]);
+    vdbgi_free(s->ctx, sources);
+    return r == VDBGI_OK && emits ? apply_emissive_strength(s, as, path) : r;
 }
 
 typedef struct walk_state {
