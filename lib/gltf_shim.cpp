@@ -390,6 +390,43 @@ bool glb_json(const std::vector<unsigned char> &f, size_t *begin, size_t *size, 
     return true;
 }
 
+// Every data: URI's base64 in the JSON text, strictly (RFC 4648): the alphabet, and '='
+// only as the last one or two of a length that is a multiple of 4. tinygltf decodes an
+// image's leniently (and keeps no URI to check), so a damaged one loads as other bytes.
+bool strict_base64(const unsigned char *json, size_t n, std::string *err)
+{
+    static const char mark[] = "\"data:";
+    for (size_t i = 0; i + sizeof(mark) - 1 < n; i++) {
+        if (std::memcmp(&json[i], mark, sizeof(mark) - 1) != 0)
+            continue;
+        std::string uri; // JSON may escape '/' with a backslash
+        size_t end = i + 1;
+        for (; end < n && json[end] != '"'; end++) {
+            if (json[end] == '\\' && end + 1 < n && json[end + 1] == '/')
+                end++;
+            uri += char(json[end]);
+        }
+        i = end;
+        const size_t at = uri.find(";base64,");
+        if (at == std::string::npos)
+            continue;
+        const size_t begin = at + 8;
+        bool ok = (uri.size() - begin) % 4 == 0;
+        for (size_t k = begin; ok && k < uri.size(); k++) {
+            const unsigned char c = static_cast<unsigned char>(uri[k]);
+            const bool pad =
+                c == '=' && k + 2 >= uri.size() && (k + 1 == uri.size() || uri[k + 1] == '=');
+            ok = std::isalnum(c) || c == '+' || c == '/' || pad;
+        }
+        if (!ok) {
+            *err = "a data: URI (" + uri.substr(0, std::min<size_t>(at, 40)) +
+                   ") is not strict base64";
+            return false;
+        }
+    }
+    return true;
+}
+
 // Triangles one mesh adds each time a node instances it.
 uint64_t mesh_triangles(const tinygltf::Model &m, int mesh)
 {
@@ -471,6 +508,8 @@ extern "C" bool vdbgi_gltf_precheck(const char *path, char *err, size_t err_size
             return true;
         size_t begin = 0, size = file.size();
         if (glb && !glb_json(file, &begin, &size, &why))
+            return fail(why);
+        if (!strict_base64(&file[begin], size, &why))
             return fail(why);
         const size_t depth = json_depth(&file[begin], size);
         if (depth > VDBGI_GLTF_MAX_NESTING)

@@ -56,10 +56,12 @@ open("good.gltf", "w").write(json.dumps(gltf([{"children": [1]}, {"mesh": 0}])))
 save("strength_negative.gltf", gltf([{"mesh": 0}], emissive=True, strength=-50))
 save("strength_huge.gltf", gltf([{"mesh": 0}], emissive=True, strength=1e9))
 save("factor_huge.gltf", gltf([{"mesh": 0}], emissive=True, factor=1e9))
+# An image's data: URI whose base64 tinygltf would decode leniently (padding inside, '!').
+save("lenient_base64.gltf", gltf([{"mesh": 0}], images=["data:image/png;base64,iVBORw0KGgo=AAAA!!"]))
 PY
 mkfifo fifo.bin fifo.png
 for f in deep_nodes.gltf deep_extras.gltf cycle.gltf fifo_buffer.gltf proc_buffer.gltf \
-    instances.gltf huge_chunk.glb fifo_image.gltf good.gltf; do
+    instances.gltf huge_chunk.glb lenient_base64.gltf fifo_image.gltf good.gltf; do
     for tool in gi-bake gi-lightmap; do
         ($limit; timeout 20 "$BIN/$tool" "$f" -o "out.$tool.$([ $tool = gi-bake ] && echo vdb || echo glb)" -q) >/dev/null 2>err
         rc=$?
