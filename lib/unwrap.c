@@ -205,7 +205,7 @@ static void place(const vdbgi_scene *s, const uint32_t *tris, size_t count, doub
  * (texel units, either winding; none if it has no area): true if one of them
  * was counted before, where another triangle covers it too.
  */
-static bool covers_again(const double t[3][2], uint8_t *hit, size_t w, size_t h)
+static bool covers_again(const double t[3][2], uint8_t *hit, size_t w, size_t h, size_t *covered)
 {
     const double area = cross2(t[0], t[1], t[2]);
     if (area == 0.0)
@@ -218,8 +218,12 @@ static bool covers_again(const double t[3][2], uint8_t *hit, size_t w, size_t h)
     for (size_t y = y0; y < h && (double)y <= y1; y++)
         for (size_t x = x0; x < w && (double)x <= x1; x++) {
             const double c[2] = {x + 0.5, y + 0.5};
-            if (sign * cross2(t[0], t[1], c) > eps && sign * cross2(t[1], t[2], c) > eps &&
-                sign * cross2(t[2], t[0], c) > eps && hit[y * w + x]++)
+            if (!(sign * cross2(t[0], t[1], c) > eps && sign * cross2(t[1], t[2], c) > eps &&
+                  sign * cross2(t[2], t[0], c) > eps))
+                continue;
+            if (covered)
+                ++*covered;
+            if (hit[y * w + x]++)
                 return true;
         }
     return false;
@@ -242,7 +246,7 @@ static vdbgi_result folds(vdbgi_context *ctx, const vdbgi_scene *s, const uint32
             project(frame, corner(s, tris[i], k), t[k]);
             t[k][0] = (t[k][0] - box[0]) * density, t[k][1] = (t[k][1] - box[1]) * density;
         }
-        *fold = covers_again(t, hit, w, h);
+        *fold = covers_again(t, hit, w, h, NULL);
     }
     vdbgi_free(ctx, hit);
     return VDBGI_OK;
@@ -502,6 +506,7 @@ vdbgi_result vdbgi_unwrap_from_uv1(vdbgi_context *ctx, const vdbgi_scene *s,
     u->chart_count = u->page_count = 1;
     u->rect[2] = u->rect[3] = size;
     *why = NULL;
+    size_t bare = 0; /* triangles that cover no texel centre */
     for (size_t t = 0; t < n && !*why; t++) {
         double tri[3][2];
         for (int k = 0; k < 3; k++) {
@@ -522,9 +527,15 @@ vdbgi_result vdbgi_unwrap_from_uv1(vdbgi_context *ctx, const vdbgi_scene *s,
             *why = "a triangle has no area in it";
             break;
         }
-        if (covers_again(tri, hit, (size_t)size, (size_t)size))
+        size_t covered = 0;
+        if (covers_again(tri, hit, (size_t)size, (size_t)size, &covered))
             *why = "two triangles overlap in it";
+        bare += covered == 0;
     }
+    /* A set whose triangles mostly fall between texel centres (all of them inside one
+       texel, say) would light them from its neighbours' texels, or none. */
+    if (!*why && 2 * bare > n)
+        *why = "most of its triangles cover no texel centre at this size";
     vdbgi_free(ctx, hit);
     if (*why) {
         vdbgi_unwrap_free(u);

@@ -15,10 +15,11 @@ oiiotool --info room.lightmap0.exr | sed 's/^room.lightmap0.exr *: *//'
 echo "ao exit $?: $(ls ao.* | tr '\n' ' ')"
 node "$ROOT/tests/js/check_gltf.mjs" ao.glb
 # A scene with a usable second UV set keeps it (gi-lightmap's own output, baked again);
-# one whose set leaves [0, 1] or overlaps itself is unwrapped anew, with a warning.
+# one whose set leaves [0, 1], overlaps itself or sits in one texel is unwrapped anew,
+# with a warning.
 "$BIN/gi-lightmap" room.glb -o again.glb --size 256 --threads 1 | grep -e charts -e texels
 node "$ROOT/tests/js/check_gltf.mjs" again.glb
-for how in outside overlap; do
+for how in outside overlap onetexel; do
     node "$ROOT/tests/js/edit_uv1.mjs" room.glb spoilt.glb $how
     "$BIN/gi-lightmap" spoilt.glb -o re.glb --size 256 --texel 0.1 2>&1 >/dev/null | grep 'second UV'
 done
