@@ -179,9 +179,3 @@ int8_t vdbgi_sh_ratio_encode(float term_value, float l0, int term)
     r = r > 1.0f ? 1.0f : r < -1.0f ? -1.0f : r;
     return (int8_t)lrintf(r * 127.0f);
 }
-
-float vdbgi_sh_ratio_decode(int8_t q, int term)
-{
-    const float r = (float)q / 127.0f;
-    return (r < -1.0f ? -1.0f : r) * vdbgi_sh_ratio_range(term);
-}

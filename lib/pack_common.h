@@ -153,6 +153,15 @@ static inline void neighbours(const vdbgi_pack_plan *pl, const int32_t p[3], int
     n[3] = point_index(pl, e);
 }
 
+/*
+ * The L2 terms' prediction (docs/format.md, "Version 6"): the stored point at
+ * p - x, else p - y, else p - z, from neighbours' n; -1 for none (then 0).
+ */
+static inline int64_t term_source(const int64_t n[4])
+{
+    return n[0] >= 0 ? n[0] : n[1] >= 0 ? n[1] : n[3];
+}
+
 /* An RGBM colour byte of point j as it would read under multiplier m (rounded, at most 255). */
 static inline int rescaled(const uint8_t *values, int64_t j, int k, int m)
 {

@@ -160,13 +160,6 @@ static void *values_worker(void *arg)
     return NULL;
 }
 
-/* The L2 terms' prediction for point p: the bytes of the stored point at p - x, else p - y,
-   else p - z; -1 for none (then 0). */
-static int64_t term_source(const int64_t nb[4])
-{
-    return nb[0] >= 0 ? nb[0] : nb[1] >= 0 ? nb[1] : nb[3];
-}
-
 /* Each point's residual against its prediction from values that are final. */
 static void *residual_worker(void *arg)
 {

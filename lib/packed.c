@@ -394,20 +394,28 @@ vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels, const 
 }
 
 /*
- * What one rebuild pass reads and writes: each stored point's bytes (stride
- * apart, from values), copied into the atlas texels (atlas_stride apart), or
+ * What one rebuild pass reads and writes: each stored point's bytes (from
+ * values), copied into the atlas texels, or
  * for a stitched texel interpolated and encoded. The L0 colours are the
  * volume's encoding; the L2 terms' 24 bytes are signed 127ths, which
  * interpolate as numbers (docs/format.md, "Version 6").
  */
 typedef struct texel_codec {
-    const uint8_t *values;
-    size_t stride;
-    uint8_t *atlas;
-    size_t atlas_stride;
-    bool terms;   /* the 24 int8 of the L2 terms, not a 4-byte colour */
-    int channels; /* floats a sample: 3, or 24 */
+    const uint8_t *values; /* bytes() a stored point */
+    uint8_t *atlas;        /* bytes() a texel */
+    bool terms;            /* the 24 int8 of the L2 terms, not a 4-byte colour */
 } texel_codec;
+
+/* Bytes a point or texel holds, and floats a sample of it: a colour's 4 and 3, or 24. */
+static size_t codec_bytes(const texel_codec *tc)
+{
+    return tc->terms ? VDBGI_SH_BYTES : 4;
+}
+
+static int codec_channels(const texel_codec *tc)
+{
+    return tc->terms ? VDBGI_SH_BYTES : 3;
+}
 
 static uint8_t *atlas_texel(const vdbgi_volume *v, const vdbgi_pack_plan *pl, const texel_codec *tc,
                             size_t b, int t)
@@ -416,7 +424,7 @@ static uint8_t *atlas_texel(const vdbgi_volume *v, const vdbgi_pack_plan *pl, co
     const uint16_t *const o = pl->origin[b];
     const size_t x = o[0] + (size_t)(t % N), y = o[1] + (size_t)(t / N % N),
                  z = o[2] + (size_t)(t / (N * N));
-    return &tc->atlas[tc->atlas_stride * ((z * d[1] + y) * d[0] + x)];
+    return &tc->atlas[codec_bytes(tc) * ((z * d[1] + y) * d[0] + x)];
 }
 
 static void decode_any(const vdbgi_volume *v, const texel_codec *tc, const uint8_t *in, float *out)
@@ -459,9 +467,9 @@ static void *rebuild_worker(void *arg)
     rebuild_job *const job = arg;
     const vdbgi_pack_plan *const pl = job->pl;
     const texel_codec *const tc = job->tc;
-    const int ch = tc->channels;
+    const int ch = codec_channels(tc);
     const int32_t *const cidx = job->cidx;
-    const size_t bytes = tc->terms ? VDBGI_SH_BYTES : 4;
+    const size_t bytes = codec_bytes(tc);
     /* Coarse brick c's sample t. */
 #define SAMPLE(c, t) (&job->fs[((size_t)(c)*TEXELS + (size_t)(t)) * (size_t)ch])
     for (size_t b = 0; b < pl->brick_count; b++) {
@@ -482,7 +490,7 @@ static void *rebuild_worker(void *arg)
                 } else {
                     const int64_t i = point_index(pl, p);
                     static const uint8_t zero[VDBGI_SH_BYTES];
-                    decode_any(job->v, tc, i >= 0 ? &tc->values[tc->stride * (size_t)i] : zero,
+                    decode_any(job->v, tc, i >= 0 ? &tc->values[bytes * (size_t)i] : zero,
                                SAMPLE(cidx[b], t));
                 }
                 continue;
@@ -491,7 +499,7 @@ static void *rebuild_worker(void *arg)
             if (!stitch) {
                 const int64_t i = point_index(pl, p);
                 if (i >= 0)
-                    memcpy(out, &tc->values[tc->stride * (size_t)i], bytes);
+                    memcpy(out, &tc->values[bytes * (size_t)i], bytes);
                 continue;
             }
             float got[VDBGI_SH_BYTES];
@@ -525,8 +533,8 @@ static vdbgi_result rebuild_pass(vdbgi_volume *v, const vdbgi_pack_plan *pl, con
         return VDBGI_ERR_OUT_OF_MEMORY;
     for (size_t b = 0; b < count; b++)
         cidx[b] = pl->level[b] ? (int32_t)coarse++ : -1;
-    float *const fs =
-        vdbgi_alloc(ctx, (coarse ? coarse : 1) * TEXELS * (size_t)tc->channels * sizeof(float));
+    float *const fs = vdbgi_alloc(ctx, (coarse ? coarse : 1) * TEXELS * (size_t)codec_channels(tc) *
+                                           sizeof(float));
     if (!fs) {
         vdbgi_free(ctx, cidx);
         return VDBGI_ERR_OUT_OF_MEMORY;
@@ -561,18 +569,13 @@ vdbgi_result vdbgi_pack_rebuild_values(vdbgi_volume *v, const vdbgi_pack_plan *p
                                        size_t *clamped_out)
 {
     *clamped_out = 0;
-    const texel_codec l0 = {
-        .values = values, .stride = 4, .atlas = v->tex.atlas, .atlas_stride = 4, .channels = 3};
+    const texel_codec l0 = {.values = values, .atlas = v->tex.atlas};
     VDBGI_TRY(rebuild_pass(v, pl, &l0, threads, clamped_out));
     if (!sh)
         return VDBGI_OK;
     VDBGI_TRY(vdbgi_textures_alloc_sh(v->ctx, &v->tex));
-    const texel_codec terms = {.values = (const uint8_t *)sh,
-                               .stride = VDBGI_SH_BYTES,
-                               .atlas = (uint8_t *)v->tex.sh,
-                               .atlas_stride = VDBGI_SH_BYTES,
-                               .terms = true,
-                               .channels = VDBGI_SH_BYTES};
+    const texel_codec terms = {
+        .values = (const uint8_t *)sh, .atlas = (uint8_t *)v->tex.sh, .terms = true};
     return rebuild_pass(v, pl, &terms, threads, clamped_out);
 }
 
@@ -587,7 +590,7 @@ static void undo_term_residuals(const vdbgi_pack_plan *pl, const uint8_t *planes
     FOR_EACH_POINT(pl, p, i, {
         int64_t nb[4];
         neighbours(pl, p, nb);
-        const int64_t j = nb[0] >= 0 ? nb[0] : nb[1] >= 0 ? nb[1] : nb[3];
+        const int64_t j = term_source(nb);
         for (int k = 0; k < VDBGI_SH_BYTES; k++)
             sh[VDBGI_SH_BYTES * i + k] =
                 (uint8_t)(planes[k * n + i] + (j >= 0 ? sh[VDBGI_SH_BYTES * (size_t)j + k] : 0));

@@ -184,6 +184,7 @@ void vdbgi_sampler_sample_normal(const vdbgi_volume_view *v, const float pos[3],
     /* The eight polynomials of the normal (estimate.c's vdbgi_sh2_terms, in float32 here). */
     const float x = n[0], y = n[1], z = n[2];
     const float poly[8] = {x, y, z, x * y, y * z, 3.0f * z * z - 1.0f, x * z, x * x - y * y};
+    /* encode.c's vdbgi_sh_ratio_range, the format's constants: this file depends on no other. */
     static const float range[8] = {2.0f, 2.0f, 2.0f, 1.875f, 1.875f, 0.625f, 1.875f, 0.9375f};
     float sum[3] = {1.0f, 1.0f, 1.0f};
     for (int t = 0; t < 8; t++) {

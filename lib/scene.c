@@ -150,7 +150,8 @@ vdbgi_result vdbgi_scene_finish(vdbgi_scene *s, size_t nonfinite_count)
      * 1e-5 of the larger of the coordinate magnitude and the scene size is
      * ~80 ulps there, yet only 2 cm in a 2 km world and 10 um in a 1 m room.
      */
-    s->ray_offset = 1e-5f * fmaxf(max_abs, sqrtf(diag2));
+    const float reach = fmaxf(max_abs, sqrtf(diag2));
+    s->ray_offset = 1e-5f * reach;
     /* A room with one triangle 1000 km away starts its rays 10 m off every surface and
        bakes black: say so (5 cm is a 5 km scene). */
     if (s->ray_offset > 0.05f)
@@ -158,7 +159,7 @@ vdbgi_result vdbgi_scene_finish(vdbgi_scene *s, size_t nonfinite_count)
                   "%s: geometry reaches %g m from the origin, so rays start %g m off every "
                   "surface (1e-5 of that) and anything nearer reads dark: is some of it far "
                   "from the rest?",
-                  s->name, (double)fmaxf(max_abs, sqrtf(diag2)), (double)s->ray_offset);
+                  s->name, (double)reach, (double)s->ray_offset);
     classify_triangles(s);
     return VDBGI_OK;
 }

@@ -203,7 +203,8 @@ static void place(const vdbgi_scene *s, const uint32_t *tris, size_t count, doub
 /*
  * Count, in hit (w x h texels), the texel centres strictly inside triangle t
  * (texel units, either winding; none if it has no area): true if one of them
- * was counted before, where another triangle covers it too.
+ * was counted before, where another triangle covers it too. *covered (if not
+ * NULL) grows by the centres counted.
  */
 static bool covers_again(const double t[3][2], uint8_t *hit, size_t w, size_t h, size_t *covered)
 {

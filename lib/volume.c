@@ -295,9 +295,11 @@ static vdbgi_volume *volume_start(vdbgi_context *ctx, const vdbgi_probes *probes
 static vdbgi_result check_extent(vdbgi_context *ctx, const vdbgi_probes *p)
 {
     int32_t lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, hi[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
+    size_t valid = 0;
     for (size_t i = 0; i < p->count; i++) {
         if (p->backface[i] > p->invalid_threshold)
             continue;
+        valid++;
         for (int k = 0; k < 3; k++) {
             const int32_t c = vdbgi_floor_div(p->ijk[3 * i + k], VDBGI_BRICK);
             lo[k] = c < lo[k] ? c : lo[k];
@@ -305,9 +307,6 @@ static vdbgi_result check_extent(vdbgi_context *ctx, const vdbgi_probes *p)
         }
     }
     double cells = 1.0;
-    size_t valid = 0;
-    for (size_t i = 0; i < p->count; i++)
-        valid += p->backface[i] <= p->invalid_threshold;
     for (int k = 0; k < 3 && lo[k] <= hi[k]; k++) {
         const int64_t dim = (int64_t)hi[k] + 1 - (int64_t)vdbgi_floor_div(lo[k] - 1, 8) * 8 + 1;
         VDBGI_FAIL_IF(ctx, dim > VDBGI_MAX_TEXTURE_DIM, VDBGI_ERR_OUT_OF_MEMORY,
