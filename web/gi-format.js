@@ -21,6 +21,9 @@ const HEADER_BYTES = 112;
 const HEADER_BYTES_V6 = 116;
 export const BASIS_SCALAR = 0;
 export const BASIS_SH2 = 2;
+// Each L2 term's largest ratio to L0 (docs/format.md, "Version 6"): a term
+// texel's snorm value times this, times its polynomial of the normal.
+export const SH2_RANGE = Object.freeze([2, 2, 2, 1.875, 1.875, 0.625, 1.875, 0.9375]);
 
 // Texels a brick side, the border before its first probe, and where a coarse
 // probe stands inside its block (0.5: block centres, seed; 0: corners, compact).

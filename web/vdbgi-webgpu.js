@@ -17,6 +17,7 @@ import {
 import * as TSL from 'three/tsl';
 import * as WEBGPU from 'three/webgpu';
 import { GiRuntimeBase, DebugView, LAYOUT_COMPACT, LEVEL_COLOURS } from './vdbgi.js';
+import { SH2_RANGE } from './gi-format.js';
 
 export {
   loadGi, GiVolume, DebugView, LEVEL_COLOURS, DEFAULT_KNOBS, ENCODING_RGBM, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT,
@@ -98,10 +99,11 @@ function giNodes(runtime) {
       const q = max(n.texture(`sh${i}`, uvw).mul(255).sub(128).div(127), -1);
       c.push(q.x, q.y, q.z, q.w);
     }
-    const poly = [nrm.x.mul(2), nrm.y.mul(2), nrm.z.mul(2), nrm.x.mul(nrm.y).mul(1.875), nrm.y.mul(nrm.z).mul(1.875),
-      nrm.z.mul(nrm.z).mul(3).sub(1).mul(0.625), nrm.x.mul(nrm.z).mul(1.875), nrm.x.mul(nrm.x).sub(nrm.y.mul(nrm.y)).mul(0.9375)];
+    const poly = [nrm.x, nrm.y, nrm.z, nrm.x.mul(nrm.y), nrm.y.mul(nrm.z), nrm.z.mul(nrm.z).mul(3).sub(1),
+      nrm.x.mul(nrm.z), nrm.x.mul(nrm.x).sub(nrm.y.mul(nrm.y))];
     let sum = vec3(1);
-    for (let k = 0; k < 8; k++) sum = sum.add(vec3(c[3 * k], c[3 * k + 1], c[3 * k + 2]).mul(poly[k]));
+    for (let k = 0; k < 8; k++)
+      sum = sum.add(vec3(c[3 * k], c[3 * k + 1], c[3 * k + 2]).mul(SH2_RANGE[k]).mul(poly[k]));
     const irradiance = select(l2, max(l0.mul(sum), 0), l0);
     const empty = ind.r.add(ind.g).add(ind.b).add(ind.a).equal(0);
     const levelOut = select(compact, select(empty, float(-1), level), ind.a.sub(1));

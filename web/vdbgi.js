@@ -15,7 +15,9 @@
 // The lookup is seed 000's volumeIrradiance(); docs/web.md says what each
 // knob does. vdbgi-webgpu.js is the same for WebGPURenderer, in TSL.
 import * as THREE from 'three';
-import { decodeGi, indirectionColumns, layoutGeometry, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT } from './gi-format.js';
+import {
+  decodeGi, indirectionColumns, layoutGeometry, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT, SH2_RANGE,
+} from './gi-format.js';
 
 export { ENCODING_RGBM, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT } from './gi-format.js';
 
@@ -382,10 +384,10 @@ GiLookup vdbgiLookup(vec3 pos, vec3 n) {
     float t[24];
     ${[0, 1, 2, 3, 4, 5].map((i) => `vec4 q${i} = max((texture(giSh[${i}], uvw) * 255.0 - 128.0) / 127.0, -1.0);
     t[${4 * i}] = q${i}.x; t[${4 * i + 1}] = q${i}.y; t[${4 * i + 2}] = q${i}.z; t[${4 * i + 3}] = q${i}.w;`).join('\n    ')}
-    float poly[8] = float[8](n.x * 2.0, n.y * 2.0, n.z * 2.0, n.x * n.y * 1.875, n.y * n.z * 1.875,
-                             (3.0 * n.z * n.z - 1.0) * 0.625, n.x * n.z * 1.875, (n.x * n.x - n.y * n.y) * 0.9375);
+    float poly[8] = float[8](n.x, n.y, n.z, n.x * n.y, n.y * n.z, 3.0 * n.z * n.z - 1.0, n.x * n.z, n.x * n.x - n.y * n.y);
+    float range[8] = float[8](${SH2_RANGE.map((r) => r.toFixed(4)).join(', ')});
     vec3 sum = vec3(1.0);
-    for (int k = 0; k < 8; k++) sum += vec3(t[3 * k], t[3 * k + 1], t[3 * k + 2]) * poly[k];
+    for (int k = 0; k < 8; k++) sum += vec3(t[3 * k], t[3 * k + 1], t[3 * k + 2]) * range[k] * poly[k];
     r.irradiance = max(r.irradiance * sum, 0.0);
   }
   r.level = compact ? (ind == vec4(0.0) ? -1.0 : level) : ind.a - 1.0;

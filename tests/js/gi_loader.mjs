@@ -3,7 +3,7 @@
 // uses (DecompressionStream, DataView, every refusal docs/format.md lists);
 // this adds the seed's lookup in float32 (Math.fround after every operation
 // the shader does), so node can hold both to the C sampler.
-import { decodeGi, indirectionColumns, layoutGeometry, LAYOUT_COMPACT } from '../../web/gi-format.js';
+import { decodeGi, indirectionColumns, layoutGeometry, LAYOUT_COMPACT, SH2_RANGE } from '../../web/gi-format.js';
 
 const f = Math.fround;
 
@@ -64,7 +64,6 @@ const termTexel = (term) => (gi, x, y, z) => {
   }
   return out;
 };
-const RANGE = [2, 2, 2, 1.875, 1.875, 0.625, 1.875, 0.9375];
 
 // The seed's volumeIrradiance(): NEAREST indirection, level and slot, LINEAR atlas, decode;
 // the compact layout changes only where a brick's probes stand. With a unit
@@ -135,8 +134,8 @@ export function sampleGi(gi, pos, detail = null, normal = null) {
     const d = detail ? {} : null;
     const r = sampleLinear(gi, uvw, d, termTexel(t));
     for (let k = 0; k < 3; k++) {
-      sum[k] = f(sum[k] + f(f(r[k] * RANGE[t]) * poly[t]));
-      if (detail) detail.termWeight[k] += d.spread[k] * RANGE[t] * Math.abs(poly[t]);
+      sum[k] = f(sum[k] + f(f(r[k] * SH2_RANGE[t]) * poly[t]));
+      if (detail) detail.termWeight[k] += d.spread[k] * SH2_RANGE[t] * Math.abs(poly[t]);
     }
   }
   if (detail) {
