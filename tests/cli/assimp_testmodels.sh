@@ -10,13 +10,8 @@ if [ ! -d "$models" ]; then
     echo "assimp-testmodels missing (make deps installs it)"
     exit 77
 fi
-limit="ulimit -v 2000000"
-case "$BIN" in
-*/asan/* | */ubsan/*)
-    limit=true
-    export ASAN_OPTIONS="allocator_may_return_null=1:max_allocation_size_mb=2000"
-    ;;
-esac
+. "$ROOT/tests/cli/hostile.inc"
+hostile_limit 2000
 find "$models" -type f | LC_ALL=C sort |
     grep -viE '\.(png|jpe?g|tga|bmp|dds|tiff?|gif|pcx|psd|hdr|ktx|txt|md|bin|mtl|glsl|xsd|cfg|mat|shader|material|skin|h|cpp)$' > list
 n=0
@@ -25,14 +20,12 @@ while read -r f; do
     n=$((n + 1))
     ($limit; timeout 20 "$BIN/gi-bake" "$f" -o "out$n.vdb" -q --rays 1 --max-probes 200000) >/dev/null 2>err
     rc=$?
-    own=$(grep -c '^gi-bake: ' err)
-    refusals=$(grep '^gi-bake: ' err | grep -vc '^gi-bake: warning: ')
     foreign=$(grep -vc '^gi-bake: ' err)
     left=$(ls out$n.* 2>/dev/null | wc -l)
-    if [ $rc -eq 0 ] && [ $refusals -eq 0 ] && [ $left -eq 1 ]; then
-        echo baked >> report
-    elif [ $rc -eq 1 ] && [ $own -eq 1 ] && [ $refusals -eq 1 ] && [ $left -eq 0 ]; then
-        echo refused >> report
+    run_outcome gi-bake $rc $left
+    [ $outcome = baked ] && [ $left -ne 1 ] && outcome=odd # a bake leaves its .vdb
+    if [ $outcome != odd ]; then
+        echo $outcome >> report
     else
         echo "${f#$models/}: exit $rc, $own line(s) of its own, $left output(s): $(head -n 1 err)"
     fi

@@ -4,15 +4,8 @@
 # texture that is a device or claims 20000^2 pixels is a warning, not a hang or
 # 6 GB, in gi-bake and gi-lightmap, as a base colour or as emission. Prints what it checked and every deviation.
 H="$ROOT/tests/hostile"
-limit="ulimit -v 4000000"
-case "$BIN" in
-*/asan/* | */ubsan/*)
-    # ASan reserves terabytes of address space and cannot run under ulimit -v;
-    # its own limit stops single huge allocations.
-    limit=true
-    export ASAN_OPTIONS="allocator_may_return_null=1:max_allocation_size_mb=4000"
-    ;;
-esac
+. "$ROOT/tests/cli/hostile.inc"
+hostile_limit 4000
 runs=0
 bad=0
 check() { # expect (refuse|accept), file, command...

@@ -3,13 +3,8 @@
 # 4 GB, leaving no output; emission out of range refused or capped with a warning. Before the checks: nodes 40 000 deep and extras 100 000 deep
 # crashed (SIGSEGV in assimp and tinygltf), a FIFO buffer or image hung, a .glb whose JSON
 # chunk claims 3 GiB took 3 GB, a node cycle, and 20 000 instances asked for 13 GB.
-limit="ulimit -v 4000000"
-case "$BIN" in
-*/asan/* | */ubsan/*)
-    limit=true
-    export ASAN_OPTIONS="allocator_may_return_null=1:max_allocation_size_mb=4000"
-    ;;
-esac
+. "$ROOT/tests/cli/hostile.inc"
+hostile_limit 4000
 /usr/bin/python3 - <<'PY'
 import base64, json, struct
 tri = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 0, 1)

@@ -3,24 +3,32 @@
 # (SIGKILL cannot be caught) is removed by the next run that writes the output.
 "$BIN/gi-bake" -q "$DATA/world.glb" -o world.vdb --spacing 1 --rays 8 --basis ambient-cube
 "$BIN/vdb-to-gi" -q world.vdb -o once.gi.gz || echo "convert failed"
-caught=0
-for try in 1 2 3 4 5 6 7 8 9 10; do
-    rm -f out.gi.gz
-    "$BIN/vdb-to-gi" -q world.vdb -o out.gi.gz --bevy out.ktx2 --res 64,32,64 &
-    pid=$!
-    # Wait for a temporary to appear, then terminate the writer.
-    while kill -0 $pid 2>/dev/null; do
-        set -- out.*.tmp-*
-        if [ -e "$1" ]; then
-            kill -TERM $pid
-            caught=1
-            break
-        fi
+# interrupt PATTERN COUNT COMMAND...: run COMMAND (first removing what PATTERN names)
+# until COUNT temporaries match PATTERN.tmp-*, then SIGTERM it; up to ten tries, as a
+# fast writer may finish first. Sets caught (1 once terminated) and status.
+interrupt() {
+    pattern=$1 count=$2
+    shift 2
+    caught=0
+    for try in 1 2 3 4 5 6 7 8 9 10; do
+        rm -f $pattern
+        "$@" &
+        pid=$!
+        while kill -0 $pid 2>/dev/null; do
+            n=0
+            for t in $pattern.tmp-*; do [ -e "$t" ] && n=$((n + 1)); done
+            if [ $n -ge $count ]; then
+                kill -TERM $pid
+                caught=1
+                break
+            fi
+        done
+        wait $pid
+        status=$?
+        [ $caught = 1 ] && break
     done
-    wait $pid
-    status=$?
-    [ $caught = 1 ] && break
-done
+}
+interrupt 'out.*' 1 "$BIN/vdb-to-gi" -q world.vdb -o out.gi.gz --bevy out.ktx2 --res 64,32,64
 echo "caught during a write: $caught, status $status"
 ls out.* 2>/dev/null | wc -l | sed 's/^/files left: /'
 # A stale temporary of a process that is gone (pid 1 is never ours, so a dead pid is made).
@@ -48,22 +56,6 @@ for m, tris in faces:
     out += ["usemtl " + m] + ["f %d %d %d" % t for t in tris]
 open("lamps.obj", "w").write("\n".join(out) + "\n")
 PY
-caught=0
-for try in 1 2 3 4 5 6 7 8 9 10; do
-    rm -f lit.*
-    "$BIN/gi-lightmap" -q lamps.obj -o lit.glb --layers --size 32 --texel 0.1 &
-    pid=$!
-    while kill -0 $pid 2>/dev/null; do
-        set -- lit.*.tmp-*
-        if [ $# -gt 64 ]; then
-            kill -TERM $pid
-            caught=1
-            break
-        fi
-    done
-    wait $pid
-    status=$?
-    [ $caught = 1 ] && break
-done
+interrupt 'lit.*' 65 "$BIN/gi-lightmap" -q lamps.obj -o lit.glb --layers --size 32 --texel 0.1
 echo "layers: caught with more than 64 temporaries: $caught, status $status"
 ls lit.* 2>/dev/null | wc -l | sed 's/^/files left: /'
