@@ -99,6 +99,36 @@ int cli_start(const char *const *inputs, int input_count, const cli_file *output
     return -1;
 }
 
+cli_light_extra cli_light = {NULL, 1.0f, 0.0f, false};
+
+int cli_light_prepare(vdbgi_context *ctx, const vdbgi_scene *scene, vdbgi_bake_desc *b,
+                      vdbgi_sky **sky)
+{
+    *sky = NULL;
+    if (cli_light.sun_scene) {
+        const vdbgi_light *lights = NULL;
+        const size_t n = b->lights == VDBGI_LIGHTS_OFF ? 0 : vdbgi_scene_get_lights(scene, &lights);
+        bool found = false;
+        for (size_t i = 0; i < n; i++)
+            found = found || lights[i].type == VDBGI_LIGHT_DIRECTIONAL;
+        if (!found) {
+            vdbgi_scene_info si;
+            vdbgi_scene_get_info(scene, &si);
+            if (b->lights == VDBGI_LIGHTS_OFF)
+                cli_error("--sun scene and --lights off leave no sun");
+            else
+                cli_error("--sun scene: %s has no directional light", si.name);
+            return CLI_FAILED;
+        }
+    }
+    if (!cli_light.sky_map)
+        return -1;
+    const vdbgi_result r = vdbgi_sky_load(ctx, cli_light.sky_map, cli_light.sky_intensity,
+                                          cli_light.sky_rotation, sky);
+    b->sky_map = *sky;
+    return r == VDBGI_OK ? -1 : cli_fail(ctx, r);
+}
+
 int cli_light_option(int c, const char *arg, vdbgi_bake_desc *b)
 {
     double d = 0.0;
@@ -116,9 +146,42 @@ int cli_light_option(int c, const char *arg, vdbgi_bake_desc *b)
         b->ambient = d == 0.0 ? VDBGI_ZERO : (float)d;
         return -2;
     case CLI_OPT_SUN:
+        cli_light.sun_scene = strcmp(arg, "scene") == 0;
+        if (cli_light.sun_scene) {
+            memset(b->sun_dir, 0, sizeof(b->sun_dir));
+            return -2;
+        }
         if (!cli_parse_vec3(arg, v) || (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f))
-            return cli_usage_error("--sun must be a non-zero direction x,y,z (got '%s')", arg);
+            return cli_usage_error("--sun must be scene or a non-zero direction x,y,z (got '%s')",
+                                   arg);
         memcpy(b->sun_dir, v, sizeof(v));
+        return -2;
+    case CLI_OPT_LIGHTS:
+        if (strcmp(arg, "scene") == 0 || strcmp(arg, "on") == 0)
+            b->lights = VDBGI_LIGHTS_SCENE;
+        else if (strcmp(arg, "off") == 0)
+            b->lights = VDBGI_LIGHTS_OFF;
+        else
+            return cli_usage_error("--lights must be on or off (got '%s')", arg);
+        return -2;
+    case CLI_OPT_MODEL:
+        if (strcmp(arg, "seed") == 0)
+            b->model = VDBGI_MODEL_SEED;
+        else if (strcmp(arg, "physical") == 0)
+            b->model = VDBGI_MODEL_PHYSICAL;
+        else
+            return cli_usage_error("--model must be seed or physical (got '%s')", arg);
+        return -2;
+    case CLI_OPT_SKY_MAP: cli_light.sky_map = arg; return -2;
+    case CLI_OPT_SKY_INTENSITY:
+        if (!cli_parse_double(arg, &d) || !(d > 0.0 && d <= 1e6))
+            return cli_usage_error("--sky-intensity must be a number in (0, 1e6] (got '%s')", arg);
+        cli_light.sky_intensity = (float)d;
+        return -2;
+    case CLI_OPT_SKY_ROTATION:
+        if (!cli_parse_double(arg, &d) || !isfinite(d))
+            return cli_usage_error("--sky-rotation must be degrees (got '%s')", arg);
+        cli_light.sky_rotation = (float)d;
         return -2;
     case CLI_OPT_SUN_COLOR:
         if (!cli_parse_vec3(arg, v) || v[0] < 0.0f || v[1] < 0.0f || v[2] < 0.0f)

@@ -77,7 +77,12 @@ enum {
     CLI_OPT_SAMPLING,
     CLI_OPT_SEED,
     CLI_OPT_THREADS,
-    CLI_OPT_INVALID
+    CLI_OPT_INVALID,
+    CLI_OPT_LIGHTS,
+    CLI_OPT_MODEL,
+    CLI_OPT_SKY_MAP,
+    CLI_OPT_SKY_INTENSITY,
+    CLI_OPT_SKY_ROTATION
 };
 #define CLI_LIGHT_LONG_OPTIONS                                                                     \
     {"ray-dist", required_argument, NULL, CLI_OPT_RAY_DIST},                                       \
@@ -89,10 +94,34 @@ enum {
         {"sampling", required_argument, NULL, CLI_OPT_SAMPLING},                                   \
         {"seed", required_argument, NULL, CLI_OPT_SEED},                                           \
         {"threads", required_argument, NULL, CLI_OPT_THREADS},                                     \
+        {"invalid-threshold", required_argument, NULL, CLI_OPT_INVALID},                           \
+        {"lights", required_argument, NULL, CLI_OPT_LIGHTS},                                       \
+        {"model", required_argument, NULL, CLI_OPT_MODEL},                                         \
+        {"sky-map", required_argument, NULL, CLI_OPT_SKY_MAP},                                     \
+        {"sky-intensity", required_argument, NULL, CLI_OPT_SKY_INTENSITY},                         \
     {                                                                                              \
-        "invalid-threshold", required_argument, NULL, CLI_OPT_INVALID                              \
+        "sky-rotation", required_argument, NULL, CLI_OPT_SKY_ROTATION                              \
     }
 int cli_light_option(int c, const char *arg, vdbgi_bake_desc *b);
+
+/*
+ * What the light options leave for later: the sky map to load (path NULL for
+ * none) and whether --sun scene asked for the scene's own sun.
+ */
+typedef struct cli_light_extra {
+    const char *sky_map;
+    float sky_intensity, sky_rotation;
+    bool sun_scene;
+} cli_light_extra;
+extern cli_light_extra cli_light;
+
+/*
+ * After the scene is loaded: the sky map into *sky (the caller destroys it)
+ * and b->sky_map, and the check --sun scene makes. -1 to go on, else the
+ * exit code of an error it printed.
+ */
+int cli_light_prepare(vdbgi_context *ctx, const vdbgi_scene *scene, vdbgi_bake_desc *b,
+                      vdbgi_sky **sky);
 
 /* Whole-string parses; false on junk, overflow or an empty string. */
 bool cli_parse_int(const char *s, long long *out);

@@ -31,10 +31,19 @@ static void usage(void)
            "      --max-rays N         auto's cap, a power of two (1024)\n"
            "      --ray-dist M         longest ray in metres (40)\n"
            "      --ambient A          ambient fill received at every hit (0.15)\n"
-           "      --sun X,Y,Z          direction towards the sun (0.4,0.8,0.3)\n"
+           "      --sun X,Y,Z|scene    direction towards the sun, or the scene's directional\n"
+           "                           light (the scene's if it has one, else 0.4,0.8,0.3)\n"
            "      --sun-color R,G,B    sun colour, linear; 0,0,0 turns the sun off (1,1,1)\n"
            "      --falloff M          distance falloff 1/(1+(d/M)^2) in metres, or inf (4)\n"
            "      --sky R,G,B          what a ray that hits nothing adds, linear (0,0,0)\n"
+           "      --sky-map FILE       an equirectangular .hdr or .exr sky in place of --sky\n"
+           "      --sky-intensity X    the sky map's scale (1)\n"
+           "      --sky-rotation DEG   the sky map's turn about +y (0)\n"
+           "      --lights on|off      the scene's point, spot and directional lights (on)\n"
+           "      --model M            seed: seed 000's ambient fill and falloff; physical:\n"
+           "                           neither, only lights, emission, sky and bounces (seed)\n"
+           "      --bounces N          light bounced N times, traced on from each hit, 1..16 "
+           "(1)\n"
            "      --sampling S         fibonacci (one set, as seed 000) or random (a random\n"
            "                           rotation of that set per probe) (fibonacci)\n"
            "      --seed N             seed of random sampling (0)\n"
@@ -56,7 +65,8 @@ static void usage(void)
            "  gi-bake data/room.obj -o room.vdb --spacing 0.25 --sun-color 0,0,0\n"
            "  gi-bake data/world.glb -o world.vdb --sampling random --rays 256 --falloff inf\n"
            "  gi-bake data/world.glb -o world.vdb --basis ambient-cube\n"
-           "  gi-bake data/world.glb -o world.vdb --basis sh2\n");
+           "  gi-bake data/world.glb -o world.vdb --basis sh2\n"
+           "  gi-bake interior.glb -o interior.vdb --model physical --bounces 3\n");
 }
 
 enum {
@@ -67,7 +77,8 @@ enum {
     OPT_NOISE,
     OPT_MAX_RAYS,
     OPT_TRACE,
-    OPT_BASIS
+    OPT_BASIS,
+    OPT_BOUNCES
 };
 
 typedef struct options {
@@ -92,6 +103,7 @@ static int parse_args(int argc, char **argv, options *o)
                                           CLI_LIGHT_LONG_OPTIONS,
                                           {"trace", required_argument, NULL, OPT_TRACE},
                                           {"basis", required_argument, NULL, OPT_BASIS},
+                                          {"bounces", required_argument, NULL, OPT_BOUNCES},
                                           CLI_COMMON_LONG_OPTIONS};
     opterr = 0;
     int c;
@@ -163,6 +175,11 @@ static int parse_args(int argc, char **argv, options *o)
                 return cli_usage_error("--basis must be scalar, ambient-cube or sh2 (got '%s')",
                                        optarg);
             break;
+        case OPT_BOUNCES:
+            if (!cli_parse_int(optarg, &i) || i < 1 || i > 16)
+                return cli_usage_error("--bounces must be an integer in 1..16 (got '%s')", optarg);
+            o->bake.bounces = (int)i;
+            break;
         default: {
             const int done = cli_common_option(c, argv, usage);
             if (done != -2)
@@ -186,9 +203,9 @@ int main(int argc, char **argv)
     if (parsed >= 0)
         return parsed;
     /* The scene, and no file of another kind (its .mtl, a texture), is ever replaced. */
-    const char *const inputs[1] = {o.scene};
+    const char *const inputs[2] = {o.scene, cli_light.sky_map};
     const cli_file out = {o.output, "VDB", "\x20\x42\x44\x56", 4};
-    const int clash = cli_check_files(inputs, 1, &out, 1);
+    const int clash = cli_check_files(inputs, cli_light.sky_map ? 2 : 1, &out, 1);
     if (clash >= 0)
         return clash;
 
@@ -197,11 +214,19 @@ int main(int argc, char **argv)
         return CLI_FAILED;
     vdbgi_scene *scene = NULL;
     vdbgi_probes *probes = NULL;
+    vdbgi_sky *sky = NULL;
     int code = CLI_FAILED;
     vdbgi_result r = vdbgi_output_check(ctx, o.output);
     const double t0 = cli_now();
     if (r == VDBGI_OK)
         r = vdbgi_scene_load(ctx, o.scene, &scene);
+    if (r == VDBGI_OK && (code = cli_light_prepare(ctx, scene, &o.bake, &sky)) >= 0) {
+        vdbgi_sky_destroy(sky);
+        vdbgi_scene_destroy(scene);
+        vdbgi_context_destroy(ctx);
+        return code;
+    }
+    code = CLI_FAILED;
     const double t1 = cli_now();
     if (r == VDBGI_OK)
         r = vdbgi_probes_place(ctx, scene, &o.place, &probes);
@@ -231,12 +256,17 @@ int main(int argc, char **argv)
         struct stat fs;
         char size[32];
         const double rays = (double)(st.primary_ray_count + st.shadow_ray_count);
-        printf("scene    %s: %zu triangles (%zu skipped), %zu textures\n", si.name,
-               si.triangle_count, si.skipped_triangle_count, si.texture_count);
+        printf("scene    %s: %zu triangles (%zu skipped), %zu textures", si.name, si.triangle_count,
+               si.skipped_triangle_count, si.texture_count);
+        if (si.light_count)
+            printf(", %zu lights%s", si.light_count,
+                   o.bake.lights == VDBGI_LIGHTS_OFF ? " (off)" : "");
+        printf("\n");
         printf("probes   %zu (%zu invalid) at %g m spacing, %g m margin\n", pi.probe_count,
                pi.invalid_count, pi.spacing, pi.margin);
-        printf("rays     %llu primary + %llu shadow, %.1f Mrays/s on %d threads\n",
+        printf("rays     %llu primary + %llu %s, %.1f Mrays/s on %d threads\n",
                (unsigned long long)st.primary_ray_count, (unsigned long long)st.shadow_ray_count,
+               o.bake.bounces > 1 ? "shadow and bounce" : "shadow",
                st.seconds > 0.0 ? rays / st.seconds * 1e-6 : 0.0, st.threads);
         printf("time     %.2f s: load %.2f, place %.2f, bake %.2f, write %.2f\n", t4 - t0, t1 - t0,
                t2 - t1, t3 - t2, t4 - t3);
@@ -246,6 +276,7 @@ int main(int argc, char **argv)
     if (r == VDBGI_OK)
         code = CLI_OK;
     vdbgi_probes_destroy(probes);
+    vdbgi_sky_destroy(sky);
     vdbgi_scene_destroy(scene);
     vdbgi_context_destroy(ctx);
     return code;

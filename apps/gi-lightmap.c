@@ -25,24 +25,33 @@ static void usage(void)
            "      --texel M            metres a texel edge (0.25)\n"
            "      --size N             atlas edge in texels (1024); more atlases if needed\n"
            "      --passes N           bounces, 1..16 (2)\n"
-           "      --direct             add the direct sun (fully baked); default: bounced\n"
-           "                           light only, the lights stay on at runtime\n"
+           "      --direct             add the direct sun and lights (fully baked); default:\n"
+           "                           bounced light only, the lights stay on at runtime\n"
            "      --mode M             lightmap or ao (ambient occlusion, the glTF\n"
            "                           occlusionTexture) (lightmap)\n"
            "      --ao-dist M          how far AO looks, metres (1)\n"
-           "      --layers             also one map per light (sun, ambient, sky, each\n"
-           "                           emissive material), each alone: they add up to the\n"
-           "                           map; in the .glb's extras and as OUT.NAME.lightmapN.exr\n"
+           "      --layers             also one map per light (sun, each scene light,\n"
+           "                           ambient, sky, each emissive material), each alone:\n"
+           "                           they add up to the map; in the .glb's extras and as\n"
+           "                           OUT.NAME.lightmapN.exr\n"
            "      --slices DIR         pictures of each atlas: the map, and its charts\n"
            "                           (gutters black, texels inside geometry red)\n"
            "      --stats FILE         also write the figures -v prints as JSON\n"
            "      --rays N             rays per texel (64)\n"
            "      --ray-dist M         longest ray in metres (40)\n"
            "      --ambient A          ambient fill received at every hit (0.15)\n"
-           "      --sun X,Y,Z          direction towards the sun (0.4,0.8,0.3)\n"
+           "      --sun X,Y,Z|scene    direction towards the sun, or the scene's directional\n"
+           "                           light (the scene's if it has one, else 0.4,0.8,0.3)\n"
            "      --sun-color R,G,B    sun colour, linear; 0,0,0 turns the sun off (1,1,1)\n"
            "      --falloff M          distance falloff 1/(1+(d/M)^2) in metres, or inf (4)\n"
            "      --sky R,G,B          what a ray that hits nothing adds, linear (0,0,0)\n"
+           "      --sky-map FILE       an equirectangular .hdr or .exr sky in place of --sky\n"
+           "      --sky-intensity X    the sky map's scale (1)\n"
+           "      --sky-rotation DEG   the sky map's turn about +y (0)\n"
+           "      --lights on|off      the scene's point, spot and directional lights (on)\n"
+           "      --model M            seed: seed 000's ambient fill and falloff; physical:\n"
+           "                           neither: lights, emission, sky; bounces by --passes\n"
+           "                           (seed)\n"
            "      --sampling S         fibonacci or random (fibonacci)\n"
            "      --seed N             seed of random sampling (0)\n"
            "      --threads N          worker threads; results do not depend on it (all cores)\n"
@@ -240,14 +249,15 @@ int main(int argc, char **argv)
     if (parsed >= 0)
         return parsed;
     /* The scene, and no file of another kind, is ever replaced. */
-    const char *const inputs[1] = {o.scene};
+    const char *const inputs[2] = {o.scene, cli_light.sky_map};
     const cli_file outs[2] = {{o.output, "glTF binary", "glTF", 4}, {o.stats, "JSON", "{", 1}};
     /* The .glb, its EXR maps and the figures, or nothing: each waits under a temporary name. */
     vdbgi_context *ctx = NULL;
-    const int started = cli_start(inputs, 1, outs, o.stats ? 2 : 1, &ctx);
+    const int started = cli_start(inputs, cli_light.sky_map ? 2 : 1, outs, o.stats ? 2 : 1, &ctx);
     if (started >= 0)
         return started;
     vdbgi_scene *scene = NULL;
+    vdbgi_sky *sky = NULL;
     vdbgi_lightmap_result *lm = NULL;
     run_figures g = {.o = &o};
     const double t0 = cli_now();
@@ -256,6 +266,14 @@ int main(int argc, char **argv)
         r = vdbgi_output_check(ctx, o.stats);
     if (r == VDBGI_OK)
         r = vdbgi_scene_load(ctx, o.scene, &scene);
+    int code = CLI_OK;
+    if (r == VDBGI_OK && (code = cli_light_prepare(ctx, scene, &o.lm.bake, &sky)) >= 0) {
+        vdbgi_sky_destroy(sky);
+        vdbgi_scene_destroy(scene);
+        vdbgi_context_destroy(ctx);
+        return code;
+    }
+    code = CLI_OK;
     const double t1 = cli_now();
     if (r == VDBGI_OK)
         r = vdbgi_lightmap_bake_scene(ctx, scene, &o.lm, &lm, &g.st);
@@ -274,12 +292,12 @@ int main(int argc, char **argv)
         r = cli_write_printed(ctx, o.stats, print_json, &g);
     if (r == VDBGI_OK)
         r = vdbgi_context_commit_outputs(ctx);
-    int code = CLI_OK;
     if (r != VDBGI_OK)
         code = cli_fail(ctx, r);
     else if (cli_verbosity >= 2)
         print_figures(stdout, &g, false);
     vdbgi_lightmap_destroy(lm);
+    vdbgi_sky_destroy(sky);
     vdbgi_scene_destroy(scene);
     vdbgi_context_destroy(ctx);
     return code;

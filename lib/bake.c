@@ -7,6 +7,7 @@
 
 #include <math.h>
 #include <stdatomic.h>
+#include <stdio.h>
 #include <string.h>
 
 /* Points handed to a thread at a time: small enough to balance, big enough to amortise. */
@@ -208,6 +209,15 @@ static void record_settings(vdbgi_probes *p, const vdbgi_scene *scene, const vdb
     vdbgi_meta_set_double(&p->meta, "invalid_threshold", bp->invalid_threshold);
     vdbgi_meta_set_double(&p->meta, "ray_offset", scene->ray_offset);
     vdbgi_meta_set_string(&p->meta, "basis", basis_name(bp->basis));
+    vdbgi_meta_set_string(&p->meta, "model",
+                          bp->model == VDBGI_MODEL_PHYSICAL ? "physical" : "seed");
+    vdbgi_meta_set_int(&p->meta, "bounces", bp->bounces);
+    vdbgi_meta_set_int(&p->meta, "scene_lights", bp->scene_lamps);
+    if (bp->sky_map) {
+        char hash[17];
+        snprintf(hash, sizeof(hash), "%016llx", (unsigned long long)vdbgi_sky_hash(bp->sky_map));
+        vdbgi_meta_set_string(&p->meta, "sky_map", hash);
+    }
 }
 
 vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
@@ -216,7 +226,7 @@ vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
     vdbgi_context *const ctx = p->ctx;
     VDBGI_FAIL_IF(ctx, !scene, VDBGI_ERR_INVALID_ARG, "no scene given");
     vdbgi_bake_params bp;
-    VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, &bp));
+    VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, scene, &bp));
     const size_t n = p->count ? p->count : 1;
     /* The new values, kept apart until complete: old ones are replaced only then. */
     float *next[5] = {
@@ -279,7 +289,7 @@ vdbgi_result vdbgi_probes_trace_bare(const vdbgi_probes *p, const vdbgi_scene *s
     vdbgi_context *const ctx = p->ctx;
     VDBGI_FAIL_IF(ctx, !scene || !stats, VDBGI_ERR_INVALID_ARG, "no scene or stats given");
     vdbgi_bake_params bp;
-    VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, &bp));
+    VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, scene, &bp));
     VDBGI_FAIL_IF(ctx, bp.adaptive, VDBGI_ERR_INVALID_ARG,
                   "the bare loop needs a fixed ray count: an adaptive one depends on shading");
     bake_shared sh = {.ctx = ctx,
@@ -308,7 +318,7 @@ static vdbgi_result bake_points(const vdbgi_scene *scene, const vdbgi_bake_desc 
         VDBGI_FAIL_IF(ctx, !isfinite(points[i]), VDBGI_ERR_INVALID_ARG, "point %zu is not finite",
                       i / 3);
     vdbgi_bake_params bp;
-    VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, &bp));
+    VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, scene, &bp));
     float *bf = backface;
     if (!bf && !(bf = vdbgi_calloc(ctx, point_count ? point_count : 1, sizeof(float))))
         return VDBGI_ERR_OUT_OF_MEMORY;

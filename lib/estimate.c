@@ -34,8 +34,60 @@ static bool in_light_range3(const float v[3])
     return true;
 }
 
+/* A scene light as a lamp; false when it cannot light anything. */
+static bool lamp_from_light(const vdbgi_light *in, vdbgi_lamp *l)
+{
+    memset(l, 0, sizeof(*l));
+    l->type = in->type;
+    memcpy(l->pos, in->position, sizeof(l->pos));
+    for (int k = 0; k < 3; k++) {
+        l->to_light[k] = -in->direction[k];
+        l->axis[k] = in->direction[k];
+        l->rgb[k] = in->color[k] / PI_F; /* E, as the estimator's E / pi */
+    }
+    const double r = in->range;
+    l->inv_range4 = r > 0.0 ? (float)(1.0 / (r * r * r * r)) : 0.0f;
+    if (in->type == VDBGI_LIGHT_SPOT) {
+        l->cos_outer = cosf(in->outer_cone);
+        l->cone_scale = 1.0f / fmaxf(0.001f, cosf(in->inner_cone) - l->cos_outer);
+    }
+    return !is_zero3(l->rgb);
+}
+
+/* The lamps: the sun when on, then the scene's lights as bp->lights says. */
+static void resolve_lamps(const vdbgi_bake_desc *desc, const vdbgi_scene *scene,
+                          vdbgi_bake_params *bp)
+{
+    const vdbgi_light *lights = NULL;
+    const size_t count =
+        scene && bp->lights == VDBGI_LIGHTS_SCENE ? vdbgi_scene_get_lights(scene, &lights) : 0;
+    bool scene_sun = false;
+    for (size_t i = 0; i < count; i++)
+        scene_sun = scene_sun || lights[i].type == VDBGI_LIGHT_DIRECTIONAL;
+    /* The scene's own sun replaces the default one; a sun_dir given replaces the scene's. */
+    const bool given = !is_zero3(desc->sun_dir);
+    if (scene_sun && !given) {
+        bp->sun_on = false;
+        memset(bp->sun_color, 0, sizeof(bp->sun_color));
+    }
+    if (bp->sun_on) {
+        vdbgi_lamp *const l = &bp->lamps[bp->lamp_count++];
+        memset(l, 0, sizeof(*l));
+        l->type = VDBGI_LIGHT_DIRECTIONAL;
+        l->is_sun = true;
+        memcpy(l->to_light, bp->sun_dir, sizeof(l->to_light));
+        memcpy(l->rgb, bp->sun_color, sizeof(l->rgb));
+    }
+    for (size_t i = 0; i < count && bp->lamp_count < VDBGI_MAX_LIGHTS + 1; i++)
+        if (!(given && lights[i].type == VDBGI_LIGHT_DIRECTIONAL) &&
+            lamp_from_light(&lights[i], &bp->lamps[bp->lamp_count])) {
+            bp->lamp_count++;
+            bp->scene_lamps++;
+        }
+}
+
 vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc *desc,
-                                       vdbgi_bake_params *bp)
+                                       const vdbgi_scene *scene, vdbgi_bake_params *bp)
 {
     const vdbgi_bake_desc none = {0};
     if (!desc)
@@ -110,7 +162,76 @@ vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc
     VDBGI_FAIL_IF(ctx, desc->basis < VDBGI_BASIS_SCALAR || desc->basis > VDBGI_BASIS_SH2,
                   VDBGI_ERR_INVALID_ARG, "unknown basis %d", (int)desc->basis);
     bp->basis = desc->basis;
+    VDBGI_FAIL_IF(ctx, desc->model != VDBGI_MODEL_SEED && desc->model != VDBGI_MODEL_PHYSICAL,
+                  VDBGI_ERR_INVALID_ARG, "unknown light model %d", (int)desc->model);
+    bp->model = desc->model;
+    if (bp->model == VDBGI_MODEL_PHYSICAL) {
+        /* Physical light needs neither stand-in: bounces replace the fill, 1/d^2 is in E. */
+        VDBGI_FAIL_IF(ctx, desc->ambient != 0.0f && desc->ambient != VDBGI_ZERO,
+                      VDBGI_ERR_INVALID_ARG, "the physical model has no ambient fill (got %g)",
+                      (double)desc->ambient);
+        VDBGI_FAIL_IF(ctx, desc->falloff != 0.0f && !isinf(desc->falloff), VDBGI_ERR_INVALID_ARG,
+                      "the physical model has no distance falloff (got %g)", (double)desc->falloff);
+        bp->ambient = 0.0f;
+        bp->falloff = INFINITY;
+    }
+    VDBGI_FAIL_IF(ctx, desc->lights != VDBGI_LIGHTS_SCENE && desc->lights != VDBGI_LIGHTS_OFF,
+                  VDBGI_ERR_INVALID_ARG, "unknown lights setting %d", (int)desc->lights);
+    bp->lights = desc->lights;
+    bp->bounces = desc->bounces ? desc->bounces : 1;
+    VDBGI_FAIL_IF(ctx, bp->bounces < 1 || bp->bounces > VDBGI_MAX_BOUNCES, VDBGI_ERR_INVALID_ARG,
+                  "bounces must be in 1..%d (got %d)", VDBGI_MAX_BOUNCES, desc->bounces);
+    bp->sky_map = desc->sky_map;
+    VDBGI_FAIL_IF(ctx, bp->sky_map && !is_zero3(bp->sky), VDBGI_ERR_INVALID_ARG,
+                  "a sky map and a sky colour: give one");
+    resolve_lamps(desc, scene, bp);
     return VDBGI_OK;
+}
+
+bool vdbgi_lamp_light(const vdbgi_lamp *l, const float p[3], const float n[3], float *f,
+                      float dir[3], float *dist)
+{
+    float scale = 1.0f;
+    if (l->type == VDBGI_LIGHT_DIRECTIONAL) {
+        memcpy(dir, l->to_light, 3 * sizeof(float));
+        *dist = INFINITY;
+    } else {
+        const float d[3] = {l->pos[0] - p[0], l->pos[1] - p[1], l->pos[2] - p[2]};
+        const float d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        if (!(d2 > 0.0f))
+            return false;
+        const float r = sqrtf(d2);
+        for (int k = 0; k < 3; k++)
+            dir[k] = d[k] / r;
+        *dist = r;
+        scale = 1.0f / d2;
+        if (l->inv_range4 > 0.0f) {
+            const float q = d2 * d2 * l->inv_range4; /* (d / range)^4 */
+            if (q >= 1.0f)
+                return false;
+            scale *= 1.0f - q;
+        }
+        if (l->type == VDBGI_LIGHT_SPOT) {
+            const float c = -(dir[0] * l->axis[0] + dir[1] * l->axis[1] + dir[2] * l->axis[2]);
+            const float a = fminf((c - l->cos_outer) * l->cone_scale, 1.0f);
+            if (!(a > 0.0f))
+                return false;
+            scale *= a * a;
+        }
+    }
+    const float cosn = n[0] * dir[0] + n[1] * dir[1] + n[2] * dir[2];
+    if (!(cosn > 0.0f))
+        return false;
+    *f = l->type == VDBGI_LIGHT_DIRECTIONAL ? cosn : scale * cosn;
+    return true;
+}
+
+void vdbgi_miss_radiance(const vdbgi_bake_params *bp, const float d[3], float rgb[3])
+{
+    if (bp->sky_map)
+        vdbgi_sky_radiance(bp->sky_map, d, rgb);
+    else
+        memcpy(rgb, bp->sky, 3 * sizeof(float));
 }
 
 /* ---- directions ------------------------------------------------------------ */
@@ -188,32 +309,165 @@ typedef struct probe_sums {
 } probe_sums;
 
 /*
+ * Light from the lamps at count surface points: the shadow ray of each lamp
+ * from each point that it can light (org: the point one ray offset off its
+ * surface; n: facing normal), and for the open ones radiance[ray[i]] +=
+ * weight[i] x f x the lamp's colour. Returns the shadow rays traced.
+ */
+static size_t light_points(vdbgi_estimator *th, const float *org, const float *n,
+                           const float *weight, const uint32_t *ray, size_t count)
+{
+    const vdbgi_bake_params *const bp = th->bp;
+    const float off = th->scene->ray_offset;
+    size_t traced = 0;
+    for (int li = 0; li < bp->lamp_count; li++) {
+        const vdbgi_lamp *const l = &bp->lamps[li];
+        size_t m = 0;
+        for (size_t i = 0; i < count; i++) {
+            float f, dist;
+            if (!vdbgi_lamp_light(l, &org[3 * i], &n[3 * i], &f, &th->sdir[3 * m], &dist))
+                continue;
+            memcpy(&th->sorg[3 * m], &org[3 * i], 3 * sizeof(float));
+            th->sdist[m] = dist - off; /* stop short of a lamp on a surface */
+            for (int k = 0; k < 3; k++)
+                th->sun_weight[3 * m + k] = weight[3 * i + k] * f * l->rgb[k];
+            th->shadow_ray[m] = ray[i];
+            m++;
+        }
+        if (!m)
+            continue;
+        const vdbgi_ray_batch shadow = {th->sorg, th->sdir, 3, 3, 0.0f, INFINITY, m, th->sdist};
+        vdbgi_tracer_occluded(th->tracer, bp->method, &shadow, th->occluded, th->scratch);
+        traced += m;
+        if (th->shade)
+            for (size_t s = 0; s < m; s++)
+                if (!th->occluded[s])
+                    for (int k = 0; k < 3; k++)
+                        th->radiance[3 * th->shadow_ray[s] + k] += th->sun_weight[3 * s + k];
+    }
+    return traced;
+}
+
+/* Unit t and b completing unit n to a right-handed frame (t, b, n). */
+static void frame_about(const float n[3], float t[3], float b[3])
+{
+    const float a[3] = {fabsf(n[0]) < 0.9f ? 1.0f : 0.0f, fabsf(n[0]) < 0.9f ? 0.0f : 1.0f, 0.0f};
+    t[0] = a[1] * n[2] - a[2] * n[1], t[1] = a[2] * n[0] - a[0] * n[2];
+    t[2] = a[0] * n[1] - a[1] * n[0];
+    const float l = sqrtf(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+    for (int k = 0; k < 3; k++)
+        t[k] /= l;
+    b[0] = n[1] * t[2] - n[2] * t[1], b[1] = n[2] * t[0] - n[0] * t[2];
+    b[2] = n[0] * t[1] - n[1] * t[0];
+}
+
+/* A cosine-weighted direction about unit n from two uniforms. */
+static void cosine_direction(const float n[3], double u1, double u2, float out[3])
+{
+    float t[3], b[3];
+    frame_about(n, t, b);
+    const float r = (float)sqrt(u1), phi = (float)(2.0 * 3.14159265358979323846 * u2);
+    const float x = r * cosf(phi), y = r * sinf(phi), z = sqrtf(fmaxf(0.0f, 1.0f - r * r));
+    for (int k = 0; k < 3; k++)
+        out[k] = x * t[k] + y * b[k] + z * n[k];
+}
+
+/*
+ * Bounces 2..bp->bounces of the paths that left count hits (th->porg, pnorm,
+ * pweight, pray): one cosine-weighted ray each per bounce, its own random
+ * numbers from the point's stream, the ray's index and the bounce. A miss
+ * brings the sky; a hit its emission and its lamps, times the path's
+ * throughput; then the path goes on from there with its albedo. Returns
+ * the rays traced (paths and shadows).
+ */
+static size_t trace_bounces(vdbgi_estimator *th, size_t count, size_t first_ray)
+{
+    const vdbgi_bake_params *const bp = th->bp;
+    const vdbgi_scene *const scene = th->scene;
+    const float off = scene->ray_offset;
+    size_t traced = 0;
+    for (int b = 2; b <= bp->bounces && count; b++) {
+        for (size_t i = 0; i < count; i++) {
+            uint64_t st = th->stream ^
+                          ((uint64_t)(first_ray + th->pray[i]) * 0x9E3779B97F4A7C15ull) ^
+                          ((uint64_t)b * 0xC2B2AE3D27D4EB4Full);
+            vdbgi_splitmix64(&st);
+            const double u1 = vdbgi_uniform01(&st), u2 = vdbgi_uniform01(&st);
+            cosine_direction(&th->pnorm[3 * i], u1, u2, &th->dir[3 * i]);
+        }
+        const vdbgi_ray_batch rays = {th->porg, th->dir, 3, 3, 0.0f, bp->ray_dist, count, NULL};
+        vdbgi_tracer_intersect(th->tracer, bp->method, &rays, th->hits, th->scratch);
+        traced += count;
+        size_t live = 0;
+        for (size_t i = 0; i < count; i++) {
+            const vdbgi_hit *const h = &th->hits[i];
+            const float *const d = &th->dir[3 * i];
+            float *const L = &th->radiance[3 * th->pray[i]];
+            const float *const w = &th->pweight[3 * i];
+            if (!(h->t < INFINITY)) {
+                float sky[3];
+                vdbgi_miss_radiance(bp, d, sky);
+                for (int k = 0; k < 3; k++)
+                    L[k] += w[k] * sky[k];
+                continue;
+            }
+            const vdbgi_tri *const tri = &scene->tris[h->prim];
+            const float *const tn = tri->normal;
+            const float facing = tn[0] * d[0] + tn[1] * d[1] + tn[2] * d[2];
+            const float flip = facing > 0.0f ? -1.0f : 1.0f;
+            float albedo[3];
+            vdbgi_scene_albedo(scene, h->prim, h->u, h->v, albedo);
+            if ((tri->flags & VDBGI_TRI_EMISSIVE) &&
+                (flip > 0.0f || tri->flags & VDBGI_TRI_DOUBLE_SIDED) &&
+                (bp->emission == 0 || bp->emission == tri->material + 1)) {
+                float e[3];
+                vdbgi_scene_emission(scene, h->prim, h->u, h->v, e);
+                for (int k = 0; k < 3; k++)
+                    L[k] += w[k] * e[k];
+            }
+            /* The path goes on from this hit (compacted in place: live <= i). */
+            const float *const o = &th->porg[3 * i];
+            for (int k = 0; k < 3; k++) {
+                th->pnorm[3 * live + k] = tn[k] * flip;
+                th->porg[3 * live + k] = o[k] + h->t * d[k] + off * tn[k] * flip;
+                th->pweight[3 * live + k] = w[k] * albedo[k];
+            }
+            th->pray[live] = th->pray[i];
+            live++;
+        }
+        traced += light_points(th, th->porg, th->pnorm, th->pweight, th->pray, live);
+        count = live;
+    }
+    return traced;
+}
+
+/*
  * Trace n rays from pos along dirs and add what they bring back to *sums:
  * seed 000's sum, the squares for the standard error, the ambient-cube sides
  * (each side weights a ray by its cosine to the side's normal and keeps the sum
  * of weights, so uniform radiance gives itself exactly) and the counts.
  * Without shading (the bare loop) only the rays and the counts. Kept whole
- * (about 80 lines): the three passes share the per-ray buffers in order.
+ * (about 90 lines): the passes share the per-ray buffers in order.
  */
 static void trace_batch(vdbgi_estimator *th, const float pos[3], const float *dirs, int n,
                         probe_sums *sums)
 {
     const vdbgi_bake_params *const bp = th->bp;
     const vdbgi_scene *const scene = th->scene;
-    const vdbgi_ray_batch primary = {pos, dirs, 0, 3, 0.0f, bp->ray_dist, (size_t)n};
+    const vdbgi_ray_batch primary = {pos, dirs, 0, 3, 0.0f, bp->ray_dist, (size_t)n, NULL};
     vdbgi_tracer_intersect(th->tracer, bp->method, &primary, th->hits, th->scratch);
 
-    size_t shadow_count = 0;
+    size_t hit_count = 0;
     const float off = scene->ray_offset;
     for (int i = 0; i < n; i++) {
         const vdbgi_hit *const h = &th->hits[i];
         float *const L = &th->radiance[3 * i];
+        const float *const d = &dirs[3 * i];
         if (!(h->t < INFINITY)) {
-            memcpy(L, bp->sky, 3 * sizeof(float));
+            vdbgi_miss_radiance(bp, d, L);
             continue;
         }
         sums->hits++;
-        const float *const d = &dirs[3 * i];
         const vdbgi_tri *const tri = &scene->tris[h->prim];
         const float *const tn = tri->normal;
         const float facing = tn[0] * d[0] + tn[1] * d[1] + tn[2] * d[2];
@@ -221,10 +475,9 @@ static void trace_batch(vdbgi_estimator *th, const float pos[3], const float *di
         const float flip = facing > 0.0f ? -1.0f : 1.0f;
         if (facing > 0.0f && !(tri->flags & VDBGI_TRI_DOUBLE_SIDED))
             sums->back++;
-        const float nf[3] = {tn[0] * flip, tn[1] * flip, tn[2] * flip};
-        const float ndotl =
-            nf[0] * bp->sun_dir[0] + nf[1] * bp->sun_dir[1] + nf[2] * bp->sun_dir[2];
-        float albedo_w[3] = {0.0f, 0.0f, 0.0f};
+        float *const albedo_w = &th->pweight[3 * hit_count];
+        albedo_w[0] = albedo_w[1] = albedo_w[2] = 0.0f;
+        L[0] = L[1] = L[2] = 0.0f;
         if (th->shade) {
             float albedo[3], extra[3] = {0.0f, 0.0f, 0.0f};
             vdbgi_scene_albedo(scene, h->prim, h->u, h->v, albedo);
@@ -246,25 +499,16 @@ static void trace_batch(vdbgi_estimator *th, const float pos[3], const float *di
                     L[k] += w * e[k];
             }
         }
-        if (bp->sun_on && ndotl > 0.0f) {
-            float *const so = &th->sorg[3 * shadow_count];
-            for (int k = 0; k < 3; k++) {
-                so[k] = pos[k] + h->t * d[k] + off * nf[k];
-                th->sun_weight[3 * shadow_count + k] = albedo_w[k] * ndotl * bp->sun_color[k];
-            }
-            th->shadow_ray[shadow_count] = (uint32_t)i;
-            shadow_count++;
+        /* The hit's point one ray offset off its lit side, and that side's normal. */
+        for (int k = 0; k < 3; k++) {
+            th->pnorm[3 * hit_count + k] = tn[k] * flip;
+            th->porg[3 * hit_count + k] = pos[k] + h->t * d[k] + off * tn[k] * flip;
         }
+        th->pray[hit_count++] = (uint32_t)i;
     }
-    if (shadow_count) {
-        const vdbgi_ray_batch shadow = {th->sorg, bp->sun_dir, 3, 0, 0.0f, INFINITY, shadow_count};
-        vdbgi_tracer_occluded(th->tracer, bp->method, &shadow, th->occluded, th->scratch);
-        if (th->shade)
-            for (size_t s = 0; s < shadow_count; s++)
-                if (!th->occluded[s])
-                    for (int k = 0; k < 3; k++)
-                        th->radiance[3 * th->shadow_ray[s] + k] += th->sun_weight[3 * s + k];
-    }
+    size_t shadow_count = light_points(th, th->porg, th->pnorm, th->pweight, th->pray, hit_count);
+    if (bp->bounces > 1)
+        shadow_count += trace_bounces(th, hit_count, sums->rays);
     sums->rays += (size_t)n;
     sums->shadow += shadow_count;
     if (!th->shade)
@@ -368,6 +612,7 @@ void vdbgi_estimate_point(vdbgi_estimator *th, const float pos[3], uint64_t stre
     const vdbgi_bake_params *const bp = th->bp;
     probe_sums sums;
     memset(&sums, 0, sizeof(sums));
+    th->stream = stream;
     if (bp->adaptive) {
         /*
          * One Fibonacci set of max_rays directions under a random rotation, traced in
@@ -400,13 +645,8 @@ void vdbgi_hemisphere_turn(const float *base, int count, const float n[3], uint6
                            bool random, float *out)
 {
     /* A frame (t, b, n); random sampling turns the set about n by an angle of its own. */
-    const float a[3] = {fabsf(n[0]) < 0.9f ? 1.0f : 0.0f, fabsf(n[0]) < 0.9f ? 0.0f : 1.0f, 0.0f};
-    float t[3] = {a[1] * n[2] - a[2] * n[1], a[2] * n[0] - a[0] * n[2], a[0] * n[1] - a[1] * n[0]};
-    const float l = sqrtf(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
-    for (int k = 0; k < 3; k++)
-        t[k] /= l;
-    const float b[3] = {n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2],
-                        n[0] * t[1] - n[1] * t[0]};
+    float t[3], b[3];
+    frame_about(n, t, b);
     float c = 1.0f, s = 0.0f;
     if (random) {
         const float turn = 2.0f * PI_F * (float)(vdbgi_splitmix64(&stream) >> 40) / 16777216.0f;
@@ -428,6 +668,7 @@ void vdbgi_estimate_hemisphere(vdbgi_estimator *th, const float pos[3], const fl
                           th->dir);
     probe_sums sums;
     memset(&sums, 0, sizeof(sums));
+    th->stream = stream;
     trace_batch(th, pos, th->dir, bp->rays, &sums);
     report(th, &sums, out);
 }
@@ -469,9 +710,16 @@ vdbgi_result vdbgi_estimator_init(vdbgi_context *ctx, vdbgi_estimator *e, int se
     e->radiance = vdbgi_calloc(ctx, n, 3 * sizeof(float));
     e->hits = vdbgi_calloc(ctx, n, sizeof(vdbgi_hit));
     e->occluded = vdbgi_calloc(ctx, n, 1);
+    e->sdir = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+    e->sdist = vdbgi_calloc(ctx, n, sizeof(float));
+    e->porg = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+    e->pnorm = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+    e->pweight = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+    e->pray = vdbgi_calloc(ctx, n, sizeof(uint32_t));
     e->scratch = vdbgi_alloc(ctx, vdbgi_tracer_scratch_size(n));
     if (!e->dir || !e->sorg || !e->sun_weight || !e->shadow_ray || !e->radiance || !e->hits ||
-        !e->occluded || !e->scratch) {
+        !e->occluded || !e->sdir || !e->sdist || !e->porg || !e->pnorm || !e->pweight || !e->pray ||
+        !e->scratch) {
         vdbgi_estimator_free(ctx, e);
         return VDBGI_ERR_OUT_OF_MEMORY;
     }
@@ -488,6 +736,14 @@ void vdbgi_estimator_free(vdbgi_context *ctx, vdbgi_estimator *e)
     vdbgi_free(ctx, e->hits);
     vdbgi_free(ctx, e->occluded);
     vdbgi_free(ctx, e->scratch);
+    vdbgi_free(ctx, e->sdir);
+    vdbgi_free(ctx, e->sdist);
+    vdbgi_free(ctx, e->porg);
+    vdbgi_free(ctx, e->pnorm);
+    vdbgi_free(ctx, e->pweight);
+    vdbgi_free(ctx, e->pray);
+    e->sdir = e->sdist = e->porg = e->pnorm = e->pweight = NULL;
+    e->pray = NULL;
     e->dir = e->sorg = e->sun_weight = e->radiance = NULL;
     e->shadow_ray = NULL;
     e->hits = NULL;

@@ -10,6 +10,23 @@
 
 #define VDBGI_EMISSION_NONE UINT32_MAX
 
+#define VDBGI_MAX_BOUNCES 16
+
+/*
+ * A light as the estimator uses it: the sun or a scene light, resolved.
+ * rgb is in the estimator's units (E / pi): per unit cos(theta) for a
+ * directional light, at 1 m for a point or spot light.
+ */
+typedef struct vdbgi_lamp {
+    vdbgi_light_type type;
+    float pos[3], to_light[3]; /* to_light: unit, towards a directional light */
+    float axis[3];             /* a spot's unit direction of travel */
+    float rgb[3];
+    float inv_range4;            /* 1 / range^4, or 0 for none */
+    float cos_outer, cone_scale; /* a spot: smooth step (cos - cos_outer) * cone_scale */
+    bool is_sun;                 /* the command line's (or default) sun */
+} vdbgi_lamp;
+
 /* Resolved estimator settings (defaults applied, sun normalised). */
 typedef struct vdbgi_bake_params {
     int rays;
@@ -27,10 +44,31 @@ typedef struct vdbgi_bake_params {
     int threads;
     vdbgi_trace_method method;
     vdbgi_basis basis;
+    vdbgi_model model;
+    vdbgi_lights lights;
+    int bounces;
+    const vdbgi_sky *sky_map;
+    /* What lights the hits with a shadow ray each: the sun (when on), then the scene's. */
+    vdbgi_lamp lamps[VDBGI_MAX_LIGHTS + 1];
+    int lamp_count;
+    int scene_lamps; /* of them, from the scene */
 } vdbgi_bake_params;
 
+/* desc (NULL: the defaults) for scene, whose lights it resolves. */
 vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc *desc,
-                                       vdbgi_bake_params *out);
+                                       const vdbgi_scene *scene, vdbgi_bake_params *out);
+
+/*
+ * What lamp l brings to a surface point pos of facing unit normal n,
+ * unshadowed: f times l->rgb is its E / pi (the cosine, the inverse square,
+ * the range window and the cone in f); and the shadow ray that decides it:
+ * its unit direction and length. False when the lamp cannot light it.
+ */
+bool vdbgi_lamp_light(const vdbgi_lamp *l, const float pos[3], const float n[3], float *f,
+                      float dir[3], float *dist);
+
+/* The radiance a miss along unit direction d brings back. */
+void vdbgi_miss_radiance(const vdbgi_bake_params *bp, const float d[3], float rgb[3]);
 
 /* The L2 polynomial's terms 1..8 at unit direction d (term 0 is 1), and their weights. */
 void vdbgi_sh2_terms(const float d[3], float p[8]);
@@ -74,11 +112,16 @@ typedef struct vdbgi_estimator {
     void (*hit_light)(const void *user, const vdbgi_hit *hit, bool back, float rgb[3]);
     const void *hit_user;
     float *dir, *sorg;
-    float *sun_weight;    /* per shadow ray: albedo x falloff x n.sun, RGB */
+    float *sdir, *sdist;  /* per shadow ray: direction and length */
+    float *sun_weight;    /* per shadow ray: what it adds when open, RGB */
     float *radiance;      /* per ray, RGB: what the ray brings back */
     uint32_t *shadow_ray; /* per shadow ray: the primary ray it continues */
     vdbgi_hit *hits;
     unsigned char *occluded;
+    /* Bounces past the first: per ray, the path's hit, facing normal and throughput. */
+    float *porg, *pnorm, *pweight;
+    uint32_t *pray;
+    uint64_t stream; /* the point's, for the bounces' random numbers */
     void *scratch;
 } vdbgi_estimator;
 

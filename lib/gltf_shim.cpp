@@ -533,29 +533,64 @@ extern "C" bool vdbgi_gltf_precheck(const char *path, char *err, size_t err_size
     });
 }
 
+/* The glTF at path (by its name) into m; false for another kind (none) or, with err set, a
+   file that does not parse. */
+static bool load_model(const char *path, tinygltf::Model &m, char *err, size_t err_size)
+{
+    std::string name(path);
+    for (char &c : name)
+        c = char(std::tolower(static_cast<unsigned char>(c)));
+    const bool glb = ends_with(name, ".glb"), gltf = ends_with(name, ".gltf");
+    if (!glb && !gltf)
+        return false;
+    tinygltf::TinyGLTF loader;
+    guard_files(loader);
+    std::string error, warning;
+    const bool ok = glb ? loader.LoadBinaryFromFile(&m, &error, &warning, path)
+                        : loader.LoadASCIIFromFile(&m, &error, &warning, path);
+    if (!ok)
+        std::snprintf(err, err_size, "%s",
+                      error.empty() ? "tinygltf cannot read it" : error.c_str());
+    return ok;
+}
+
+extern "C" bool vdbgi_gltf_light_ranges(const char *path, float **out, size_t *count, char *err,
+                                        size_t err_size)
+{
+    *out = nullptr;
+    *count = 0;
+    return guarded(err, err_size, [&]() -> bool {
+        tinygltf::Model m;
+        err[0] = '\0';
+        if (!load_model(path, m, err, err_size))
+            return err[0] == '\0';
+        if (m.lights.empty())
+            return true;
+        float *const r = static_cast<float *>(std::calloc(m.lights.size(), sizeof(float)));
+        if (!r) {
+            std::snprintf(err, err_size, "out of memory for %zu lights", m.lights.size());
+            return false;
+        }
+        for (size_t i = 0; i < m.lights.size(); i++) {
+            const double v = m.lights[i].range;
+            r[i] = v > 3e38 ? HUGE_VALF : v < -3e38 ? -HUGE_VALF : float(v);
+        }
+        *out = r;
+        *count = m.lights.size();
+        return true;
+    });
+}
+
 extern "C" bool vdbgi_gltf_materials(const char *path, vdbgi_gltf_material_info **out,
                                      size_t *count, char *err, size_t err_size)
 {
     *out = nullptr;
     *count = 0;
     return guarded(err, err_size, [&]() -> bool {
-        std::string name(path);
-        for (char &c : name)
-            c = char(std::tolower(static_cast<unsigned char>(c)));
-        const bool glb = ends_with(name, ".glb"), gltf = ends_with(name, ".gltf");
-        if (!glb && !gltf)
-            return true;
         tinygltf::Model m;
-        tinygltf::TinyGLTF loader;
-        guard_files(loader);
-        std::string error, warning;
-        const bool ok = glb ? loader.LoadBinaryFromFile(&m, &error, &warning, path)
-                            : loader.LoadASCIIFromFile(&m, &error, &warning, path);
-        if (!ok) {
-            std::snprintf(err, err_size, "%s",
-                          error.empty() ? "tinygltf cannot read it" : error.c_str());
-            return false;
-        }
+        err[0] = '\0';
+        if (!load_model(path, m, err, err_size))
+            return err[0] == '\0';
         if (m.materials.empty())
             return true;
         vdbgi_gltf_material_info *const info = static_cast<vdbgi_gltf_material_info *>(

@@ -76,6 +76,15 @@ typedef struct vdbgi_gltf_material_info {
 bool vdbgi_gltf_materials(const char *path, vdbgi_gltf_material_info **out, size_t *count,
                           char *err, size_t err_size);
 
+/*
+ * The range of each KHR_lights_punctual light of the glTF at path, in the
+ * file's order (0 for none), which Debian's assimp 5.2 drops, into *out
+ * (malloc'd, the caller frees it with free()); a file of another kind gives
+ * none. False with a message in err when a glTF file does not parse.
+ */
+bool vdbgi_gltf_light_ranges(const char *path, float **out, size_t *count, char *err,
+                             size_t err_size);
+
 /* What a glTF may ask of the importers (docs: README, "Limits and what is refused"). */
 #define VDBGI_GLTF_MAX_NESTING 64            /* JSON arrays and objects inside each other */
 #define VDBGI_GLTF_MAX_NODE_DEPTH 256        /* nodes under nodes */

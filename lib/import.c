@@ -330,6 +330,92 @@ static void walk_nodes(walk_state *w, const struct aiNode *node, const struct ai
         walk_nodes(w, node->mChildren[c], &xf);
 }
 
+/* The node named name under node, and its world transform into *xf; NULL if none. */
+static const struct aiNode *find_node(const struct aiNode *node, const struct aiString *name,
+                                      const struct aiMatrix4x4 *parent, struct aiMatrix4x4 *xf)
+{
+    struct aiMatrix4x4 m = *parent;
+    aiMultiplyMatrix4(&m, &node->mTransformation);
+    if (node->mName.length == name->length &&
+        memcmp(node->mName.data, name->data, name->length) == 0) {
+        *xf = m;
+        return node;
+    }
+    for (unsigned c = 0; c < node->mNumChildren; c++) {
+        const struct aiNode *const n = find_node(node->mChildren[c], name, &m, xf);
+        if (n)
+            return n;
+    }
+    return NULL;
+}
+
+/*
+ * The scene's punctual lights: assimp's, placed by the node of the same
+ * name (a light no node holds lights nothing), with glTF's range, which
+ * assimp 5.2 drops, read from the file (lights keep the file's order).
+ */
+static vdbgi_result load_lights(vdbgi_scene *s, const struct aiScene *as, const char *path)
+{
+    if (!as->mNumLights)
+        return VDBGI_OK;
+    float *ranges = NULL;
+    size_t range_count = 0;
+    char err[256] = "";
+    if (!vdbgi_gltf_light_ranges(path, &ranges, &range_count, err, sizeof(err)))
+        vdbgi_log(s->ctx, VDBGI_LOG_WARNING, "%s: light ranges ignored: %s", s->name, err);
+    if (range_count != as->mNumLights && ranges) {
+        vdbgi_log(s->ctx, VDBGI_LOG_WARNING, "%s: %zu glTF lights but %u imported: ranges ignored",
+                  s->name, range_count, as->mNumLights);
+        range_count = 0;
+    }
+    vdbgi_light lights[VDBGI_MAX_LIGHTS];
+    size_t n = 0;
+    vdbgi_result r = VDBGI_OK;
+    struct aiMatrix4x4 identity;
+    aiIdentityMatrix4(&identity);
+    for (unsigned i = 0; i < as->mNumLights && r == VDBGI_OK; i++) {
+        const struct aiLight *const al = as->mLights[i];
+        const vdbgi_light_type type = al->mType == aiLightSource_DIRECTIONAL
+                                          ? VDBGI_LIGHT_DIRECTIONAL
+                                      : al->mType == aiLightSource_POINT ? VDBGI_LIGHT_POINT
+                                      : al->mType == aiLightSource_SPOT  ? VDBGI_LIGHT_SPOT
+                                                                         : 0;
+        struct aiMatrix4x4 xf;
+        if (!type || !find_node(as->mRootNode, &al->mName, &identity, &xf))
+            continue;
+        if (n == VDBGI_MAX_LIGHTS) {
+            r = vdbgi_fail(s->ctx, VDBGI_ERR_FORMAT, "%s: more than %d lights", path,
+                           VDBGI_MAX_LIGHTS);
+            break;
+        }
+        vdbgi_light *const l = &lights[n++];
+        memset(l, 0, sizeof(*l));
+        l->type = type;
+        struct aiVector3D p = al->mPosition, d = al->mDirection;
+        aiTransformVecByMatrix4(&p, &xf);
+        struct aiMatrix3x3 rot;
+        aiMatrix3FromMatrix4(&rot, &xf);
+        aiTransformVecByMatrix3(&d, &rot);
+        l->position[0] = p.x, l->position[1] = p.y, l->position[2] = p.z;
+        l->direction[0] = d.x, l->direction[1] = d.y, l->direction[2] = d.z;
+        l->color[0] = al->mColorDiffuse.r, l->color[1] = al->mColorDiffuse.g;
+        l->color[2] = al->mColorDiffuse.b;
+        l->range = i < range_count ? ranges[i] : 0.0f;
+        if (type == VDBGI_LIGHT_SPOT)
+            l->inner_cone = al->mAngleInnerCone, l->outer_cone = al->mAngleOuterCone;
+        const size_t len =
+            al->mName.length < sizeof(l->name) - 1 ? al->mName.length : sizeof(l->name) - 1;
+        memcpy(l->name, al->mName.data, len); /* a longer name is cut: it is for messages */
+    }
+    free(ranges);
+    if (r == VDBGI_OK && (r = vdbgi_scene_add_lights(s, lights, n)) != VDBGI_OK) {
+        char why[512];
+        snprintf(why, sizeof(why), "%s", vdbgi_context_error(s->ctx));
+        r = vdbgi_fail(s->ctx, VDBGI_ERR_FORMAT, "%s: %s", path, why);
+    }
+    return r;
+}
+
 static const char *base_name(const char *path)
 {
     const char *const slash = strrchr(path, '/');
@@ -393,7 +479,12 @@ vdbgi_result vdbgi_scene_load(vdbgi_context *ctx, const char *path, vdbgi_scene 
     }
     w = (walk_state){.s = s, .as = as, .fill = true};
     walk_nodes(&w, as->mRootNode, &identity);
+    r = load_lights(s, as, path);
     aiReleaseImport(as);
+    if (r != VDBGI_OK) {
+        vdbgi_scene_destroy(s);
+        return r;
+    }
     r = vdbgi_scene_finish(s, w.nonfinite);
     if (r != VDBGI_OK) {
         vdbgi_scene_destroy(s);

@@ -102,8 +102,8 @@ static void *run_pass(void *arg)
             /* Ambient occlusion: the open part of the cosine-weighted hemisphere. */
             vdbgi_hemisphere_turn(th->est.base_dirs, bp->rays, n, stream,
                                   bp->sampling == VDBGI_SAMPLING_RANDOM, th->est.dir);
-            const vdbgi_ray_batch rays = {pos,         th->est.dir,     0, 3, 0.0f,
-                                          sh->ao_dist, (size_t)bp->rays};
+            const vdbgi_ray_batch rays = {pos,         th->est.dir,      0,   3, 0.0f,
+                                          sh->ao_dist, (size_t)bp->rays, NULL};
             vdbgi_tracer_occluded(th->est.tracer, bp->method, &rays, th->est.occluded,
                                   th->est.scratch);
             int open = 0;
@@ -125,16 +125,20 @@ static void *run_pass(void *arg)
         float *const o = &sh->out[3 * i];
         for (int k = 0; k < 3; k++)
             o[k] = PI_F * e.rgb[k];
-        /* Fully baked: the texel's own sun, E = pi n.l sun (the estimator's sun is E / pi). */
-        const float nl = n[0] * bp->sun_dir[0] + n[1] * bp->sun_dir[1] + n[2] * bp->sun_dir[2];
-        if (sh->direct && bp->sun_on && nl > 0.0f) {
+        /* Fully baked: the texel's own lamps, E = pi f rgb (the lamps' light is E / pi). */
+        for (int li = 0; sh->direct && li < bp->lamp_count; li++) {
+            const vdbgi_lamp *const l = &bp->lamps[li];
+            float f, dir[3], dist;
+            if (!vdbgi_lamp_light(l, pos, n, &f, dir, &dist))
+                continue;
             unsigned char blocked = 0;
-            const vdbgi_ray_batch ray = {pos, bp->sun_dir, 0, 0, 0.0f, INFINITY, 1};
+            const float tfar = dist - sh->scene->ray_offset;
+            const vdbgi_ray_batch ray = {pos, dir, 0, 0, 0.0f, tfar, 1, NULL};
             vdbgi_tracer_occluded(th->est.tracer, bp->method, &ray, &blocked, th->est.scratch);
             th->rays++;
             if (!blocked)
                 for (int k = 0; k < 3; k++)
-                    o[k] += PI_F * nl * bp->sun_color[k];
+                    o[k] += PI_F * f * l->rgb[k];
         }
     }
     return NULL;
@@ -258,7 +262,7 @@ static vdbgi_result bake_hemispheres(const vdbgi_scene *scene, const vdbgi_bake_
 {
     vdbgi_context *const ctx = scene->ctx;
     vdbgi_bake_params bp;
-    VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, &bp));
+    VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, scene, &bp));
     VDBGI_FAIL_IF(ctx, bp.adaptive, VDBGI_ERR_INVALID_ARG, "a fixed ray count, not auto");
     vdbgi_tracer *tracer = NULL;
     float *const dirs = vdbgi_calloc(ctx, (size_t)bp.rays, 3 * sizeof(float));

@@ -267,7 +267,9 @@ static vdbgi_bake_params *next_layer(const vdbgi_bake_params *bp, vdbgi_bake_par
     l->ambient = 0.0f;
     l->sun_on = false;
     memset(l->sun_color, 0, sizeof(l->sun_color));
+    l->lamp_count = 0;
     memset(l->sky, 0, sizeof(l->sky));
+    l->sky_map = NULL;
     l->emission = VDBGI_EMISSION_NONE;
     snprintf(names[*n], sizeof(names[*n]), "%s", name);
     (*n)++;
@@ -275,8 +277,9 @@ static vdbgi_bake_params *next_layer(const vdbgi_bake_params *bp, vdbgi_bake_par
 }
 
 /*
- * The lights that are on in bp, each as bp with that light alone: the sun,
- * the ambient fill, the sky, and each emissive material some triangle uses.
+ * The lights that are on in bp, each as bp with that light alone: the sun
+ * and each scene light, the ambient fill, the sky, and each emissive
+ * material some triangle uses.
  */
 static vdbgi_result light_layers(vdbgi_context *ctx, const vdbgi_scene *s,
                                  const vdbgi_bake_params *bp, vdbgi_bake_params *out,
@@ -285,15 +288,25 @@ static vdbgi_result light_layers(vdbgi_context *ctx, const vdbgi_scene *s,
     size_t n = 0;
     vdbgi_bake_params *l;
     bool full = false;
-    if (bp->sun_on && !(full = !(l = next_layer(bp, out, names, &n, "sun")))) {
-        l->sun_on = true;
-        memcpy(l->sun_color, bp->sun_color, sizeof(l->sun_color));
+    for (int li = 0; li < bp->lamp_count && !full; li++) {
+        char name[32];
+        snprintf(name, sizeof(name), "light%d", li - (bp->sun_on ? 1 : 0));
+        const bool sun = bp->lamps[li].is_sun;
+        if (!(full = !(l = next_layer(bp, out, names, &n, sun ? "sun" : name)))) {
+            l->lamps[0] = bp->lamps[li];
+            l->lamp_count = 1;
+            l->sun_on = sun;
+            if (sun)
+                memcpy(l->sun_color, bp->sun_color, sizeof(l->sun_color));
+        }
     }
-    if (bp->ambient > 0.0f && !(full = !(l = next_layer(bp, out, names, &n, "ambient"))))
+    if (!full && bp->ambient > 0.0f && !(full = !(l = next_layer(bp, out, names, &n, "ambient"))))
         l->ambient = bp->ambient;
-    if ((bp->sky[0] > 0.0f || bp->sky[1] > 0.0f || bp->sky[2] > 0.0f) &&
-        !(full = !(l = next_layer(bp, out, names, &n, "sky"))))
+    if (!full && (bp->sky[0] > 0.0f || bp->sky[1] > 0.0f || bp->sky[2] > 0.0f || bp->sky_map) &&
+        !(full = !(l = next_layer(bp, out, names, &n, "sky")))) {
         memcpy(l->sky, bp->sky, sizeof(l->sky));
+        l->sky_map = bp->sky_map;
+    }
     /* The emitters some triangle uses, found in one pass over the triangles. */
     bool *const used = vdbgi_calloc(ctx, s->material_count ? s->material_count : 1, sizeof(bool));
     if (!used)
@@ -371,7 +384,9 @@ static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
     vdbgi_bake_desc bd = d->bake;
     bd.rays = bd.rays == 0 ? 64 : bd.rays;
     vdbgi_bake_params bp;
-    VDBGI_TRY(vdbgi_bake_params_resolve(ctx, &bd, &bp));
+    VDBGI_TRY(vdbgi_bake_params_resolve(ctx, &bd, scene, &bp));
+    VDBGI_FAIL_IF(ctx, bp.bounces > 1, VDBGI_ERR_INVALID_ARG,
+                  "a lightmap bounces by its passes, not by bounces (got %d)", bp.bounces);
     const int passes = d->passes == 0 ? 2 : d->passes;
     VDBGI_FAIL_IF(ctx, passes < 1 || passes > 16, VDBGI_ERR_INVALID_ARG,
                   "passes must be 1..16 (got %d)", d->passes);

@@ -236,6 +236,72 @@ void vdbgi_scene_get_info(const vdbgi_scene *scene, vdbgi_scene_info *info)
     memcpy(info->bounds_max, scene->bounds_max, sizeof(info->bounds_max));
     info->ray_offset = scene->ray_offset;
     info->name = scene->name;
+    info->light_count = scene->light_count;
+}
+
+/* ---- punctual lights ------------------------------------------------------ */
+
+static bool finite3(const float v[3])
+{
+    return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+}
+
+/* Why light l cannot be added, or NULL. */
+static const char *light_refusal(const vdbgi_light *l)
+{
+    if (l->type != VDBGI_LIGHT_DIRECTIONAL && l->type != VDBGI_LIGHT_POINT &&
+        l->type != VDBGI_LIGHT_SPOT)
+        return "an unknown type";
+    for (int k = 0; k < 3; k++)
+        if (!(l->color[k] >= 0.0f && l->color[k] <= VDBGI_MAX_EMISSION))
+            return isnan(l->color[k])   ? "a colour or intensity that is not a number"
+                   : l->color[k] < 0.0f ? "a negative colour or intensity"
+                                        : "a colour times intensity above 1e6";
+    if (!finite3(l->position) || !finite3(l->direction))
+        return "a position or direction that is not finite";
+    const float *const d = l->direction;
+    if (l->type != VDBGI_LIGHT_POINT && !(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 0.0f))
+        return "no direction";
+    if (!(l->range >= 0.0f) || isinf(l->range))
+        return "a range that is negative or not finite";
+    if (l->type == VDBGI_LIGHT_SPOT) {
+        if (!(l->inner_cone >= 0.0f && l->outer_cone <= 1.5707964f))
+            return "cone angles outside 0..pi/2";
+        if (!(l->outer_cone >= l->inner_cone))
+            return "an outer cone angle below its inner one";
+    }
+    return NULL;
+}
+
+vdbgi_result vdbgi_scene_add_lights(vdbgi_scene *scene, const vdbgi_light *lights, size_t count)
+{
+    vdbgi_context *const ctx = scene->ctx;
+    VDBGI_FAIL_IF(ctx, count && !lights, VDBGI_ERR_INVALID_ARG, "no lights given");
+    VDBGI_FAIL_IF(ctx, count > VDBGI_MAX_LIGHTS - scene->light_count, VDBGI_ERR_INVALID_ARG,
+                  "%zu lights: at most %d are traced", scene->light_count + count,
+                  VDBGI_MAX_LIGHTS);
+    for (size_t i = 0; i < count; i++) {
+        const char *const why = light_refusal(&lights[i]);
+        VDBGI_FAIL_IF(ctx, why, VDBGI_ERR_INVALID_ARG, "light %zu%s%.*s%s has %s", i,
+                      lights[i].name[0] ? " (" : "", (int)sizeof(lights[i].name), lights[i].name,
+                      lights[i].name[0] ? ")" : "", why);
+    }
+    for (size_t i = 0; i < count; i++) {
+        vdbgi_light *const l = &scene->lights[scene->light_count++];
+        *l = lights[i];
+        l->name[sizeof(l->name) - 1] = '\0';
+        const float *const d = l->direction;
+        const float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        for (int k = 0; k < 3 && len > 0.0f; k++)
+            l->direction[k] /= len;
+    }
+    return VDBGI_OK;
+}
+
+size_t vdbgi_scene_get_lights(const vdbgi_scene *scene, const vdbgi_light **lights)
+{
+    *lights = scene->lights;
+    return scene->light_count;
 }
 
 /* ---- albedo at a hit ----------------------------------------------------- */

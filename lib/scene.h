@@ -52,6 +52,8 @@ struct vdbgi_scene {
     float bounds_min[3], bounds_max[3];
     float ray_offset;
     char *name;
+    vdbgi_light lights[VDBGI_MAX_LIGHTS];
+    size_t light_count;
 };
 
 /*

@@ -111,7 +111,7 @@ static void fill_ray(struct RTCRay *r, const vdbgi_ray_batch *b, size_t i)
     r->dir_y = d[1];
     r->dir_z = d[2];
     r->tnear = b->tnear;
-    r->tfar = b->tfar;
+    r->tfar = b->tfars ? b->tfars[i] : b->tfar;
     r->time = 0.0f;
     r->mask = 0xFFFFFFFFu;
     r->id = (unsigned)i;
@@ -151,7 +151,7 @@ static void read_hit(const struct RTCRayHit *rh, vdbgi_hit *h)
                 const float *const d = &b->dir[b->dir_stride * i];                                 \
                 rh.ray.org_x[l] = o[0], rh.ray.org_y[l] = o[1], rh.ray.org_z[l] = o[2];            \
                 rh.ray.dir_x[l] = d[0], rh.ray.dir_y[l] = d[1], rh.ray.dir_z[l] = d[2];            \
-                rh.ray.tnear[l] = b->tnear, rh.ray.tfar[l] = b->tfar;                              \
+                rh.ray.tnear[l] = b->tnear, rh.ray.tfar[l] = b->tfars ? b->tfars[i] : b->tfar;     \
                 rh.ray.time[l] = 0.0f, rh.ray.mask[l] = 0xFFFFFFFFu;                               \
                 rh.ray.id[l] = (unsigned)l, rh.ray.flags[l] = 0;                                   \
                 rh.hit.geomID[l] = RTC_INVALID_GEOMETRY_ID;                                        \
@@ -183,7 +183,7 @@ static void read_hit(const struct RTCRayHit *rh, vdbgi_hit *h)
                 const float *const d = &b->dir[b->dir_stride * i];                                 \
                 r.org_x[l] = o[0], r.org_y[l] = o[1], r.org_z[l] = o[2];                           \
                 r.dir_x[l] = d[0], r.dir_y[l] = d[1], r.dir_z[l] = d[2];                           \
-                r.tnear[l] = b->tnear, r.tfar[l] = b->tfar;                                        \
+                r.tnear[l] = b->tnear, r.tfar[l] = b->tfars ? b->tfars[i] : b->tfar;               \
                 r.time[l] = 0.0f, r.mask[l] = 0xFFFFFFFFu, r.id[l] = (unsigned)l, r.flags[l] = 0;  \
             }                                                                                      \
             rtcOccluded##N(valid, scene, &ic, &r);                                                 \

@@ -26,6 +26,7 @@ typedef struct vdbgi_ray_batch {
     size_t org_stride, dir_stride; /* floats between rays: 3, or 0 for shared */
     float tnear, tfar;
     size_t count;
+    const float *tfars; /* each ray's own tfar (shadow rays towards a lamp), or NULL */
 } vdbgi_ray_batch;
 
 /* First hits: t (INFINITY for a miss), primitive and barycentrics. */

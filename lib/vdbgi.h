@@ -226,10 +226,79 @@ typedef struct vdbgi_scene_info {
     float bounds_min[3], bounds_max[3]; /* of the kept triangles, metres */
     float ray_offset;                   /* self-intersection offset, metres */
     const char *name;                   /* file name without directories */
+    size_t light_count;                 /* punctual lights (vdbgi_scene_get_lights) */
 } vdbgi_scene_info;
 
 /* Describe a scene. Strings belong to the scene. */
 VDBGI_API void vdbgi_scene_get_info(const vdbgi_scene *scene, vdbgi_scene_info *info);
+
+/*
+ * A punctual light, as glTF's KHR_lights_punctual has it (the loader reads
+ * them, with their nodes' transforms, from every format assimp gives lights
+ * for). Radiometric as the bake is: a point or spot light of colour I lights
+ * a surface at distance d, at angle theta to its normal, with irradiance
+ * E = I cos(theta) / d^2 (times the range window and the spot's cone); a
+ * directional light with E = I cos(theta).
+ *   position:   world metres (point, spot).
+ *   direction:  the way the light travels (directional, spot), non-zero.
+ *   color:      colour times intensity, linear, each in 0..1e6 (glTF:
+ *               candela for point and spot, lux for directional).
+ *   range:      glTF's window: E is multiplied by
+ *               clamp(1 - (d/range)^4, 0, 1); 0 for none.
+ *   inner_cone, outer_cone: a spot's angles from its axis, radians,
+ *               0 <= inner <= outer <= pi/2; between them E falls off as
+ *               glTF's reference does (a smooth step in cos, squared).
+ */
+typedef enum vdbgi_light_type {
+    VDBGI_LIGHT_DIRECTIONAL = 1,
+    VDBGI_LIGHT_POINT = 2,
+    VDBGI_LIGHT_SPOT = 3
+} vdbgi_light_type;
+
+typedef struct vdbgi_light {
+    vdbgi_light_type type;
+    float position[3];
+    float direction[3];
+    float color[3];
+    float range;
+    float inner_cone, outer_cone;
+    char name[64]; /* for messages; may be empty */
+} vdbgi_light;
+
+/* Most lights a scene may hold: each costs a shadow ray per hit. */
+#define VDBGI_MAX_LIGHTS 64
+
+/*
+ * Add count lights to a scene (copied; directions normalised). A light that
+ * is not finite, has a colour outside 0..1e6, a spot's outer angle below its
+ * inner one, or would take the scene past VDBGI_MAX_LIGHTS is refused with
+ * VDBGI_ERR_INVALID_ARG naming it, and none of them is added.
+ */
+VDBGI_API vdbgi_result vdbgi_scene_add_lights(vdbgi_scene *scene, const vdbgi_light *lights,
+                                              size_t count);
+/* The scene's lights (owned by the scene) into *lights; returns their count. */
+VDBGI_API size_t vdbgi_scene_get_lights(const vdbgi_scene *scene, const vdbgi_light **lights);
+
+/*
+ * An environment: an equirectangular (2:1) image of the radiance arriving
+ * from each direction, +y up, u = 0.5 looking down -z at rotation 0 (the
+ * layout of a .hdr or .exr "latlong" map), read through the image module.
+ */
+typedef struct vdbgi_sky vdbgi_sky;
+
+/*
+ * Load path as a sky: its texels times intensity (> 0), turned by rotation
+ * degrees about +y. Refused by name: a missing or unreadable file, one that
+ * is not an image, not 2:1, larger than the image module decodes, or whose
+ * texels (times intensity) are negative, not finite or above 1e6.
+ */
+VDBGI_API vdbgi_result vdbgi_sky_load(vdbgi_context *ctx, const char *path, float intensity,
+                                      float rotation, vdbgi_sky **out);
+VDBGI_API void vdbgi_sky_destroy(vdbgi_sky *sky);
+/* A hash of the sky's texels and settings, for the bake's metadata. */
+VDBGI_API uint64_t vdbgi_sky_hash(const vdbgi_sky *sky);
+/* The radiance arriving from unit direction d (towards the sky), bilinear. */
+VDBGI_API void vdbgi_sky_radiance(const vdbgi_sky *sky, const float d[3], float rgb[3]);
 
 /*
  * Receivers: point_count points on the scene's surfaces, each triangle chosen
@@ -360,6 +429,15 @@ typedef enum vdbgi_trace_method {
  *   invalid_threshold: a probe whose back-face fraction (back-face hits over
  *                all hits) exceeds this is invalid. 0 == 0.25.
  *   trace_method: Embree query shape, see vdbgi_trace_method.
+ *   lights:      see vdbgi_lights.
+ *   model:       see vdbgi_model. VDBGI_MODEL_PHYSICAL refuses an ambient
+ *                or a falloff that is given.
+ *   bounces:     1..16, 0 == 1: a hit's outgoing light also carries what
+ *                arrives there after bounces - 1 more reflections, traced
+ *                further along one cosine-weighted ray per bounce (the
+ *                ambient fill and the falloff apply at the first hit only).
+ *   sky_map:     the radiance of a miss, in place of sky (which must then be
+ *                black); NULL for none. Must outlive the bake.
  *   basis:       VDBGI_BASIS_AMBIENT_CUBE adds six directional colours per
  *                probe from the same rays (see vdbgi_side), VDBGI_BASIS_SH2
  *                eight L2 terms (see VDBGI_SH2_TERMS); the scalar value keeps
@@ -369,6 +447,19 @@ typedef enum vdbgi_trace_method {
  *                VDBGI_ERR_CANCELLED. May be NULL.
  */
 #define VDBGI_RAYS_AUTO (-1)
+
+/* Which of the scene's punctual lights light the hits. */
+typedef enum vdbgi_lights {
+    VDBGI_LIGHTS_SCENE = 0, /* all of them; its directional lights stand in for the
+                               default sun (a sun_dir given replaces them) */
+    VDBGI_LIGHTS_OFF = 1    /* none: the sun and the sky only, as before lights */
+} vdbgi_lights;
+
+/* The light model. */
+typedef enum vdbgi_model {
+    VDBGI_MODEL_SEED = 0,    /* seed 000's: the ambient fill and the distance falloff */
+    VDBGI_MODEL_PHYSICAL = 1 /* neither: only the lights, emission, the sky and bounces */
+} vdbgi_model;
 
 typedef struct vdbgi_bake_desc {
     int rays;
@@ -386,6 +477,10 @@ typedef struct vdbgi_bake_desc {
     float invalid_threshold;
     vdbgi_trace_method trace_method;
     vdbgi_basis basis;
+    vdbgi_lights lights;
+    vdbgi_model model;
+    int bounces;
+    const vdbgi_sky *sky_map;
     int (*progress)(void *user, float done);
     void *progress_user;
 } vdbgi_bake_desc;
@@ -393,7 +488,7 @@ typedef struct vdbgi_bake_desc {
 typedef struct vdbgi_bake_stats {
     uint64_t probe_count;
     uint64_t primary_ray_count;
-    uint64_t shadow_ray_count;
+    uint64_t shadow_ray_count; /* towards the sun and lights; with bounces, theirs too */
     uint64_t hit_count;
     uint64_t invalid_probe_count;
     double seconds; /* wall time of the bake call */

@@ -25,7 +25,7 @@ static void bake(vdbgi_context *ctx, const vdbgi_mesh_desc *meshes, size_t mesh_
     memset(b, 0, sizeof(*b));
     vdbgi_bake_params bp;
     CHECK_RESULT(ctx, vdbgi_scene_create(ctx, meshes, mesh_count, &b->scene), VDBGI_OK);
-    CHECK_RESULT(ctx, vdbgi_bake_params_resolve(ctx, bd, &bp), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_bake_params_resolve(ctx, bd, b->scene, &bp), VDBGI_OK);
     const vdbgi_unwrap_params up = {.texel = texel, .size = 256};
     CHECK_RESULT(ctx, vdbgi_unwrap_build(ctx, b->scene, &up, &b->un), VDBGI_OK);
     CHECK_RESULT(ctx, vdbgi_texels_build(ctx, b->scene, &b->un, &b->tx), VDBGI_OK);

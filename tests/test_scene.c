@@ -40,7 +40,7 @@ static float srgb(int c)
 static int hit_below(const vdbgi_scene *s, float x, float z, vdbgi_hit *h)
 {
     const float org[3] = {x, 10.0f, z}, dir[3] = {0.0f, -1.0f, 0.0f};
-    const vdbgi_ray_batch b = {org, dir, 3, 3, 0.0f, 100.0f, 1};
+    const vdbgi_ray_batch b = {org, dir, 3, 3, 0.0f, 100.0f, 1, NULL};
     unsigned char scratch[512];
     vdbgi_tracer *t = NULL;
     if (vdbgi_tracer_create(s->ctx, s->positions, s->vertex_count, s->indices, s->triangle_count,

@@ -7,7 +7,10 @@ for args in "--frobnicate" "data.glb" "-o out.vdb" "a.glb b.glb -o out.vdb" \
             "s.glb -o out.vdb --sun 1,2" "s.glb -o out.vdb --sky 1,nan,0" \
             "s.glb -o out.vdb --sampling sobol" "s.glb -o out.vdb --threads 0" \
             "s.glb -o out.vdb --max-probes 0" "s.glb -o out.vdb --margin -1" \
-            "s.glb -o out.vdb --ambient -0.1" "s.glb -o out.vdb --rays"; do
+            "s.glb -o out.vdb --ambient -0.1" "s.glb -o out.vdb --rays" \
+            "s.glb -o out.vdb --bounces 0" "s.glb -o out.vdb --bounces 1000" \
+            "s.glb -o out.vdb --model pbr" "s.glb -o out.vdb --lights maybe" \
+            "s.glb -o out.vdb --sky-intensity -1" "s.glb -o out.vdb --sky-rotation inf"; do
     # shellcheck disable=SC2086
     "$BIN/gi-bake" $args 2>err
     echo "$? $(head -n 1 err)"
