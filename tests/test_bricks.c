@@ -1262,6 +1262,117 @@ done:
     vdbgi_context_destroy(ctx);
 }
 
+/* p's terms with band drop left out (0: none) or sign_of negated (0: none), read along n. */
+static void probe_l2_reading(const vdbgi_probes *p, size_t i, const float n[3], int drop,
+                             int sign_of, float rgb[3])
+{
+    float sh[VDBGI_SH2_TERMS][3];
+    CHECK_RESULT(p->ctx, vdbgi_probes_get_sh2(p, i, sh), VDBGI_OK);
+    for (int k = 0; k < 3; k++) {
+        if (drop)
+            sh[drop][k] = 0.0f;
+        if (sign_of)
+            sh[sign_of][k] = -sh[sign_of][k];
+    }
+    vdbgi_sh2_eval((const float(*)[3])sh, n, rgb);
+}
+
+/*
+ * The worst error over every valid probe of an eps-0 L2 volume, read at the
+ * probe along each of the normals, against the probe's own E(n) (a band
+ * dropped or negated when asked), in encoding steps: L0's RGBM step, and
+ * one step of each term's ratio (its range over 127) weighted by |p_k(n)|.
+ */
+static double worst_l2_error_in_steps(const vdbgi_probes *p, const vdbgi_volume *v,
+                                      const float (*normals)[3], int count, int drop, int sign_of)
+{
+    double worst = 0.0;
+    for (size_t i = 0; i < p->count; i++) {
+        if (p->backface[i] > p->invalid_threshold)
+            continue; /* the volume holds the fill there, not the probe */
+        const double q[3] = {p->ijk[3 * i], p->ijk[3 * i + 1], p->ijk[3 * i + 2]};
+        float pos[3];
+        world_of(p, q, pos);
+        const float *const c0 = &p->rgb[3 * i];
+        const float mx = fmaxf(c0[0], fmaxf(c0[1], c0[2]));
+        for (int j = 0; j < count; j++) {
+            const float *const n = normals[j];
+            const double pk[8] = {n[0],        n[1],
+                                  n[2],        n[0] * n[1],
+                                  n[1] * n[2], 3 * n[2] * n[2] - 1,
+                                  n[0] * n[2], n[0] * n[0] - n[1] * n[1]};
+            double s = 0.0;
+            for (int k = 0; k < 8; k++)
+                s += fabs(pk[k]) * vdbgi_sh_ratio_range(k + 1);
+            float got[3], want[3];
+            vdbgi_volume_sample_normal(v, pos, n, got);
+            probe_l2_reading(p, i, n, drop, sign_of, want);
+            for (int k = 0; k < 3; k++) {
+                const double step = (mx + 8.0 / 255.0) / 255.0 * (1.0 + s) + c0[k] * s / 127.0;
+                worst = fmax(worst, fabs(got[k] - want[k]) / step);
+            }
+        }
+    }
+    return worst;
+}
+
+/*
+ * At eps 0 every probe's E(n) comes back within one encoding step, for the
+ * six axis normals and 20 random ones; and the same check fails when any
+ * one band is left out of the probe's own reading, or negated.
+ */
+static void at_eps_0_every_probe_reads_its_own_l2_for_any_normal(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    const float lo[3] = {-2.0f, 0.0f, -2.0f}, hi[3] = {2.0f, 3.0f, 2.0f};
+    const float wlo[3] = {4.0f, 0.0f, -4.0f}, whi[3] = {4.5f, 2.0f, 4.0f};
+    test_mesh_plane(&m, 16.0f, 0.0f);
+    test_mesh_box(&m, lo, hi, 0);
+    test_mesh_box(&m, wlo, whi, 0);
+    const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.6f, 0);
+    vdbgi_scene *scene = NULL;
+    vdbgi_probes *p = NULL;
+    vdbgi_volume *v = NULL;
+    const vdbgi_place_desc pd = {.spacing = 0.5, .origin = {0.25, 0.25, 0.25}, .origin_is_set = 1};
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &scene), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, scene, &pd, &p), VDBGI_OK);
+    const vdbgi_bake_desc bd = {.rays = 64, .basis = VDBGI_BASIS_SH2, .sky = {0.2f, 0.3f, 0.5f}};
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, scene, &bd, NULL), VDBGI_OK);
+    const vdbgi_convert_desc cd = {.eps = VDBGI_ZERO, .max_level = VDBGI_ZERO};
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
+    float normals[26][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    uint64_t state = 12345;
+    for (int j = 6; j < 26; j++) {
+        float l = 0.0f;
+        for (int k = 0; k < 3; k++) {
+            normals[j][k] = (float)(2.0 * vdbgi_uniform01(&state) - 1.0);
+            l += normals[j][k] * normals[j][k];
+        }
+        for (int k = 0; k < 3; k++)
+            normals[j][k] /= sqrtf(l);
+    }
+    if (v) {
+        const double worst = worst_l2_error_in_steps(p, v, (const float(*)[3])normals, 26, 0, 0);
+        CHECK(worst <= 1.0);
+        for (int band = 1; band <= 8; band++) {
+            const double dropped =
+                worst_l2_error_in_steps(p, v, (const float(*)[3])normals, 26, band, 0);
+            const double negated =
+                worst_l2_error_in_steps(p, v, (const float(*)[3])normals, 26, 0, band);
+            if (!(dropped > 1.0 && negated > 1.0)) {
+                fprintf(stderr, "band %d: %.2f steps dropped, %.2f negated\n", band, dropped,
+                        negated);
+                CHECK(false);
+            }
+        }
+    }
+    vdbgi_volume_destroy(v);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(scene);
+    vdbgi_context_destroy(ctx);
+}
+
 int main(void)
 {
     test_tmpdir_make("test-bricks");
@@ -1286,6 +1397,7 @@ int main(void)
     RUN(failing_allocations_are_reported_without_leaks);
     RUN(textures_and_probes_copy_into_caller_buffers_after_a_size_query);
     RUN(l2_bricks_read_each_side_and_round_trip);
+    RUN(at_eps_0_every_probe_reads_its_own_l2_for_any_normal);
     test_tmpdir_remove();
     return CHECK_EXIT();
 }
