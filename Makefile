@@ -139,8 +139,8 @@ $(BUILD)/bin/%: $(BUILD)/apps/%.o $(CLI_OBJ) $(LIB_A) | $(IMAGE_MODULE)
 	@$(if $(Q),echo "  LINK    $@")
 	$(Q)$(CXX) $(ALL_LDFLAGS) $^ $(DEP_LIBS) -o $@
 
-# gi-bench's truth chart is a file of its own.
-$(BUILD)/bin/gi-bench: $(BUILD)/apps/bench_truth.o
+# gi-bench's truth chart and lights benchmark are files of their own.
+$(BUILD)/bin/gi-bench: $(BUILD)/apps/bench_truth.o $(BUILD)/apps/bench_lights.o
 
 $(BUILD)/tests/%.o: tests/%.c
 	@mkdir -p $(@D)
@@ -151,7 +151,7 @@ $(BUILD)/tests/%: $(BUILD)/tests/%.o $(LIB_A) | $(IMAGE_MODULE)
 	@$(if $(Q),echo "  LINK    $@")
 	$(Q)$(CXX) $(ALL_LDFLAGS) $^ $(DEP_LIBS) -o $@
 
--include $(LIB_OBJ:.o=.d) $(IMAGE_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(BUILD)/apps/bench_truth.d $(APP_NAMES:%=$(BUILD)/apps/%.d) \
+-include $(LIB_OBJ:.o=.d) $(IMAGE_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(BUILD)/apps/bench_truth.d $(BUILD)/apps/bench_lights.d $(APP_NAMES:%=$(BUILD)/apps/%.d) \
          $(TEST_SRC:tests/%.c=$(BUILD)/tests/%.d)
 
 ## deps: install the Debian packages vdbgi needs (only those missing)

@@ -37,7 +37,18 @@ void bench_receivers_free(bench_receivers *r)
  * six normals. Receivers whose rays mostly meet back faces (inside solids)
  * are dropped.
  */
-vdbgi_result bench_receivers_make(const vdbgi_scene *scene, bench_receivers *rv)
+/* desc under light's model and bounces (NULL: the defaults). */
+static vdbgi_bake_desc lit(vdbgi_bake_desc d, const bench_light *light)
+{
+    if (light) {
+        d.model = light->model;
+        d.bounces = light->bounces;
+    }
+    return d;
+}
+
+vdbgi_result bench_receivers_make(const vdbgi_scene *scene, const bench_light *light,
+                                  bench_receivers *rv)
 {
     const size_t n = SURFACE_POINTS, most = n + 6 * CHARACTER_POINTS;
     memset(rv, 0, sizeof(*rv));
@@ -55,7 +66,8 @@ vdbgi_result bench_receivers_make(const vdbgi_scene *scene, bench_receivers *rv)
         free(bf);
         return VDBGI_ERR_OUT_OF_MEMORY;
     }
-    const vdbgi_bake_desc truth = {.rays = 2048, .sampling = VDBGI_SAMPLING_RANDOM, .seed = 5};
+    const vdbgi_bake_desc truth =
+        lit((vdbgi_bake_desc){.rays = 2048, .sampling = VDBGI_SAMPLING_RANDOM, .seed = 5}, light);
     vdbgi_result r = vdbgi_scene_sample_triangles(scene, n, 7, rv->prim, rv->uv);
     if (r == VDBGI_OK) /* the same points, on the surface and 10 cm off it: the normal */
         r = vdbgi_scene_sample_surface(scene, n, 0.0f, 7, rv->pos);
@@ -201,7 +213,7 @@ void bench_volume_reading(const vdbgi_volume *v, const bench_receivers *rv, floa
 /* One spacing: bake both bases, read every method at every receiver, a row each. */
 static vdbgi_result truth_at_spacing(vdbgi_context *ctx, const vdbgi_scene *scene,
                                      const bench_receivers *rv, double spacing, int rays,
-                                     int threads, FILE *csv, float *got)
+                                     int threads, const bench_light *light, FILE *csv, float *got)
 {
     const vdbgi_place_desc pd = {.spacing = spacing, .margin = 2.5};
     vdbgi_probes *p = NULL, *cube = NULL;
@@ -209,7 +221,8 @@ static vdbgi_result truth_at_spacing(vdbgi_context *ctx, const vdbgi_scene *scen
     vdbgi_result r = vdbgi_probes_place(ctx, scene, &pd, &p);
     if (r == VDBGI_OK)
         r = vdbgi_probes_place(ctx, scene, &pd, &cube);
-    vdbgi_bake_desc bd = {.rays = rays, .threads = threads, .basis = VDBGI_BASIS_SH2};
+    vdbgi_bake_desc bd =
+        lit((vdbgi_bake_desc){.rays = rays, .threads = threads, .basis = VDBGI_BASIS_SH2}, light);
     if (r == VDBGI_OK)
         r = vdbgi_probes_bake(p, scene, &bd, NULL);
     bd.basis = VDBGI_BASIS_AMBIENT_CUBE;
@@ -250,7 +263,8 @@ static vdbgi_result truth_at_spacing(vdbgi_context *ctx, const vdbgi_scene *scen
  * off a surface by `off` metres along its normal (characters where they are).
  */
 static vdbgi_result truth_of_perfect_probes(const vdbgi_scene *scene, const bench_receivers *rv,
-                                            float off, int rays, int threads, FILE *csv, float *got)
+                                            float off, int rays, int threads,
+                                            const bench_light *light, FILE *csv, float *got)
 {
     float *const at = calloc(3 * rv->count + 3, sizeof(float));
     float *const sh = calloc(27 * rv->count + 27, sizeof(float));
@@ -259,7 +273,8 @@ static vdbgi_result truth_of_perfect_probes(const vdbgi_scene *scene, const benc
         for (int k = 0; k < 3; k++)
             at[3 * i + k] =
                 rv->pos[3 * i + k] + (i < rv->surface ? off * rv->normal[3 * i + k] : 0.0f);
-    const vdbgi_bake_desc bd = {.rays = rays, .threads = threads, .basis = VDBGI_BASIS_SH2};
+    const vdbgi_bake_desc bd =
+        lit((vdbgi_bake_desc){.rays = rays, .threads = threads, .basis = VDBGI_BASIS_SH2}, light);
     if (r == VDBGI_OK)
         r = vdbgi_scene_bake_points_sh2(scene, &bd, at, rv->count, sh);
     for (size_t i = 0; r == VDBGI_OK && i < rv->count; i++) {
@@ -277,12 +292,16 @@ static vdbgi_result truth_of_perfect_probes(const vdbgi_scene *scene, const benc
     return r;
 }
 
-/* The lightmap at 0.25 m texels, one pass (the truth's one bounce), at the surface receivers. */
+/* The lightmap at 0.25 m texels, a pass per bounce of the truth's, at the surface receivers. */
 static vdbgi_result truth_of_lightmap(vdbgi_context *ctx, const vdbgi_scene *scene,
-                                      const bench_receivers *rv, int threads, FILE *csv, float *got)
+                                      const bench_receivers *rv, int threads,
+                                      const bench_light *light, FILE *csv, float *got)
 {
     vdbgi_lightmap_result *res = NULL;
-    const vdbgi_lightmap_desc d = {.texel = 0.25f, .passes = 1, .bake = {.threads = threads}};
+    const int passes = light && light->bounces > 1 ? light->bounces : 1;
+    vdbgi_bake_desc bake = lit((vdbgi_bake_desc){.threads = threads}, light);
+    bake.bounces = 0; /* a lightmap bounces by its passes */
+    const vdbgi_lightmap_desc d = {.texel = 0.25f, .passes = passes, .bake = bake};
     const vdbgi_result r = vdbgi_lightmap_bake_scene(ctx, scene, &d, &res, NULL);
     if (r == VDBGI_OK) {
         const bench_receivers surface = {.surface = rv->surface,
@@ -294,14 +313,15 @@ static vdbgi_result truth_of_lightmap(vdbgi_context *ctx, const vdbgi_scene *sce
         for (size_t i = 0; i < rv->surface; i++)
             vdbgi_lightmap_result_sample(res, rv->prim[i], rv->uv[2 * i], rv->uv[2 * i + 1],
                                          &got[3 * i]);
-        print_row(csv, 0.25, "lightmap, one pass", &surface, got);
+        print_row(csv, 0.25, passes == 1 ? "lightmap, one pass" : "lightmap, a pass a bounce",
+                  &surface, got);
     }
     vdbgi_lightmap_destroy(res);
     return r;
 }
 
 int bench_truth(const char *scene_path, double spacing, bool spacing_given, int rays, int threads,
-                const char *out)
+                const bench_light *light, const char *out)
 {
     const char *const dir = out ? out : "build/chart";
     if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
@@ -319,7 +339,7 @@ int bench_truth(const char *scene_path, double spacing, bool spacing_given, int 
     float *got = NULL;
     vdbgi_result r = vdbgi_scene_load(ctx, scene_path, &scene);
     if (r == VDBGI_OK)
-        r = bench_receivers_make(scene, &rv);
+        r = bench_receivers_make(scene, light, &rv);
     if (r == VDBGI_OK && !(got = calloc(3 * rv.count + 3, sizeof(float))))
         r = VDBGI_ERR_OUT_OF_MEMORY;
     if (r == VDBGI_OK && !(csv = fopen(path, "w"))) {
@@ -346,12 +366,12 @@ int bench_truth(const char *scene_path, double spacing, bool spacing_given, int 
     static const double spacings[2] = {0.5, 0.25};
     for (int s = 0; r == VDBGI_OK && s < (spacing_given ? 1 : 2); s++)
         r = truth_at_spacing(ctx, scene, &rv, spacing_given ? spacing : spacings[s], rays, threads,
-                             csv, got);
+                             light, csv, got);
     static const float offsets[3] = {0.02f, 0.0625f, 0.125f};
     for (int o = 0; r == VDBGI_OK && o < 3; o++)
-        r = truth_of_perfect_probes(scene, &rv, offsets[o], rays, threads, csv, got);
+        r = truth_of_perfect_probes(scene, &rv, offsets[o], rays, threads, light, csv, got);
     if (r == VDBGI_OK)
-        r = truth_of_lightmap(ctx, scene, &rv, threads, csv, got);
+        r = truth_of_lightmap(ctx, scene, &rv, threads, light, csv, got);
     if (csv)
         fclose(csv);
     if (r == VDBGI_OK)

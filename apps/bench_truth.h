@@ -16,13 +16,20 @@ typedef struct bench_receivers {
     unsigned char *kind;
 } bench_receivers;
 
+/* The light model every method and the truth share (gi-bench truth --model, --bounces). */
+typedef struct bench_light {
+    vdbgi_model model;
+    int bounces; /* a lightmap's passes */
+} bench_light;
+
 /*
  * 3000 points on the scene's surfaces spread by area, each with its
  * triangle's front normal, and 400 character points 0.5-2 m over walkable
  * ones, each read by six normals (up, the four horizontal, down); those whose
  * rays mostly meet back faces (inside solids) dropped.
  */
-vdbgi_result bench_receivers_make(const vdbgi_scene *scene, bench_receivers *rv);
+vdbgi_result bench_receivers_make(const vdbgi_scene *scene, const bench_light *light,
+                                  bench_receivers *rv);
 void bench_receivers_free(bench_receivers *rv);
 
 /* RMSE over the truth's mean, and the mean read over the mean truth. */
@@ -43,6 +50,6 @@ void bench_volume_reading(const vdbgi_volume *v, const bench_receivers *rv, floa
 
 /* Run it on the scene at path; one spacing when spacing_given, else 0.5 and 0.25 m. */
 int bench_truth(const char *scene, double spacing, bool spacing_given, int rays, int threads,
-                const char *out);
+                const bench_light *light, const char *out);
 
 #endif /* VDBGI_BENCH_TRUTH_H */

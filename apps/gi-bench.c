@@ -1,6 +1,7 @@
 /* gi-bench: measure the bake against a bare Embree loop over the same rays. */
 #define _DEFAULT_SOURCE     /* mkstemps */
 #define VDBGI_BENCHMARK_API /* vdbgi_probes_trace_bare, vdbgi_lightmap_trace_bare, ... */
+#include "bench_lights.h"
 #include "bench_truth.h"
 #include "cli.h"
 #include "vdbgi.h"
@@ -29,6 +30,7 @@ static void usage(void)
            "       gi-bench memory SCENE [options]\n"
            "       gi-bench lightmap SCENE [options]\n"
            "       gi-bench truth SCENE [options]\n"
+           "       gi-bench lights SCENE [options]\n"
            "\n"
            "bake: measure, in one run on one machine, the ray throughput of:\n"
            "  - a bare Embree loop that traces exactly the bake's rays (primary rays, then a\n"
@@ -77,13 +79,24 @@ static void usage(void)
            "up, the four horizontal directions and down: the scalar in bricks (today's\n"
            "runtime), the scalar, ambient cube and L2 probes read directly, and a one-pass\n"
            "lightmap at 0.25 m texels; at 0.5 and 0.25 m (--spacing S: that one only).\n"
-           "Prints a Markdown table and writes --out/truth.csv.\n"
+           "Prints a Markdown table and writes --out/truth.csv. --model physical and\n"
+           "--bounces N hold every method and the truth to that light (a lightmap takes a\n"
+           "pass a bounce).\n"
+           "\n"
+           "lights: the scene's own light (its lights, a sky map written to --out, the\n"
+           "physical model, bounces): each feature's bake time, probes/s and rays/s against\n"
+           "seed 000's one-bounce bake at --spacing (0.25), fastest of --repeat; then the\n"
+           "error at 400 valid probes of 1, 2, 3, 4 and 6 bounces at 32..2048 rays against\n"
+           "8 bounces of 4096 rays (--out/lights.csv), and a sky with a small sun against a\n"
+           "smooth one (the noise an unimportance-sampled sky leaves).\n"
            "\n"
            "Options:\n"
            "      --spacing M     probe spacing in metres (0.5)\n"
            "      --rays N        rays per probe (128)\n"
            "      --threads N     worker threads (all cores)\n"
            "      --repeat N      runs of each measurement, fastest kept (3)\n"
+           "      --model M       truth: seed or physical (seed)\n"
+           "      --bounces N     truth: bounces, 1..16 (1)\n"
            "      --gi-bake PATH  the gi-bake to time (the one beside gi-bench)\n"
            "      --out PATH      bake: where gi-bake writes its .vdb (a temporary file);\n"
            "                      sweep: the directory for the CSV files (build/chart)\n"
@@ -97,7 +110,9 @@ static void usage(void)
            "  gi-bench sweep data/world.glb --out build/chart\n"
            "  gi-bench memory data/world.glb --out build/chart\n"
            "  gi-bench lightmap data/world.glb --out build/chart\n"
-           "  gi-bench truth data/world.glb --out build/chart\n");
+           "  gi-bench truth data/world.glb --out build/chart\n"
+           "  gi-bench truth interior.glb --model physical --bounces 3\n"
+           "  gi-bench lights interior.glb --out build/chart\n");
 }
 
 typedef struct options {
@@ -105,9 +120,19 @@ typedef struct options {
     double spacing;
     bool spacing_given;
     int rays, threads, repeat;
+    bench_light light;
 } options;
 
-enum { OPT_SPACING = 256, OPT_RAYS, OPT_THREADS, OPT_REPEAT, OPT_GI_BAKE, OPT_OUT };
+enum {
+    OPT_SPACING = 256,
+    OPT_RAYS,
+    OPT_THREADS,
+    OPT_REPEAT,
+    OPT_GI_BAKE,
+    OPT_OUT,
+    OPT_MODEL,
+    OPT_BOUNCES
+};
 
 static int parse_args(int argc, char **argv, options *o)
 {
@@ -117,6 +142,8 @@ static int parse_args(int argc, char **argv, options *o)
                                           {"repeat", required_argument, NULL, OPT_REPEAT},
                                           {"gi-bake", required_argument, NULL, OPT_GI_BAKE},
                                           {"out", required_argument, NULL, OPT_OUT},
+                                          {"model", required_argument, NULL, OPT_MODEL},
+                                          {"bounces", required_argument, NULL, OPT_BOUNCES},
                                           {"help", no_argument, NULL, 'h'},
                                           {"version", no_argument, NULL, CLI_OPT_VERSION},
                                           {NULL, 0, NULL, 0}};
@@ -151,15 +178,28 @@ static int parse_args(int argc, char **argv, options *o)
             break;
         case OPT_GI_BAKE: o->gi_bake = optarg; break;
         case OPT_OUT: o->out = optarg; break;
+        case OPT_MODEL:
+            if (strcmp(optarg, "seed") != 0 && strcmp(optarg, "physical") != 0)
+                return cli_usage_error("--model must be seed or physical (got '%s')", optarg);
+            o->light.model =
+                strcmp(optarg, "physical") == 0 ? VDBGI_MODEL_PHYSICAL : VDBGI_MODEL_SEED;
+            break;
+        case OPT_BOUNCES:
+            if (!cli_parse_int(optarg, &i) || i < 1 || i > 16)
+                return cli_usage_error("--bounces must be an integer in 1..16 (got '%s')", optarg);
+            o->light.bounces = (int)i;
+            break;
         default: return cli_common_option(c, argv, usage);
         }
     }
     if (optind == argc ||
         (strcmp(argv[optind], "bake") != 0 && strcmp(argv[optind], "convert") != 0 &&
          strcmp(argv[optind], "sweep") != 0 && strcmp(argv[optind], "memory") != 0 &&
-         strcmp(argv[optind], "lightmap") != 0 && strcmp(argv[optind], "truth") != 0))
+         strcmp(argv[optind], "lightmap") != 0 && strcmp(argv[optind], "truth") != 0 &&
+         strcmp(argv[optind], "lights") != 0))
         return cli_usage_error("say which benchmark: gi-bench bake SCENE, convert PROBES.vdb, "
-                               "sweep SCENE, memory SCENE, lightmap SCENE or truth SCENE");
+                               "sweep SCENE, memory SCENE, lightmap SCENE, truth SCENE or "
+                               "lights SCENE");
     if (argc - optind != 2)
         return cli_usage_error("give one input: gi-bench %s FILE", argv[optind]);
     o->mode = argv[optind];
@@ -449,7 +489,7 @@ static int sweep_spacing(sweep *w, const char *dir)
     /* The surface receivers and their hemisphere truth (gi-bench truth's). */
     bench_receivers rv = {0};
     float *got = NULL;
-    vdbgi_result r = bench_receivers_make(w->scene, &rv);
+    vdbgi_result r = bench_receivers_make(w->scene, NULL, &rv);
     if (r == VDBGI_OK && !(got = calloc(3 * rv.count + 3, sizeof(float))))
         r = VDBGI_ERR_OUT_OF_MEMORY;
     FILE *const f = r == VDBGI_OK ? open_csv(dir, "spacing.csv",
@@ -585,7 +625,7 @@ static int bench_memory(const options *o, bool one_spacing)
     float *got = NULL;
     vdbgi_result r = vdbgi_scene_load(ctx, o->scene, &scene);
     if (r == VDBGI_OK)
-        r = bench_receivers_make(scene, &rv);
+        r = bench_receivers_make(scene, NULL, &rv);
     if (r == VDBGI_OK && !(got = calloc(3 * rv.count + 3, sizeof(float))))
         r = VDBGI_ERR_OUT_OF_MEMORY;
     FILE *const f =
@@ -973,7 +1013,10 @@ int main(int argc, char **argv)
     if (strcmp(o.mode, "lightmap") == 0)
         return bench_lightmap(&o, argv[0]);
     if (strcmp(o.mode, "truth") == 0)
-        return bench_truth(o.scene, o.spacing, o.spacing_given, o.rays, o.threads, o.out);
+        return bench_truth(o.scene, o.spacing, o.spacing_given, o.rays, o.threads, &o.light, o.out);
+    if (strcmp(o.mode, "lights") == 0)
+        return bench_lights(o.scene, o.spacing_given ? o.spacing : 0.25, o.threads, o.repeat,
+                            o.out);
 
     /* gi-bake lives beside gi-bench unless told otherwise. */
     char gi_bake[PATH_MAX];

@@ -4,6 +4,7 @@
   make_scenes.py                      writes world.glb, room.obj/.mtl, floor.png here
   make_scenes.py --world SIZE OUT.glb writes a generated world SIZE x SIZE metres
   make_scenes.py --town OUT.glb       writes the town: 200 x 200 m, up to 60 m tall
+  make_scenes.py --interior OUT.glb   writes two rooms lit by a window and by lamps
 
 The outdoor world follows seed 000: orange canyon walls meeting green grass (a
 sharp colour seam), a few buildings with an embedded brick texture, trees
@@ -248,6 +249,25 @@ class GlbWriter:
             self.g["scenes"][0]["nodes"].append(idx)
         return idx
 
+    def light(self, name, kind, color, intensity, at, towards=None, spot=None, range_=None):
+        """A KHR_lights_punctual light on a node of its own at `at`, shining along
+        `towards` (glTF lights shine down their node's -z)."""
+        g = self.g
+        g.setdefault("extensionsUsed", ["KHR_lights_punctual"])
+        lights = g.setdefault("extensions", {}).setdefault("KHR_lights_punctual", {"lights": []})["lights"]
+        light = {"name": name, "type": kind, "color": list(color), "intensity": intensity}
+        if spot:
+            light["spot"] = {"innerConeAngle": spot[0], "outerConeAngle": spot[1]}
+        if range_:
+            light["range"] = range_
+        lights.append(light)
+        idx = self.node(name, None, translation=at)
+        node = g["nodes"][idx]
+        node["extensions"] = {"KHR_lights_punctual": {"light": len(lights) - 1}}
+        if towards:
+            node["rotation"] = rotation_onto((0.0, 0.0, -1.0), towards)
+        return idx
+
     def write(self, path):
         while len(self.bin) % 4:
             self.bin.append(0)
@@ -475,12 +495,73 @@ def write_town(path):
     w.write(path)
 
 
+def rotation_onto(a, b):
+    """The unit quaternion (x, y, z, w) that turns unit a onto direction b."""
+    n = math.sqrt(sum(c * c for c in b))
+    b = [c / n for c in b]
+    d = sum(a[k] * b[k] for k in range(3))
+    axis = (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+    if d < -0.999999:  # opposite: half a turn about any axis across a
+        return [1.0, 0.0, 0.0, 0.0] if abs(a[0]) < 0.9 else [0.0, 1.0, 0.0, 0.0]
+    q = [axis[0], axis[1], axis[2], 1.0 + d]
+    n = math.sqrt(sum(c * c for c in q))
+    return [c / n for c in q]
+
+
+def wall(m, pt, s0, s1, h, hole, normal):
+    """A wall pt(s, y) over s in [s0, s1], y in [0, h], facing normal, with an
+    opening hole = (sa, sb, ya, yb) (or None): the quads around it."""
+    if hole is None:
+        facing_quad(m, [pt(s0, 0), pt(s1, 0), pt(s1, h), pt(s0, h)], normal)
+        return
+    sa, sb, ya, yb = hole
+    for q in ([pt(s0, 0), pt(sa, 0), pt(sa, h), pt(s0, h)], [pt(sb, 0), pt(s1, 0), pt(s1, h), pt(sb, h)],
+              [pt(sa, 0), pt(sb, 0), pt(sb, ya), pt(sa, ya)], [pt(sa, yb), pt(sb, yb), pt(sb, h), pt(sa, h)]):
+        if abs(q[1][0] - q[0][0]) + abs(q[1][2] - q[0][2]) > 1e-9 and abs(q[2][1] - q[1][1]) > 1e-9:
+            facing_quad(m, q, normal)
+
+
+def write_interior(path):
+    """Two 6 x 3 x 6 m rooms side by side (x 0..6 and 6..12), closed shells of
+    inward faces: room A has a window in its south wall (z = 0) where the sun and
+    the sky come in, and a reading spot; room B, through a doorway in the wall
+    between them, is lit by a ceiling lamp only, and by what bounces in from A:
+    light that reaches it after two and three bounces."""
+    h = 3.0
+    shell, inner, floor_, sofa = Mesh(), Mesh(), Mesh(), Mesh()
+    floor_.quad((0, 0, 6), (12, 0, 6), (12, 0, 0), (0, 0, 0))        # up
+    shell.quad((0, h, 0), (12, h, 0), (12, h, 6), (0, h, 6))           # ceiling, down
+    wall(shell, lambda s, y: (s, y, 0.0), 0.0, 12.0, h, (1.5, 4.5, 0.9, 2.4), (0, 0, 1))  # south
+    wall(shell, lambda s, y: (s, y, 6.0), 0.0, 12.0, h, None, (0, 0, -1))                # north
+    wall(shell, lambda s, y: (0.0, y, s), 0.0, 6.0, h, None, (1, 0, 0))                  # west
+    wall(shell, lambda s, y: (12.0, y, s), 0.0, 6.0, h, None, (-1, 0, 0))                # east
+    door = (2.5, 3.5, 0.0, 2.2)
+    wall(inner, lambda s, y: (6.0, y, s), 0.0, 6.0, h, door, (-1, 0, 0))   # A's side
+    wall(inner, lambda s, y: (6.0, y, s), 0.0, 6.0, h, door, (1, 0, 0))    # B's side
+    sofa.box((8.0, 0.0, 4.6), (11.0, 0.8, 5.6))
+    sofa.box((1.0, 0.0, 4.0), (3.0, 0.9, 5.5))
+    w = GlbWriter()
+    w.node("shell", w.mesh("shell", shell, w.material("plaster", (0.80, 0.78, 0.74))))
+    w.node("partition", w.mesh("partition", inner, w.material("red plaster", (0.75, 0.25, 0.20))))
+    w.node("floor", w.mesh("floor", floor_, w.material("wood", (0.55, 0.38, 0.22))))
+    w.node("furniture", w.mesh("furniture", sofa, w.material("blue", (0.15, 0.25, 0.60))))
+    # The sun (lux / pi is the estimator's sun colour) through the window, a lamp in B, a spot in A.
+    w.light("sun", "directional", (1.0, 0.95, 0.85), 6.0, (3.0, 5.0, -3.0), towards=(0.25, -0.55, 1.0))
+    w.light("ceiling lamp", "point", (1.0, 0.85, 0.6), 6.0, (9.0, 2.8, 3.0), range_=12.0)
+    w.light("reading spot", "spot", (0.9, 0.95, 1.0), 10.0, (2.0, 2.9, 4.7), towards=(0.0, -1.0, 0.0),
+            spot=(0.35, 0.7))
+    w.write(path)
+
+
 def main(argv):
     if len(argv) == 3 and argv[0] == "--world":
         write_world(argv[2], float(argv[1]), seed=int(float(argv[1])))
         return 0
     if len(argv) == 2 and argv[0] == "--town":
         write_town(argv[1])
+        return 0
+    if len(argv) == 2 and argv[0] == "--interior":
+        write_interior(argv[1])
         return 0
     if argv:
         sys.stderr.write(__doc__)

@@ -3,7 +3,8 @@
 # bake throughput against a bare Embree loop over the same rays, then conversion
 # size, error and time against reading the .vdb; then gi-lightmap against a
 # bare loop over its rays, per pass, and its packing against potpack; then what each method
-# gives a surface against the hemisphere truth (gi-bench truth); then where the bytes of the
+# gives a surface against the hemisphere truth (gi-bench truth); then the scene's own light on
+# the interior (gi-bench lights, and truth under the physical model); then where the bytes of the
 # default volume go on those two and the town (tests/breakdown.py, Debian's
 # python3); then the browser runtime's load and frame times in headless
 # Chromium (tests/web/bench_web.mjs, docs/web.md). Writes build/bench/bench.md.
@@ -13,6 +14,7 @@ OUT=build/bench
 mkdir -p "$OUT"
 [ -f "$OUT/world200.glb" ] || python3 data/make_scenes.py --world 200 "$OUT/world200.glb"
 [ -f "$OUT/town.glb" ] || python3 data/make_scenes.py --town "$OUT/town.glb"
+[ -f "$OUT/interior.glb" ] || python3 data/make_scenes.py --interior "$OUT/interior.glb"
 {
     echo "## gi-bench, $(date -u +%Y-%m-%d), $(nproc) cores: $(sed -n 's/^model name\t: //p' /proc/cpuinfo | head -n 1)"
     echo
@@ -36,6 +38,13 @@ mkdir -p "$OUT"
     "$BUILD/bin/gi-bench" truth data/world.glb --out "$OUT/truth"
     echo
     "$BUILD/bin/gi-bench" truth "$OUT/world200.glb" --spacing 0.5 --out "$OUT/truth200"
+    echo
+    echo "### The scene's own light: cost, bounces and rays (docs/lights.md)"
+    echo
+    "$BUILD/bin/gi-bench" lights "$OUT/interior.glb" --repeat 2 --out "$OUT/lights"
+    echo
+    "$BUILD/bin/gi-bench" truth "$OUT/interior.glb" --model physical --bounces 3 --spacing 0.25 \
+        --rays 1024 --out "$OUT/truth_interior"
     echo
     echo "### Where the bytes go (default conversion; docs/converter.md, section 10)"
     echo
