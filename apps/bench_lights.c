@@ -3,7 +3,7 @@
  * the one-bounce bake of seed 000's model, and what bounces and rays buy
  * against a reference of many of both. A sky map is written beside the
  * CSV: a smooth one (zenith blue to a bright horizon), and the same with a
- * small sun for the noise an unimportance-sampled sky leaves.
+ * small sun, for the noise it leaves once taken out of the map as a lamp.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "bench_lights.h"
@@ -233,7 +233,8 @@ int bench_lights(const char *scene_path, double spacing, int threads, int repeat
     }
     /* The sky's noise: the same bake under a sky with a small bright sun, 2 bounces. */
     if (r == VDBGI_OK) {
-        printf("\nA sky with a sun, uniformly sampled: RMSE against 4096 rays, 2 bounces.\n\n"
+        printf("\nA sky with a sun (taken out of the map as a lamp with a shadow ray): RMSE "
+               "against 4096 rays, 2 bounces.\n\n"
                "| sky | 128 rays | 512 rays |\n|---|---:|---:|\n");
         const vdbgi_sky *const skies[2] = {sky, sun};
         for (int s = 0; r == VDBGI_OK && s < 2; s++) {

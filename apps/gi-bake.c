@@ -262,6 +262,12 @@ int main(int argc, char **argv)
             printf(", %zu lights%s", si.light_count,
                    o.bake.lights == VDBGI_LIGHTS_OFF ? " (off)" : "");
         printf("\n");
+        float sun_dir[3], sun_e[3];
+        if (sky && vdbgi_sky_sun(sky, sun_dir, sun_e))
+            printf(
+                "sky      %s: its sun taken out as a lamp, E %.3g,%.3g,%.3g from %.2f,%.2f,%.2f\n",
+                cli_light.sky_map, (double)sun_e[0], (double)sun_e[1], (double)sun_e[2],
+                (double)sun_dir[0], (double)sun_dir[1], (double)sun_dir[2]);
         printf("probes   %zu (%zu invalid) at %g m spacing, %g m margin\n", pi.probe_count,
                pi.invalid_count, pi.spacing, pi.margin);
         printf("rays     %llu primary + %llu %s, %.1f Mrays/s on %d threads\n",

@@ -88,7 +88,7 @@ static void usage(void)
            "seed 000's one-bounce bake at --spacing (0.25), fastest of --repeat; then the\n"
            "error at 400 valid probes of 1, 2, 3, 4 and 6 bounces at 32..2048 rays against\n"
            "8 bounces of 4096 rays (--out/lights.csv), and a sky with a small sun against a\n"
-           "smooth one (the noise an unimportance-sampled sky leaves).\n"
+           "smooth one (the noise a sun leaves once taken out of the map as a lamp).\n"
            "\n"
            "Options:\n"
            "      --spacing M     probe spacing in metres (0.5)\n"

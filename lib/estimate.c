@@ -78,7 +78,17 @@ static void resolve_lamps(const vdbgi_bake_desc *desc, const vdbgi_scene *scene,
         memcpy(l->to_light, bp->sun_dir, sizeof(l->to_light));
         memcpy(l->rgb, bp->sun_color, sizeof(l->rgb));
     }
-    for (size_t i = 0; i < count && bp->lamp_count < VDBGI_MAX_LIGHTS + 1; i++)
+    float dir[3], e[3];
+    if (bp->sky_map && vdbgi_sky_sun(bp->sky_map, dir, e)) {
+        vdbgi_lamp *const l = &bp->lamps[bp->lamp_count++];
+        memset(l, 0, sizeof(*l));
+        l->type = VDBGI_LIGHT_DIRECTIONAL;
+        l->is_sky = true;
+        memcpy(l->to_light, dir, sizeof(l->to_light));
+        for (int k = 0; k < 3; k++)
+            l->rgb[k] = e[k] / PI_F;
+    }
+    for (size_t i = 0; i < count && bp->lamp_count < VDBGI_MAX_LIGHTS + 2; i++)
         if (!(given && lights[i].type == VDBGI_LIGHT_DIRECTIONAL) &&
             lamp_from_light(&lights[i], &bp->lamps[bp->lamp_count])) {
             bp->lamp_count++;

@@ -25,6 +25,7 @@ typedef struct vdbgi_lamp {
     float inv_range4;            /* 1 / range^4, or 0 for none */
     float cos_outer, cone_scale; /* a spot: smooth step (cos - cos_outer) * cone_scale */
     bool is_sun;                 /* the command line's (or default) sun */
+    bool is_sky;                 /* the sky map's sun (vdbgi_sky_sun) */
 } vdbgi_lamp;
 
 /* Resolved estimator settings (defaults applied, sun normalised). */
@@ -48,8 +49,9 @@ typedef struct vdbgi_bake_params {
     vdbgi_lights lights;
     int bounces;
     const vdbgi_sky *sky_map;
-    /* What lights the hits with a shadow ray each: the sun (when on), then the scene's. */
-    vdbgi_lamp lamps[VDBGI_MAX_LIGHTS + 1];
+    /* What lights the hits with a shadow ray each: the sun (when on), the sky map's sun, then
+       the scene's lights. */
+    vdbgi_lamp lamps[VDBGI_MAX_LIGHTS + 2];
     int lamp_count;
     int scene_lamps; /* of them, from the scene */
 } vdbgi_bake_params;

@@ -288,10 +288,12 @@ static vdbgi_result light_layers(vdbgi_context *ctx, const vdbgi_scene *s,
     size_t n = 0;
     vdbgi_bake_params *l;
     bool full = false;
-    for (int li = 0; li < bp->lamp_count && !full; li++) {
+    for (int li = 0, scene_light = 0; li < bp->lamp_count && !full; li++) {
+        if (bp->lamps[li].is_sky)
+            continue; /* the sky's layer holds its sun */
         char name[32];
-        snprintf(name, sizeof(name), "light%d", li - (bp->sun_on ? 1 : 0));
         const bool sun = bp->lamps[li].is_sun;
+        snprintf(name, sizeof(name), "light%d", sun ? 0 : scene_light++);
         if (!(full = !(l = next_layer(bp, out, names, &n, sun ? "sun" : name)))) {
             l->lamps[0] = bp->lamps[li];
             l->lamp_count = 1;
@@ -306,6 +308,9 @@ static vdbgi_result light_layers(vdbgi_context *ctx, const vdbgi_scene *s,
         !(full = !(l = next_layer(bp, out, names, &n, "sky")))) {
         memcpy(l->sky, bp->sky, sizeof(l->sky));
         l->sky_map = bp->sky_map;
+        for (int li = 0; li < bp->lamp_count; li++)
+            if (bp->lamps[li].is_sky)
+                l->lamps[l->lamp_count++] = bp->lamps[li];
     }
     /* The emitters some triangle uses, found in one pass over the triangles. */
     bool *const used = vdbgi_calloc(ctx, s->material_count ? s->material_count : 1, sizeof(bool));

@@ -297,8 +297,19 @@ VDBGI_API vdbgi_result vdbgi_sky_load(vdbgi_context *ctx, const char *path, floa
 VDBGI_API void vdbgi_sky_destroy(vdbgi_sky *sky);
 /* A hash of the sky's texels and settings, for the bake's metadata. */
 VDBGI_API uint64_t vdbgi_sky_hash(const vdbgi_sky *sky);
-/* The radiance arriving from unit direction d (towards the sky), bilinear. */
+/* The radiance arriving from unit direction d (towards the sky), bilinear; without its sun. */
 VDBGI_API void vdbgi_sky_radiance(const vdbgi_sky *sky, const float d[3], float rgb[3]);
+/*
+ * The map's sun, taken out of it at load: texels over 50 times the mean
+ * radiance of the rest of the map, that hold at least 1 % of its light
+ * within 5 degrees of their centre, keep 50 times that mean, and the rest
+ * of their light becomes
+ * a directional light (unit dir towards it, in the world; rgb the
+ * irradiance it gives a surface facing it) that the bake traces a shadow
+ * ray to, like a scene's sun. 0 (and nothing taken out) for a map without
+ * one, else 1.
+ */
+VDBGI_API int vdbgi_sky_sun(const vdbgi_sky *sky, float dir[3], float rgb[3]);
 
 /*
  * Receivers: point_count points on the scene's surfaces, each triangle chosen

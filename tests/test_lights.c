@@ -3,7 +3,8 @@
  * over a plane gives E = I cos^3(theta) / h^2 (times glTF's range window);
  * a spot's cone cuts it off past its outer angle; a uniform sky map gives
  * E = pi L on a plane and, to a probe above it, L / 2 (plus rho L / 2 once
- * a second bounce lets the sky light the plane); in a closed box of albedo
+ * a second bounce lets the sky light the plane); a sky map's sun becomes a
+ * lamp without changing what a plane receives; in a closed box of albedo
  * rho whose walls emit Le, a probe after N bounces and a texel after N
  * passes both read Le (1 + rho + ... + rho^(N-1)). Bad lights, skies and
  * settings are refused by name; bounces give the same bits on any thread
@@ -235,6 +236,82 @@ static void a_sky_maps_directions_follow_the_latlong_layout(void)
     }
     vdbgi_sky_destroy(sky);
     vdbgi_sky_destroy(turned);
+    vdbgi_context_destroy(ctx);
+}
+
+/* A 256 x 128 map of radiance bg, and 2 x 2 texels of sun at columns 127-128, rows 42-43. */
+static bool write_sun_sky(vdbgi_context *ctx, const char *path, float bg, float sun, bool band)
+{
+    const int w = 256, h = 128;
+    float *const px = calloc((size_t)w * h * 3, sizeof(float));
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            const bool in_sun = band ? y == 60 : (x == 127 || x == 128) && (y == 42 || y == 43);
+            for (int k = 0; k < 3; k++)
+                px[3 * ((size_t)y * w + (size_t)x) + (size_t)k] = in_sun ? sun : bg;
+        }
+    const vdbgi_result r = vdbgi_image_write(ctx, path, w, h, 3, px, true);
+    free(px);
+    return r == VDBGI_OK;
+}
+
+/*
+ * A sky map's sun is taken out as a lamp: its direction (turned with the
+ * map), its irradiance (the patch's light over 50 times the rest's mean),
+ * and a plane under it, fully baked, gets the whole map's irradiance. A
+ * uniform map and a bright band round the horizon keep their light.
+ */
+static void a_sky_maps_sun_becomes_a_lamp(void)
+{
+    vdbgi_context *ctx = test_context();
+    CHECK(write_sun_sky(ctx, tmp_path("sun.exr"), 0.5f, 60000.0f, false));
+    CHECK(write_sun_sky(ctx, tmp_path("band.exr"), 0.5f, 60000.0f, true));
+    vdbgi_sky *sky = NULL, *band = NULL, *flat = NULL;
+    CHECK_RESULT(ctx, vdbgi_sky_load(ctx, tmp_path("sun.exr"), 1.0f, 90.0f, &sky), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_sky_load(ctx, tmp_path("band.exr"), 1.0f, 0.0f, &band), VDBGI_OK);
+    CHECK(write_sun_sky(ctx, tmp_path("flat.exr"), 0.5f, 0.5f, false));
+    CHECK_RESULT(ctx, vdbgi_sky_load(ctx, tmp_path("flat.exr"), 1.0f, 0.0f, &flat), VDBGI_OK);
+    float dir[3], e[3];
+    CHECK(band && !vdbgi_sky_sun(band, dir, e));
+    CHECK(flat && !vdbgi_sky_sun(flat, dir, e));
+    if (!sky || !vdbgi_sky_sun(sky, dir, e)) {
+        CHECK(false);
+    } else {
+        /* Map frame: the patch's centre 43/128 of the way down, looking down -z; turned a
+           quarter about +y, it looks along +x. */
+        const double theta = 43.0 / 128.0 * PI_D, omega = (2.0 * PI_D / 256) * (PI_D / 128);
+        CHECK_NEAR(dir[0], sin(theta), 1e-3);
+        CHECK_NEAR(dir[1], cos(theta), 1e-3);
+        CHECK_NEAR(dir[2], 0.0, 1e-3);
+        double want = 0.0, exact = PI_D * 0.5; /* the whole map over an up-facing plane */
+        for (int row = 42; row <= 43; row++) {
+            const double t = (row + 0.5) / 128.0 * PI_D;
+            want += 2.0 * (60000.0 - 50.0 * 0.5) * omega * sin(t);
+            exact += 2.0 * (60000.0 - 0.5) * omega * sin(t) * cos(t);
+        }
+        CHECK_NEAR(e[0], want, 1e-4 * want);
+        vdbgi_scene *s = plane_scene(ctx, 200.0f, 0.5f);
+        vdbgi_bake_desc bd = lamps_only;
+        bd.sky_map = sky;
+        bd.rays = 4096;
+        bd.ray_dist = 1e5f;
+        const vdbgi_lightmap_params lp = {.passes = 1, .direct = true, .rings = 3};
+        baked k;
+        if (s && bake_map(ctx, s, &bd, 20.0f, &lp, &k)) {
+            size_t n = 0;
+            for (size_t i = 0; i < k.map.texel_count; i++)
+                if (k.tx.tri[i] >= 0 && fabsf(k.tx.pos[3 * i]) < 30 &&
+                    fabsf(k.tx.pos[3 * i + 2]) < 30) {
+                    CHECK_NEAR(k.map.rgb[3 * i], exact, 0.005 * exact);
+                    n++;
+                }
+            CHECK(n > 0);
+            unbake(&k);
+        }
+    }
+    vdbgi_sky_destroy(sky);
+    vdbgi_sky_destroy(band);
+    vdbgi_sky_destroy(flat);
     vdbgi_context_destroy(ctx);
 }
 
@@ -509,6 +586,7 @@ int main(void)
     RUN(a_spots_cone_ends_at_its_outer_angle);
     RUN(a_uniform_sky_map_lights_a_plane_and_a_probe);
     RUN(a_sky_maps_directions_follow_the_latlong_layout);
+    RUN(a_sky_maps_sun_becomes_a_lamp);
     RUN(the_furnace_sums_the_series_for_probes_and_texels);
     RUN(bounces_give_the_same_bits_on_any_thread_count);
     RUN(a_gltfs_lights_arrive_with_their_nodes_and_ranges);
