@@ -1070,6 +1070,10 @@ typedef struct vdbgi_lightmap_desc {
 } vdbgi_lightmap_desc;
 
 #define VDBGI_LIGHTMAP_MAX_LAYERS 16
+/* Most atlas texels a lightmap takes (about 60 bytes each while baking: 1 GB). */
+#define VDBGI_LIGHTMAP_MAX_TEXELS (1 << 24)
+/* Most hemisphere rays it traces, texels x rays x passes (minutes on a few cores). */
+#define VDBGI_LIGHTMAP_MAX_RAYS 8e9
 
 typedef struct vdbgi_lightmap_stats {
     int kept_uv1;  /* the scene's own second UV set was usable and kept */

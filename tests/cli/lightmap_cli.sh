@@ -56,3 +56,19 @@ node -e '
 const b = require("fs").readFileSync("shared.glb"), j = JSON.parse(b.subarray(20, 20 + b.readUInt32LE(12)));
 const sources = new Set(j.materials.map((m) => j.textures[m.pbrMetallicRoughness.baseColorTexture.index].source));
 console.log(`shared texture: ${j.materials.length} materials on ${sources.size} image(s); ${j.images.length} images in the .glb with the lightmap`);'
+# Work a small file may ask for is bounded before it is spent (issue 27): 64 quads of
+# 1024 x 1024 texels each (an atlas apiece, 67 M texels, 4 GB) are refused by their texels;
+# one 500 m quad (scaled into one atlas, 1 M texels) by its rays at 4096 a texel.
+{
+    q=0
+    while [ $q -lt 64 ]; do
+        x=$((q * 300))
+        echo "v $x 0 0"; echo "v $((x + 255)) 0 0"; echo "v $((x + 255)) 0 255"; echo "v $x 0 255"
+        echo "f $((4 * q + 1)) $((4 * q + 3)) $((4 * q + 2))"; echo "f $((4 * q + 1)) $((4 * q + 4)) $((4 * q + 3))"
+        q=$((q + 1))
+    done
+} > quads.obj
+printf 'v 0 0 0\nv 500 0 0\nv 500 0 500\nv 0 0 500\nf 1 3 2\nf 1 4 3\n' > plane.obj
+"$BIN/gi-lightmap" quads.obj -o quads.glb 2>&1 >/dev/null; echo "exit $?"
+"$BIN/gi-lightmap" plane.obj -o plane.glb --rays 4096 2>&1 >/dev/null; echo "exit $?"
+ls quads.* plane.*
