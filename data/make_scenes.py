@@ -546,9 +546,9 @@ def write_interior(path):
     w.node("floor", w.mesh("floor", floor_, w.material("wood", (0.55, 0.38, 0.22))))
     w.node("furniture", w.mesh("furniture", sofa, w.material("blue", (0.15, 0.25, 0.60))))
     # The sun (lux / pi is the estimator's sun colour) through the window, a lamp in B, a spot in A.
-    w.light("sun", "directional", (1.0, 0.95, 0.85), 6.0, (3.0, 5.0, -3.0), towards=(0.25, -0.55, 1.0))
-    w.light("ceiling lamp", "point", (1.0, 0.85, 0.6), 6.0, (9.0, 2.8, 3.0), range_=12.0)
-    w.light("reading spot", "spot", (0.9, 0.95, 1.0), 10.0, (2.0, 2.9, 4.7), towards=(0.0, -1.0, 0.0),
+    w.light("sun", "directional", (1.0, 0.95, 0.85), 15.0, (3.0, 5.0, -3.0), towards=(0.25, -0.55, 1.0))
+    w.light("ceiling lamp", "point", (1.0, 0.85, 0.6), 15.0, (9.0, 2.4, 3.0), range_=12.0)
+    w.light("reading spot", "spot", (0.9, 0.95, 1.0), 25.0, (2.0, 2.9, 4.7), towards=(0.0, -1.0, 0.0),
             spot=(0.35, 0.7))
     w.write(path)
 

@@ -45,8 +45,10 @@ camera.position.set(26, 17, 30);
 const controls = new OrbitControls(camera, canvas);
 controls.target.set(0, 1, 0);
 controls.enableDamping = true;
-const sun = new THREE.DirectionalLight(0xffffff, Math.PI);
-const ambient = new THREE.AmbientLight(0xffffff, 0.15 * Math.PI);
+// The viewer's own sun and fill (sun=, ambient= in the URL; 0 shows a scene by its own lights and GI).
+const num = (name, fallback) => (params.get(name) !== null && Number.isFinite(Number(params.get(name))) ? Number(params.get(name)) : fallback);
+const sun = new THREE.DirectionalLight(0xffffff, num('sun', Math.PI));
+const ambient = new THREE.AmbientLight(0xffffff, num('ambient', 0.15 * Math.PI));
 scene.add(sun, sun.target, ambient);
 sun.castShadow = true;
 sun.shadow.mapSize.set(2048, 2048);
@@ -188,6 +190,10 @@ async function loadScene(source, name) {
   disposeScene();
   root = gltf.scene;
   scene.add(root);
+  // The scene's own glTF lights (KHR_lights_punctual) light it directly unless lights=0.
+  const sceneLights = [];
+  root.traverse((o) => { if (o.isLight) sceneLights.push(o); });
+  if (params.get('lights') === '0') sceneLights.forEach((l) => { l.visible = false; });
   root.traverse((o) => {
     if (!o.isMesh) return;
     o.castShadow = o.receiveShadow = true;
