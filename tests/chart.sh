@@ -5,7 +5,8 @@
 # then memory against the error a player sees (gi-bench memory) on the bundled
 # world, and with ALL=1 on the 200 m world and the town too (about 40 minutes
 # on 2 cores), into docs/data/memory_*.csv and docs/img/chart_memory_*.png; and
-# lightmap against probe volume at surface receivers (gi-bench lightmap).
+# lightmap against probe volume at surface receivers (gi-bench lightmap); and the interior's
+# error against rays and bounces (gi-bench lights).
 set -eu
 BUILD=${BUILD:-build/release}
 OUT=build/chart
@@ -30,6 +31,11 @@ cp "$OUT/memory.csv" docs/data/memory_world.csv
 "$BUILD/bin/gi-bench" lightmap data/world.glb --repeat 1 --out "$OUT" >/dev/null
 cp "$OUT/lightmap.csv" docs/data/lightmap_world.csv
 gnuplot -e "lm='docs/data/lightmap_world.csv'; mem='docs/data/memory_world.csv'; out='docs/img/chart_lightmap_world.png'; name='Bundled 48 m world'" docs/charts/lightmap.gp
+# The scene's own light: error against rays and bounces on the interior (docs/lights.md).
+[ -f build/bench/interior.glb ] || python3 data/make_scenes.py --interior build/bench/interior.glb
+"$BUILD/bin/gi-bench" lights build/bench/interior.glb --repeat 1 --out "$OUT" >/dev/null
+cp "$OUT/lights.csv" docs/data/lights.csv
+gnuplot -e "csv='docs/data'; out='docs/img'" docs/charts/lights.gp
 if [ "${ALL:-0}" = 1 ]; then
     [ -f build/bench/world200.glb ] || python3 data/make_scenes.py --world 200 build/bench/world200.glb
     [ -f build/bench/town.glb ] || python3 data/make_scenes.py --town build/bench/town.glb
