@@ -73,7 +73,7 @@ LIB_A := $(BUILD)/libvdbgi.a
 IMAGE_MODULE := $(BUILD)/lib/vdbgi/libvdbgi_image.so
 IMAGE_OBJ := $(BUILD)/lib/image_shim.pic.o
 
-APP_NAMES := gi-bake vdb-to-gi gi-inspect gi-bench gi-lightmap
+APP_NAMES := gi-bake vdb-to-gi gi-inspect gi-bench gi-lightmap gi-merge
 APPS := $(APP_NAMES:%=$(BUILD)/bin/%)
 # gi-bench is for measuring vdbgi itself: built, never installed.
 INSTALL_APPS := $(filter-out %/gi-bench,$(APPS))

@@ -25,6 +25,9 @@ static void usage(void)
            "      --spacing M          probe spacing in metres (0.5)\n"
            "      --margin M           keep probes within M metres of a surface (4 x spacing)\n"
            "      --max-probes N       refuse lattices of more than N probes (50000000)\n"
+           "      --tile I/N           bake tile I of N only (slabs across x of about as many\n"
+           "                           probes each); gi-merge joins the N files into the\n"
+           "                           whole bake, probe for probe\n"
            "      --rays N|auto        rays per probe, or auto: batches of 32 until the\n"
            "                           standard error is below --noise (128)\n"
            "      --noise T            auto's target, relative to the probe's value (0.02)\n"
@@ -66,7 +69,8 @@ static void usage(void)
            "  gi-bake data/world.glb -o world.vdb --sampling random --rays 256 --falloff inf\n"
            "  gi-bake data/world.glb -o world.vdb --basis ambient-cube\n"
            "  gi-bake data/world.glb -o world.vdb --basis sh2\n"
-           "  gi-bake interior.glb -o interior.vdb --model physical --bounces 3\n");
+           "  gi-bake interior.glb -o interior.vdb --model physical --bounces 3\n"
+           "  gi-bake data/world.glb -o tile2.vdb --tile 2/4\n");
 }
 
 enum {
@@ -78,7 +82,8 @@ enum {
     OPT_MAX_RAYS,
     OPT_TRACE,
     OPT_BASIS,
-    OPT_BOUNCES
+    OPT_BOUNCES,
+    OPT_TILE
 };
 
 typedef struct options {
@@ -104,6 +109,7 @@ static int parse_args(int argc, char **argv, options *o)
                                           {"trace", required_argument, NULL, OPT_TRACE},
                                           {"basis", required_argument, NULL, OPT_BASIS},
                                           {"bounces", required_argument, NULL, OPT_BOUNCES},
+                                          {"tile", required_argument, NULL, OPT_TILE},
                                           CLI_COMMON_LONG_OPTIONS};
     opterr = 0;
     int c;
@@ -175,6 +181,22 @@ static int parse_args(int argc, char **argv, options *o)
                 return cli_usage_error("--basis must be scalar, ambient-cube or sh2 (got '%s')",
                                        optarg);
             break;
+        case OPT_TILE: {
+            long long t = 0, n = 0;
+            char *slash = strchr(optarg, '/');
+            if (slash)
+                *slash = '\0';
+            const bool ok = slash && cli_parse_int(optarg, &t) && cli_parse_int(slash + 1, &n) &&
+                            n >= 2 && n <= VDBGI_MAX_TILES && t >= 1 && t <= n;
+            if (slash)
+                *slash = '/';
+            if (!ok)
+                return cli_usage_error("--tile must be I/N with 1 <= I <= N, N in 2..%d (got '%s')",
+                                       VDBGI_MAX_TILES, optarg);
+            o->place.tile_index = (int)t - 1;
+            o->place.tile_count = (int)n;
+            break;
+        }
         case OPT_BOUNCES:
             if (!cli_parse_int(optarg, &i) || i < 1 || i > 16)
                 return cli_usage_error("--bounces must be an integer in 1..16 (got '%s')", optarg);
@@ -268,8 +290,12 @@ int main(int argc, char **argv)
                 "sky      %s: its sun taken out as a lamp, E %.3g,%.3g,%.3g from %.2f,%.2f,%.2f\n",
                 cli_light.sky_map, (double)sun_e[0], (double)sun_e[1], (double)sun_e[2],
                 (double)sun_dir[0], (double)sun_dir[1], (double)sun_dir[2]);
-        printf("probes   %zu (%zu invalid) at %g m spacing, %g m margin\n", pi.probe_count,
+        printf("probes   %zu (%zu invalid) at %g m spacing, %g m margin", pi.probe_count,
                pi.invalid_count, pi.spacing, pi.margin);
+        if (pi.tile_count)
+            printf(", tile %d of %d (%zu in the lattice)", pi.tile_index + 1, pi.tile_count,
+                   pi.lattice_probe_count);
+        printf("\n");
         printf("rays     %llu primary + %llu %s, %.1f Mrays/s on %d threads\n",
                (unsigned long long)st.primary_ray_count, (unsigned long long)st.shadow_ray_count,
                o.bake.bounces > 1 ? "shadow and bounce" : "shadow",

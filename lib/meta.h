@@ -25,7 +25,7 @@ typedef struct vdbgi_meta {
     char line[256]; /* "name=value", kept current by the setters */
 } vdbgi_meta;
 
-#define VDBGI_META_CAPACITY 40
+#define VDBGI_META_CAPACITY 64
 
 typedef struct vdbgi_meta_store {
     vdbgi_meta items[VDBGI_META_CAPACITY];

@@ -4,6 +4,7 @@
 #include "vdb_shim.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 static double estimate_probe_count(const vdbgi_scene *s, double spacing, double margin)
@@ -13,6 +14,55 @@ static double estimate_probe_count(const vdbgi_scene *s, double spacing, double 
         area += vdbgi_scene_triangle_area(s, t);
     }
     return area * (2.0 * margin + spacing) / (spacing * spacing * spacing);
+}
+
+/*
+ * Keep tile t of n of p's probes (in their order): slabs across i, cut at
+ * leaf boundaries (multiples of 8): each leaf column goes to the tile in
+ * whose n-th of the probes, counted along x, its middle probe falls.
+ */
+static vdbgi_result keep_tile(vdbgi_context *ctx, vdbgi_probes *p, int t, int n)
+{
+    int32_t lo = INT32_MAX, hi = INT32_MIN;
+    for (size_t i = 0; i < p->count; i++) {
+        const int32_t c = vdbgi_floor_div(p->ijk[3 * i], 8);
+        lo = c < lo ? c : lo;
+        hi = c > hi ? c : hi;
+    }
+    const size_t columns = (size_t)(hi - lo) + 1;
+    size_t *const count = vdbgi_calloc(ctx, columns + 1, sizeof(size_t));
+    if (!count)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    for (size_t i = 0; i < p->count; i++)
+        count[vdbgi_floor_div(p->ijk[3 * i], 8) - lo]++;
+    /* Tile t takes the columns whose middle probe, counted along x, falls in its n-th. */
+    size_t before = 0;
+    int32_t first = INT32_MAX, last = INT32_MIN;
+    for (size_t c = 0; c < columns; c++) {
+        const size_t share = (2 * before + count[c]) * (size_t)n / (2 * p->count);
+        if ((int)share == t) {
+            first = (int32_t)c < first ? (int32_t)c : first;
+            last = (int32_t)c;
+        }
+        before += count[c];
+    }
+    vdbgi_free(ctx, count);
+    VDBGI_FAIL_IF(ctx, first > last, VDBGI_ERR_INVALID_ARG,
+                  "tile %d of %d would hold no probe: the lattice has %zu leaf columns across x",
+                  t + 1, n, columns);
+    p->tile_x[0] = (lo + first) * 8;
+    p->tile_x[1] = (lo + last + 1) * 8;
+    size_t kept = 0;
+    for (size_t i = 0; i < p->count; i++)
+        if (p->ijk[3 * i] >= p->tile_x[0] && p->ijk[3 * i] < p->tile_x[1]) {
+            memmove(&p->ijk[3 * kept], &p->ijk[3 * i], 3 * sizeof(int32_t));
+            kept++;
+        }
+    p->lattice_count = p->count;
+    p->count = kept;
+    p->tile_index = t;
+    p->tile_count = n;
+    return VDBGI_OK;
 }
 
 vdbgi_result vdbgi_probes_place(vdbgi_context *ctx, const vdbgi_scene *scene,
@@ -35,6 +85,13 @@ vdbgi_result vdbgi_probes_place(vdbgi_context *ctx, const vdbgi_scene *scene,
     VDBGI_FAIL_IF(ctx, margin / spacing > 64.0, VDBGI_ERR_INVALID_ARG,
                   "probe margin %g m is more than 64 spacings of %g m", margin, spacing);
     const uint64_t max_probes = desc->max_probes ? desc->max_probes : 50000000u;
+    const int tiles = desc->tile_count > 1 ? desc->tile_count : 1;
+    VDBGI_FAIL_IF(ctx, desc->tile_count < 0 || desc->tile_count > VDBGI_MAX_TILES,
+                  VDBGI_ERR_INVALID_ARG, "tile count must be in 1..%d (got %d)", VDBGI_MAX_TILES,
+                  desc->tile_count);
+    VDBGI_FAIL_IF(ctx, desc->tile_index < 0 || desc->tile_index >= tiles, VDBGI_ERR_INVALID_ARG,
+                  "tile %d of %d does not exist (tiles are 1..%d)", desc->tile_index + 1, tiles,
+                  tiles);
     double origin[3];
     for (int k = 0; k < 3; k++) {
         origin[k] = desc->origin_is_set ? desc->origin[k] : 0.5 * spacing;
@@ -70,6 +127,8 @@ vdbgi_result vdbgi_probes_place(vdbgi_context *ctx, const vdbgi_scene *scene,
     if (r == VDBGI_OK && p->count == 0)
         r = vdbgi_fail(ctx, VDBGI_ERR_INVALID_ARG,
                        "no lattice point lies within the %g m margin of a surface", margin);
+    if (r == VDBGI_OK && tiles > 1)
+        r = keep_tile(ctx, p, desc->tile_index, tiles);
     if (r != VDBGI_OK) {
         vdbgi_probes_destroy(p);
         return r;

@@ -30,6 +30,11 @@ struct vdbgi_probes {
     uint32_t *rays;  /* per probe: rays traced, or NULL (every probe had desc->rays) */
     float invalid_threshold;
     size_t invalid_count;
+    /* A tile of a lattice (vdbgi_place_desc): its index of tile_count (0: the whole lattice),
+       the leaf-aligned range of i it keeps, and the whole lattice's probe count. */
+    int tile_index, tile_count;
+    int32_t tile_x[2];
+    size_t lattice_count;
     vdbgi_sampling sampling; /* how the directions were chosen (read from the metadata) */
     bool adaptive;           /* rays in batches until a noise target */
     vdbgi_meta_store meta;

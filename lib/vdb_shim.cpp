@@ -118,6 +118,26 @@ struct CheckedWriter : openvdb::io::Archive {
     }
 };
 
+/* Write grids to path through CheckedWriter; messages say name. */
+vdbgi_result write_grids(vdbgi_context *ctx, const char *path, const char *name,
+                         const openvdb::GridPtrVec &grids)
+{
+    // io::File::write never looks at its stream again: a full disk left a truncated file
+    // behind a success. The same archive, written to a stream of ours that is checked.
+    std::ofstream os(path, std::ios_base::out | std::ios_base::binary | std::ios_base::trunc);
+    if (!os)
+        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write: %s", name, std::strerror(errno));
+    errno = 0;
+    CheckedWriter().write_to(os, grids);
+    os.flush();
+    const int err = errno;
+    os.close();
+    if (!os)
+        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write: %s", name,
+                          err ? std::strerror(err) : "write failed");
+    return VDBGI_OK;
+}
+
 } // namespace
 
 extern "C" vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, const char *name,
@@ -189,19 +209,65 @@ extern "C" vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, co
     for (auto &g : grids)
         for (size_t m = 0; m < p->meta.count; m++)
             add_meta(*g, p->meta.items[m]);
-    // io::File::write never looks at its stream again: a full disk left a truncated file
-    // behind a success. The same archive, written to a stream of ours that is checked.
-    std::ofstream os(path, std::ios_base::out | std::ios_base::binary | std::ios_base::trunc);
-    if (!os)
-        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write: %s", name, std::strerror(errno));
-    errno = 0;
-    CheckedWriter().write_to(os, grids);
-    os.flush();
-    const int err = errno;
-    os.close();
-    if (!os)
-        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write: %s", name,
-                          err ? std::strerror(err) : "write failed");
-    return VDBGI_OK;
+    return write_grids(ctx, path, name, grids);
+    VDBGI_SHIM_END(ctx, "openvdb")
+}
+
+namespace
+{
+
+/* Move b's leaves into a when both are grids of type G (tiles hold disjoint leaves). */
+template <class G> bool merge_as(const openvdb::GridBase::Ptr &a, const openvdb::GridBase::Ptr &b)
+{
+    const auto ga = openvdb::GridBase::grid<G>(a);
+    const auto gb = openvdb::GridBase::grid<G>(b);
+    if (!ga || !gb)
+        return false;
+    ga->tree().merge(gb->tree(), openvdb::MERGE_ACTIVE_STATES);
+    return true;
+}
+
+} // namespace
+
+extern "C" vdbgi_result vdbgi_vdb_merge(vdbgi_context *ctx, const char *path, const char *name,
+                                        const char *const *tiles, size_t count,
+                                        const char *const *drop, size_t drop_count,
+                                        const vdbgi_meta_store *set)
+{
+    VDBGI_SHIM_BEGIN
+    openvdb::initialize();
+    openvdb::GridPtrVec whole;
+    for (size_t t = 0; t < count; t++) {
+        openvdb::io::File file(tiles[t]);
+        file.open(false); // read it all now: the file is closed before the next one
+        const openvdb::GridPtrVecPtr grids = file.getGrids();
+        file.close();
+        if (t == 0) {
+            whole = *grids;
+            continue;
+        }
+        if (grids->size() != whole.size())
+            return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %zu grids, where %s has %zu", tiles[t],
+                              grids->size(), tiles[0], whole.size());
+        for (const auto &g : *grids) {
+            const auto into = std::find_if(whole.begin(), whole.end(), [&](const auto &w) {
+                return w->getName() == g->getName();
+            });
+            if (into == whole.end())
+                return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid '%s' is not in %s", tiles[t],
+                                  g->getName().c_str(), tiles[0]);
+            if (!merge_as<openvdb::Vec3SGrid>(*into, g) &&
+                !merge_as<openvdb::FloatGrid>(*into, g) && !merge_as<openvdb::Int32Grid>(*into, g))
+                return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid '%s' (%s) is not one of ours",
+                                  tiles[t], g->getName().c_str(), g->type().c_str());
+        }
+    }
+    for (auto &g : whole) {
+        for (size_t d = 0; d < drop_count; d++)
+            g->removeMeta(drop[d]);
+        for (size_t m = 0; m < set->count; m++)
+            add_meta(*g, set->items[m]);
+    }
+    return write_grids(ctx, path, name, whole);
     VDBGI_SHIM_END(ctx, "openvdb")
 }

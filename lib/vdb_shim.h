@@ -24,6 +24,15 @@ vdbgi_result vdbgi_vdb_topology(vdbgi_context *ctx, const float *positions, size
 vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, const char *name,
                              const vdbgi_probes *probes);
 
+/*
+ * Merge the grids of the .vdb tiles (checked by the caller: one bake, disjoint
+ * leaves) with OpenVDB's tree merge, drop the metadata named in drop, set
+ * set's items, and write the whole at path (no temp dance); messages say name.
+ */
+vdbgi_result vdbgi_vdb_merge(vdbgi_context *ctx, const char *path, const char *name,
+                             const char *const *tiles, size_t count, const char *const *drop,
+                             size_t drop_count, const vdbgi_meta_store *set);
+
 /* The name of the ambient cube's grid for side 0..5: +x -x +y -y +z -z (docs/format.md). */
 const char *vdbgi_side_grid_name(int side);
 /* The name of the L2 term's grid for term 1..8: irradiance_sh1 .. irradiance_sh8. */

@@ -2,13 +2,14 @@
  * test_vdb.c: baked probes written as .vdb read back bit for bit, with the
  * lattice transform and the bake settings as metadata; a failed write leaves
  * no file and never replaces an existing one; files that are not VDB, or are
- * cut short, are refused.
+ * cut short, are refused; the tiles of a bake merge into the whole bake.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
 
 #include <dirent.h>
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -255,6 +256,127 @@ static void sh2_terms_round_trip_as_eight_grids(void)
     vdbgi_context_destroy(ctx);
 }
 
+/* a and b hold the same probes in the same order: ijk, values, validity, L2 terms, bit for bit. */
+static bool same_probes(const vdbgi_probes *a, const vdbgi_probes *b)
+{
+    vdbgi_probes_info ia, ib;
+    vdbgi_probes_get_info(a, &ia);
+    vdbgi_probes_get_info(b, &ib);
+    if (ia.probe_count != ib.probe_count || ia.invalid_count != ib.invalid_count)
+        return false;
+    for (size_t i = 0; i < ia.probe_count; i++) {
+        int32_t ca[3], cb[3];
+        float ra[3], rb[3], ba, bb;
+        float sa[VDBGI_SH2_TERMS][3], sb[VDBGI_SH2_TERMS][3];
+        if (vdbgi_probes_get(a, i, ca, ra, &ba) != VDBGI_OK ||
+            vdbgi_probes_get(b, i, cb, rb, &bb) != VDBGI_OK || memcmp(ca, cb, sizeof(ca)) ||
+            memcmp(ra, rb, sizeof(ra)) || memcmp(&ba, &bb, sizeof(ba)) ||
+            vdbgi_probes_get_sh2(a, i, sa) != VDBGI_OK ||
+            vdbgi_probes_get_sh2(b, i, sb) != VDBGI_OK || memcmp(sa, sb, sizeof(sa)))
+            return false;
+    }
+    return true;
+}
+
+/*
+ * A bake in 2, 3 and 5 tiles (each on its own thread count) merged with
+ * OpenVDB's tree merge equals the whole bake probe for probe, bit for bit,
+ * given in any order; and a set with a tile missing, given twice, from
+ * another bake or another tiling, or a file that is no tile, is refused.
+ */
+static void tiles_merge_into_the_whole_bake(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    test_mesh_plane(&m, 12.0f, 0.0f);
+    const float lo[3] = {-1, 0, -1}, hi[3] = {1, 2, 1}, lo2[3] = {3, 0, 2}, hi2[3] = {5, 4, 3};
+    test_mesh_box(&m, lo, hi, 0);
+    test_mesh_box(&m, lo2, hi2, 0);
+    const vdbgi_mesh_desc d = test_mesh_desc(&m, 0.6f, 0);
+    vdbgi_scene *scene = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &d, 1, &scene), VDBGI_OK);
+    vdbgi_bake_desc bd = {.rays = 32,
+                          .sampling = VDBGI_SAMPLING_RANDOM,
+                          .seed = 4,
+                          .basis = VDBGI_BASIS_SH2,
+                          .bounces = 2,
+                          .threads = 2};
+    vdbgi_place_desc pd = {.spacing = 0.25};
+    vdbgi_probes *whole = NULL, *merged = NULL;
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, scene, &pd, &whole), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_bake(whole, scene, &bd, NULL), VDBGI_OK);
+    if (!whole) {
+        vdbgi_scene_destroy(scene);
+        vdbgi_context_destroy(ctx);
+        return;
+    }
+    static const int counts[3] = {2, 3, 5};
+    char names[5][64];
+    const char *paths[6];
+    for (int c = 0; c < 3; c++) {
+        const int n = counts[c];
+        size_t sum = 0;
+        for (int t = 0; t < n; t++) {
+            vdbgi_probes *tile = NULL;
+            pd.tile_index = t;
+            pd.tile_count = n;
+            bd.threads = 1 + t % 3;
+            snprintf(names[t], sizeof(names[t]), "%s", tmp_path(""));
+            snprintf(names[t] + strlen(names[t]), sizeof(names[t]) - strlen(names[t]),
+                     "tile%d-%d.vdb", n, t);
+            CHECK_RESULT(ctx, vdbgi_probes_place(ctx, scene, &pd, &tile), VDBGI_OK);
+            CHECK_RESULT(ctx, vdbgi_probes_bake(tile, scene, &bd, NULL), VDBGI_OK);
+            CHECK_RESULT(ctx, vdbgi_probes_write(tile, names[t]), VDBGI_OK);
+            vdbgi_probes_info ti;
+            vdbgi_probes_get_info(tile, &ti);
+            CHECK(ti.tile_count == n && ti.tile_index == t && ti.probe_count > 0);
+            sum += ti.probe_count;
+            vdbgi_probes_destroy(tile);
+            paths[n - 1 - t] = names[t]; /* in reverse order */
+        }
+        vdbgi_probes_info wi;
+        vdbgi_probes_get_info(whole, &wi);
+        CHECK(sum == wi.probe_count);
+        CHECK_RESULT(ctx, vdbgi_probes_merge(ctx, paths, (size_t)n, tmp_path("merged.vdb")),
+                     VDBGI_OK);
+        CHECK_RESULT(ctx, vdbgi_probes_read(ctx, tmp_path("merged.vdb"), &merged), VDBGI_OK);
+        CHECK(merged && same_probes(whole, merged));
+        vdbgi_probes_destroy(merged);
+        merged = NULL;
+    }
+    /* The 5 tiles' set, damaged: one missing, one twice, one of the 3-tile set. */
+    unlink(tmp_path("refused.vdb"));
+    CHECK_RESULT(ctx, vdbgi_probes_merge(ctx, paths, 4, tmp_path("refused.vdb")), VDBGI_ERR_FORMAT);
+    CHECK(strstr(vdbgi_context_error(ctx), "is missing") != NULL);
+    paths[5] = paths[0];
+    CHECK_RESULT(ctx, vdbgi_probes_merge(ctx, paths, 6, tmp_path("refused.vdb")), VDBGI_ERR_FORMAT);
+    CHECK(strstr(vdbgi_context_error(ctx), "given twice") != NULL);
+    char three[64];
+    snprintf(three, sizeof(three), "%s", tmp_path("tile3-0.vdb"));
+    paths[4] = three;
+    CHECK_RESULT(ctx, vdbgi_probes_merge(ctx, paths, 5, tmp_path("refused.vdb")), VDBGI_ERR_FORMAT);
+    CHECK(strstr(vdbgi_context_error(ctx), "not a tile of the same bake") != NULL);
+    CHECK_RESULT(ctx, vdbgi_probes_write(whole, tmp_path("whole.vdb")), VDBGI_OK);
+    const char *not_tile[1] = {tmp_path("whole.vdb")};
+    CHECK_RESULT(ctx, vdbgi_probes_merge(ctx, not_tile, 1, tmp_path("refused.vdb")),
+                 VDBGI_ERR_FORMAT);
+    CHECK(strstr(vdbgi_context_error(ctx), "not a tile") != NULL);
+    struct stat st;
+    CHECK(stat(tmp_path("refused.vdb"), &st) != 0);
+    /* Tiles that cannot exist: past the count, or more than the lattice has leaf columns. */
+    vdbgi_probes *none = NULL;
+    pd.tile_index = 3;
+    pd.tile_count = 3;
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, scene, &pd, &none), VDBGI_ERR_INVALID_ARG);
+    pd.tile_index = 3999;
+    pd.tile_count = 4000;
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, scene, &pd, &none), VDBGI_ERR_INVALID_ARG);
+    CHECK(strstr(vdbgi_context_error(ctx), "would hold no probe") != NULL);
+    vdbgi_probes_destroy(whole);
+    vdbgi_scene_destroy(scene);
+    vdbgi_context_destroy(ctx);
+}
+
 int main(void)
 {
     test_tmpdir_make("test-vdb");
@@ -263,6 +385,7 @@ int main(void)
     RUN(unreadable_files_are_refused);
     RUN(ambient_cubes_round_trip_as_six_grids);
     RUN(sh2_terms_round_trip_as_eight_grids);
+    RUN(tiles_merge_into_the_whole_bake);
     test_tmpdir_remove();
     return CHECK_EXIT();
 }
