@@ -85,7 +85,7 @@ TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 DEB_PACKAGES := gcc g++ make pkg-config libopenvdb-dev libboost-dev libimath-dev libtbb-dev \
                 libembree-dev libopenimageio-dev libassimp-dev zlib1g-dev libdeflate-dev libopenvdb-tools \
                 python3 python3-openvdb python3-numpy openimageio-tools gnuplot-nox clang-format chromium libstb-dev \
-                libtinygltf-dev assimp-testmodels
+                libtinygltf-dev assimp-testmodels slurmctld slurmd slurm-client munge
 
 # Keep object files of apps and tests (make would delete them as intermediates).
 .SECONDARY:

@@ -7,17 +7,13 @@ for i in 1 2 3 4; do
     bake -o tile$i.vdb --tile $i/4 --threads $((1 + i % 2)) | grep '^probes'
 done
 "$BIN/gi-merge" tile3.vdb tile1.vdb tile4.vdb tile2.vdb -o world.vdb | sed 's/ in [0-9.]* s$//;/^output/d'
-/usr/bin/python3 - whole.vdb world.vdb <<'PY'
+/usr/bin/python3 "$ROOT/tests/cli/same_vdb.py" whole.vdb world.vdb
+/usr/bin/python3 - world.vdb whole.vdb <<'PY'
 import sys
 import pyopenvdb as vdb
-def values(path, name):
-    return sorted((tuple(v.min), v.value) for v in vdb.read(path, name).citerOnValues())
-for name in ("irradiance", "validity", "stderr"):
-    a, b = values(sys.argv[1], name), values(sys.argv[2], name)
-    print(name, len(a), "probes,", "the same bits" if a == b else "DIFFERENT")
-meta = vdb.read(sys.argv[2], "irradiance").metadata
+meta = vdb.read(sys.argv[1], "irradiance").metadata
 print("tile keys left:", sorted(k for k in meta if k.startswith("tile") or k == "lattice_probes"))
-print("probes", meta["probes"], "=", vdb.read(sys.argv[1], "irradiance").metadata["probes"])
+print("probes", meta["probes"], "=", vdb.read(sys.argv[2], "irradiance").metadata["probes"])
 PY
 run() {
     "$BIN/gi-merge" "$@" -o out.vdb 2>err >/dev/null
