@@ -293,8 +293,8 @@ int main(int argc, char **argv)
         printf("probes   %zu (%zu invalid) at %g m spacing, %g m margin", pi.probe_count,
                pi.invalid_count, pi.spacing, pi.margin);
         if (pi.tile_count)
-            printf(", tile %d of %d (%zu in the lattice)", pi.tile_index + 1, pi.tile_count,
-                   pi.lattice_probe_count);
+            printf(", tile %d of %d (i %d..%d)", pi.tile_index + 1, pi.tile_count, pi.tile_x[0],
+                   pi.tile_x[1] - 1);
         printf("\n");
         printf("rays     %llu primary + %llu %s, %.1f Mrays/s on %d threads\n",
                (unsigned long long)st.primary_ray_count, (unsigned long long)st.shadow_ray_count,

@@ -211,12 +211,13 @@ static void record_settings(vdbgi_probes *p, const vdbgi_scene *scene, const vdb
     vdbgi_meta_set_string(&p->meta, "basis", basis_name(bp->basis));
     if (p->tile_count > 1) {
         /* What gi-merge checks: which tile of how many, the range of i it holds, and the
-           whole lattice's count. */
+           range all the tiles cover. */
         vdbgi_meta_set_int(&p->meta, "tile_index", p->tile_index);
         vdbgi_meta_set_int(&p->meta, "tile_count", p->tile_count);
         vdbgi_meta_set_int(&p->meta, "tile_x_begin", p->tile_x[0]);
         vdbgi_meta_set_int(&p->meta, "tile_x_end", p->tile_x[1]);
-        vdbgi_meta_set_int(&p->meta, "lattice_probes", (int64_t)p->lattice_count);
+        vdbgi_meta_set_int(&p->meta, "tiles_x_begin", p->tile_span[0]);
+        vdbgi_meta_set_int(&p->meta, "tiles_x_end", p->tile_span[1]);
     }
     vdbgi_meta_set_string(&p->meta, "model",
                           bp->model == VDBGI_MODEL_PHYSICAL ? "physical" : "seed");

@@ -1,8 +1,9 @@
 /*
  * merge.c: the tiles of one bake into the whole (gi-merge): each tile read
  * and checked against the first (same bake, same tiling, its own range),
- * the set checked (none missing, none overlapping, the probes adding up),
- * then OpenVDB's tree merge (vdb_shim.cpp) writes the whole.
+ * the set checked (none missing; their slabs covering the tiles' span with
+ * no gap and no overlap), then OpenVDB's tree merge (vdb_shim.cpp) writes
+ * the whole.
  */
 #include "probes.h"
 #include "util.h"
@@ -59,8 +60,8 @@ typedef struct merge_job {
 
 static vdbgi_result write_merged(vdbgi_context *ctx, const char *tmp, const void *user)
 {
-    static const char *const drop[] = {"tile_index", "tile_count", "tile_x_begin", "tile_x_end",
-                                       "lattice_probes"};
+    static const char *const drop[] = {"tile_index", "tile_count",    "tile_x_begin",
+                                       "tile_x_end", "tiles_x_begin", "tiles_x_end"};
     const merge_job *const job = user;
     return vdbgi_vdb_merge(ctx, tmp, job->name, job->paths, job->count, drop,
                            sizeof(drop) / sizeof(drop[0]), job->set);
@@ -81,11 +82,11 @@ static vdbgi_result tile_int(vdbgi_context *ctx, const vdbgi_probes *p, const ch
 /* Read and check tile number i of paths against the first, into seen and the sums. */
 static vdbgi_result take_tile(vdbgi_context *ctx, const char *path, vdbgi_meta_store *first,
                               const char **first_path, tile_seen **seen, int64_t *tiles,
-                              int64_t *lattice, size_t sums[2], double *seconds)
+                              int64_t span[2], size_t sums[2], double *seconds)
 {
     vdbgi_probes *p = NULL;
     VDBGI_TRY(vdbgi_probes_read(ctx, path, &p));
-    int64_t index = 0, count = 0, x0 = 0, x1 = 0, whole = 0;
+    int64_t index = 0, count = 0, x0 = 0, x1 = 0, s0 = 0, s1 = 0;
     vdbgi_result r = tile_int(ctx, p, path, "tile_index", &index);
     if (r == VDBGI_OK)
         r = tile_int(ctx, p, path, "tile_count", &count);
@@ -94,7 +95,9 @@ static vdbgi_result take_tile(vdbgi_context *ctx, const char *path, vdbgi_meta_s
     if (r == VDBGI_OK)
         r = tile_int(ctx, p, path, "tile_x_end", &x1);
     if (r == VDBGI_OK)
-        r = tile_int(ctx, p, path, "lattice_probes", &whole);
+        r = tile_int(ctx, p, path, "tiles_x_begin", &s0);
+    if (r == VDBGI_OK)
+        r = tile_int(ctx, p, path, "tiles_x_end", &s1);
     char why[600];
     if (r == VDBGI_OK && !*first_path) {
         if (count < 2 || count > VDBGI_MAX_TILES)
@@ -103,7 +106,7 @@ static vdbgi_result take_tile(vdbgi_context *ctx, const char *path, vdbgi_meta_s
         else if (!(*seen = vdbgi_calloc(ctx, (size_t)count, sizeof(tile_seen))))
             r = VDBGI_ERR_OUT_OF_MEMORY;
         else
-            *first = p->meta, *first_path = path, *tiles = count, *lattice = whole;
+            *first = p->meta, *first_path = path, *tiles = count, span[0] = s0, span[1] = s1;
     } else if (r == VDBGI_OK && !same_bake(first, &p->meta, why, sizeof(why))) {
         r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: not a tile of the same bake as %s: %s", path,
                        *first_path, why);
@@ -141,26 +144,29 @@ vdbgi_result vdbgi_probes_merge(vdbgi_context *ctx, const char *const *paths, si
         return VDBGI_ERR_OUT_OF_MEMORY;
     const char *first_path = NULL;
     tile_seen *seen = NULL;
-    int64_t tiles = 0, lattice = 0;
+    int64_t tiles = 0, span[2] = {0, 0};
     size_t sums[2] = {0, 0};
     double seconds = 0.0;
     vdbgi_result r = VDBGI_OK;
     for (size_t i = 0; r == VDBGI_OK && i < count; i++)
-        r = take_tile(ctx, paths[i], first, &first_path, &seen, &tiles, &lattice, sums, &seconds);
+        r = take_tile(ctx, paths[i], first, &first_path, &seen, &tiles, span, sums, &seconds);
     for (int64_t t = 0; r == VDBGI_OK && t < tiles; t++)
         if (!seen[t].path)
             r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "tile %lld of %lld is missing", (long long)t + 1,
                            (long long)tiles);
-    for (int64_t t = 0; r == VDBGI_OK && t + 1 < tiles; t++)
-        if (seen[t].x[1] > seen[t + 1].x[0])
+    /* The slabs, in tile order, cover the tiles' span without a gap or an overlap. */
+    for (int64_t t = 0; r == VDBGI_OK && t <= tiles; t++) {
+        const int64_t end = t == 0 ? span[0] : seen[t - 1].x[1];
+        const int64_t begin = t == tiles ? span[1] : seen[t].x[0];
+        if (end > begin)
             r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s and %s overlap (i %lld..%lld and %lld..%lld)",
-                           seen[t].path, seen[t + 1].path, (long long)seen[t].x[0],
-                           (long long)seen[t].x[1] - 1, (long long)seen[t + 1].x[0],
-                           (long long)seen[t + 1].x[1] - 1);
-    if (r == VDBGI_OK && (int64_t)sums[0] != lattice)
-        r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
-                       "the tiles hold %zu probes, where their lattice has %lld", sums[0],
-                       (long long)lattice);
+                           seen[t - 1].path, seen[t].path, (long long)seen[t - 1].x[0],
+                           (long long)seen[t - 1].x[1] - 1, (long long)seen[t].x[0],
+                           (long long)seen[t].x[1] - 1);
+        else if (end < begin)
+            r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "no tile holds lattice i %lld..%lld",
+                           (long long)end, (long long)begin - 1);
+    }
     if (r == VDBGI_OK) {
         vdbgi_meta_store set = {0};
         vdbgi_meta_set_int(&set, "probes", (int64_t)sums[0]);

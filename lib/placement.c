@@ -16,52 +16,96 @@ static double estimate_probe_count(const vdbgi_scene *s, double spacing, double 
     return area * (2.0 * margin + spacing) / (spacing * spacing * spacing);
 }
 
-/*
- * Keep tile t of n of p's probes (in their order): slabs across i, cut at
- * leaf boundaries (multiples of 8): each leaf column goes to the tile in
- * whose n-th of the probes, counted along x, its middle probe falls.
- */
-static vdbgi_result keep_tile(vdbgi_context *ctx, vdbgi_probes *p, int t, int n)
+/* Triangle t's extent along x. */
+static void x_extent(const vdbgi_scene *scene, size_t t, double *lo, double *hi)
 {
-    int32_t lo = INT32_MAX, hi = INT32_MIN;
-    for (size_t i = 0; i < p->count; i++) {
-        const int32_t c = vdbgi_floor_div(p->ijk[3 * i], 8);
-        lo = c < lo ? c : lo;
-        hi = c > hi ? c : hi;
+    *lo = INFINITY, *hi = -INFINITY;
+    for (int v = 0; v < 3; v++) {
+        const double px = scene->positions[3 * scene->indices[3 * t + (size_t)v]];
+        *lo = px < *lo ? px : *lo;
+        *hi = px > *hi ? px : *hi;
     }
+}
+
+/*
+ * Tile t of n: the slab [x[0], x[1]) of lattice i, cut between leaf columns
+ * (multiples of 8) across the columns the scene's margin reaches (span[0]
+ * .. span[1], the same for every tile). Each column goes to the tile in
+ * whose n-th of the surface its middle falls, each triangle's area spread
+ * over the columns it crosses: the probes lie in a band about the surfaces,
+ * so area stands in for their count without placing them all.
+ */
+static vdbgi_result tile_slab(vdbgi_context *ctx, const vdbgi_scene *scene, const double origin[3],
+                              double spacing, double margin, int t, int n, int32_t x[2],
+                              int32_t span[2])
+{
+    const int32_t lo =
+        vdbgi_floor_div((int32_t)floor((scene->bounds_min[0] - margin - origin[0]) / spacing), 8);
+    const int32_t hi =
+        vdbgi_floor_div((int32_t)ceil((scene->bounds_max[0] + margin - origin[0]) / spacing), 8);
     const size_t columns = (size_t)(hi - lo) + 1;
-    size_t *const count = vdbgi_calloc(ctx, columns + 1, sizeof(size_t));
-    if (!count)
+    double *const area = vdbgi_calloc(ctx, columns, sizeof(double));
+    if (!area)
         return VDBGI_ERR_OUT_OF_MEMORY;
-    for (size_t i = 0; i < p->count; i++)
-        count[vdbgi_floor_div(p->ijk[3 * i], 8) - lo]++;
-    /* Tile t takes the columns whose middle probe, counted along x, falls in its n-th. */
-    size_t before = 0;
+    /* Each triangle's area spread over the columns its x extent crosses, by length. */
+    const double width = 8.0 * spacing, base = origin[0] + lo * width;
+    double total = 0.0;
+    for (size_t tri = 0; tri < scene->triangle_count; tri++) {
+        double a0, a1;
+        x_extent(scene, tri, &a0, &a1);
+        const double a = vdbgi_scene_triangle_area(scene, tri);
+        const double u0 = (a0 - base) / width, u1 = (a1 - base) / width;
+        const double c0 = fmax(0.0, floor(u0)), c1 = fmin((double)columns - 1.0, floor(u1));
+        for (double c = c0; c <= c1; c += 1.0) {
+            const double part = u1 > u0 ? (fmin(u1, c + 1.0) - fmax(u0, c)) / (u1 - u0) : 1.0;
+            area[(size_t)c] += a * part;
+        }
+        total += a;
+    }
+    double before = 0.0;
     int32_t first = INT32_MAX, last = INT32_MIN;
     for (size_t c = 0; c < columns; c++) {
-        const size_t share = (2 * before + count[c]) * (size_t)n / (2 * p->count);
-        if ((int)share == t) {
+        const int share = total > 0.0 ? (int)((before + 0.5 * area[c]) / total * n) : 0;
+        if ((share < n ? share : n - 1) == t) {
             first = (int32_t)c < first ? (int32_t)c : first;
             last = (int32_t)c;
         }
-        before += count[c];
+        before += area[c];
     }
-    vdbgi_free(ctx, count);
-    VDBGI_FAIL_IF(ctx, first > last, VDBGI_ERR_INVALID_ARG,
-                  "tile %d of %d would hold no probe: the lattice has %zu leaf columns across x",
-                  t + 1, n, columns);
-    p->tile_x[0] = (lo + first) * 8;
-    p->tile_x[1] = (lo + last + 1) * 8;
-    size_t kept = 0;
-    for (size_t i = 0; i < p->count; i++)
-        if (p->ijk[3 * i] >= p->tile_x[0] && p->ijk[3 * i] < p->tile_x[1]) {
-            memmove(&p->ijk[3 * kept], &p->ijk[3 * i], 3 * sizeof(int32_t));
-            kept++;
-        }
-    p->lattice_count = p->count;
-    p->count = kept;
-    p->tile_index = t;
-    p->tile_count = n;
+    vdbgi_free(ctx, area);
+    VDBGI_FAIL_IF(
+        ctx, first > last, VDBGI_ERR_INVALID_ARG,
+        "tile %d of %d would hold no probe: the lattice has %zu leaf columns across x: use "
+        "fewer tiles",
+        t + 1, n, columns);
+    x[0] = (lo + first) * 8, x[1] = (lo + last + 1) * 8;
+    span[0] = lo * 8, span[1] = (hi + 1) * 8;
+    return VDBGI_OK;
+}
+
+/*
+ * The triangles a tile's probes can be near: those whose x extent meets the
+ * slab widened by the margin and a spacing, as indices into scene's
+ * vertices, into *out (*count of them).
+ */
+static vdbgi_result tile_triangles(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                   const double origin[3], double spacing, double margin,
+                                   const int32_t x[2], uint32_t **out, size_t *count)
+{
+    const double x0 = origin[0] + x[0] * spacing - margin - spacing;
+    const double x1 = origin[0] + (x[1] - 1) * spacing + margin + spacing;
+    uint32_t *const idx = vdbgi_alloc(ctx, 3 * sizeof(uint32_t) * (scene->triangle_count + 1));
+    if (!idx)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    size_t n = 0;
+    for (size_t t = 0; t < scene->triangle_count; t++) {
+        double lo, hi;
+        x_extent(scene, t, &lo, &hi);
+        if (hi >= x0 && lo <= x1)
+            memcpy(&idx[3 * n++], &scene->indices[3 * t], 3 * sizeof(uint32_t));
+    }
+    *out = idx;
+    *count = n;
     return VDBGI_OK;
 }
 
@@ -121,14 +165,40 @@ vdbgi_result vdbgi_probes_place(vdbgi_context *ctx, const vdbgi_scene *scene,
     p->spacing = spacing;
     p->margin = margin;
     memcpy(p->origin, origin, sizeof(origin));
-    vdbgi_result r = vdbgi_vdb_topology(ctx, scene->positions, scene->vertex_count, scene->indices,
-                                        scene->triangle_count, origin, spacing, margin, max_probes,
-                                        &p->ijk, &p->count);
+    /* A tile places only its slab, from the triangles that can reach it. */
+    const uint32_t *indices = scene->indices;
+    size_t triangles = scene->triangle_count;
+    uint32_t *subset = NULL;
+    vdbgi_result r = VDBGI_OK;
+    if (tiles > 1) {
+        r = tile_slab(ctx, scene, origin, spacing, margin, desc->tile_index, tiles, p->tile_x,
+                      p->tile_span);
+        if (r == VDBGI_OK)
+            r = tile_triangles(ctx, scene, origin, spacing, margin, p->tile_x, &subset, &triangles);
+        indices = subset;
+        p->tile_index = desc->tile_index;
+        p->tile_count = tiles;
+    }
+    if (r == VDBGI_OK && triangles)
+        r = vdbgi_vdb_topology(ctx, scene->positions, scene->vertex_count, indices, triangles,
+                               origin, spacing, margin, max_probes, &p->ijk, &p->count);
+    vdbgi_free(ctx, subset);
+    if (r == VDBGI_OK && tiles > 1) {
+        size_t kept = 0;
+        for (size_t i = 0; i < p->count; i++)
+            if (p->ijk[3 * i] >= p->tile_x[0] && p->ijk[3 * i] < p->tile_x[1]) {
+                memmove(&p->ijk[3 * kept], &p->ijk[3 * i], 3 * sizeof(int32_t));
+                kept++;
+            }
+        p->count = kept;
+        if (!kept)
+            r = vdbgi_fail(ctx, VDBGI_ERR_INVALID_ARG,
+                           "tile %d of %d (lattice i %d..%d) would hold no probe: use fewer tiles",
+                           desc->tile_index + 1, tiles, p->tile_x[0], p->tile_x[1] - 1);
+    }
     if (r == VDBGI_OK && p->count == 0)
         r = vdbgi_fail(ctx, VDBGI_ERR_INVALID_ARG,
                        "no lattice point lies within the %g m margin of a surface", margin);
-    if (r == VDBGI_OK && tiles > 1)
-        r = keep_tile(ctx, p, desc->tile_index, tiles);
     if (r != VDBGI_OK) {
         vdbgi_probes_destroy(p);
         return r;

@@ -171,7 +171,8 @@ void vdbgi_probes_get_info(const vdbgi_probes *p, vdbgi_probes_info *info)
     info->basis = p->cube ? VDBGI_BASIS_AMBIENT_CUBE : p->sh ? VDBGI_BASIS_SH2 : VDBGI_BASIS_SCALAR;
     info->tile_index = p->tile_count > 1 ? p->tile_index : 0;
     info->tile_count = p->tile_count > 1 ? p->tile_count : 0;
-    info->lattice_probe_count = p->tile_count > 1 ? p->lattice_count : p->count;
+    info->tile_x[0] = p->tile_count > 1 ? p->tile_x[0] : 0;
+    info->tile_x[1] = p->tile_count > 1 ? p->tile_x[1] : 0;
     for (int k = 0; k < 3; k++) {
         info->ijk_min[k] = p->count ? INT32_MAX : 0;
         info->ijk_max[k] = p->count ? INT32_MIN : 0;

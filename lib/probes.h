@@ -31,10 +31,9 @@ struct vdbgi_probes {
     float invalid_threshold;
     size_t invalid_count;
     /* A tile of a lattice (vdbgi_place_desc): its index of tile_count (0: the whole lattice),
-       the leaf-aligned range of i it keeps, and the whole lattice's probe count. */
+       the leaf-aligned range of i it keeps, and the range every tile's together cover. */
     int tile_index, tile_count;
-    int32_t tile_x[2];
-    size_t lattice_count;
+    int32_t tile_x[2], tile_span[2];
     vdbgi_sampling sampling; /* how the directions were chosen (read from the metadata) */
     bool adaptive;           /* rays in batches until a noise target */
     vdbgi_meta_store meta;

@@ -338,11 +338,12 @@ typedef struct vdbgi_probes vdbgi_probes;
  *                so floors at whole multiples of the spacing fall between
  *                probes rather than on them.
  *   max_probes:  refuse larger lattices. 0 == 50 000 000.
- *   tile_index, tile_count: keep only tile tile_index (0-based) of
+ *   tile_index, tile_count: place only tile tile_index (0-based) of
  *                tile_count (2..4096; 0 or 1: the whole lattice): slabs
  *                across x, cut between OpenVDB leaves (8 probes) where the
- *                running probe count crosses each tile_count-th of the
- *                whole, so the tiles hold about as many probes each. Every
+ *                surfaces' area crosses each tile_count-th of the whole, so
+ *                the tiles hold about as many probes each; a tile places
+ *                its slab alone, from the triangles that can reach it. Every
  *                probe's value depends only on its ijk, so the tiles' bakes
  *                merged (vdbgi_probes_merge) equal the whole bake.
  */
@@ -366,8 +367,8 @@ typedef struct vdbgi_place_desc {
  * refused by name (VDBGI_ERR_FORMAT, nothing written) when it is not a tile,
  * belongs to another bake (any setting, the scene or the lattice differs),
  * is of another tile count, is given twice, holds probes outside its range
- * or overlaps another; and the set when a tile is missing or the probes do
- * not add up to the lattice's. The whole's metadata is the tiles' without
+ * or overlaps another; and the set when a tile is missing or their slabs
+ * leave a gap. The whole's metadata is the tiles' without
  * the tile keys, with probes, invalid_probes and bake_seconds summed.
  */
 VDBGI_API vdbgi_result vdbgi_probes_merge(vdbgi_context *ctx, const char *const *paths,
@@ -610,7 +611,7 @@ typedef struct vdbgi_probes_info {
     int baked;                      /* non-zero once values are present */
     vdbgi_basis basis;              /* which directional grids the probes hold */
     int tile_index, tile_count;     /* a tile (vdbgi_place_desc), or 0, 0 for a whole lattice */
-    size_t lattice_probe_count;     /* the whole lattice's probes (probe_count if not a tile) */
+    int32_t tile_x[2];              /* the range of i a tile holds, [begin, end) */
 } vdbgi_probes_info;
 
 VDBGI_API void vdbgi_probes_get_info(const vdbgi_probes *probes, vdbgi_probes_info *info);
