@@ -371,6 +371,22 @@ static void frame_about(const float n[3], float t[3], float b[3])
     b[2] = n[0] * t[1] - n[1] * t[0];
 }
 
+/*
+ * The radiance hit h's emitter sends back along the ray into e: from its
+ * front (both sides when double-sided), when bp's emission takes its
+ * material. False, e untouched, when it sends none.
+ */
+static bool hit_emission(const vdbgi_bake_params *bp, const vdbgi_scene *scene, const vdbgi_hit *h,
+                         bool front, float e[3])
+{
+    const vdbgi_tri *const tri = &scene->tris[h->prim];
+    if (!(tri->flags & VDBGI_TRI_EMISSIVE) || !(front || tri->flags & VDBGI_TRI_DOUBLE_SIDED) ||
+        !(bp->emission == 0 || bp->emission == tri->material + 1))
+        return false;
+    vdbgi_scene_emission(scene, h->prim, h->u, h->v, e);
+    return true;
+}
+
 /* A cosine-weighted direction about unit n from two uniforms. */
 static void cosine_direction(const float n[3], double u1, double u2, float out[3])
 {
@@ -425,16 +441,11 @@ static size_t trace_bounces(vdbgi_estimator *th, size_t count, size_t first_ray)
             const float *const tn = tri->normal;
             const float facing = tn[0] * d[0] + tn[1] * d[1] + tn[2] * d[2];
             const float flip = facing > 0.0f ? -1.0f : 1.0f;
-            float albedo[3];
+            float albedo[3], e[3];
             vdbgi_scene_albedo(scene, h->prim, h->u, h->v, albedo);
-            if ((tri->flags & VDBGI_TRI_EMISSIVE) &&
-                (flip > 0.0f || tri->flags & VDBGI_TRI_DOUBLE_SIDED) &&
-                (bp->emission == 0 || bp->emission == tri->material + 1)) {
-                float e[3];
-                vdbgi_scene_emission(scene, h->prim, h->u, h->v, e);
+            if (hit_emission(bp, scene, h, flip > 0.0f, e))
                 for (int k = 0; k < 3; k++)
                     L[k] += w[k] * e[k];
-            }
             /* The path goes on from this hit (compacted in place: live <= i). */
             const float *const o = &th->porg[3 * i];
             for (int k = 0; k < 3; k++) {
@@ -499,15 +510,10 @@ static void trace_batch(vdbgi_estimator *th, const float pos[3], const float *di
                 albedo_w[k] = albedo[k] * w;
                 L[k] = albedo_w[k] * (bp->ambient + extra[k]);
             }
-            /* An emitter's own light, from its front (both sides when double-sided). */
-            if ((tri->flags & VDBGI_TRI_EMISSIVE) &&
-                (flip > 0.0f || tri->flags & VDBGI_TRI_DOUBLE_SIDED) &&
-                (bp->emission == 0 || bp->emission == tri->material + 1)) {
-                float e[3];
-                vdbgi_scene_emission(scene, h->prim, h->u, h->v, e);
+            float e[3];
+            if (hit_emission(bp, scene, h, flip > 0.0f, e))
                 for (int k = 0; k < 3; k++)
                     L[k] += w * e[k];
-            }
         }
         /* The hit's point one ray offset off its lit side, and that side's normal. */
         for (int k = 0; k < 3; k++) {

@@ -23,8 +23,8 @@ static bool per_tile(const char *name)
     return strncmp(name, "file_", 5) == 0;
 }
 
-/* The first setting in which a and b differ (either way), as "a_line' against 'b_line", or
-   NULL when they agree. */
+/* Whether a and b are the same bake: else false, and the first setting in which they differ
+   (either way) into why, as "a's line against b's line". */
 static bool same_bake(const vdbgi_meta_store *a, const vdbgi_meta_store *b, char *why,
                       size_t why_size)
 {

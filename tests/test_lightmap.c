@@ -6,39 +6,16 @@
  * to the map. And the same bytes on one thread and on two.
  */
 #define _POSIX_C_SOURCE 200809L
-#include "lightmap.h"
-#include "scene.h"
-#include "test_util.h"
+#include "test_baked.h"
 
 #include <math.h>
-
-typedef struct baked {
-    vdbgi_scene *scene;
-    vdbgi_unwrap un;
-    vdbgi_texels tx;
-    vdbgi_lightmap map;
-} baked;
 
 static void bake(vdbgi_context *ctx, const vdbgi_mesh_desc *meshes, size_t mesh_count,
                  const vdbgi_bake_desc *bd, float texel, const vdbgi_lightmap_params *lp, baked *b)
 {
-    memset(b, 0, sizeof(*b));
-    vdbgi_bake_params bp;
-    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, meshes, mesh_count, &b->scene), VDBGI_OK);
-    CHECK_RESULT(ctx, vdbgi_bake_params_resolve(ctx, bd, b->scene, &bp), VDBGI_OK);
-    const vdbgi_unwrap_params up = {.texel = texel, .size = 256};
-    CHECK_RESULT(ctx, vdbgi_unwrap_build(ctx, b->scene, &up, &b->un), VDBGI_OK);
-    CHECK_RESULT(ctx, vdbgi_texels_build(ctx, b->scene, &b->un, &b->tx), VDBGI_OK);
-    CHECK_RESULT(ctx, vdbgi_lightmap_bake(ctx, b->scene, &bp, &b->un, &b->tx, lp, &b->map),
-                 VDBGI_OK);
-}
-
-static void unbake(baked *b)
-{
-    vdbgi_lightmap_free(&b->map);
-    vdbgi_texels_free(&b->tx);
-    vdbgi_unwrap_free(&b->un);
-    vdbgi_scene_destroy(b->scene);
+    vdbgi_scene *scene = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, meshes, mesh_count, &scene), VDBGI_OK);
+    bake_map(ctx, scene, bd, texel, lp, b);
 }
 
 /*

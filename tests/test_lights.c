@@ -13,45 +13,13 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "image_shim.h"
-#include "lightmap.h"
 #include "probes.h"
-#include "scene.h"
-#include "test_util.h"
+#include "test_baked.h"
 
 #include <math.h>
 #include <stdio.h>
 
 #define PI_D 3.14159265358979323846
-
-typedef struct baked {
-    vdbgi_scene *scene;
-    vdbgi_unwrap un;
-    vdbgi_texels tx;
-    vdbgi_lightmap map;
-} baked;
-
-/* A lightmap of scene (taken over: unbake destroys it) with bd and lp. */
-static bool bake_map(vdbgi_context *ctx, vdbgi_scene *scene, const vdbgi_bake_desc *bd, float texel,
-                     const vdbgi_lightmap_params *lp, baked *b)
-{
-    memset(b, 0, sizeof(*b));
-    b->scene = scene;
-    vdbgi_bake_params bp;
-    CHECK_RESULT(ctx, vdbgi_bake_params_resolve(ctx, bd, scene, &bp), VDBGI_OK);
-    const vdbgi_unwrap_params up = {.texel = texel, .size = 256};
-    CHECK_RESULT(ctx, vdbgi_unwrap_build(ctx, scene, &up, &b->un), VDBGI_OK);
-    CHECK_RESULT(ctx, vdbgi_texels_build(ctx, scene, &b->un, &b->tx), VDBGI_OK);
-    CHECK_RESULT(ctx, vdbgi_lightmap_bake(ctx, scene, &bp, &b->un, &b->tx, lp, &b->map), VDBGI_OK);
-    return b->map.rgb != NULL;
-}
-
-static void unbake(baked *b)
-{
-    vdbgi_lightmap_free(&b->map);
-    vdbgi_texels_free(&b->tx);
-    vdbgi_unwrap_free(&b->un);
-    vdbgi_scene_destroy(b->scene);
-}
 
 static vdbgi_scene *plane_scene(vdbgi_context *ctx, float size, float albedo)
 {
