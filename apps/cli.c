@@ -238,9 +238,33 @@ int cli_one_input(int argc, char **argv, const char *what, const char **out)
     return -1;
 }
 
+size_t cli_memory_limit = 0;
+
+int cli_memory_limit_option(const char *arg)
+{
+    char *end = NULL;
+    errno = 0;
+    const double v = strtod(arg, &end);
+    double unit = 1.0;
+    if (end && *end && !end[1]) {
+        const char *const units = "KMGT";
+        const char *const u = strchr(units, *end);
+        if (u) {
+            for (const char *k = units; k <= u; k++)
+                unit *= 1024.0;
+            end++;
+        }
+    }
+    const double bytes = v * unit;
+    if (errno || end == arg || *end || !(bytes >= 1048576.0 && bytes <= 1125899906842624.0))
+        return cli_usage_error("--memory-limit must be a size from 1M to 1024T (got '%s')", arg);
+    cli_memory_limit = (size_t)bytes;
+    return -2;
+}
+
 vdbgi_context *cli_context(void)
 {
-    const vdbgi_context_desc cd = {.log = cli_log};
+    const vdbgi_context_desc cd = {.log = cli_log, .memory_limit = cli_memory_limit};
     vdbgi_context *ctx = NULL;
     if (vdbgi_context_create(&cd, &ctx) != VDBGI_OK)
         cli_error("cannot create a context: out of memory");

@@ -58,6 +58,16 @@ int cli_one_input(int argc, char **argv, const char *what, const char **out);
 /* A context that logs through cli_log, or NULL after saying why. */
 vdbgi_context *cli_context(void);
 
+/*
+ * --memory-limit SIZE (the farm's programs: gi-bake, gi-merge, vdb-to-gi):
+ * bytes, or with K, M, G or T (powers of 1024). Sets cli_memory_limit, which
+ * cli_context gives every context; returns -2, or the exit code of a usage
+ * error.
+ */
+enum { CLI_OPT_MEMORY_LIMIT = 998 };
+extern size_t cli_memory_limit;
+int cli_memory_limit_option(const char *arg);
+
 /* Log callback for vdbgi_context_desc: prints by cli_verbosity. */
 void cli_log(void *user, vdbgi_log_level level, const char *message);
 

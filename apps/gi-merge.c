@@ -23,6 +23,9 @@ static void usage(void)
            "\n"
            "Options:\n"
            "  -o, --output FILE   the whole .vdb (required; replaced only on success)\n"
+           "      --memory-limit SIZE\n"
+           "                      stop with one line before holding more than SIZE of\n"
+           "                      grids (K, M, G, T: powers of 1024)\n"
            "  -q, --quiet         errors only\n"
            "  -v, --verbose       more detail on stderr\n"
            "  -h, --help          print this help and exit\n"
@@ -36,8 +39,10 @@ static void usage(void)
 int main(int argc, char **argv)
 {
     cli_init("gi-merge");
-    static const struct option longs[] = {{"output", required_argument, NULL, 'o'},
-                                          CLI_COMMON_LONG_OPTIONS};
+    static const struct option longs[] = {
+        {"output", required_argument, NULL, 'o'},
+        {"memory-limit", required_argument, NULL, CLI_OPT_MEMORY_LIMIT},
+        CLI_COMMON_LONG_OPTIONS};
     const char *output = NULL;
     opterr = 0;
     int c;
@@ -46,7 +51,8 @@ int main(int argc, char **argv)
             output = optarg;
             continue;
         }
-        const int done = cli_common_option(c, argv, usage);
+        const int done = c == CLI_OPT_MEMORY_LIMIT ? cli_memory_limit_option(optarg)
+                                                   : cli_common_option(c, argv, usage);
         if (done != -2)
             return done;
     }

@@ -62,6 +62,9 @@ static void usage(void)
            "      --voxel M         Bevy voxel size in metres (4 x the probe spacing)\n"
            "      --threads N       worker threads; the output does not depend on it (all\n"
            "                        cores)\n"
+           "      --memory-limit SIZE  stop with one line before holding more than SIZE\n"
+           "                        (K, M, G, T: powers of 1024; vdbgi's own memory and\n"
+           "                        the grids read)\n"
            "  -q, --quiet           no statistics, errors only\n"
            "  -v, --verbose         more detail on stderr (-vv: timings of each step)\n"
            "  -h, --help            print this help and exit\n"
@@ -99,6 +102,7 @@ enum {
 
 typedef struct options {
     const char *input, *output, *slices, *stats, *bevy, *bevy_baked_gi;
+    size_t memory_peak; /* the most the context held, once converted */
     vdbgi_bevy_format bevy_format;
     vdbgi_bevy_desc bevy_desc;
     vdbgi_convert_desc convert;
@@ -131,6 +135,7 @@ static int parse_args(int argc, char **argv, options *o)
         {"res", required_argument, NULL, OPT_RES},
         {"voxel", required_argument, NULL, OPT_VOXEL},
         {"threads", required_argument, NULL, OPT_THREADS},
+        {"memory-limit", required_argument, NULL, CLI_OPT_MEMORY_LIMIT},
         CLI_COMMON_LONG_OPTIONS};
     opterr = 0;
     int c;
@@ -256,6 +261,12 @@ static int parse_args(int argc, char **argv, options *o)
                 return cli_usage_error("--voxel must be a number > 0 (got '%s')", optarg);
             o->bevy_desc.voxel_size = d;
             break;
+        case CLI_OPT_MEMORY_LIMIT: {
+            const int rc = cli_memory_limit_option(optarg);
+            if (rc != -2)
+                return rc;
+            break;
+        }
         case OPT_THREADS:
             if (!cli_parse_int(optarg, &i) || i < 1 || i > 1024)
                 return cli_usage_error("--threads must be an integer in 1..1024 (got '%s')",
@@ -329,7 +340,7 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             "  \"max_error\": %.6g,\n  \"rmse_relative\": %.6g,\n  \"p99_relative\": %.6g,\n"
             "  \"max_relative\": %.6g,\n  \"read_seconds\": %.4f,\n"
             "  \"convert_seconds\": %.4f,\n  \"convert_over_read\": %.3f,\n"
-            "  \"stored_points\": %zu\n}\n",
+            "  \"stored_points\": %zu,\n  \"memory_peak_bytes\": %zu\n}\n",
             vi->probe_count, vi->valid_count, vi->filled_count, vi->unreached_count,
             vi->fallback_count, (double)vi->spacing, vi->max_level,
             vi->encoding == VDBGI_ENCODING_RGB9E5 ? "rgb9e5" : "rgbm",
@@ -343,7 +354,7 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             (double)vi->dense_rgba8_size / (double)vi->file_size, vi->clamped_count,
             vi->mean_irradiance, vi->rmse, vi->p99, vi->max_error, vi->rmse / mean, vi->p99 / mean,
             vi->max_error / mean, read_seconds, vi->seconds, vi->seconds / read_seconds,
-            vi->stored_points);
+            vi->stored_points, o->memory_peak);
         return;
     }
     char a[32], b[32], c[32], d[32];
@@ -384,6 +395,10 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             (double)vi->rgbm_range);
     fprintf(f, "time         convert %.3f s, %.2fx reading the .vdb (%.3f s)\n", vi->seconds,
             vi->seconds / read_seconds, read_seconds);
+    fprintf(f,
+            "memory       peak %.1f MiB held (vdbgi's arrays and the grids read: what "
+            "--memory-limit counts)\n",
+            (double)o->memory_peak / 1048576.0);
 }
 
 static const char *base_name(const char *path)
@@ -515,6 +530,7 @@ int main(int argc, char **argv)
         code = cli_fail(ctx, r);
     } else if (o.output) {
         code = CLI_OK;
+        o.memory_peak = vdbgi_context_memory_peak(ctx);
         if (cli_verbosity >= 2)
             print_stats(stdout, &o, &vi, &pi, read_seconds, false);
         const stats_args sa = {&o, &vi, &pi, read_seconds};

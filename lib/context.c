@@ -7,6 +7,7 @@
 #include <fcntl.h>
 #include <pthread.h>
 #include <signal.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -69,6 +70,7 @@ vdbgi_result vdbgi_context_create(const vdbgi_context_desc *desc, vdbgi_context 
     ctx->free = desc->free ? desc->free : default_free;
     ctx->log = desc->log;
     ctx->user = desc->user;
+    ctx->memory_limit = desc->memory_limit;
     *out = ctx;
     return VDBGI_OK;
 }
@@ -123,43 +125,111 @@ void vdbgi_log(vdbgi_context *ctx, vdbgi_log_level level, const char *fmt, ...)
     ctx->log(ctx->user, level, line);
 }
 
+size_t vdbgi_context_memory_peak(const vdbgi_context *ctx)
+{
+    return ctx ? __atomic_load_n(&ctx->memory_peak, __ATOMIC_RELAXED) : 0;
+}
+
+/* "1.5 GiB", "800 MiB": a figure of memory for a message, in the limit's 1024s. */
+static void memory_figure(size_t bytes, char out[32])
+{
+    if (bytes >= (size_t)1 << 30)
+        snprintf(out, 32, "%.1f GiB", (double)bytes / (1 << 30));
+    else
+        snprintf(out, 32, "%.0f MiB", (double)bytes / (1 << 20));
+}
+
+bool vdbgi_memory_charge(vdbgi_context *ctx, size_t bytes)
+{
+    const size_t held = __atomic_add_fetch(&ctx->memory_held, bytes, __ATOMIC_RELAXED);
+    if (held < bytes || (ctx->memory_limit && held > ctx->memory_limit)) {
+        __atomic_sub_fetch(&ctx->memory_held, bytes, __ATOMIC_RELAXED);
+        char limit[32], asked[32], have[32];
+        memory_figure(ctx->memory_limit, limit);
+        memory_figure(bytes, asked);
+        memory_figure(held - bytes, have);
+        vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY,
+                   "needs more than the memory limit of %s (%s held, %s more asked)", limit, have,
+                   asked);
+        return false;
+    }
+    size_t peak = __atomic_load_n(&ctx->memory_peak, __ATOMIC_RELAXED);
+    while (held > peak && !__atomic_compare_exchange_n(&ctx->memory_peak, &peak, held, true,
+                                                       __ATOMIC_RELAXED, __ATOMIC_RELAXED))
+        ;
+    return true;
+}
+
+void vdbgi_memory_release(vdbgi_context *ctx, size_t bytes)
+{
+    __atomic_sub_fetch(&ctx->memory_held, bytes, __ATOMIC_RELAXED);
+}
+
+/*
+ * Every block carries its size in front of it, so that freeing it releases
+ * what allocating it charged; the front keeps malloc's alignment.
+ */
+#define BLOCK_HEADER                                                                               \
+    ((sizeof(size_t) + _Alignof(max_align_t) - 1) / _Alignof(max_align_t) * _Alignof(max_align_t))
+
+static void *block_open(vdbgi_context *ctx, char *raw, size_t size)
+{
+    if (!raw) {
+        char figure[32];
+        memory_figure(size, figure);
+        vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY, "out of memory allocating %s (%zu bytes)", figure,
+                   size);
+        vdbgi_memory_release(ctx, size);
+        return NULL;
+    }
+    memcpy(raw, &size, sizeof(size));
+    return raw + BLOCK_HEADER;
+}
+
 void *vdbgi_alloc(vdbgi_context *ctx, size_t size)
 {
-    void *const p = ctx->alloc(ctx->user, size ? size : 1);
-    if (!p)
-        vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY, "out of memory allocating %zu bytes", size);
-    return p;
+    size = size ? size : 1;
+    if (size > SIZE_MAX - BLOCK_HEADER) {
+        vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY, "allocation of %zu bytes overflows", size);
+        return NULL;
+    }
+    if (!vdbgi_memory_charge(ctx, size))
+        return NULL;
+    return block_open(ctx, ctx->alloc(ctx->user, BLOCK_HEADER + size), size);
 }
 
 void *vdbgi_calloc(vdbgi_context *ctx, size_t count, size_t size)
 {
-    if (size && count > SIZE_MAX / size) {
+    if (size && count > (SIZE_MAX - BLOCK_HEADER) / size) {
         vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY, "allocation of %zu x %zu bytes overflows", count,
                    size);
         return NULL;
     }
+    const size_t bytes = count && size ? count * size : 1;
+    if (!vdbgi_memory_charge(ctx, bytes))
+        return NULL;
     /*
      * libc's calloc maps large blocks as zero pages and touches only what is
      * used; zeroing after malloc faulted in every page (an eighth of a
      * conversion's time went to it).
      */
-    if (ctx->alloc == default_alloc) {
-        void *const p = calloc(count ? count : 1, size ? size : 1);
-        if (!p)
-            vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY, "out of memory allocating %zu bytes",
-                       count * size);
-        return p;
-    }
-    void *const p = vdbgi_alloc(ctx, count * size);
+    if (ctx->alloc == default_alloc)
+        return block_open(ctx, calloc(1, BLOCK_HEADER + bytes), bytes);
+    char *const p = block_open(ctx, ctx->alloc(ctx->user, BLOCK_HEADER + bytes), bytes);
     if (p)
-        memset(p, 0, count * size);
+        memset(p, 0, bytes);
     return p;
 }
 
 void vdbgi_free(vdbgi_context *ctx, void *ptr)
 {
-    if (ptr)
-        ctx->free(ctx->user, ptr);
+    if (!ptr)
+        return;
+    char *const raw = (char *)ptr - BLOCK_HEADER;
+    size_t size;
+    memcpy(&size, raw, sizeof(size));
+    vdbgi_memory_release(ctx, size);
+    ctx->free(ctx->user, raw);
 }
 
 char *vdbgi_strdup(vdbgi_context *ctx, const char *s)

@@ -29,7 +29,18 @@ struct vdbgi_context {
     bool hold;
     char **held_tmp, **held_path;
     size_t held_count, held_capacity;
+    /* Bytes held now and at most, against memory_limit (0: none); updated
+       atomically, as workers allocate too. */
+    size_t memory_held, memory_peak, memory_limit;
 };
+
+/*
+ * Count bytes held outside vdbgi's allocator (a library's objects) against
+ * the memory limit: false, with the failure recorded, if they would pass it.
+ * Each successful charge is released with the same figure.
+ */
+bool vdbgi_memory_charge(vdbgi_context *ctx, size_t bytes);
+void vdbgi_memory_release(vdbgi_context *ctx, size_t bytes);
 
 /* Record a failure message on ctx and return code (for one-line returns). */
 vdbgi_result vdbgi_fail(vdbgi_context *ctx, vdbgi_result code, const char *fmt, ...)

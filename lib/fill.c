@@ -8,6 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Cells any fill may have however sparse its probes: 64 k, 4 M points. */
+#define VDBGI_FILL_SPARSE_CELLS 65536
+
 /* A leaf of the grid being filled: which points are to be filled, which are. */
 typedef struct grid_leaf {
     int32_t origin[3];
@@ -490,6 +493,20 @@ vdbgi_result vdbgi_field_fill(vdbgi_context *ctx, const vdbgi_fill_input *in,
     if (sources == 0) {
         r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
                        "no valid probe to fill from (%zu probes, all invalid or none)", in->count);
+        goto done;
+    }
+    /*
+     * A scene's lattice holds about 30 valid probes a cell (the bundled world,
+     * the 200 m world and the interior: 1 cell for 27-45): a file of probes
+     * one per leaf asked for 8 cells a probe and gigabytes of fill. Refused
+     * before the fill allocates; a margin grows every cell's reach.
+     */
+    const size_t span = 2 * (size_t)fp->margin_cells + 1, allowed = span * span * span * sources;
+    if (cells.count > VDBGI_FILL_SPARSE_CELLS && cells.count > allowed) {
+        r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                       "%zu valid probes spread over %zu cells of %d^3 points (more than %zu, and "
+                       "more than %d): too sparse a lattice to convert",
+                       sources, cells.count, fp->cell_size, allowed, VDBGI_FILL_SPARSE_CELLS);
         goto done;
     }
     if ((r = vdbgi_map_init(ctx, &g.map, 4 * cells.count / 8 + 64)) != VDBGI_OK ||

@@ -191,6 +191,19 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
     VDBGI_FAIL_IF(ctx, packed && least > info->stored_points, VDBGI_ERR_FORMAT,
                   "%s: the header's bricks need at least %llu stored points, it has %zu", path,
                   (unsigned long long)least, info->stored_points);
+    /*
+     * The converter's indirection covers its valid probes' cells and a margin:
+     * past 16 M cells, at most 64 a valid probe, so at most 4096 for every
+     * cell a brick covers. A header declaring 10^9 empty cells (1 GB of level
+     * bytes from a 1 MB file, then a 4 GB texture) is refused before either.
+     */
+    const uint64_t cells = ind / 4, covered = info->bricks[0] + 8ull * info->bricks[1] +
+                                              64ull * info->bricks[2] + 512ull * info->bricks[3];
+    VDBGI_FAIL_IF(ctx, packed && cells > VDBGI_SPARSE_CELLS && cells > 4096 * covered,
+                  VDBGI_ERR_FORMAT,
+                  "%s: %llu cells of the indirection for %llu under bricks (more than 4096 a "
+                  "brick's cell, and more than %d): too sparse a volume",
+                  path, (unsigned long long)cells, (unsigned long long)covered, VDBGI_SPARSE_CELLS);
     *stored_size =
         packed ? ind / 4 + VDBGI_PLACEMENT_BYTES * (uint64_t)info->brick_count +
                      (4 + (version == 6 ? VDBGI_SH_BYTES : 0)) * (uint64_t)info->stored_points

@@ -31,6 +31,10 @@
 #define VDBGI_ATLAS_TEXELS_PER_BRICK 500
 /* The compact atlas's largest side: a brick's first texel is 4 r + (a's two bits) <= 1023. */
 #define VDBGI_ATLAS_MAX 1024
+/* Cells of the indirection any lattice may have, however sparse: 16 M, about 500 MB to
+   convert. Past it the converter takes at most 64 cells a valid probe, and a reader at
+   most 4096 for every cell under a brick. */
+#define VDBGI_SPARSE_CELLS (1 << 24)
 
 /*
  * The header of a volume's file: version 1 for the seed layout, 2 for the

@@ -33,4 +33,46 @@
         return VDBGI_SHIM_FAIL((ctx), VDBGI_ERR_BACKEND, lib ": unknown exception");               \
     }
 
+/* The same for a shim working on one file: its messages name the file. */
+#define VDBGI_SHIM_END_FILE(ctx, lib, path)                                                        \
+    }                                                                                              \
+    catch (const std::bad_alloc &)                                                                 \
+    {                                                                                              \
+        return VDBGI_SHIM_FAIL((ctx), VDBGI_ERR_OUT_OF_MEMORY, "%s: " lib ": out of memory",       \
+                               path);                                                              \
+    }                                                                                              \
+    catch (const std::exception &e)                                                                \
+    {                                                                                              \
+        return VDBGI_SHIM_FAIL((ctx), VDBGI_ERR_BACKEND, "%s: " lib ": %s", path, e.what());       \
+    }                                                                                              \
+    catch (...)                                                                                    \
+    {                                                                                              \
+        return VDBGI_SHIM_FAIL((ctx), VDBGI_ERR_BACKEND, "%s: " lib ": unknown exception", path);  \
+    }
+
+/* Bytes a library holds for vdbgi, counted against the context's memory limit while held. */
+struct VdbgiMemoryCharge {
+    vdbgi_context *ctx;
+    size_t bytes = 0;
+    explicit VdbgiMemoryCharge(vdbgi_context *c) : ctx(c)
+    {
+    }
+    VdbgiMemoryCharge(const VdbgiMemoryCharge &) = delete;
+    VdbgiMemoryCharge &operator=(const VdbgiMemoryCharge &) = delete;
+    /* Hold now bytes instead of what was held; false (the failure recorded) past the limit. */
+    bool hold(size_t now)
+    {
+        if (now > bytes && !vdbgi_memory_charge(ctx, now - bytes))
+            return false;
+        if (now < bytes)
+            vdbgi_memory_release(ctx, bytes - now);
+        bytes = now;
+        return true;
+    }
+    ~VdbgiMemoryCharge()
+    {
+        vdbgi_memory_release(ctx, bytes);
+    }
+};
+
 #endif /* VDBGI_SHIM_H */

@@ -62,6 +62,11 @@ struct GridLayout : openvdb::io::Archive {
     struct Damaged {
         std::string why;
     };
+    /* A tree that is whole but too sparse for OpenVDB to hold (check_tree). */
+    struct Sparse {
+        std::string why;
+    };
+    static constexpr size_t SPARSE_LEAVES = 65536, MIN_LEAF_ACTIVE = 8;
 
     /*
      * Do the n length-prefixed fields (u32 length, then bytes) at the stream's
@@ -194,9 +199,20 @@ struct GridLayout : openvdb::io::Archive {
                            : f.value_size;
         f.max_index = VDBGI_MAX_INDEX;
         char why[160];
-        if (!vdbgi_vdb_tree_check(bytes.data(), size_t(block - topology), bytes.size(), &f, why,
-                                  sizeof why))
+        size_t leaves = 0, active = 0;
+        if (!vdbgi_vdb_tree_check(bytes.data(), size_t(block - topology), bytes.size(), &f, &leaves,
+                                  &active, why, sizeof why))
             throw Damaged{why};
+        /*
+         * OpenVDB holds every leaf whole (512 values): probes one per leaf cost
+         * 6 kB each (200 000 of them, 1.2 GB from a 33 MB file). A bake's leaves
+         * straddle surfaces in a band 8 probes thick and hold 50 to 500 each.
+         */
+        if (leaves > SPARSE_LEAVES && active < MIN_LEAF_ACTIVE * leaves)
+            throw Sparse{"its " + std::to_string(leaves) + " leaves hold " +
+                         std::to_string(active) + " voxels (fewer than " +
+                         std::to_string(MIN_LEAF_ACTIVE) + " a leaf, past " +
+                         std::to_string(SPARSE_LEAVES) + " leaves)"};
     }
 
     /*
@@ -235,6 +251,9 @@ struct GridLayout : openvdb::io::Archive {
                 check_tree(is, i);
                 gd.seekToGrid(is);
                 readGrid(grids[i], gd, is);
+            } catch (const Sparse &d) {
+                throw Damaged{"grid '" + gd.gridName() + "': " + d.why +
+                              ": too sparse a lattice to read"};
             } catch (const Damaged &d) {
                 throw Damaged{"damaged VDB file (grid '" + gd.gridName() + "': " + d.why + ")"};
             } catch (const openvdb::Exception &e) {
@@ -242,6 +261,15 @@ struct GridLayout : openvdb::io::Archive {
             }
             grids[i]->setName(gd.gridName());
         }
+    }
+
+    /* What the grids read hold in memory. */
+    size_t bytes() const
+    {
+        size_t sum = 0;
+        for (const auto &g : grids)
+            sum += g ? size_t(g->memUsage()) : 0;
+        return sum;
     }
 
     /* The grid of that name, or null; one not read still tells its type. */
@@ -273,6 +301,13 @@ vdbgi_result check_lattice(vdbgi_context *ctx, const char *path, const openvdb::
     if (!xf.isLinear())
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid 'irradiance' has a non-linear transform",
                           path);
+    // A spacing out of range first: OpenVDB's affine map refuses a near-singular
+    // one (1e-5 m) with an ArithmeticError that says nothing of the lattice.
+    const openvdb::Vec3d size = xf.voxelSize();
+    for (int k = 0; k < 3; k++)
+        if (!(size[k] >= VDBGI_MIN_SPACING && size[k] <= VDBGI_MAX_SPACING))
+            return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: probe spacing %g m is outside %g..%g m",
+                              path, size[k], VDBGI_MIN_SPACING, VDBGI_MAX_SPACING);
     const openvdb::Mat4d m = xf.baseMap()->getAffineMap()->getMat4();
     const double s = m(0, 0);
     for (int r = 0; r < 3; r++)
@@ -374,6 +409,9 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     for (int term = 1; term <= 8; term++)
         names.push_back(vdbgi_sh_grid_name(term));
     VDBGI_TRY(read_layout(ctx, path, layout, names));
+    VdbgiMemoryCharge held(ctx);
+    if (!held.hold(layout.bytes()))
+        return vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY, "%s: %s", path, vdbgi_context_error(ctx));
     const auto grid = [&](const char *name) { return layout.find(name); };
     const openvdb::GridBase::Ptr base = grid("irradiance"), vbase = grid("validity");
     const openvdb::GridBase::Ptr sebase = grid("stderr"), raysbase = grid("rays");
@@ -412,7 +450,9 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     const size_t count = size_t(irr->activeVoxelCount());
     const auto se = openvdb::gridPtrCast<openvdb::FloatGrid>(sebase);
     const auto rays = openvdb::gridPtrCast<openvdb::Int32Grid>(raysbase);
-    VDBGI_TRY(p->make(p, count, se != nullptr, rays != nullptr, has_cube, !has_cube && has_sh));
+    if (p->make(p, count, se != nullptr, rays != nullptr, has_cube, !has_cube && has_sh) !=
+        VDBGI_OK)
+        return vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY, "%s: %s", path, vdbgi_context_error(ctx));
     p->spacing = vs.x();
     p->origin[0] = o.x(), p->origin[1] = o.y(), p->origin[2] = o.z();
     read_meta(*irr, p->meta);
@@ -429,5 +469,5 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     copy_extras(p, n, se, rays, vec_grids, vec_count);
     p->count = n;
     return VDBGI_OK;
-    VDBGI_SHIM_END(ctx, "openvdb")
+    VDBGI_SHIM_END_FILE(ctx, "openvdb", path)
 }

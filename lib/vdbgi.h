@@ -113,12 +113,20 @@ typedef struct vdbgi_context vdbgi_context;
  *                no trailing newline. May be called from the caller's thread
  *                only. Errors are not logged: they are returned.
  *   user:        passed back to the three callbacks.
+ *   memory_limit: the most bytes vdbgi may hold at once (0: no limit). An
+ *                allocation that would pass it fails with
+ *                VDBGI_ERR_OUT_OF_MEMORY and a message naming the limit, so
+ *                a job too big for its machine (or its scheduler's memory
+ *                request) ends with one line instead of being killed.
+ *                Counts vdbgi's own allocations and the grids OpenVDB holds
+ *                while a .vdb is read or merged; not a scene importer's.
  */
 typedef struct vdbgi_context_desc {
     void *(*alloc)(void *user, size_t size);
     void (*free)(void *user, void *ptr);
     void (*log)(void *user, vdbgi_log_level level, const char *message);
     void *user;
+    size_t memory_limit;
 } vdbgi_context_desc;
 
 /*
@@ -136,6 +144,9 @@ VDBGI_API void vdbgi_context_destroy(vdbgi_context *ctx);
  * nothing has failed. Owned by the context; valid until its next call.
  */
 VDBGI_API const char *vdbgi_context_error(const vdbgi_context *ctx);
+
+/* The most bytes the context held at once so far (what memory_limit counts). */
+VDBGI_API size_t vdbgi_context_memory_peak(const vdbgi_context *ctx);
 
 /*
  * Check that path could be written as an output (its directory exists and

@@ -36,6 +36,7 @@ typedef struct walk {
     const vdbgi_vdb_tree_format *f;
     char *why;
     size_t why_size;
+    size_t leaves, active; /* leaves walked, active voxels in them */
 } walk;
 
 static bool fail(walk *w, const char *fmt, ...)
@@ -124,6 +125,8 @@ static bool leaf(walk *w)
     // OpenVDB counts the topology's mask and skips this copy: both must agree.
     if (memcmp(mask, again, LEAF_MASK_BYTES) != 0)
         return fail(w, "a leaf's mask differs between its topology and its data");
+    w->leaves++;
+    w->active += count_on(mask, LEAF_MASK_BYTES);
     return values(w, &w->data, LEAF_VALUES, mask);
 }
 
@@ -194,9 +197,10 @@ static bool root(walk *w)
 }
 
 bool vdbgi_vdb_tree_check(const uint8_t *buf, size_t topology, size_t size,
-                          const vdbgi_vdb_tree_format *f, char *why, size_t why_size)
+                          const vdbgi_vdb_tree_format *f, size_t *leaves, size_t *active, char *why,
+                          size_t why_size)
 {
-    walk w = {{buf, 0, topology}, {buf, topology, size}, f, why, why_size};
+    walk w = {{buf, 0, topology}, {buf, topology, size}, f, why, why_size, 0, 0};
     if (topology > size)
         return fail(&w, "its topology ends past its data");
     if (!root(&w))
@@ -206,5 +210,9 @@ bool vdbgi_vdb_tree_check(const uint8_t *buf, size_t topology, size_t size,
                     topology - w.topo.pos);
     if (w.data.pos != size)
         return fail(&w, "its data ends %zu bytes before the grid does", size - w.data.pos);
+    if (leaves)
+        *leaves = w.leaves;
+    if (active)
+        *active = w.active;
     return true;
 }

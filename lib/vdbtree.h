@@ -24,10 +24,13 @@ typedef struct vdbgi_vdb_tree_format {
  * every count, mask and chunk size consistent and inside the bytes? OpenVDB
  * 10 trusts a chunk's stored size and copies that many bytes into a buffer
  * sized by the mask (one flipped byte corrupted the heap); it also allocates
- * whatever size a chunk claims. On false, why says what is wrong.
+ * whatever size a chunk claims. On false, why says what is wrong; on true,
+ * *leaves and *active (either may be NULL) count its leaves and their active
+ * voxels.
  */
 bool vdbgi_vdb_tree_check(const uint8_t *buf, size_t topology, size_t size,
-                          const vdbgi_vdb_tree_format *f, char *why, size_t why_size);
+                          const vdbgi_vdb_tree_format *f, size_t *leaves, size_t *active, char *why,
+                          size_t why_size);
 
 #ifdef __cplusplus
 }

@@ -4,6 +4,7 @@
  * volume_io.c's.
  */
 #include "atlas.h"
+#include "gifile.h"
 #include "packed.h"
 #include "util.h"
 
@@ -283,9 +284,6 @@ static vdbgi_volume *volume_start(vdbgi_context *ctx, const vdbgi_probes *probes
     return v;
 }
 
-/* Cells of the indirection any lattice may have, however sparse: 16 M, about 500 MB. */
-#define VDBGI_SPARSE_CELLS (1 << 24)
-
 /*
  * The indirection's size from the valid probes alone, before the fill spends
  * memory on a lattice the texture limit refuses anyway: the same cells
@@ -454,7 +452,9 @@ static vdbgi_result step_done(vdbgi_context *ctx, const vdbgi_convert_desc *desc
                               double *t, const char *what)
 {
     const double now = vdbgi_now();
-    vdbgi_log(ctx, VDBGI_LOG_DEBUG, "%s in %.3f s", what, now - *t);
+    vdbgi_log(ctx, VDBGI_LOG_DEBUG, "%s in %.3f s (%.1f MiB held, at most %.1f MiB so far)", what,
+              now - *t, (double)__atomic_load_n(&ctx->memory_held, __ATOMIC_RELAXED) / 1048576.0,
+              (double)vdbgi_context_memory_peak(ctx) / 1048576.0);
     *t = now;
     VDBGI_FAIL_IF(ctx, report(desc, done), VDBGI_ERR_CANCELLED, "conversion cancelled");
     return VDBGI_OK;

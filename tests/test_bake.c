@@ -497,7 +497,7 @@ static void failing_allocations_are_reported_without_leaks(void)
     int succeeded = 0;
     for (long n = 0; n < 200 && !succeeded; n++) {
         test_alloc a = {0, n, 0};
-        const vdbgi_context_desc cd = {test_alloc_fn, test_free_fn, NULL, &a};
+        const vdbgi_context_desc cd = {.alloc = test_alloc_fn, .free = test_free_fn, .user = &a};
         vdbgi_context *ctx = NULL;
         vdbgi_result r = vdbgi_context_create(&cd, &ctx);
         vdbgi_scene *s = NULL;

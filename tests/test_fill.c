@@ -5,6 +5,7 @@
  * OpenVDB's tree order; the bytes do not depend on the thread count.
  */
 #include "check.h"
+#include "context.h"
 #include "field.h"
 
 #include <stdlib.h>
@@ -74,7 +75,7 @@ static void one_source_reaches_the_cells_whose_filter_reads_it(void)
         CHECK(a && a[0] == rgb[0] && a[1] == rgb[1] && a[2] == rgb[2]);
         CHECK(b && b[0] == rgb[0] && b[1] == rgb[1] && b[2] == rgb[2]);
         CHECK(vdbgi_field_at(&f, past, NULL) == NULL);
-        free(cells);
+        vdbgi_free(ctx, cells);
         vdbgi_field_free(&f);
         vdbgi_context_destroy(ctx);
     }
@@ -122,7 +123,7 @@ static void a_ring_takes_the_weighted_mean_of_its_valued_neighbours(void)
             }
         CHECK_NEAR(n[0], sum / wsum, 1e-6);
     }
-    free(cells);
+    vdbgi_free(ctx, cells);
     vdbgi_field_free(&f);
     vdbgi_context_destroy(ctx);
 }
@@ -149,7 +150,7 @@ static void an_invalid_probe_in_a_wall_takes_one_neighbour_for_every_channel(voi
     if (v)
         for (int i = 0; i < 6; i++)
             CHECK(v[i] == values[6 + i]);
-    free(cells);
+    vdbgi_free(ctx, cells);
     vdbgi_field_free(&f);
     /* The mean fill ignores the wall: face weights 1 each. */
     CHECK_RESULT(ctx,
@@ -161,7 +162,7 @@ static void an_invalid_probe_in_a_wall_takes_one_neighbour_for_every_channel(voi
         CHECK_NEAR(m[0], 0.3, 1e-6);
         CHECK_NEAR(m[3], 4.6, 1e-6);
     }
-    free(cells);
+    vdbgi_free(ctx, cells);
     vdbgi_field_free(&f);
     vdbgi_context_destroy(ctx);
 }
@@ -190,7 +191,7 @@ static void leaves_and_cells_come_in_tree_order(void)
         CHECK(vdbgi_tree_order(&cells[3 * (i - 1)], &cells[3 * i]) < 0);
     for (size_t l = 1; l < f.leaf_count; l++)
         CHECK(vdbgi_tree_order(f.leaves[l - 1].origin, f.leaves[l].origin) < 0);
-    free(cells);
+    vdbgi_free(ctx, cells);
     vdbgi_field_free(&f);
     vdbgi_context_destroy(ctx);
 }
@@ -232,7 +233,7 @@ static void the_field_does_not_depend_on_the_thread_count(void)
         }
     }
     for (int t = 0; t < 3; t++) {
-        free(cells[t]);
+        vdbgi_free(ctx, cells[t]);
         vdbgi_field_free(&f[t]);
     }
     vdbgi_context_destroy(ctx);

@@ -666,7 +666,8 @@ static long peak_rss_kib(void)
 static void a_kilometre_plane_is_refused_or_placed_within_memory(void)
 {
     test_alloc a = {0, LONG_MAX, 0}; /* never fails; counts */
-    const vdbgi_context_desc cd = {test_alloc_fn, test_free_fn, test_log, &a};
+    const vdbgi_context_desc cd = {
+        .alloc = test_alloc_fn, .free = test_free_fn, .log = test_log, .user = &a};
     vdbgi_context *ctx = NULL;
     CHECK_RESULT(ctx, vdbgi_context_create(&cd, &ctx), VDBGI_OK);
     test_mesh m = {0};

@@ -377,6 +377,67 @@ static void tiles_merge_into_the_whole_bake(void)
     vdbgi_context_destroy(ctx);
 }
 
+/*
+ * Read and convert a .vdb on a context limited to limit bytes (0: none) on one
+ * thread; the result, the context's peak and (on success) the file's bytes.
+ */
+static vdbgi_result convert_limited(const char *path, size_t limit, size_t *peak,
+                                    unsigned char *bytes, size_t *size, char *why)
+{
+    const vdbgi_context_desc d = {.memory_limit = limit};
+    vdbgi_context *ctx = NULL;
+    CHECK(vdbgi_context_create(&d, &ctx) == VDBGI_OK);
+    CHECK(vdbgi_context_memory_peak(ctx) == 0);
+    vdbgi_probes *p = NULL;
+    vdbgi_volume *v = NULL;
+    vdbgi_result r = vdbgi_probes_read(ctx, path, &p);
+    const vdbgi_convert_desc cd = {.threads = 1};
+    if (r == VDBGI_OK)
+        r = vdbgi_volume_build(ctx, p, &cd, &v);
+    *size = 0;
+    if (r == VDBGI_OK && !(*size = vdbgi_volume_write_memory(v, bytes, 1 << 20)))
+        r = VDBGI_ERR_OUT_OF_MEMORY;
+    *peak = vdbgi_context_memory_peak(ctx);
+    snprintf(why, 512, "%s", vdbgi_context_error(ctx));
+    vdbgi_volume_destroy(v);
+    vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+    return r;
+}
+
+/*
+ * The memory limit counts what a conversion holds, the same on every run: at
+ * the peak an unlimited run measured it gives the same bytes; one byte under,
+ * it stops with one line naming the file and the limit.
+ */
+static void a_memory_limit_stops_a_conversion_at_its_figure(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = NULL;
+    vdbgi_probes *p = baked_probes(ctx, &s);
+    CHECK_RESULT(ctx, vdbgi_probes_write(p, tmp_path("limit.vdb")), VDBGI_OK);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+    static unsigned char whole[1 << 20], limited[1 << 20];
+    char why[512];
+    size_t peak = 0, again = 0, size = 0, limited_size = 0;
+    CHECK(convert_limited(tmp_path("limit.vdb"), 0, &peak, whole, &size, why) == VDBGI_OK);
+    /* The grids OpenVDB held count too: more than the probes' own arrays. */
+    CHECK(peak > 100000 && size > 0);
+    CHECK(convert_limited(tmp_path("limit.vdb"), peak, &again, limited, &limited_size, why) ==
+          VDBGI_OK);
+    CHECK(again == peak && limited_size == size && memcmp(whole, limited, size) == 0);
+    CHECK(convert_limited(tmp_path("limit.vdb"), peak - 1, &again, limited, &limited_size, why) ==
+          VDBGI_ERR_OUT_OF_MEMORY);
+    CHECK(again <= peak - 1 && limited_size == 0);
+    CHECK(strstr(why, "memory limit of") != NULL);
+    /* Every limit below the read's own need names the file. */
+    CHECK(convert_limited(tmp_path("limit.vdb"), 50000, &again, limited, &limited_size, why) ==
+          VDBGI_ERR_OUT_OF_MEMORY);
+    CHECK(strstr(why, "limit.vdb") != NULL && strstr(why, "memory limit of") != NULL);
+}
+
 int main(void)
 {
     test_tmpdir_make("test-vdb");
@@ -386,6 +447,7 @@ int main(void)
     RUN(ambient_cubes_round_trip_as_six_grids);
     RUN(sh2_terms_round_trip_as_eight_grids);
     RUN(tiles_merge_into_the_whole_bake);
+    RUN(a_memory_limit_stops_a_conversion_at_its_figure);
     test_tmpdir_remove();
     return CHECK_EXIT();
 }

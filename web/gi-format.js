@@ -14,6 +14,7 @@ export const LAYOUT_SEED = 1;
 export const LAYOUT_COMPACT = 2;
 // Version 2 files written before this numbering: 0 for the seed layout, 3 for the compact one.
 const OLD_LAYOUT_SEED = 0, OLD_LAYOUT_COMPACT = 3;
+const SPARSE_CELLS = 1 << 24; // indirection cells any volume may have, however sparse
 const ATLAS_MAX = 1024; // a compact brick's first texel is 4 r + two bits of a: at most 1023
 
 const HEADER_BYTES = 112;
@@ -167,6 +168,13 @@ function parseHeader(buf) {
   const least = 27 * (gi.bricks[0] + gi.bricks[1]) + 8 * gi.bricks[2] + gi.bricks[3];
   if (packed && least > gi.storedPoints)
     throw new Error(`the header's bricks need at least ${least} stored points, it has ${gi.storedPoints}`);
+  // Past 16 M cells, at most 4096 for every cell a brick covers (the converter's
+  // bound): 10^9 empty cells would unpack 1 GB of level bytes from a 1 MB file.
+  const cells = indBytes / 4;
+  const covered = gi.bricks[0] + 8 * gi.bricks[1] + 64 * gi.bricks[2] + 512 * gi.bricks[3];
+  if (packed && cells > SPARSE_CELLS && cells > 4096 * covered)
+    throw new Error(`${cells} cells of the indirection for ${covered} under bricks (more than 4096 a ` +
+      `brick's cell, and more than ${SPARSE_CELLS}): too sparse a volume`);
   // Version 5 stores a level byte a cell, 6 bytes a brick (its place) and 4 a
   // stored point, not the textures; version 6 24 more a point, the L2 terms.
   const brickCount = gi.bricks.reduce((a, b) => a + b, 0);

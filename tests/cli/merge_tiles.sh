@@ -27,6 +27,9 @@ run other1.vdb tile2.vdb tile3.vdb tile4.vdb
 run tile1.vdb tile2.vdb three1.vdb tile4.vdb
 run whole.vdb
 run tile1.vdb missing.vdb
+# The grids held past a stated memory limit: stopped, naming the tile, nothing written.
+run tile1.vdb tile2.vdb tile3.vdb tile4.vdb --memory-limit 1M
+"$BIN/gi-merge" tile1.vdb tile2.vdb tile3.vdb tile4.vdb -q -o out.vdb --memory-limit 1G && echo "merged under 1G"
 "$BIN/gi-merge" tile1.vdb 2>&1; echo "exit $?"
 "$BIN/gi-merge" -o out.vdb 2>&1; echo "exit $?"
 for t in 0/4 5/4 1/1 2 x/4; do

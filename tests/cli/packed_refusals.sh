@@ -6,8 +6,9 @@
 # readers' checks can catch it; the C reader (gi-inspect) and the JavaScript one each
 # refuse every one with one line, and read the good file. A header that counts more
 # bricks than its stored points can hold is refused before anything is allocated for
-# them; a file that unpacks to 50 MB past what its header declares is refused from
-# its first 112 bytes, with the same message by both. Last, the textures (version 2) with the layout numbers written before
+# them; a file that unpacks to 50 MB past what its header declares, or whose header
+# declares 33 M indirection cells for a few bricks, is refused from its first 112
+# bytes, with the same message by both. Last, the textures (version 2) with the layout numbers written before
 # they were the same everywhere (0 seed, 3 compact) are still read, alike.
 "$BIN/gi-bake" -q "$DATA/world.glb" -o world.vdb --spacing 1 --rays 16 >/dev/null
 "$BIN/vdb-to-gi" -q world.vdb -o good.gi.gz --eps 0.3

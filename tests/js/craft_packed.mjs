@@ -60,3 +60,16 @@ write('older-compact-version-4', (b, v) => { v.setUint32(8, 4, true); });
 write('older-compact-version-3', (b, v) => { v.setUint32(8, 3, true); v.setUint32(104, 1, true); });
 write('unknown-layout-4', (b, v) => { v.setUint32(104, 4, true); });
 write('packed-with-the-old-compact-number-3', (b, v) => { v.setUint32(104, 3, true); });
+// 33.5 M cells of the indirection (512 x 512 x 128), empty but for the good file's few
+// bricks: 33 MB of level bytes that gzip to 33 kB, then a 134 MB texture.
+{
+  const wide = [512, 512, 128], many = wide[0] * wide[1] * wide[2];
+  const b = new Uint8Array(raw.length - cells + many);
+  b.set(raw.subarray(0, H));
+  b.set(raw.subarray(H + cells), H + many);
+  const v = new DataView(b.buffer);
+  wide.forEach((n, k) => v.setUint32(24 + 4 * k, n, true));
+  v.setUint32(96, 4 * many, true);
+  writeFileSync(`${dir}/thirty-million-empty-cells.gi.gz`, gzipSync(b));
+  console.log('thirty-million-empty-cells');
+}
