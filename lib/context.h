@@ -99,8 +99,9 @@ vdbgi_result vdbgi_write_atomic(vdbgi_context *ctx, const char *path, vdbgi_writ
 vdbgi_result vdbgi_input_check(vdbgi_context *ctx, const char *path);
 
 /*
- * The counts an OFF or PLY header declares against the file's size, before
- * assimp reserves them (scene_counts.c); other files pass.
+ * The counts an OFF or PLY header declares against the file's size, and an
+ * OBJ's faces against the triangle limit, before assimp reads them
+ * (scene_counts.c); other files pass.
  */
 vdbgi_result vdbgi_scene_counts_check(vdbgi_context *ctx, const char *path);
 

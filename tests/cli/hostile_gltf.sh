@@ -94,7 +94,14 @@ done
 # invalid/OutOfMemory.off, 309 bytes declaring 3.5 x 10^11 vertices, took 4.6 GB).
 printf 'OFF\n353535235358 6 0\n-0.5 -0.5 0.5\n0.5 -0.5 0.5\n' > huge.off
 printf 'ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n' > huge.ply
-for f in huge.off huge.ply; do
+# OBJ has no header: its faces are counted. 1.2 M faces of one vertex repeated (assimp
+# holds ~230 B a face: ten million took 2.3 GB for no area), and one polygon of 20 M
+# corners (more triangles than any scene may have).
+python3 -c "
+open('repeat.obj', 'w').write('v 0 0 0\\nv 1 0 0\\nv 0 0 1\\n' + 'f 1 1 1\\n' * 1200000 + 'f 1 2 3\\n')
+open('polygon.obj', 'w').write('v 0 0 0\\nv 1 0 0\\nv 0 0 1\\nf' + ' 1 2' * 10000002 + '\\n')
+"
+for f in huge.off huge.ply repeat.obj polygon.obj; do
     ($limit; timeout 20 "$BIN/gi-bake" "$f" -o out.vdb) >/dev/null 2>err
     echo "gi-bake $f: exit $?, $(wc -l < err) line(s): $(head -n 1 err)"
     rm -f out.*
