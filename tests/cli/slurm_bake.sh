@@ -49,7 +49,7 @@ SelectType=select/cons_tres
 SelectTypeParameters=CR_Core
 MpiDefault=none
 ReturnToService=2
-NodeName=$(hostname -s) CPUs=$(nproc) State=UNKNOWN
+NodeName=$(hostname -s) CPUs=$(nproc) RealMemory=$(free -m | awk '/^Mem:/ {print $2}') State=UNKNOWN
 PartitionName=local Nodes=ALL Default=YES MaxTime=INFINITE State=UP
 CONF
 export SLURM_CONF="$T/slurm.conf"
@@ -86,9 +86,11 @@ for _ in $(seq 60); do
 done
 echo "killed tile 3:" run2/*.vdb "written"
 
+# Resumed with a memory request: the merge and the conversion run under 4/5 of it.
 # shellcheck disable=SC2086
-submit --wait "$DATA/world.glb" run2 4 $opts | sed 's/job [0-9]*/job N/'
+VDBGI_SBATCH=--mem=1G submit --wait "$DATA/world.glb" run2 4 $opts | sed 's/job [0-9]*/job N/'
 grep -h '^vdbgi tile' run2/tile*.log | sed 's|[^ ]*/run2/|run2/|; s/ (attempt 1)//'
+grep -h '^vdbgi: --memory-limit' run2/merge.log
 /usr/bin/python3 "$ROOT/tests/cli/same_vdb.py" whole.vdb run2/world.vdb
 
 # A tile that cannot be written: tried twice, named, and the merge never runs.
