@@ -275,8 +275,15 @@ int main(int argc, char **argv)
     }
     code = CLI_OK;
     const double t1 = cli_now();
-    if (r == VDBGI_OK)
-        r = vdbgi_lightmap_bake_scene(ctx, scene, &o.lm, &lm, &g.st);
+    if (r == VDBGI_OK &&
+        (r = vdbgi_lightmap_bake_scene(ctx, scene, &o.lm, &lm, &g.st)) != VDBGI_OK) {
+        /* The bake sees a scene, not a file: say which one asked for too much, or for
+           what cannot be baked (a bad option is the command's, not the file's). */
+        if (r == VDBGI_ERR_OUT_OF_MEMORY || r == VDBGI_ERR_FORMAT)
+            cli_error("%s: %s", o.scene, vdbgi_context_error(ctx)), code = CLI_FAILED;
+        else
+            code = cli_fail(ctx, r);
+    }
     const double t2 = cli_now();
     if (r == VDBGI_OK)
         r = vdbgi_lightmap_write(lm, o.output);
@@ -292,9 +299,9 @@ int main(int argc, char **argv)
         r = cli_write_printed(ctx, o.stats, print_json, &g);
     if (r == VDBGI_OK)
         r = vdbgi_context_commit_outputs(ctx);
-    if (r != VDBGI_OK)
+    if (r != VDBGI_OK && code == CLI_OK)
         code = cli_fail(ctx, r);
-    else if (cli_verbosity >= 2)
+    else if (r == VDBGI_OK && cli_verbosity >= 2)
         print_figures(stdout, &g, false);
     vdbgi_lightmap_destroy(lm);
     vdbgi_sky_destroy(sky);

@@ -420,13 +420,13 @@ static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
     const double texels = (double)r->un.size * r->un.size * (double)r->un.page_count;
     const double work = texels * (d->ao_dist > 0.0f ? 1 : passes) * bp.rays;
     if (res == VDBGI_OK && (r->un.page_count > 64 || texels > (double)VDBGI_LIGHTMAP_MAX_TEXELS))
-        res = vdbgi_fail(ctx, VDBGI_ERR_INVALID_ARG,
+        res = vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY,
                          "the charts take %zu atlases of %d texels (%.1f M texels; at most 64 "
                          "atlases and %.1f M texels): raise --texel or lower --size",
                          r->un.page_count, r->un.size, texels * 1e-6,
                          VDBGI_LIGHTMAP_MAX_TEXELS * 1e-6);
     else if (res == VDBGI_OK && work > VDBGI_LIGHTMAP_MAX_RAYS)
-        res = vdbgi_fail(ctx, VDBGI_ERR_INVALID_ARG,
+        res = vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY,
                          "%.1f M texels x %d rays x %d passes is %.1f G rays (at most %.1f G, "
                          "minutes at tens of M rays/s): raise --texel or lower --rays or --passes",
                          texels * 1e-6, bp.rays, d->ao_dist > 0.0f ? 1 : passes, work * 1e-9,

@@ -1,6 +1,7 @@
-# Every damaged file of tests/hostile (copied from the reports that found them)
-# is refused: exit 1 within 20 s under a 4 GB address-space limit, one line on
-# stderr naming the file, no output left. The originals still convert, and a
+# Every damaged file of tests/hostile (vdb, gi, js, lightmap; copied from the reports
+# that found them or written by hand) is refused: exit 1 within 20 s under a 4 GB
+# address-space limit, one line on stderr naming the file, no output left; node's
+# loader refuses the js files alike. The originals still convert, and a
 # texture that is a device or claims 20000^2 pixels is a warning, not a hang or
 # 6 GB, in gi-bake and gi-lightmap, as a base colour or as emission. Prints what it checked and every deviation.
 H="$ROOT/tests/hostile"
@@ -38,9 +39,13 @@ for f in "$H"/vdb/*.vdb; do
     [ "$(basename "$f")" = bbox_long_line.vdb ] && expect=accept
     check $expect "$f" "$BIN/gi-inspect" "$f"
 done
-for f in "$H"/gi/*.gi.gz; do
+for f in "$H"/gi/*.gi.gz "$H"/js/*.gi.gz; do
     case "$(basename "$f")" in ORIGINAL*) expect=accept ;; *) expect=refuse ;; esac
     check $expect "$f" "$BIN/gi-inspect" "$f"
+done
+# The lightmapper's own: work past its budget, only NaN geometry.
+for f in "$H"/lightmap/*.obj; do
+    check refuse "$f" "$BIN/gi-lightmap" "$f" -o out.glb -q
 done
 echo "$bad of the runs deviated"
 for f in "$H"/scenes/*.obj; do
@@ -48,6 +53,22 @@ for f in "$H"/scenes/*.obj; do
     echo "$(basename "$f"): exit $?, $(sed -e 's/^gi-bake: warning: //' -e "s|$H/||g" err)"
     rm -f out.*
 done
+# The JavaScript loader, in node under the same limits: the files for it (declared
+# sizes that would unpack far more than the file) refused with the C reader's words.
+cat > load.mjs <<JS
+import { readFileSync } from 'node:fs';
+import { loadGi } from '$ROOT/tests/js/gi_loader.mjs';
+try {
+  const gi = await loadGi(readFileSync(process.argv[2]));
+  console.log('read', gi.bricks.join('/'));
+} catch (e) {
+  console.log('refused:', e.message);
+}
+JS
+for f in "$H"/js/*.gi.gz; do
+    echo "node $(basename "$f"): $($limit; timeout 20 node load.mjs "$f" 2>&1)"
+done
+rm -f load.mjs
 # The same scenes through gi-lightmap; and their textures as emission (map_Ke), through both.
 for f in "$H"/scenes/*.obj; do
     ($limit; timeout 20 "$BIN/gi-lightmap" "$f" -o out.glb --size 64 --texel 0.5) >/dev/null 2>err

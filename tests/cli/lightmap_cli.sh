@@ -31,7 +31,7 @@ mkdir bad && cd bad
 "$BIN/gi-lightmap" "$DATA/room.obj" -o x.glb --mode bake 2> err.txt; echo "mode: exit $?, $(head -1 err.txt)"
 echo "keep me" > notes.glb
 "$BIN/gi-lightmap" "$DATA/room.obj" -o notes.glb 2> err.txt; echo "not a glTF in the way: exit $?, $(cat notes.glb)"
-printf 'v 0 0 0\nv 1 0 0\nv 0 0 nan\nf 1 2 3\n' > nan.obj
+cp "$ROOT/tests/hostile/lightmap/nan.obj" .
 "$BIN/gi-lightmap" nan.obj -o y.glb 2> err.txt; echo "only a NaN triangle: exit $?, $(tail -1 err.txt)"
 echo "files left: $(ls | grep -v -e err.txt -e notes.glb -e nan.obj | wc -l)"
 # All outputs or none: a --stats or -o naming a directory is refused before anything is
@@ -59,15 +59,7 @@ console.log(`shared texture: ${j.materials.length} materials on ${sources.size} 
 # Work a small file may ask for is bounded before it is spent (issue 27): 64 quads of
 # 1024 x 1024 texels each (an atlas apiece, 67 M texels, 4 GB) are refused by their texels;
 # one 500 m quad (scaled into one atlas, 1 M texels) by its rays at 4096 a texel.
-{
-    q=0
-    while [ $q -lt 64 ]; do
-        x=$((q * 300))
-        echo "v $x 0 0"; echo "v $((x + 255)) 0 0"; echo "v $((x + 255)) 0 255"; echo "v $x 0 255"
-        echo "f $((4 * q + 1)) $((4 * q + 3)) $((4 * q + 2))"; echo "f $((4 * q + 1)) $((4 * q + 4)) $((4 * q + 3))"
-        q=$((q + 1))
-    done
-} > quads.obj
+cp "$ROOT/tests/hostile/lightmap/quads64.obj" quads.obj
 printf 'v 0 0 0\nv 500 0 0\nv 500 0 500\nv 0 0 500\nf 1 3 2\nf 1 4 3\n' > plane.obj
 "$BIN/gi-lightmap" quads.obj -o quads.glb 2>&1 >/dev/null; echo "exit $?"
 "$BIN/gi-lightmap" plane.obj -o plane.glb --rays 4096 2>&1 >/dev/null; echo "exit $?"

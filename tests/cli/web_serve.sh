@@ -5,4 +5,5 @@ mkdir files
 echo ok > files/ok.txt
 echo secret > outside.txt
 ln -s "$PWD/outside.txt" files/out.txt
-node "$ROOT/tests/js/check_serve.mjs" "$PWD/files"
+# Then the raw requests of tests/hostile/http, each as its bytes.
+node "$ROOT/tests/js/check_serve.mjs" "$PWD/files" "$ROOT/tests/hostile/http"
