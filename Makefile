@@ -90,7 +90,7 @@ DEB_PACKAGES := gcc g++ make pkg-config libopenvdb-dev libboost-dev libimath-dev
 # Keep object files of apps and tests (make would delete them as intermediates).
 .SECONDARY:
 
-.PHONY: all lib apps tests check demo bench chart deps asan fuzz install uninstall clean format list view pictures
+.PHONY: all lib apps tests check demo bench bench-scale chart deps asan fuzz install uninstall clean format list view pictures
 
 ## all: build the library and the apps (default)
 all: lib apps
@@ -229,6 +229,11 @@ bench:
 	$(Q)$(MAKE) --no-print-directory deps
 	$(Q)$(MAKE) --no-print-directory all
 	$(Q)BUILD=$(BUILD) sh tests/bench.sh
+
+## bench-scale: tiles of the 200 m world and the 4x world step by step (docs/scale.md, ten minutes)
+bench-scale:
+	$(Q)$(MAKE) --no-print-directory all
+	$(Q)BUILD=$(BUILD) sh tests/scale.sh
 
 ## chart: sweep rays, eps and spacing, redraw docs/img/chart_*.png, stability table (two minutes)
 chart:

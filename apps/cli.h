@@ -59,7 +59,7 @@ int cli_one_input(int argc, char **argv, const char *what, const char **out);
 vdbgi_context *cli_context(void);
 
 /*
- * --memory-limit SIZE (the farm's programs: gi-bake, gi-merge, vdb-to-gi):
+ * --memory-limit SIZE (gi-merge and vdb-to-gi, the steps that hold a whole world):
  * bytes, or with K, M, G or T (powers of 1024). Sets cli_memory_limit, which
  * cli_context gives every context; returns -2, or the exit code of a usage
  * error.

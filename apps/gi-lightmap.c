@@ -277,8 +277,8 @@ int main(int argc, char **argv)
     const double t1 = cli_now();
     if (r == VDBGI_OK &&
         (r = vdbgi_lightmap_bake_scene(ctx, scene, &o.lm, &lm, &g.st)) != VDBGI_OK) {
-        /* The bake sees a scene, not a file: say which one asked for too much, or for
-           what cannot be baked (a bad option is the command's, not the file's). */
+        /* The bake sees a scene, not a file: say which one asked for more work than the
+           budget at these options, or cannot be baked (a bad value is the command's). */
         if (r == VDBGI_ERR_OUT_OF_MEMORY || r == VDBGI_ERR_FORMAT)
             cli_error("%s: %s", o.scene, vdbgi_context_error(ctx)), code = CLI_FAILED;
         else

@@ -498,10 +498,11 @@ vdbgi_result vdbgi_field_fill(vdbgi_context *ctx, const vdbgi_fill_input *in,
     /*
      * A scene's lattice holds about 30 valid probes a cell (the bundled world,
      * the 200 m world and the interior: 1 cell for 27-45): a file of probes
-     * one per leaf asked for 8 cells a probe and gigabytes of fill. Refused
-     * before the fill allocates; a margin grows every cell's reach.
+     * one per leaf asked for 8 cells a probe (the most one can reach) and
+     * gigabytes of fill. Refused past an eighth of that most, before the fill
+     * allocates; a margin of m cells lets a probe reach (2m + 2)^3.
      */
-    const size_t span = 2 * (size_t)fp->margin_cells + 1, allowed = span * span * span * sources;
+    const size_t reach = (size_t)fp->margin_cells + 1, allowed = reach * reach * reach * sources;
     if (cells.count > VDBGI_FILL_SPARSE_CELLS && cells.count > allowed) {
         r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
                        "%zu valid probes spread over %zu cells of %d^3 points (more than %zu, and "

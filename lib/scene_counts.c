@@ -9,6 +9,8 @@
 #include "gltf_shim.h"
 #include "util.h"
 
+#include <assimp/cimport.h>
+
 #include <ctype.h>
 #include <errno.h>
 #include <stdio.h>
@@ -83,55 +85,138 @@ static bool has_extension(const char *path, const char *ext)
     return n >= e && strcasecmp(path + n - e, ext) == 0;
 }
 
-/* Reads of faces that repeat a vertex, past which most of a file being so is refused. */
+/* Faces without area, past which most of a file being so is refused. */
 #define OBJ_DEGENERATE_FACES 1000000
 
 /*
- * OBJ has no header: its faces are counted line by line before assimp reads
- * it, which holds about 230 bytes a face whatever the face is (ten million
- * "f 1 1 1", 80 MB of one vertex repeated, took 2.3 GB for no area at all).
- * The triangles its faces make are held to the limit every scene has, and a
- * file whose faces mostly repeat a vertex (past a million) is refused.
+ * OBJ has no header: its faces are counted before assimp reads it, which
+ * holds about 230 bytes a face whatever the face is (ten million "f 1 1 1",
+ * 80 MB of one vertex repeated, took 2.3 GB for no area at all). The scan
+ * streams the bytes (a line may be the whole file) and splits lines where
+ * assimp does: at \n, \r, \f and \0, a backslash before one continuing it.
  */
+typedef struct obj_scan {
+    enum { LINE_START, MAYBE_FACE, OTHER_LINE, FACE_BLANK, FACE_TOKEN, FACE_COMMENT } state;
+    bool backslash, skip_lf;
+    uint64_t faces, triangles, degenerate;
+    /* The face being read: its corners, the first three vertices, whether all are one. */
+    uint64_t corners;
+    long long v[3], value;
+    bool negative, slash, all_same;
+} obj_scan;
+
+static bool obj_blank(int c)
+{
+    return c == ' ' || c == '\t' || c == '\v';
+}
+
+/* A corner's vertex is the number before its first '/' ("v", "v/vt", "v//vn"). */
+static void obj_token_end(obj_scan *s)
+{
+    const long long v = s->negative ? -s->value : s->value;
+    if (s->corners < 3)
+        s->v[s->corners] = v;
+    s->all_same = s->all_same && (s->corners == 0 || v == s->v[0]);
+    s->corners++;
+}
+
+static void obj_line_end(obj_scan *s)
+{
+    if (s->state == FACE_TOKEN)
+        obj_token_end(s);
+    if (s->state == FACE_BLANK || s->state == FACE_TOKEN || s->state == FACE_COMMENT) {
+        const long long *const v = s->v;
+        s->faces++;
+        s->triangles += s->corners > 2 ? s->corners - 2 : 0;
+        s->degenerate += s->corners < 3 || s->all_same ||
+                         (s->corners == 3 && (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]));
+    }
+    s->state = LINE_START;
+}
+
+static void obj_byte(obj_scan *s, int c)
+{
+    const bool line_end = c == '\n' || c == '\r' || c == '\f' || c == '\0';
+    if (s->skip_lf) {
+        s->skip_lf = false;
+        if (c == '\n')
+            return;
+    }
+    if (s->backslash) {
+        s->backslash = false;
+        if (line_end) { /* the line goes on: the two are a blank */
+            s->skip_lf = c == '\r';
+            c = ' ';
+        } else if (s->state == FACE_TOKEN) {
+            obj_token_end(s);
+            s->state = FACE_BLANK;
+        }
+    } else if (c == '\\') {
+        s->backslash = true;
+        return;
+    } else if (line_end) {
+        obj_line_end(s);
+        return;
+    }
+    switch (s->state) {
+    case LINE_START:
+        if (!obj_blank(c))
+            s->state = c == 'f' ? MAYBE_FACE : OTHER_LINE;
+        break;
+    case MAYBE_FACE:
+        if (obj_blank(c)) {
+            s->state = FACE_BLANK;
+            s->corners = 0;
+            s->all_same = true;
+        } else {
+            s->state = OTHER_LINE;
+        }
+        break;
+    case FACE_TOKEN:
+        if (obj_blank(c) || c == '#') {
+            obj_token_end(s);
+            s->state = c == '#' ? FACE_COMMENT : FACE_BLANK;
+        } else if (c == '/') {
+            s->slash = true;
+        } else if (!s->slash && c == '-' && s->value == 0) {
+            s->negative = true;
+        } else if (!s->slash && c >= '0' && c <= '9' && s->value < 1000000000000000LL) {
+            s->value = 10 * s->value + (c - '0');
+        }
+        break;
+    case FACE_BLANK:
+        if (c == '#') {
+            s->state = FACE_COMMENT;
+        } else if (!obj_blank(c)) {
+            s->state = FACE_TOKEN;
+            s->value = 0;
+            s->negative = s->slash = false;
+            obj_byte(s, c);
+        }
+        break;
+    case OTHER_LINE:
+    case FACE_COMMENT: break;
+    }
+}
+
+/* The triangles its faces make against the limit every scene has; mostly faces without area. */
 static vdbgi_result obj_counts(vdbgi_context *ctx, const char *path, FILE *f)
 {
-    char *line = NULL;
-    size_t capacity = 0;
-    uint64_t faces = 0, triangles = 0, degenerate = 0;
-    while (getline(&line, &capacity, f) != -1) {
-        const char *p = line;
-        while (*p == ' ' || *p == '\t')
-            p++;
-        if (p[0] != 'f' || (p[1] != ' ' && p[1] != '\t'))
-            continue;
-        p++;
-        /* Each corner is "v", "v/vt", "v//vn" or "v/vt/vn": its vertex is what counts. */
-        long v[3] = {0, 0, 0};
-        uint64_t corners = 0;
-        for (;;) {
-            while (*p == ' ' || *p == '\t')
-                p++;
-            if (!*p || *p == '\n' || *p == '\r' || *p == '#')
-                break;
-            if (corners < 3)
-                v[corners] = strtol(p, NULL, 10);
-            corners++;
-            while (*p && !isspace((unsigned char)*p))
-                p++;
-        }
-        faces++;
-        triangles += corners > 2 ? corners - 2 : 0;
-        degenerate += corners == 3 && (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]);
-    }
-    free(line); /* getline's */
-    VDBGI_FAIL_IF(ctx, triangles > VDBGI_GLTF_MAX_TRIANGLES, VDBGI_ERR_FORMAT,
+    obj_scan s = {0};
+    unsigned char block[65536];
+    size_t got;
+    while ((got = fread(block, 1, sizeof(block), f)) > 0)
+        for (size_t i = 0; i < got; i++)
+            obj_byte(&s, block[i]);
+    obj_line_end(&s);
+    VDBGI_FAIL_IF(ctx, s.triangles > VDBGI_GLTF_MAX_TRIANGLES, VDBGI_ERR_FORMAT,
                   "%s: its faces make %llu triangles, more than %llu (about 4 GB to trace)", path,
-                  (unsigned long long)triangles, VDBGI_GLTF_MAX_TRIANGLES);
-    VDBGI_FAIL_IF(ctx, degenerate > OBJ_DEGENERATE_FACES && 2 * degenerate > faces,
+                  (unsigned long long)s.triangles, VDBGI_GLTF_MAX_TRIANGLES);
+    VDBGI_FAIL_IF(ctx, s.degenerate > OBJ_DEGENERATE_FACES && 2 * s.degenerate > s.faces,
                   VDBGI_ERR_FORMAT,
-                  "%s: %llu of its %llu faces repeat a vertex (no area), which the importer "
-                  "would hold at about 230 bytes each",
-                  path, (unsigned long long)degenerate, (unsigned long long)faces);
+                  "%s: %llu of its %llu faces have no area (fewer than three vertices, or one "
+                  "repeated), and the importer would hold about 230 bytes each",
+                  path, (unsigned long long)s.degenerate, (unsigned long long)s.faces);
     return VDBGI_OK;
 }
 
@@ -140,7 +225,9 @@ vdbgi_result vdbgi_scene_counts_check(vdbgi_context *ctx, const char *path)
     FILE *const f = fopen(path, "rb");
     if (!f)
         return VDBGI_OK; /* the importer names what is wrong */
-    if (has_extension(path, ".obj")) {
+    /* assimp reads a file whose extension it does not know by its content, OBJ included. */
+    const char *const dot = strrchr(path, '.');
+    if (has_extension(path, ".obj") || !dot || !aiIsExtensionSupported(dot)) {
         const vdbgi_result r = obj_counts(ctx, path, f);
         fclose(f);
         return r;

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -66,6 +67,11 @@ struct GridLayout : openvdb::io::Archive {
     struct Sparse {
         std::string why;
     };
+    /* A tree that admit() refused: the context holds why. */
+    struct OverLimit {
+    };
+    /* Asked, before each grid is read, whether its bytes (an estimate) may be held. */
+    std::function<bool(size_t)> admit;
     static constexpr size_t SPARSE_LEAVES = 65536, MIN_LEAF_ACTIVE = 8;
 
     /*
@@ -213,6 +219,10 @@ struct GridLayout : openvdb::io::Archive {
                          std::to_string(active) + " voxels (fewer than " +
                          std::to_string(MIN_LEAF_ACTIVE) + " a leaf, past " +
                          std::to_string(SPARSE_LEAVES) + " leaves)"};
+        // What OpenVDB will hold for it (its leaves whole, their masks), asked of the
+        // memory limit before it is spent.
+        if (admit && !admit(leaves * (512 * f.value_size + 128)))
+            throw OverLimit{};
     }
 
     /*
@@ -376,6 +386,8 @@ vdbgi_result read_layout(vdbgi_context *ctx, const char *path, GridLayout &layou
 {
     try {
         layout.read(path, names);
+    } catch (const GridLayout::OverLimit &) {
+        return vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY, "%s: %s", path, vdbgi_context_error(ctx));
     } catch (const GridLayout::Damaged &d) {
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %s", path, d.why.c_str());
     } catch (const std::ios_base::failure &) {
@@ -408,8 +420,10 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
         names.push_back(vdbgi_side_grid_name(side));
     for (int term = 1; term <= 8; term++)
         names.push_back(vdbgi_sh_grid_name(term));
-    VDBGI_TRY(read_layout(ctx, path, layout, names));
+    // Each grid's estimate is held before OpenVDB reads it, then what it holds.
     VdbgiMemoryCharge held(ctx);
+    layout.admit = [&](size_t bytes) { return held.hold(held.bytes + bytes); };
+    VDBGI_TRY(read_layout(ctx, path, layout, names));
     if (!held.hold(layout.bytes()))
         return vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY, "%s: %s", path, vdbgi_context_error(ctx));
     const auto grid = [&](const char *name) { return layout.find(name); };

@@ -55,8 +55,15 @@ cp "$ROOT/tests/hostile/scenes/huge.off" "$ROOT/tests/hostile/scenes/huge.ply" .
 python3 -c "
 open('repeat.obj', 'w').write('v 0 0 0\\nv 1 0 0\\nv 0 0 1\\n' + 'f 1 1 1\\n' * 1200000 + 'f 1 2 3\\n')
 open('polygon.obj', 'w').write('v 0 0 0\\nv 1 0 0\\nv 0 0 1\\nf' + ' 1 2' * 10000002 + '\\n')
+open('repeat_cr.obj', 'w', newline='').write('v 0 0 0\\rv 1 0 0\\rv 0 0 1\\r' + 'f 1 1 1\\r' * 1200000)
+open('two_corners.obj', 'w').write('v 0 0 0\\nv 1 0 0\\nv 0 0 1\\n' + 'f 1 2\\n' * 1200000 + 'f 1 2 3\\n')
+open('continued.obj', 'w').write('v 0 0 0\\nv 1 0 0\\nv 0 0 1\\n' + 'f 1 \\\\\\n1 1\\n' * 1200000)
+open('odd_blanks.obj', 'w').write('v 0 0 0\\nv 1 0 0\\nv 0 0 1\\nf 1\\v2\\f3 1 2 3\\x00f 1 2 3\\n')
 "
-for f in huge.off huge.ply repeat.obj polygon.obj; do
+# The same counted where assimp splits lines (\r alone, \f, \0, a backslash continuing
+# one), for faces of fewer than three corners, and never stuck on an odd blank.
+for f in huge.off huge.ply repeat.obj polygon.obj repeat_cr.obj two_corners.obj continued.obj \
+    odd_blanks.obj; do
     ($limit; timeout 20 "$BIN/gi-bake" "$f" -o out.vdb) >/dev/null 2>err
     echo "gi-bake $f: exit $?, $(wc -l < err) line(s): $(head -n 1 err)"
     rm -f out.*
