@@ -12,6 +12,11 @@ if [ ! -d "$models" ]; then
 fi
 . "$ROOT/tests/cli/hostile.inc"
 hostile_limit 2000
+# Under make asan the corpus tests the importers' memory errors, not leaks: assimp's
+# own importers leak on some of its models (AMF, LWO, IRR, OpenGEX, RAW), and
+# LeakSanitizer's tracer crashes at exit after the IQM one. Our leaks are the other
+# tests' to find.
+case "$BIN" in */asan/*) export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" ;; esac
 find "$models" -type f | LC_ALL=C sort |
     grep -viE '\.(png|jpe?g|tga|bmp|dds|tiff?|gif|pcx|psd|hdr|ktx|txt|md|bin|mtl|glsl|xsd|cfg|mat|shader|material|skin|h|cpp)$' > list
 n=0
