@@ -1303,7 +1303,7 @@ static double worst_l2_error_in_steps(const vdbgi_probes *p, const vdbgi_volume 
                                   n[0] * n[2], n[0] * n[0] - n[1] * n[1]};
             double s = 0.0;
             for (int k = 0; k < 8; k++)
-                s += fabs(pk[k]) * vdbgi_sh_ratio_range(k + 1);
+                s += fabs(pk[k]) * vdbgi_sh_ratio_range(k);
             float got[3], want[3];
             vdbgi_volume_sample_normal(v, pos, n, got);
             probe_l2_reading(p, i, n, drop, sign_of, want);
