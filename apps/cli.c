@@ -69,6 +69,12 @@ int cli_fail(const vdbgi_context *ctx, vdbgi_result r)
     return CLI_FAILED;
 }
 
+int cli_fail_about(const vdbgi_context *ctx, const char *name)
+{
+    cli_error("%s: %s", name, vdbgi_context_error(ctx));
+    return CLI_FAILED;
+}
+
 int cli_bad_option(int c, char **argv)
 {
     return c == ':' ? cli_usage_error("option '%s' needs a value", argv[optind - 1])

@@ -28,6 +28,8 @@ void cli_error(const char *fmt, ...) CLI_PRINTF(1, 2);
 int cli_usage_error(const char *fmt, ...) CLI_PRINTF(1, 2);
 /* Report a failed library call: "prog: <context error>"; returns CLI_FAILED. */
 int cli_fail(const vdbgi_context *ctx, vdbgi_result r);
+/* The same about a call that saw no file: "prog: NAME: <context error>". */
+int cli_fail_about(const vdbgi_context *ctx, const char *name);
 
 /*
  * The end of every app's argument parsing: c is getopt_long's ':' (missing

@@ -280,7 +280,7 @@ int main(int argc, char **argv)
         /* The bake sees a scene, not a file: say which one asked for more work than the
            budget at these options, or cannot be baked (a bad value is the command's). */
         if (r == VDBGI_ERR_OUT_OF_MEMORY || r == VDBGI_ERR_FORMAT)
-            cli_error("%s: %s", o.scene, vdbgi_context_error(ctx)), code = CLI_FAILED;
+            code = cli_fail_about(ctx, o.scene);
         else
             code = cli_fail(ctx, r);
     }

@@ -524,8 +524,7 @@ int main(int argc, char **argv)
     }
     if (!built) {
         /* The build sees probes, not a file: say which input they came from. */
-        cli_error("%s: %s", o.input, vdbgi_context_error(ctx));
-        code = CLI_FAILED;
+        code = cli_fail_about(ctx, o.input);
     } else if (r != VDBGI_OK) {
         code = cli_fail(ctx, r);
     } else if (o.output) {

@@ -113,6 +113,11 @@ vdbgi_result vdbgi_fail(vdbgi_context *ctx, vdbgi_result code, const char *fmt, 
     return code;
 }
 
+vdbgi_result vdbgi_fail_about(vdbgi_context *ctx, vdbgi_result code, const char *name)
+{
+    return vdbgi_fail(ctx, code, "%s: %s", name, ctx->error); /* formatted before it is copied */
+}
+
 void vdbgi_log(vdbgi_context *ctx, vdbgi_log_level level, const char *fmt, ...)
 {
     if (!ctx->log)

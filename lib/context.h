@@ -42,6 +42,9 @@ struct vdbgi_context {
 bool vdbgi_memory_charge(vdbgi_context *ctx, size_t bytes);
 void vdbgi_memory_release(vdbgi_context *ctx, size_t bytes);
 
+/* Put name (the file a failure was about) in front of ctx's last message; returns code. */
+vdbgi_result vdbgi_fail_about(vdbgi_context *ctx, vdbgi_result code, const char *name);
+
 /* Record a failure message on ctx and return code (for one-line returns). */
 vdbgi_result vdbgi_fail(vdbgi_context *ctx, vdbgi_result code, const char *fmt, ...)
     VDBGI_PRINTF(3, 4);

@@ -78,13 +78,6 @@ static double ply_least_bytes(const char *text)
     return least;
 }
 
-/* Does path end in ext (".obj"), in any case? */
-static bool has_extension(const char *path, const char *ext)
-{
-    const size_t n = strlen(path), e = strlen(ext);
-    return n >= e && strcasecmp(path + n - e, ext) == 0;
-}
-
 /* Faces without area, past which most of a file being so is refused. */
 #define OBJ_DEGENERATE_FACES 1000000
 
@@ -227,7 +220,7 @@ vdbgi_result vdbgi_scene_counts_check(vdbgi_context *ctx, const char *path)
         return VDBGI_OK; /* the importer names what is wrong */
     /* assimp reads a file whose extension it does not know by its content, OBJ included. */
     const char *const dot = strrchr(path, '.');
-    if (has_extension(path, ".obj") || !dot || !aiIsExtensionSupported(dot)) {
+    if (!dot || strcasecmp(dot, ".obj") == 0 || !aiIsExtensionSupported(dot)) {
         const vdbgi_result r = obj_counts(ctx, path, f);
         fclose(f);
         return r;

@@ -75,4 +75,13 @@ struct VdbgiMemoryCharge {
     }
 };
 
+/* What a list of grids (OpenVDB's GridPtrVec; null entries allowed) holds in memory. */
+template <class Grids> size_t vdbgi_grids_bytes(const Grids &grids)
+{
+    size_t sum = 0;
+    for (const auto &g : grids)
+        sum += g ? size_t(g->memUsage()) : 0;
+    return sum;
+}
+
 #endif /* VDBGI_SHIM_H */

@@ -273,15 +273,6 @@ struct GridLayout : openvdb::io::Archive {
         }
     }
 
-    /* What the grids read hold in memory. */
-    size_t bytes() const
-    {
-        size_t sum = 0;
-        for (const auto &g : grids)
-            sum += g ? size_t(g->memUsage()) : 0;
-        return sum;
-    }
-
     /* The grid of that name, or null; one not read still tells its type. */
     openvdb::GridBase::Ptr find(const char *name) const
     {
@@ -387,7 +378,7 @@ vdbgi_result read_layout(vdbgi_context *ctx, const char *path, GridLayout &layou
     try {
         layout.read(path, names);
     } catch (const GridLayout::OverLimit &) {
-        return vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY, "%s: %s", path, vdbgi_context_error(ctx));
+        return vdbgi_fail_about(ctx, VDBGI_ERR_OUT_OF_MEMORY, path);
     } catch (const GridLayout::Damaged &d) {
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %s", path, d.why.c_str());
     } catch (const std::ios_base::failure &) {
@@ -424,8 +415,8 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     VdbgiMemoryCharge held(ctx);
     layout.admit = [&](size_t bytes) { return held.hold(held.bytes + bytes); };
     VDBGI_TRY(read_layout(ctx, path, layout, names));
-    if (!held.hold(layout.bytes()))
-        return vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY, "%s: %s", path, vdbgi_context_error(ctx));
+    if (!held.hold(vdbgi_grids_bytes(layout.grids)))
+        return vdbgi_fail_about(ctx, VDBGI_ERR_OUT_OF_MEMORY, path);
     const auto grid = [&](const char *name) { return layout.find(name); };
     const openvdb::GridBase::Ptr base = grid("irradiance"), vbase = grid("validity");
     const openvdb::GridBase::Ptr sebase = grid("stderr"), raysbase = grid("rays");
@@ -466,7 +457,7 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     const auto rays = openvdb::gridPtrCast<openvdb::Int32Grid>(raysbase);
     if (p->make(p, count, se != nullptr, rays != nullptr, has_cube, !has_cube && has_sh) !=
         VDBGI_OK)
-        return vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY, "%s: %s", path, vdbgi_context_error(ctx));
+        return vdbgi_fail_about(ctx, VDBGI_ERR_OUT_OF_MEMORY, path);
     p->spacing = vs.x();
     p->origin[0] = o.x(), p->origin[1] = o.y(), p->origin[2] = o.z();
     read_meta(*irr, p->meta);

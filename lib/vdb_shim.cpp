@@ -237,21 +237,14 @@ extern "C" vdbgi_result vdbgi_vdb_merge(vdbgi_context *ctx, const char *path, co
     VDBGI_SHIM_BEGIN
     openvdb::initialize();
     openvdb::GridPtrVec whole;
-    VdbgiMemoryCharge held(ctx); // the whole so far, and the tile being read
-    const auto bytes = [](const openvdb::GridPtrVec &grids) {
-        size_t sum = 0;
-        for (const auto &g : grids)
-            sum += size_t(g->memUsage());
-        return sum;
-    };
+    VdbgiMemoryCharge held(ctx); // the tiles read so far: the merge moves their leaves
     for (size_t t = 0; t < count; t++) {
         openvdb::io::File file(tiles[t]);
         file.open(false); // read it all now: the file is closed before the next one
         const openvdb::GridPtrVecPtr grids = file.getGrids();
         file.close();
-        if (!held.hold(bytes(whole) + bytes(*grids)))
-            return vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY, "%s: %s", tiles[t],
-                              vdbgi_context_error(ctx));
+        if (!held.hold(held.bytes + vdbgi_grids_bytes(*grids)))
+            return vdbgi_fail_about(ctx, VDBGI_ERR_OUT_OF_MEMORY, tiles[t]);
         if (t == 0) {
             whole = *grids;
             continue;

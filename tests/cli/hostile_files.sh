@@ -55,20 +55,9 @@ for f in "$H"/scenes/*.obj; do
 done
 # The JavaScript loader, in node under the same limits: the files for it (declared
 # sizes that would unpack far more than the file) refused with the C reader's words.
-cat > load.mjs <<JS
-import { readFileSync } from 'node:fs';
-import { loadGi } from '$ROOT/tests/js/gi_loader.mjs';
-try {
-  const gi = await loadGi(readFileSync(process.argv[2]));
-  console.log('read', gi.bricks.join('/'));
-} catch (e) {
-  console.log('refused:', e.message);
-}
-JS
 for f in "$H"/js/*.gi.gz; do
-    echo "node $(basename "$f"): $($limit; timeout 20 node load.mjs "$f" 2>&1)"
+    echo "node $(basename "$f"): $($limit; timeout 20 node "$ROOT/tests/js/read_gi.mjs" "$f" 2>&1)"
 done
-rm -f load.mjs
 # The same scenes through gi-lightmap; and their textures as emission (map_Ke), through both.
 for f in "$H"/scenes/*.obj; do
     ($limit; timeout 20 "$BIN/gi-lightmap" "$f" -o out.glb --size 64 --texel 0.5) >/dev/null 2>err

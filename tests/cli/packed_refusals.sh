@@ -14,24 +14,15 @@
 "$BIN/vdb-to-gi" -q world.vdb -o good.gi.gz --eps 0.3
 mkdir bad
 node "$ROOT/tests/js/craft_packed.mjs" good.gi.gz bad > names.txt
-cat > load.mjs <<JS
-import { readFileSync } from 'node:fs';
-import { loadGi } from '$ROOT/tests/js/gi_loader.mjs';
-try {
-  const gi = await loadGi(readFileSync(process.argv[2]));
-  console.log('read', gi.bricks.join('/'));
-} catch (e) {
-  console.log('refused:', e.message);
-}
-JS
+read_js() { node "$ROOT/tests/js/read_gi.mjs" "$1"; } # "read ..." or "refused: ..."
 printf 'good: C %s; JS %s\n' "$("$BIN/gi-inspect" good.gi.gz | grep -c '^bricks')" \
-    "$(node load.mjs good.gi.gz | cut -d' ' -f1)"
+    "$(read_js good.gi.gz | cut -d' ' -f1)"
 while read -r name; do
     "$BIN/gi-inspect" "bad/$name.gi.gz" > out.txt 2> err.txt
     code=$?
     echo "$name"
     echo "  C  (exit $code, $(wc -l < err.txt) line): $(sed 's/^gi-inspect: bad\///' err.txt)"
-    echo "  JS $(node load.mjs "bad/$name.gi.gz")"
+    echo "  JS $(read_js "bad/$name.gi.gz")"
 done < names.txt
 # Version 2 with the old compact number 3 reads as the same textures as with 2.
 "$BIN/gi-inspect" good.gi.gz --textures new.gi > /dev/null
@@ -42,4 +33,4 @@ b.writeUInt32LE(3, 104); fs.writeFileSync('old.gi', b);"
 "$BIN/gi-inspect" old.gi --textures again.gi > /dev/null && cmp new.gi again.gi &&
     echo "old number 3: C reads the same textures"
 gzip -n new.gi old.gi
-printf 'old number 3: JS %s, as %s\n' "$(node load.mjs old.gi.gz)" "$(node load.mjs new.gi.gz)"
+printf 'old number 3: JS %s, as %s\n' "$(read_js old.gi.gz)" "$(read_js new.gi.gz)"
