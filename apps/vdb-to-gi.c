@@ -47,8 +47,10 @@ static void usage(void)
            "                        levels stitched, neighbours sharing borders\n"
            "                        (docs/format.md) (compact)\n"
            "      --basis B         auto: probes baked with --basis sh2 keep their L2 terms\n"
-           "                        in the compact layout (.gi version 6, read with the\n"
+           "                        in the compact layout (.gi version 7, read with the\n"
            "                        surface's normal); scalar: one colour a probe (auto)\n"
+           "      --gi-version V    L2 terms: 7, or 6 for runtimes from before version 7\n"
+           "                        (same textures, a larger file) (7)\n"
            "      --slices DIR      write slice images (PNG and EXR) into DIR\n"
            "      --slice-axis A    x, y or z (y)\n"
            "      --slice-at M      world coordinate of the slice (the plane with most probes)\n"
@@ -86,6 +88,7 @@ enum {
     OPT_FILL,
     OPT_LAYOUT,
     OPT_BASIS,
+    OPT_GI_VERSION,
     OPT_SLICES,
     OPT_SLICE_AXIS,
     OPT_SLICE_AT,
@@ -123,6 +126,7 @@ static int parse_args(int argc, char **argv, options *o)
         {"fill", required_argument, NULL, OPT_FILL},
         {"layout", required_argument, NULL, OPT_LAYOUT},
         {"basis", required_argument, NULL, OPT_BASIS},
+        {"gi-version", required_argument, NULL, OPT_GI_VERSION},
         {"slices", required_argument, NULL, OPT_SLICES},
         {"slice-axis", required_argument, NULL, OPT_SLICE_AXIS},
         {"slice-at", required_argument, NULL, OPT_SLICE_AT},
@@ -194,6 +198,12 @@ static int parse_args(int argc, char **argv, options *o)
                 o->convert.scalar_only = 0;
             else
                 return cli_usage_error("--basis must be auto or scalar (got '%s')", optarg);
+            break;
+        case OPT_GI_VERSION:
+            if (strcmp(optarg, "6") == 0 || strcmp(optarg, "7") == 0)
+                o->convert.gi_version = optarg[0] - '0';
+            else
+                return cli_usage_error("--gi-version must be 6 or 7 (got '%s')", optarg);
             break;
         case OPT_LAYOUT:
             if (strcmp(optarg, "seed") == 0)

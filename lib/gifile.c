@@ -19,19 +19,20 @@
 
 static const char gi_magic[8] = {'v', 'd', 'b', 'g', 'i', '.', 'g', 'i'};
 
-size_t vdbgi_gifile_header(const vdbgi_volume_info *in, bool packed, uint8_t h[VDBGI_GI_HEADER_MAX])
+size_t vdbgi_gifile_header(const vdbgi_volume_info *in, uint32_t packed,
+                           uint8_t h[VDBGI_GI_HEADER_MAX])
 {
     memset(h, 0, VDBGI_GI_HEADER_MAX);
     memcpy(h, gi_magic, 8);
     /*
      * Seed-layout files stay version 1, byte for byte (their layout field is
-     * reserved, 0); the compact layout is version 5 packed (6 with L2 terms),
-     * version 2 as textures.
+     * reserved, 0); the compact layout is packed (5, or 6 and 7 with L2 terms,
+     * as its payload was written), or version 2 as textures.
      */
     const bool compact = in->layout == VDBGI_LAYOUT_COMPACT;
-    const bool sh = packed && in->basis == VDBGI_BASIS_SH2;
+    const bool sh = packed >= 6 && in->basis == VDBGI_BASIS_SH2;
     const size_t size = sh ? VDBGI_GI_HEADER_MAX : VDBGI_GI_HEADER_SIZE;
-    vdbgi_put_u32(h + 8, compact ? (packed ? (sh ? 6 : 5) : 2) : 1);
+    vdbgi_put_u32(h + 8, compact ? (packed ? packed : 2) : 1);
     vdbgi_put_u32(h + 12, (uint32_t)size);
     vdbgi_put_u32(h + 16, (uint32_t)in->encoding);
     vdbgi_put_f32(h + 20, in->rgbm_range);
@@ -99,7 +100,7 @@ static vdbgi_result parse_version(vdbgi_context *ctx, const char *path, const ui
      * Version 1 is the seed layout (its field is reserved, 0); version 2 says
      * which; version 5 is the packed compact layout. Versions 3 and 4 were
      * older compact forms: in 5^3 slots, and packed with placement left to
-     * the reader. Version 6 is version 5 with L2 terms.
+     * the reader. Versions 6 and 7 are version 5 with L2 terms.
      */
     VDBGI_FAIL_IF(ctx, version == 3 || version == 4, VDBGI_ERR_FORMAT,
                   "%s: an older vdbgi's compact layout (.gi version %u): convert the .vdb again",
@@ -108,9 +109,9 @@ static vdbgi_result parse_version(vdbgi_context *ctx, const char *path, const ui
     const bool compact = field == VDBGI_LAYOUT_COMPACT || field == VDBGI_GI_LAYOUT_COMPACT_OLD;
     const bool seed = field == VDBGI_LAYOUT_SEED || field == VDBGI_GI_LAYOUT_SEED_OLD;
     VDBGI_FAIL_IF(ctx,
-                  version == 1                   ? field != 0
-                  : version == 5 || version == 6 ? field != VDBGI_LAYOUT_COMPACT
-                                                 : !compact && !seed,
+                  version == 1   ? field != 0
+                  : version >= 5 ? field != VDBGI_LAYOUT_COMPACT
+                                 : !compact && !seed,
                   VDBGI_ERR_FORMAT, "%s: unknown brick layout %u for version %u", path, field,
                   version);
     *layout = compact ? VDBGI_LAYOUT_COMPACT : VDBGI_LAYOUT_SEED;
@@ -126,14 +127,15 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
     const uint32_t version = vdbgi_get_u32(h + 8);
     const bool compact = layout == VDBGI_LAYOUT_COMPACT;
     *header_size = vdbgi_get_u32(h + 12);
-    const size_t least_header = version == 6 ? VDBGI_GI_HEADER_MAX : VDBGI_GI_HEADER_SIZE;
+    const bool terms = version >= 6;
+    const size_t least_header = terms ? VDBGI_GI_HEADER_MAX : VDBGI_GI_HEADER_SIZE;
     VDBGI_FAIL_IF(ctx, *header_size < least_header || *header_size > 65536, VDBGI_ERR_FORMAT,
                   "%s: bad header size %zu", path, *header_size);
     memset(info, 0, sizeof(*info));
-    /* Version 6 says its basis: L2 is the only one it holds (5 and older: the scalar). */
-    VDBGI_FAIL_IF(ctx, version == 6 && vdbgi_get_u32(h + 112) != VDBGI_BASIS_SH2, VDBGI_ERR_FORMAT,
+    /* Versions 6 and 7 say their basis: L2 is the only one they hold (5 and older: the scalar). */
+    VDBGI_FAIL_IF(ctx, terms && vdbgi_get_u32(h + 112) != VDBGI_BASIS_SH2, VDBGI_ERR_FORMAT,
                   "%s: unknown basis %u", path, vdbgi_get_u32(h + 112));
-    info->basis = version == 6 ? VDBGI_BASIS_SH2 : VDBGI_BASIS_SCALAR;
+    info->basis = terms ? VDBGI_BASIS_SH2 : VDBGI_BASIS_SCALAR;
     const uint32_t enc = vdbgi_get_u32(h + 16);
     VDBGI_FAIL_IF(ctx, enc > 1, VDBGI_ERR_FORMAT, "%s: unknown encoding %u", path, enc);
     info->encoding = (vdbgi_encoding)enc;
@@ -177,7 +179,7 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
                   "%s: texture sizes disagree with their dimensions", path);
     VDBGI_FAIL_IF(ctx, version < 5 && vdbgi_get_u32(h + 108) != 0, VDBGI_ERR_FORMAT,
                   "%s: reserved header field is not 0", path);
-    /* Versions 5 and 6 store the level bytes, the placement and the points, not the textures. */
+    /* Versions 5 to 7 store the level bytes, the placement and the points, not the textures. */
     const bool packed = version >= 5;
     info->stored_points = packed ? vdbgi_get_u32(h + 108) : 0;
     /*
@@ -204,10 +206,9 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
                   "%s: %llu cells of the indirection for %llu under bricks (more than 4096 a "
                   "brick's cell, and more than %d): too sparse a volume",
                   path, (unsigned long long)cells, (unsigned long long)covered, VDBGI_SPARSE_CELLS);
-    *stored_size =
-        packed ? ind / 4 + VDBGI_PLACEMENT_BYTES * (uint64_t)info->brick_count +
-                     (4 + (version == 6 ? VDBGI_SH_BYTES : 0)) * (uint64_t)info->stored_points
-               : ind + atlas;
+    *stored_size = packed ? ind / 4 + VDBGI_PLACEMENT_BYTES * (uint64_t)info->brick_count +
+                                (4 + (terms ? VDBGI_SH_BYTES : 0)) * (uint64_t)info->stored_points
+                          : ind + atlas;
     return VDBGI_OK;
 }
 
@@ -279,9 +280,9 @@ vdbgi_result vdbgi_gifile_parse(vdbgi_context *ctx, const char *path, const uint
                           : (file_size < sizeof(h) ? file_size : sizeof(h));
     if (!gz)
         memcpy(h, file, got);
-    /* The first 112 bytes say the version; version 6's basis follows them. */
+    /* The first 112 bytes say the version; a basis (versions 6 and 7) follows them. */
     const size_t want =
-        got >= 12 && vdbgi_get_u32(h + 8) == 6 ? VDBGI_GI_HEADER_MAX : VDBGI_GI_HEADER_SIZE;
+        got >= 12 && vdbgi_get_u32(h + 8) >= 6 ? VDBGI_GI_HEADER_MAX : VDBGI_GI_HEADER_SIZE;
     if (got < want) {
         r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %s", path,
                        gz ? "damaged gzip data, or too short to be a .gi file"

@@ -4,17 +4,18 @@
 
 #include "context.h"
 
-/* Versions 1 to 5 have 112 header bytes; version 6 adds the basis, 116. */
+/* Versions 1 to 5 have 112 header bytes; versions 6 and 7 add the basis, 116. */
 #define VDBGI_GI_HEADER_SIZE 112
 #define VDBGI_GI_HEADER_MAX 116
 /*
  * The versions (docs/format.md has the table): 1 the seed layout's textures,
  * 2 either layout's textures, 5 the compact layout packed with its bricks'
  * places, 6 version 5 with L2 terms (a basis field, then 24 bytes a stored
- * point). 3 and 4 were older compact forms, refused.
+ * point), 7 version 6 with the terms predicted better (what vdbgi writes).
+ * 3 and 4 were older compact forms, refused.
  */
-#define VDBGI_GI_VERSION 6
-/* Version 6: the L2 terms' bytes a stored point (8 terms x RGB, signed ratios to L0). */
+#define VDBGI_GI_VERSION 7
+/* Versions 6 and 7: the L2 terms' bytes a stored point (8 terms x RGB, signed ratios to L0). */
 #define VDBGI_SH_BYTES 24
 /*
  * The layout field holds vdbgi_layout's numbers (1 seed, 2 compact). Two
@@ -38,11 +39,12 @@
 
 /*
  * The header of a volume's file: version 1 for the seed layout, 2 for the
- * compact layout's textures, 5 with packed set (info->stored_points then
- * counts the stored values), 6 packed with info->basis VDBGI_BASIS_SH2.
+ * compact layout's textures (packed 0), or packed, the version its payload
+ * follows (5, or 6 and 7 with info->basis VDBGI_BASIS_SH2; info->stored_points
+ * counts the stored values).
  * Returns its size in bytes.
  */
-size_t vdbgi_gifile_header(const vdbgi_volume_info *info, bool packed,
+size_t vdbgi_gifile_header(const vdbgi_volume_info *info, uint32_t packed,
                            uint8_t h[VDBGI_GI_HEADER_MAX]);
 
 /* Header (header_size bytes) and body gzip'd (libdeflate, level 6) into *out, allocated

@@ -154,12 +154,51 @@ static inline void neighbours(const vdbgi_pack_plan *pl, const int32_t p[3], int
 }
 
 /*
- * The L2 terms' prediction (docs/format.md, "Version 6"): the stored point at
- * p - x, else p - y, else p - z, from neighbours' n; -1 for none (then 0).
+ * The prediction of a point's term byte k (docs/format.md, "Version 6" and
+ * "Version 7"). Version 6: the same byte of the stored point at p - x, else
+ * p - y, else p - z, else 0. Version 7: LOCO-I's median edge detector on the
+ * signed bytes of the -x, -y and -x-y points where all three are stored,
+ * else version 6's; a ratio field is as smooth as the colours it divides, so
+ * the values' predictor fits it too.
  */
-static inline int64_t term_source(const int64_t n[4])
+static inline int term_predict(uint32_t version, const uint8_t *sh, const int64_t n[4], int k)
 {
-    return n[0] >= 0 ? n[0] : n[1] >= 0 ? n[1] : n[3];
+    if (version >= 7 && n[0] >= 0 && n[1] >= 0 && n[2] >= 0) {
+        const int a = (int8_t)sh[VDBGI_SH_BYTES * (size_t)n[0] + k],
+                  b = (int8_t)sh[VDBGI_SH_BYTES * (size_t)n[1] + k],
+                  c = (int8_t)sh[VDBGI_SH_BYTES * (size_t)n[2] + k];
+        const int lo = a < b ? a : b, hi = a < b ? b : a;
+        return c >= hi ? lo : c <= lo ? hi : a + b - c;
+    }
+    const int64_t j = n[0] >= 0 ? n[0] : n[1] >= 0 ? n[1] : n[3];
+    return j >= 0 ? sh[VDBGI_SH_BYTES * (size_t)j + k] : 0;
+}
+
+/*
+ * Point i's 24 term bytes to the residuals the file stores: each byte less
+ * its prediction, and in version 7 a green or blue residual then less the
+ * red or green one of the same term. The three channels' ratios describe one
+ * direction of light and err together, so that difference is mostly zero.
+ */
+static inline void term_residuals(uint32_t version, const uint8_t *sh, const int64_t n[4], size_t i,
+                                  uint8_t e[VDBGI_SH_BYTES])
+{
+    uint8_t d[VDBGI_SH_BYTES];
+    for (int k = 0; k < VDBGI_SH_BYTES; k++)
+        d[k] = (uint8_t)(sh[VDBGI_SH_BYTES * i + k] - term_predict(version, sh, n, k));
+    for (int k = 0; k < VDBGI_SH_BYTES; k++)
+        e[k] = version >= 7 && k % 3 ? (uint8_t)(d[k] - d[k - 1]) : d[k];
+}
+
+/* The inverse: point i's term bytes from residuals e, its neighbours decoded already. */
+static inline void term_undo_residuals(uint32_t version, uint8_t *sh, const int64_t n[4], size_t i,
+                                       const uint8_t e[VDBGI_SH_BYTES])
+{
+    uint8_t d = 0;
+    for (int k = 0; k < VDBGI_SH_BYTES; k++) {
+        d = version >= 7 && k % 3 ? (uint8_t)(e[k] + d) : e[k];
+        sh[VDBGI_SH_BYTES * i + k] = (uint8_t)(d + term_predict(version, sh, n, k));
+    }
 }
 
 /* An RGBM colour byte of point j as it would read under multiplier m (rounded, at most 255). */

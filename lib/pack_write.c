@@ -174,11 +174,12 @@ static void *residual_worker(void *arg)
             const uint8_t pred = predict(job->values, nb, k, rgbm && k < 3, job->values[4 * i + 3]);
             job->out[k * n + i] = (uint8_t)(job->values[4 * i + k] - pred);
         }
-        const int64_t j = term_source(nb);
-        for (int k = 0; job->sh && k < VDBGI_SH_BYTES; k++)
-            job->out[(4 + k) * n + i] =
-                (uint8_t)(job->sh[VDBGI_SH_BYTES * i + k] -
-                          (j >= 0 ? job->sh[VDBGI_SH_BYTES * (size_t)j + k] : 0));
+        if (job->sh) {
+            uint8_t e[VDBGI_SH_BYTES];
+            term_residuals(job->v->version, job->sh, nb, i, e);
+            for (int k = 0; k < VDBGI_SH_BYTES; k++)
+                job->out[(4 + k) * n + i] = e[k];
+        }
     });
     return NULL;
 }
@@ -268,9 +269,9 @@ static size_t predict_unread(const vdbgi_volume *v, const vdbgi_pack_plan *pl, u
                 const int k = byte_order(rgbm, o);
                 values[4 * i + k] = predict(values, nb, k, rgbm && k < 3, values[4 * i + 3]);
             }
-            const int64_t j = term_source(nb);
-            for (int k = 0; sh && k < VDBGI_SH_BYTES; k++)
-                sh[VDBGI_SH_BYTES * i + k] = j >= 0 ? sh[VDBGI_SH_BYTES * (size_t)j + k] : 0;
+            static const uint8_t none[VDBGI_SH_BYTES];
+            if (sh)
+                term_undo_residuals(v->version, sh, nb, i, none);
         }
     });
     return unread;

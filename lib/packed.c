@@ -579,21 +579,18 @@ vdbgi_result vdbgi_pack_rebuild_values(vdbgi_volume *v, const vdbgi_pack_plan *p
     return rebuild_pass(v, pl, &terms, threads, clamped_out);
 }
 
-/*
- * The L2 terms' bytes from their planes: plane 3 term + channel, each byte
- * plus the same byte of the stored point at p - x, else p - y, else p - z
- * (else 0), mod 256 (docs/format.md, "Version 6").
- */
-static void undo_term_residuals(const vdbgi_pack_plan *pl, const uint8_t *planes, uint8_t *sh)
+/* The L2 terms' bytes from their planes (plane 3 term + channel), in storage order. */
+static void undo_term_residuals(const vdbgi_pack_plan *pl, uint32_t version, const uint8_t *planes,
+                                uint8_t *sh)
 {
     const size_t n = pl->points;
     FOR_EACH_POINT(pl, p, i, {
         int64_t nb[4];
         neighbours(pl, p, nb);
-        const int64_t j = term_source(nb);
+        uint8_t e[VDBGI_SH_BYTES];
         for (int k = 0; k < VDBGI_SH_BYTES; k++)
-            sh[VDBGI_SH_BYTES * i + k] =
-                (uint8_t)(planes[k * n + i] + (j >= 0 ? sh[VDBGI_SH_BYTES * (size_t)j + k] : 0));
+            e[k] = planes[k * n + i];
+        term_undo_residuals(version, sh, nb, i, e);
     });
 }
 
@@ -620,7 +617,7 @@ vdbgi_result vdbgi_pack_rebuild(vdbgi_volume *v, const vdbgi_pack_plan *pl, cons
         }
     });
     if (with_sh)
-        undo_term_residuals(pl, planes + 4 * n, sh);
+        undo_term_residuals(pl, v->version, planes + 4 * n, sh);
     const vdbgi_result r =
         vdbgi_pack_rebuild_values(v, pl, values, (const int8_t *)sh, threads, clamped);
     vdbgi_free(v->ctx, values);

@@ -782,9 +782,13 @@ typedef enum vdbgi_fill {
  *   layout:     see vdbgi_layout (0: the compact layout).
  *   scalar_only: 0: a volume of the compact layout carries the probes'
  *               L2 terms when they have them (VDBGI_BASIS_SH2; .gi version
- *               6, read with a normal: vdbgi_volume_sample_normal); 1: the
+ *               7, read with a normal: vdbgi_volume_sample_normal); 1: the
  *               scalar alone, as seed 000 (version 5). The seed layout holds
  *               the scalar only.
+ *   gi_version: a volume with L2 terms: 0 or 7, the newest file; 6 for
+ *               runtimes from before version 7 (the same textures, a larger
+ *               file). Other values, or 6 and 7 for a volume without terms,
+ *               are VDBGI_ERR_INVALID_ARG.
  */
 typedef struct vdbgi_convert_desc {
     float eps;
@@ -798,6 +802,7 @@ typedef struct vdbgi_convert_desc {
     int threads;
     vdbgi_layout layout;
     int scalar_only;
+    int gi_version;
 } vdbgi_convert_desc;
 
 /* The RGBM range: colours up to this are encoded, brighter ones clamp. */

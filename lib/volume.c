@@ -44,6 +44,10 @@ static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *d
                   VDBGI_ERR_INVALID_ARG, "unknown layout %d", (int)desc->layout);
     VDBGI_FAIL_IF(ctx, desc->threads < 0, VDBGI_ERR_INVALID_ARG,
                   "thread count must be >= 0 (got %d)", desc->threads);
+    VDBGI_FAIL_IF(ctx, desc->gi_version != 0 && desc->gi_version != 6 && desc->gi_version != 7,
+                  VDBGI_ERR_INVALID_ARG,
+                  "a volume with L2 terms is written as .gi version 6 or 7 (got %d)",
+                  desc->gi_version);
     *threads = desc->threads ? desc->threads : vdbgi_core_count();
     return VDBGI_OK;
 }
@@ -486,9 +490,18 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     VDBGI_TRY(check_extent(ctx, probes));
     cp.layout =
         desc && desc->layout == VDBGI_LAYOUT_SEED ? VDBGI_LAYOUT_SEED : VDBGI_LAYOUT_COMPACT;
+    const bool terms =
+        probes->sh && cp.layout == VDBGI_LAYOUT_COMPACT && !(desc && desc->scalar_only);
+    VDBGI_FAIL_IF(ctx, !terms && desc && desc->gi_version, VDBGI_ERR_INVALID_ARG,
+                  ".gi version %d holds L2 terms, and this volume has none (the scalar basis, the "
+                  "seed layout or probes baked without sh2)",
+                  desc->gi_version);
     vdbgi_volume *const v = volume_start(ctx, probes, encoding, cp.layout, cp.max_level);
     if (!v)
         return VDBGI_ERR_OUT_OF_MEMORY;
+    v->version = !terms                     ? 5
+                 : desc && desc->gi_version ? (uint32_t)desc->gi_version
+                                            : VDBGI_GI_VERSION;
     vdbgi_volume_info *const info = &v->info;
     cp.tolerance = eps * (float)info->mean_irradiance;
     memcpy(cp.fallback, v->mean_rgb, sizeof(cp.fallback));
@@ -502,7 +515,7 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     fp.lift = cp.layout == VDBGI_LAYOUT_COMPACT;
     /* L2 terms go through the fill with L0, as one field of nine colours a point. */
     float *joined = NULL;
-    if (probes->sh && cp.layout == VDBGI_LAYOUT_COMPACT && !(desc && desc->scalar_only)) {
+    if (terms) {
         info->basis = VDBGI_BASIS_SH2;
         if (!(joined = vdbgi_alloc(ctx, 27 * sizeof(float) * probes->count))) {
             vdbgi_volume_destroy(v);

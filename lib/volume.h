@@ -12,7 +12,8 @@ struct vdbgi_volume {
     vdbgi_textures tex; /* what the GPU gets */
     uint8_t *payload;   /* compact layout: the file's body (level bytes, placement, values) */
     size_t payload_size;
-    uint8_t *file; /* the gzip'd .gi, made by the first write and kept (volume_io.c) */
+    uint32_t version; /* the file version the payload follows: 5, or 6 or 7 with L2 terms */
+    uint8_t *file;    /* the gzip'd .gi, made by the first write and kept (volume_io.c) */
     /* Only from vdbgi_volume_build: */
     vdbgi_field filled;
     double lattice_origin[3]; /* world position of fine index (0,0,0) */

@@ -61,6 +61,7 @@ static vdbgi_result from_body(vdbgi_context *ctx, const char *name, const vdbgi_
     if (version >= 5) { /* packed: kept, so that it writes back as it came */
         v->payload = body;
         v->payload_size = body_size;
+        v->version = version;
         r = vdbgi_pack_read(v, name);
     } else {
         vdbgi_textures_adopt(&v->tex, body, info->indirection_dims, info->atlas_dims);
@@ -121,7 +122,7 @@ static vdbgi_result file_bytes(const vdbgi_volume *v)
     VDBGI_FAIL_IF(v->ctx, !v->payload && !v->tex.indirection, VDBGI_ERR_INVALID_ARG,
                   "volume has nothing to write");
     uint8_t h[VDBGI_GI_HEADER_MAX];
-    const size_t header_size = vdbgi_gifile_header(&v->info, v->payload != NULL, h);
+    const size_t header_size = vdbgi_gifile_header(&v->info, v->payload ? v->version : 0, h);
     vdbgi_volume *const cache = (vdbgi_volume *)(uintptr_t)v;
     const uint8_t *const body = v->payload ? v->payload : v->tex.indirection;
     const size_t body_size =
@@ -173,6 +174,6 @@ vdbgi_result vdbgi_volume_write_textures(const vdbgi_volume *v, const char *path
                   "the textures' file (version 2) holds no L2 terms: convert with the scalar "
                   "basis for it");
     texture_file tf = {.v = v};
-    vdbgi_gifile_header(&v->info, false, tf.header);
+    vdbgi_gifile_header(&v->info, 0, tf.header);
     return vdbgi_write_atomic(v->ctx, path, write_textures, &tf);
 }

@@ -864,7 +864,7 @@ static void damaged_files_are_refused(void)
     /* The uncompressed file: header, then the textures. */
     const size_t raw = VDBGI_GI_HEADER_SIZE + v->info.indirection_size + v->info.atlas_size;
     uint8_t *const plain = malloc(raw);
-    vdbgi_gifile_header(&v->info, false, plain);
+    vdbgi_gifile_header(&v->info, 0, plain);
     memcpy(plain + VDBGI_GI_HEADER_SIZE, v->tex.indirection, raw - VDBGI_GI_HEADER_SIZE);
     /* Every prefix of the gzip'd file. */
     for (size_t cut = 0; cut < size; cut += 1 + cut / 64) {
@@ -1169,13 +1169,21 @@ static void l2_bricks_read_each_side_and_round_trip(void)
     const vdbgi_bake_desc bd = {.rays = 64, .basis = VDBGI_BASIS_SH2};
     CHECK_RESULT(ctx, vdbgi_probes_bake(p, scene, &bd, NULL), VDBGI_OK);
     vdbgi_convert_desc cd = {.eps = VDBGI_ZERO, .max_level = VDBGI_ZERO, .threads = 1};
-    vdbgi_volume *v = NULL, *v3 = NULL, *scalar = NULL, *back = NULL;
+    vdbgi_volume *v = NULL, *v3 = NULL, *v6 = NULL, *scalar = NULL, *back = NULL, *back6 = NULL;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
     cd.threads = 3;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v3), VDBGI_OK);
+    cd.gi_version = 6;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v6), VDBGI_OK);
+    cd.gi_version = 5;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &scalar), VDBGI_ERR_INVALID_ARG);
     cd.scalar_only = 1;
+    cd.gi_version = 6; /* a scalar volume has no terms to write as version 6 */
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &scalar), VDBGI_ERR_INVALID_ARG);
+    CHECK(strstr(vdbgi_context_error(ctx), "holds L2 terms") != NULL);
+    cd.gi_version = 0;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &scalar), VDBGI_OK);
-    if (!v || !v3 || !scalar)
+    if (!v || !v3 || !v6 || !scalar)
         goto done;
     CHECK(v->info.basis == VDBGI_BASIS_SH2 && scalar->info.basis == VDBGI_BASIS_SCALAR);
     CHECK(v->tex.sh != NULL && scalar->tex.sh == NULL);
@@ -1213,10 +1221,49 @@ static void l2_bricks_read_each_side_and_round_trip(void)
                      VDBGI_ERR_INVALID_ARG);
         CHECK(strstr(vdbgi_context_error(ctx), "L2") != NULL);
     }
-    /* The plain file: header (116 bytes, version 6) and payload; then damaged. */
+    /*
+     * Version 6 predicts the terms from one neighbour, version 7 better, in
+     * a smaller file. The points no receiver reads take the prediction, so
+     * only their terms differ: every valid probe reads alike, any normal.
+     * Either version reads back as written.
+     */
+    CHECK(v->version == 7 && v6->version == 6 && scalar->version == 5);
+    CHECK(memcmp(v6->tex.atlas, v->tex.atlas, v->info.atlas_size) == 0);
+    size_t same = 0;
+    for (size_t i = 0; i < p->count; i++)
+        for (int a = 0; p->backface[i] <= p->invalid_threshold && a < 6; a++) {
+            const float n[3] = {a == 0   ? 1.0f
+                                : a == 1 ? -1.0f
+                                         : 0.0f,
+                                a == 2   ? 1.0f
+                                : a == 3 ? -1.0f
+                                         : 0.0f,
+                                a == 4   ? 1.0f
+                                : a == 5 ? -1.0f
+                                         : 0.0f};
+            float pos[3], r6[3], r7[3];
+            for (int k = 0; k < 3; k++)
+                pos[k] = (float)(p->origin[k] + p->spacing * p->ijk[3 * i + k]);
+            vdbgi_volume_sample_normal(v6, pos, n, r6);
+            vdbgi_volume_sample_normal(v, pos, n, r7);
+            same += memcmp(r6, r7, sizeof(r6)) == 0;
+            CHECK(memcmp(r6, r7, sizeof(r6)) == 0);
+        }
+    CHECK(same > 1000);
+    CHECK(vdbgi_volume_write_memory(v6, NULL, 0) > size);
+    CHECK_RESULT(ctx, vdbgi_volume_write(v6, tmp_path("l2-v6.gi.gz")), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("l2-v6.gi.gz"), &back6), VDBGI_OK);
+    if (back6) {
+        CHECK(back6->version == 6 && back6->info.basis == VDBGI_BASIS_SH2);
+        CHECK(memcmp(back6->tex.sh, v6->tex.sh, 6 * v->info.atlas_size) == 0);
+        const size_t again = vdbgi_volume_write_memory(back6, NULL, 0);
+        CHECK(again == vdbgi_volume_write_memory(v6, NULL, 0) &&
+              memcmp(back6->file, v6->file, again) == 0);
+    }
+    /* The plain file: header (116 bytes, version 7) and payload; then damaged. */
     uint8_t h[VDBGI_GI_HEADER_MAX];
-    const size_t hs = vdbgi_gifile_header(&v->info, true, h);
-    CHECK(hs == 116 && vdbgi_get_u32(h + 8) == 6 && vdbgi_get_u32(h + 112) == 2);
+    const size_t hs = vdbgi_gifile_header(&v->info, v->version, h);
+    CHECK(hs == 116 && vdbgi_get_u32(h + 8) == 7 && vdbgi_get_u32(h + 112) == 2);
     const size_t raw = hs + v->payload_size;
     CHECK(v->payload_size ==
           v->info.indirection_size / 4 + 6 * v->info.brick_count + 28 * v->info.stored_points);
@@ -1254,7 +1301,9 @@ static void l2_bricks_read_each_side_and_round_trip(void)
     free(plain);
 done:
     vdbgi_volume_destroy(back);
+    vdbgi_volume_destroy(back6);
     vdbgi_volume_destroy(scalar);
+    vdbgi_volume_destroy(v6);
     vdbgi_volume_destroy(v3);
     vdbgi_volume_destroy(v);
     vdbgi_probes_destroy(p);

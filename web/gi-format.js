@@ -3,7 +3,7 @@
 // in a worker and in node (tests/js), and it refuses, with an Error naming the
 // problem, every file docs/format.md says a reader must refuse, so no lookup
 // can ever leave the textures. A version 5 file (the compact layout, each
-// probe stored once) has its textures rebuilt by gi-packed.js; version 6 adds
+// probe stored once) has its textures rebuilt by gi-packed.js; versions 6 and 7 add
 // L2 terms, rebuilt there too into six RGBA8 snorm textures (gi.sh).
 import { rebuildPacked } from './gi-packed.js';
 
@@ -113,7 +113,7 @@ function parseHeader(buf) {
   // Versions 3 and 4 were older compact forms, no longer read.
   if (version === 3 || version === 4)
     throw new Error(`an older vdbgi's compact layout (.gi version ${version}): convert the .vdb again`);
-  if (version < 1 || version > 6) throw new Error(`unsupported version ${version}`);
+  if (version < 1 || version > 7) throw new Error(`unsupported version ${version}`);
   const field = u32(104);
   const isCompact = field === LAYOUT_COMPACT || field === OLD_LAYOUT_COMPACT;
   const isSeed = field === LAYOUT_SEED || field === OLD_LAYOUT_SEED;
@@ -123,13 +123,14 @@ function parseHeader(buf) {
     throw new Error(`unknown layout ${field} for version ${version}`);
   const layout = isCompact ? LAYOUT_COMPACT : LAYOUT_SEED;
   const headerSize = u32(12);
-  // Version 6 says its basis: L2, the only one it holds.
-  if (version === 6 && buf.length < HEADER_BYTES_V6) throw new Error('shorter than a .gi header');
-  if (version === 6 && u32(112) !== BASIS_SH2) throw new Error(`unknown basis ${u32(112)}`);
+  // Versions 6 and 7 say their basis: L2, the only one they hold.
+  const terms = version >= 6;
+  if (terms && buf.length < HEADER_BYTES_V6) throw new Error('shorter than a .gi header');
+  if (terms && u32(112) !== BASIS_SH2) throw new Error(`unknown basis ${u32(112)}`);
   const gi = {
     version,
     layout,
-    basis: version === 6 ? BASIS_SH2 : BASIS_SCALAR,
+    basis: terms ? BASIS_SH2 : BASIS_SCALAR,
     encoding: u32(16),
     rgbmRange: f32(20),
     indDims: vec(24, u32),
@@ -144,7 +145,7 @@ function parseHeader(buf) {
   const compact = layout === LAYOUT_COMPACT;
   // The seed atlas is whole 6^3 slots, 256 an axis; the compact one's texels are free.
   const [step, lo, hi] = compact ? [1, brick, ATLAS_MAX] : [brick, brick, 256 * brick];
-  if (headerSize < (version === 6 ? HEADER_BYTES_V6 : HEADER_BYTES) || headerSize > 65536)
+  if (headerSize < (terms ? HEADER_BYTES_V6 : HEADER_BYTES) || headerSize > 65536)
     throw new Error(`bad header size ${headerSize}`);
   if (gi.encoding > ENCODING_RGB9E5) throw new Error(`unknown encoding ${gi.encoding}`);
   if (!(gi.rgbmRange > 0) || !Number.isFinite(gi.rgbmRange)) throw new Error('bad RGBM range');
@@ -176,9 +177,9 @@ function parseHeader(buf) {
     throw new Error(`${cells} cells of the indirection for ${covered} under bricks (more than 4096 a ` +
       `brick's cell, and more than ${SPARSE_CELLS}): too sparse a volume`);
   // Version 5 stores a level byte a cell, 6 bytes a brick (its place) and 4 a
-  // stored point, not the textures; version 6 24 more a point, the L2 terms.
+  // stored point, not the textures; versions 6 and 7 24 more a point, the L2 terms.
   const brickCount = gi.bricks.reduce((a, b) => a + b, 0);
-  const pointBytes = version === 6 ? 28 : 4;
+  const pointBytes = terms ? 28 : 4;
   const stored = packed ? indBytes / 4 + 6 * brickCount + pointBytes * gi.storedPoints : indBytes + atlasBytes;
   return { gi, headerSize, stored };
 }

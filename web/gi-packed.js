@@ -330,17 +330,32 @@ export function rebuildPacked(gi, payload) {
       values[4 * i + k] = (planes[k * points + i] + pred) & 255;
     }
   });
-  // Version 6: each stored point's 24 L2 term bytes, from the 24 planes after
-  // the values: a residual on the same byte of the point at -x, else -y, else -z.
+  // Versions 6 and 7: each stored point's 24 L2 term bytes, from the 24
+  // planes after the values. Version 6: a residual on the same byte of the
+  // point at -x, else -y, else -z. Version 7: the median edge detector on the
+  // signed bytes of -x, -y and -x-y where all three are stored (else version
+  // 6's), and a green or blue residual stored less the red or green one.
   let terms = null;
-  if (gi.version === 6) {
+  if (gi.version >= 6) {
     terms = new Uint8Array(24 * points);
     const tplanes = planes.subarray(4 * points);
+    const s8 = (v) => (v << 24) >> 24;
     forEachPoint((i, x, y, z) => {
       const a = at3(x - 1, y, z), b = at3(x, y - 1, z), e = at3(x, y, z - 1);
+      const c = gi.version >= 7 && a >= 0 && b >= 0 ? at3(x - 1, y - 1, z) : -1;
       const j = a >= 0 ? a : b >= 0 ? b : e;
-      for (let k = 0; k < 24; k++)
-        terms[24 * i + k] = (tplanes[k * points + i] + (j >= 0 ? terms[24 * j + k] : 0)) & 255;
+      let d = 0;
+      for (let k = 0; k < 24; k++) {
+        let pred = j >= 0 ? terms[24 * j + k] : 0;
+        if (c >= 0) {
+          const A = s8(terms[24 * a + k]), B = s8(terms[24 * b + k]), C = s8(terms[24 * c + k]);
+          const lo = Math.min(A, B), hi = Math.max(A, B);
+          pred = C >= hi ? lo : C <= lo ? hi : A + B - C;
+        }
+        const r = tplanes[k * points + i];
+        d = gi.version >= 7 && k % 3 ? (r + d) & 255 : r;
+        terms[24 * i + k] = (d + pred) & 255;
+      }
     });
   }
   // One pass of the rebuild (lib/packed.c's rebuild_pass): stored texels

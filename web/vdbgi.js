@@ -104,7 +104,7 @@ export class GiVolume {
       atlas.type = THREE.UnsignedByteType;
     }
     atlas.minFilter = atlas.magFilter = THREE.LinearFilter;
-    // L2 terms (version 6): six textures of four signed ratios, uploaded as
+    // L2 terms (versions 6 and 7): six textures of four signed ratios, uploaded as
     // unorm bytes q + 128 (filtering is linear either way; WebGL2 and WebGPU
     // both filter RGBA8), read back as (255 t - 128) / 127 in the shader.
     this.sh = shBytes ? shBytes.map((q) => {
