@@ -246,6 +246,20 @@ static vdbgi_result truth_at_spacing(vdbgi_context *ctx, const vdbgi_scene *scen
         bench_volume_reading(v, rv, got);
         print_row(csv, spacing, "L2, bricks (defaults)", rv, got);
     }
+    /* What the rounding of the terms costs: every bit kept, and fewer than the default. */
+    static const int bits[] = {8, 7, 5, 4};
+    for (int b = 0; r == VDBGI_OK && b < 4; b++) {
+        vdbgi_volume_destroy(v);
+        v = NULL;
+        r = vdbgi_volume_build(ctx, p,
+                               &(vdbgi_convert_desc){.threads = threads, .term_bits = bits[b]}, &v);
+        if (r == VDBGI_OK) {
+            char name[64];
+            snprintf(name, sizeof(name), "L2, bricks, terms %d bits", bits[b]);
+            bench_volume_reading(v, rv, got);
+            print_row(csv, spacing, name, rv, got);
+        }
+    }
     if (r == VDBGI_OK && (r = probes_reading(p, rv, false, got)) == VDBGI_OK)
         print_row(csv, spacing, "scalar, every probe", rv, got);
     if (r == VDBGI_OK && (r = probes_reading(cube, rv, true, got)) == VDBGI_OK)

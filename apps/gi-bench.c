@@ -235,10 +235,10 @@ static void bench_info(const vdbgi_volume *v, vdbgi_volume_info *vi)
     vdbgi_volume_get_info(v, vi);
 }
 
-/* One conversion of the sweep, as a table row. */
-/* One row of the convert table: the fastest of `repeat` builds, timed as the read is. */
+/* One row of the convert table: the fastest of `repeat` builds, timed as the read is
+   (into *fastest if not NULL). */
 static int convert_row(vdbgi_context *ctx, const vdbgi_probes *p, const vdbgi_convert_desc *d,
-                       const char *label, double read_seconds, int repeat)
+                       const char *label, double read_seconds, int repeat, double *fastest)
 {
     vdbgi_volume *v = NULL;
     double seconds = 0.0;
@@ -267,6 +267,8 @@ static int convert_row(vdbgi_context *ctx, const vdbgi_probes *p, const vdbgi_co
            (double)vi.dense_rgba8_size / (double)vi.file_size, 100.0 * vi.rmse / mean,
            100.0 * vi.p99 / mean, 100.0 * vi.max_error / mean, seconds, seconds / read_seconds);
     vdbgi_volume_destroy(v);
+    if (fastest)
+        *fastest = seconds;
     return CLI_OK;
 }
 
@@ -312,21 +314,38 @@ static int bench_convert(const options *o)
             char label[64];
             snprintf(label, sizeof(label), "%s, %s, rgbm, seed layout",
                      c == VDBGI_CRITERION_RANGE ? "range" : "interp", eps_text[e]);
-            code = convert_row(ctx, p, &d, label, read_seconds, o->repeat);
+            code = convert_row(ctx, p, &d, label, read_seconds, o->repeat, NULL);
         }
     /* vdb-to-gi's default, the compact layout (the library's zero value), and seed 000's layout. */
     const vdbgi_convert_desc compact = {.layout = VDBGI_LAYOUT_COMPACT},
                              e9 = {.layout = VDBGI_LAYOUT_COMPACT,
                                    .encoding = VDBGI_ENCODING_RGB9E5},
                              seed = {.layout = VDBGI_LAYOUT_SEED};
+    const bool terms = pi.basis == VDBGI_BASIS_SH2;
+    double with_terms = 0.0, scalar = 0.0;
+    if (code == CLI_OK)
+        code = convert_row(ctx, p, &compact,
+                           terms ? "**default** (compact), rgbm, L2 terms (6 bits)"
+                                 : "**default** (compact), rgbm",
+                           read_seconds, o->repeat, &with_terms);
     if (code == CLI_OK)
         code =
-            convert_row(ctx, p, &compact, "**default** (compact), rgbm", read_seconds, o->repeat);
+            convert_row(ctx, p, &e9,
+                        terms ? "default (compact), rgb9e5, L2 terms" : "default (compact), rgb9e5",
+                        read_seconds, o->repeat, NULL);
     if (code == CLI_OK)
-        code = convert_row(ctx, p, &e9, "default (compact), rgb9e5", read_seconds, o->repeat);
-    if (code == CLI_OK)
-        code = convert_row(ctx, p, &seed, "default, rgbm, seed layout", read_seconds, o->repeat);
+        code =
+            convert_row(ctx, p, &seed, "default, rgbm, seed layout", read_seconds, o->repeat, NULL);
+    /* Probes with L2 terms: the same conversion without them, for what the terms cost. */
+    const vdbgi_convert_desc flat = {.layout = VDBGI_LAYOUT_COMPACT, .scalar_only = 1};
+    if (code == CLI_OK && terms)
+        code = convert_row(ctx, p, &flat, "default (compact), rgbm, scalar only", read_seconds,
+                           o->repeat, &scalar);
     printf("\n");
+    if (code == CLI_OK && terms && scalar > 0.0)
+        printf("The L2 terms take the default conversion %.2fx the scalar's time (%.3f against "
+               "%.3f s, fastest of %d each).\n\n",
+               with_terms / scalar, with_terms, scalar, o->repeat);
     vdbgi_probes_destroy(p);
     vdbgi_context_destroy(ctx);
     return code;
@@ -670,21 +689,24 @@ static int bench_memory(const options *o, bool one_spacing)
             }
             vdbgi_volume_destroy(exact);
         }
-        /* Bricks: seed 000's layout (scalar only), the compact one scalar and with L2. */
-        for (int m = 0; r == VDBGI_OK && m < 3; m++)
+        /* Bricks: seed 000's layout (scalar only), the compact one scalar and with L2,
+           its terms rounded as the default rounds them and with every bit kept. */
+        static const char *const basis_text[] = {"scalar", "scalar", "L2", "L2-8bit"};
+        for (int m = 0; r == VDBGI_OK && m < 4; m++)
             for (int e = 0; r == VDBGI_OK && e < 4; e++) {
                 const vdbgi_convert_desc d = {.eps = eps[e],
                                               .layout =
                                                   m ? VDBGI_LAYOUT_COMPACT : VDBGI_LAYOUT_SEED,
-                                              .scalar_only = m < 2};
+                                              .scalar_only = m < 2,
+                                              .term_bits = m == 3 ? 8 : 0};
                 vdbgi_volume *v = NULL;
                 r = vdbgi_volume_build(ctx, p, &d, &v);
                 if (r == VDBGI_OK) {
                     vdbgi_volume_info vi;
                     bench_info(v, &vi);
-                    memory_row(f, spacing, m ? "compact" : "seed", m == 2 ? "L2" : "scalar",
-                               eps_text[e], v, vi.columns_size + vi.atlas_size + vi.sh_size,
-                               vi.file_size, &rv, got);
+                    memory_row(f, spacing, m ? "compact" : "seed", basis_text[m], eps_text[e], v,
+                               vi.columns_size + vi.atlas_size + vi.sh_size, vi.file_size, &rv,
+                               got);
                 }
                 vdbgi_volume_destroy(v);
             }

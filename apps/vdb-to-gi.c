@@ -51,6 +51,9 @@ static void usage(void)
            "                        surface's normal); scalar: one colour a probe (auto)\n"
            "      --gi-version V    L2 terms: 7, or 6 for runtimes from before version 7\n"
            "                        (same textures, a larger file) (7)\n"
+           "      --term-bits B     L2 terms: bits kept of each ratio byte, 4..8; each bit\n"
+           "                        fewer doubles the rounding step and shrinks the file\n"
+           "                        (6: the bake's noise is larger than its step)\n"
            "      --slices DIR      write slice images (PNG and EXR) into DIR\n"
            "      --slice-axis A    x, y or z (y)\n"
            "      --slice-at M      world coordinate of the slice (the plane with most probes)\n"
@@ -89,6 +92,7 @@ enum {
     OPT_LAYOUT,
     OPT_BASIS,
     OPT_GI_VERSION,
+    OPT_TERM_BITS,
     OPT_SLICES,
     OPT_SLICE_AXIS,
     OPT_SLICE_AT,
@@ -127,6 +131,7 @@ static int parse_args(int argc, char **argv, options *o)
         {"layout", required_argument, NULL, OPT_LAYOUT},
         {"basis", required_argument, NULL, OPT_BASIS},
         {"gi-version", required_argument, NULL, OPT_GI_VERSION},
+        {"term-bits", required_argument, NULL, OPT_TERM_BITS},
         {"slices", required_argument, NULL, OPT_SLICES},
         {"slice-axis", required_argument, NULL, OPT_SLICE_AXIS},
         {"slice-at", required_argument, NULL, OPT_SLICE_AT},
@@ -204,6 +209,11 @@ static int parse_args(int argc, char **argv, options *o)
                 o->convert.gi_version = optarg[0] - '0';
             else
                 return cli_usage_error("--gi-version must be 6 or 7 (got '%s')", optarg);
+            break;
+        case OPT_TERM_BITS:
+            if (!cli_parse_int(optarg, &i) || i < 4 || i > 8)
+                return cli_usage_error("--term-bits must be 4..8 (got '%s')", optarg);
+            o->convert.term_bits = (int)i;
             break;
         case OPT_LAYOUT:
             if (strcmp(optarg, "seed") == 0)
@@ -350,7 +360,7 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             "  \"max_error\": %.6g,\n  \"rmse_relative\": %.6g,\n  \"p99_relative\": %.6g,\n"
             "  \"max_relative\": %.6g,\n  \"read_seconds\": %.4f,\n"
             "  \"convert_seconds\": %.4f,\n  \"convert_over_read\": %.3f,\n"
-            "  \"stored_points\": %zu,\n  \"memory_peak_bytes\": %zu\n}\n",
+            "  \"stored_points\": %zu,\n  \"term_bits\": %d,\n  \"memory_peak_bytes\": %zu\n}\n",
             vi->probe_count, vi->valid_count, vi->filled_count, vi->unreached_count,
             vi->fallback_count, (double)vi->spacing, vi->max_level,
             vi->encoding == VDBGI_ENCODING_RGB9E5 ? "rgb9e5" : "rgbm",
@@ -364,7 +374,7 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             (double)vi->dense_rgba8_size / (double)vi->file_size, vi->clamped_count,
             vi->mean_irradiance, vi->rmse, vi->p99, vi->max_error, vi->rmse / mean, vi->p99 / mean,
             vi->max_error / mean, read_seconds, vi->seconds, vi->seconds / read_seconds,
-            vi->stored_points, o->memory_peak);
+            vi->stored_points, vi->term_bits, o->memory_peak);
         return;
     }
     char a[32], b[32], c[32], d[32];
@@ -384,8 +394,9 @@ static void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             cli_bytes((double)vi->indirection_size, b, sizeof(b)));
     if (vi->basis == VDBGI_BASIS_SH2)
         fprintf(f,
-                "basis        L2: eight terms a texel beside the atlas (signed ratios to L0), %s\n",
-                cli_bytes((double)vi->sh_size, d, sizeof(d)));
+                "basis        L2: eight terms a texel beside the atlas (signed ratios to L0, %d "
+                "bits kept), %s\n",
+                vi->term_bits, cli_bytes((double)vi->sh_size, d, sizeof(d)));
     cli_print_runtime(f, vi);
     if (vi->stored_points)
         fprintf(f, "file         %s: %s gzip'd, %zu probe values each stored once (textures %s)\n",

@@ -171,11 +171,13 @@ float vdbgi_sh_ratio_range(int term)
     return range[term];
 }
 
-int8_t vdbgi_sh_ratio_encode(float term_value, float l0, int term)
+int8_t vdbgi_sh_ratio_encode(float term_value, float l0, int term, int step)
 {
     if (!(l0 > 0.0f) || !isfinite(term_value))
         return 0;
     float r = term_value / l0 / vdbgi_sh_ratio_range(term);
     r = r > 1.0f ? 1.0f : r < -1.0f ? -1.0f : r;
-    return (int8_t)lrintf(r * 127.0f);
+    const long most = 127 / step * step;
+    const long q = step * lrintf(r * 127.0f / (float)step);
+    return (int8_t)(q > most ? most : q < -most ? -most : q);
 }

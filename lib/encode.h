@@ -24,11 +24,12 @@ void vdbgi_sharedexp8_decode(const uint8_t in[4], float rgb[3]);
  * An L2 term as the .gi stores it (docs/format.md, "Version 6"): its ratio
  * to L0, term / l0, in 127ths of the term's largest possible ratio
  * (vdbgi_sh_ratio_range; radiance is never negative, so no honest ratio
- * exceeds it), rounded to even; 0 where l0 is not positive. A reader decodes
- * it as a snorm8 texel: max(q / 127, -1) times the range (sampler.c).
+ * exceeds it), rounded to even to a multiple of step (1, 2, 4 ...; 1 keeps
+ * every byte) within +-127; 0 where l0 is not positive. A reader decodes it
+ * as a snorm8 texel: max(q / 127, -1) times the range (sampler.c).
  */
 float vdbgi_sh_ratio_range(int term);
-int8_t vdbgi_sh_ratio_encode(float term_value, float l0, int term);
+int8_t vdbgi_sh_ratio_encode(float term_value, float l0, int term, int step);
 
 /* IEEE 754 binary16, round to nearest even; overflow goes to infinity. */
 /* The sRGB transfer function of a linear value clamped to [0, 1] (NaN gives 0), for 8-bit

@@ -155,7 +155,9 @@ static void *values_worker(void *arg)
         /* L2 terms as ratios to the field's own L0 (a fallback point has none: flat). */
         for (int k = 0; job->sh && k < VDBGI_SH_BYTES; k++)
             job->sh[VDBGI_SH_BYTES * i + k] =
-                valued ? (uint8_t)vdbgi_sh_ratio_encode(f[3 + k], f[k % 3], k / 3) : 0;
+                valued ? (uint8_t)vdbgi_sh_ratio_encode(f[3 + k], f[k % 3], k / 3,
+                                                        1 << (8 - v->info.term_bits))
+                       : 0;
     });
     return NULL;
 }

@@ -44,6 +44,9 @@ static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *d
                   VDBGI_ERR_INVALID_ARG, "unknown layout %d", (int)desc->layout);
     VDBGI_FAIL_IF(ctx, desc->threads < 0, VDBGI_ERR_INVALID_ARG,
                   "thread count must be >= 0 (got %d)", desc->threads);
+    VDBGI_FAIL_IF(ctx, desc->term_bits != 0 && (desc->term_bits < 4 || desc->term_bits > 8),
+                  VDBGI_ERR_INVALID_ARG, "L2 terms keep 4 to 8 bits of each ratio (got %d)",
+                  desc->term_bits);
     VDBGI_FAIL_IF(ctx, desc->gi_version != 0 && desc->gi_version != 6 && desc->gi_version != 7,
                   VDBGI_ERR_INVALID_ARG,
                   "a volume with L2 terms is written as .gi version 6 or 7 (got %d)",
@@ -517,6 +520,7 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     float *joined = NULL;
     if (terms) {
         info->basis = VDBGI_BASIS_SH2;
+        info->term_bits = desc && desc->term_bits ? desc->term_bits : VDBGI_TERM_BITS;
         if (!(joined = vdbgi_alloc(ctx, 27 * sizeof(float) * probes->count))) {
             vdbgi_volume_destroy(v);
             return VDBGI_ERR_OUT_OF_MEMORY;

@@ -24,6 +24,12 @@ mkdir -p "$OUT"
     "$BUILD/bin/gi-bake" -q "$OUT/world200.glb" -o "$OUT/world200.vdb" >/dev/null
     "$BUILD/bin/gi-bench" convert "$OUT/world.vdb" --repeat 3
     "$BUILD/bin/gi-bench" convert "$OUT/world200.vdb" --repeat 3
+    # The L2 terms' conversion against the scalar one of the same probes (docs/directional.md).
+    "$BUILD/bin/gi-bake" -q data/world.glb -o "$OUT/world_sh2.vdb" --basis sh2 >/dev/null
+    "$BUILD/bin/gi-bench" convert "$OUT/world_sh2.vdb" --repeat 3
+    "$BUILD/bin/gi-bake" -q "$OUT/world200.glb" -o "$OUT/world200_sh2.vdb" --basis sh2 >/dev/null
+    "$BUILD/bin/gi-bench" convert "$OUT/world200_sh2.vdb" --repeat 1
+    rm -f "$OUT/world_sh2.vdb" "$OUT/world200_sh2.vdb"
     "$BUILD/bin/gi-bake" -q "$OUT/town.glb" -o "$OUT/town.vdb" >/dev/null
     echo "### Lightmaps: gi-lightmap against a bare Embree loop, and packing (docs/lightmap.md)"
     echo

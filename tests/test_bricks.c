@@ -965,6 +965,10 @@ static void bad_parameters_and_probes_are_refused(void)
                                       {.max_level = -1},
                                       {.criterion = (vdbgi_criterion)9},
                                       {.encoding = (vdbgi_encoding)7},
+                                      {.term_bits = 3},
+                                      {.term_bits = 9},
+                                      {.gi_version = 5},
+                                      {.gi_version = 6}, /* probes without terms */
                                       {.fill = (vdbgi_fill)3}};
     for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
         CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &bad[i], &v), VDBGI_ERR_INVALID_ARG);
@@ -1330,10 +1334,12 @@ static void probe_l2_reading(const vdbgi_probes *p, size_t i, const float n[3], 
  * The worst error over every valid probe of an eps-0 L2 volume, read at the
  * probe along each of the normals, against the probe's own E(n) (a band
  * dropped or negated when asked), in encoding steps: L0's RGBM step, and
- * one step of each term's ratio (its range over 127) weighted by |p_k(n)|.
+ * one step of each term's ratio (term_step of its range over 127, as
+ * term_bits rounds it) weighted by |p_k(n)|.
  */
 static double worst_l2_error_in_steps(const vdbgi_probes *p, const vdbgi_volume *v,
-                                      const float (*normals)[3], int count, int drop, int sign_of)
+                                      const float (*normals)[3], int count, int drop, int sign_of,
+                                      int term_step)
 {
     double worst = 0.0;
     for (size_t i = 0; i < p->count; i++) {
@@ -1357,7 +1363,8 @@ static double worst_l2_error_in_steps(const vdbgi_probes *p, const vdbgi_volume 
             vdbgi_volume_sample_normal(v, pos, n, got);
             probe_l2_reading(p, i, n, drop, sign_of, want);
             for (int k = 0; k < 3; k++) {
-                const double step = (mx + 8.0 / 255.0) / 255.0 * (1.0 + s) + c0[k] * s / 127.0;
+                const double step =
+                    (mx + 8.0 / 255.0) / 255.0 * (1.0 + s) + c0[k] * s * term_step / 127.0;
                 worst = fmax(worst, fabs(got[k] - want[k]) / step);
             }
         }
@@ -1367,8 +1374,9 @@ static double worst_l2_error_in_steps(const vdbgi_probes *p, const vdbgi_volume 
 
 /*
  * At eps 0 every probe's E(n) comes back within one encoding step, for the
- * six axis normals and 20 random ones; and the same check fails when any
- * one band is left out of the probe's own reading, or negated.
+ * six axis normals and 20 random ones, with every bit of the terms kept and
+ * with the default's; and the same check fails when any one band is left
+ * out of the probe's own reading, or negated.
  */
 static void at_eps_0_every_probe_reads_its_own_l2_for_any_normal(void)
 {
@@ -1382,14 +1390,16 @@ static void at_eps_0_every_probe_reads_its_own_l2_for_any_normal(void)
     const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.6f, 0);
     vdbgi_scene *scene = NULL;
     vdbgi_probes *p = NULL;
-    vdbgi_volume *v = NULL;
+    vdbgi_volume *v = NULL, *coarse = NULL;
     const vdbgi_place_desc pd = {.spacing = 0.5, .origin = {0.25, 0.25, 0.25}, .origin_is_set = 1};
     CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &scene), VDBGI_OK);
     CHECK_RESULT(ctx, vdbgi_probes_place(ctx, scene, &pd, &p), VDBGI_OK);
     const vdbgi_bake_desc bd = {.rays = 64, .basis = VDBGI_BASIS_SH2, .sky = {0.2f, 0.3f, 0.5f}};
     CHECK_RESULT(ctx, vdbgi_probes_bake(p, scene, &bd, NULL), VDBGI_OK);
-    const vdbgi_convert_desc cd = {.eps = VDBGI_ZERO, .max_level = VDBGI_ZERO};
+    vdbgi_convert_desc cd = {.eps = VDBGI_ZERO, .max_level = VDBGI_ZERO, .term_bits = 8};
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
+    cd.term_bits = 0;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &coarse), VDBGI_OK);
     float normals[26][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     uint64_t state = 12345;
     for (int j = 6; j < 26; j++) {
@@ -1401,14 +1411,17 @@ static void at_eps_0_every_probe_reads_its_own_l2_for_any_normal(void)
         for (int k = 0; k < 3; k++)
             normals[j][k] /= sqrtf(l);
     }
-    if (v) {
-        const double worst = worst_l2_error_in_steps(p, v, (const float(*)[3])normals, 26, 0, 0);
-        CHECK(worst <= 1.0);
+    if (v && coarse) {
+        const float(*const ns)[3] = (const float(*)[3])normals;
+        CHECK(worst_l2_error_in_steps(p, v, ns, 26, 0, 0, 1) <= 1.0);
+        /* The default rounds each ratio to a step 2^(8 - bits) times as large: within it. */
+        const int step = 1 << (8 - VDBGI_TERM_BITS);
+        CHECK(coarse->info.term_bits == VDBGI_TERM_BITS &&
+              worst_l2_error_in_steps(p, coarse, ns, 26, 0, 0, step) <= 1.0);
+        CHECK(worst_l2_error_in_steps(p, coarse, ns, 26, 0, 0, 1) > 1.0);
         for (int band = 1; band <= 8; band++) {
-            const double dropped =
-                worst_l2_error_in_steps(p, v, (const float(*)[3])normals, 26, band, 0);
-            const double negated =
-                worst_l2_error_in_steps(p, v, (const float(*)[3])normals, 26, 0, band);
+            const double dropped = worst_l2_error_in_steps(p, v, ns, 26, band, 0, 1);
+            const double negated = worst_l2_error_in_steps(p, v, ns, 26, 0, band, 1);
             if (!(dropped > 1.0 && negated > 1.0)) {
                 fprintf(stderr, "band %d: %.2f steps dropped, %.2f negated\n", band, dropped,
                         negated);
@@ -1416,6 +1429,7 @@ static void at_eps_0_every_probe_reads_its_own_l2_for_any_normal(void)
             }
         }
     }
+    vdbgi_volume_destroy(coarse);
     vdbgi_volume_destroy(v);
     vdbgi_probes_destroy(p);
     vdbgi_scene_destroy(scene);

@@ -10,10 +10,11 @@ set multiplot layout 2,2 title name.": memory against the error a player sees, a
 set logscale xy
 set grid
 set key top right font ",9"
-methods = "dense,scalar seed,scalar compact,scalar dense,L2 compact,L2"
+methods = "dense,scalar seed,scalar compact,scalar dense,L2 compact,L2 compact,L2-8bit"
 label(m) = m eq "dense,scalar" ? "dense RGBM grid, scalar" : m eq "seed,scalar" ? "seed layout, scalar" : \
-           m eq "compact,scalar" ? "compact, scalar" : m eq "dense,L2" ? "dense grid, L2" : "compact, L2"
-colour(i) = word("#000000 #d95f02 #1b9e77 #7570b3 #e7298a", i)
+           m eq "compact,scalar" ? "compact, scalar" : m eq "dense,L2" ? "dense grid, L2" : \
+           m eq "compact,L2" ? "compact, L2 (terms 6 bits)" : "compact, L2 (terms 8 bits)"
+colour(i) = word("#000000 #d95f02 #1b9e77 #7570b3 #e7298a #66a61e", i)
 pick(m, s) = (strcol(2).",".strcol(3) eq m && $1 == s)
 spacings = "0.25 0.5 1"
 do for [panel = 1:4] {
@@ -24,7 +25,7 @@ do for [panel = 1:4] {
     set ylabel (ycol == 6 ? "VRAM, MB" : "gzip'd file, MB")
     if (ycol == 6) { set yrange [0.1:*] } else { set yrange [0.01:*] }
     if (panel > 1) { unset key }
-    plot for [i = 1:5] for [j = 1:3] csv using (pick(word(methods, i), word(spacings, j) + 0) ? 100 * column(col) : 1/0):(column(ycol) / 1e6) \
+    plot for [i = 1:6] for [j = 1:3] csv using (pick(word(methods, i), word(spacings, j) + 0) ? 100 * column(col) : 1/0):(column(ycol) / 1e6) \
          with linespoints lc rgb colour(i) pt (j == 1 ? 7 : j == 2 ? 5 : 9) ps 0.8 \
          title (j == 1 ? label(word(methods, i)) : "")
 }
