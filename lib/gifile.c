@@ -281,8 +281,9 @@ vdbgi_result vdbgi_gifile_parse(vdbgi_context *ctx, const char *path, const uint
     if (!gz)
         memcpy(h, file, got);
     /* The first 112 bytes say the version; a basis (versions 6 and 7) follows them. */
-    const size_t want =
-        got >= 12 && vdbgi_get_u32(h + 8) >= 6 ? VDBGI_GI_HEADER_MAX : VDBGI_GI_HEADER_SIZE;
+    const size_t want = got >= 12 && (vdbgi_get_u32(h + 8) == 6 || vdbgi_get_u32(h + 8) == 7)
+                            ? VDBGI_GI_HEADER_MAX
+                            : VDBGI_GI_HEADER_SIZE;
     if (got < want) {
         r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %s", path,
                        gz ? "damaged gzip data, or too short to be a .gi file"

@@ -792,7 +792,8 @@ typedef enum vdbgi_fill {
  *   term_bits:  L2 terms: the bits of each signed ratio byte kept, 4..8
  *               (0: VDBGI_TERM_BITS); 8 keeps all, each bit fewer doubles
  *               the step to which a ratio is rounded, and shrinks the file.
- *               The textures and readers stay as they are.
+ *               The textures and readers stay as they are. A volume
+ *               without terms has nothing to round (no error).
  */
 typedef struct vdbgi_convert_desc {
     float eps;

@@ -933,8 +933,8 @@ static void damaged_files_are_refused(void)
         vdbgi_volume_destroy(r);
         r = NULL;
     }
-    static const uint32_t version_layout[][2] = {{1, 1}, {1, 2}, {2, 4}, {3, 1}, {4, 2},
-                                                 {4, 3}, {5, 0}, {5, 1}, {5, 3}, {6, 2}};
+    static const uint32_t version_layout[][2] = {{1, 1}, {1, 2}, {2, 4}, {3, 1}, {4, 2}, {4, 3},
+                                                 {5, 0}, {5, 1}, {5, 3}, {6, 2}, {7, 2}, {8, 2}};
     for (size_t c = 0; c < sizeof(version_layout) / sizeof(version_layout[0]); c++) {
         memcpy(lie, plain, raw);
         vdbgi_put_u32(lie + 8, version_layout[c][0]);
@@ -1152,7 +1152,7 @@ static void textures_and_probes_copy_into_caller_buffers_after_a_size_query(void
 }
 
 /*
- * L2 terms in bricks (.gi version 6): a surface reads its own side, as the
+ * L2 terms in bricks (.gi version 7, and 6): a surface reads its own side, as the
  * probes' own L2 does; the L0 atlas is the scalar volume's, byte for byte;
  * the file round-trips, does not depend on the thread count, and a damaged
  * basis, a cut or a wrong version is refused.
@@ -1281,6 +1281,7 @@ static void l2_bricks_read_each_side_and_round_trip(void)
     } damage[] = {{raw, raw, 0, NULL},
                   {112, raw, 3, "unknown basis 3"},
                   {8, raw, 5, "cannot come from"},
+                  {8, raw, 8, "this reader knows 1..7"},
                   {12, raw, 112, "bad header size"},
                   {raw, raw - 1, 0, "cannot come from"},
                   {raw, 114, 0, "too short"}};

@@ -113,7 +113,7 @@ function parseHeader(buf) {
   // Versions 3 and 4 were older compact forms, no longer read.
   if (version === 3 || version === 4)
     throw new Error(`an older vdbgi's compact layout (.gi version ${version}): convert the .vdb again`);
-  if (version < 1 || version > 7) throw new Error(`unsupported version ${version}`);
+  if (version < 1 || version > 7) throw new Error(`.gi version ${version}, this reader knows 1..7`);
   const field = u32(104);
   const isCompact = field === LAYOUT_COMPACT || field === OLD_LAYOUT_COMPACT;
   const isSeed = field === LAYOUT_SEED || field === OLD_LAYOUT_SEED;

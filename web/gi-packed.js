@@ -1,5 +1,5 @@
-// gi-packed.js: the runtime textures of a version 5 or 6 .gi (docs/format.md,
-// "Version 5" and "Version 6"), rebuilt from its level bytes, its bricks'
+// gi-packed.js: the runtime textures of a version 5, 6 or 7 .gi (docs/format.md,
+// "Version 5" to "Version 7"), rebuilt from its level bytes, its bricks'
 // places and the probe values (and L2 terms) it stores once. Bit for bit what lib/packed.c rebuilds: every float operation below
 // is a float32 one (Math.fround) in the C code's order, and the encoders
 // round as the C ones do, so a test can compare the two byte for byte.
@@ -138,7 +138,7 @@ function interpolate(s, key, level, p, out) {
   }
 }
 
-// Rebuild { indirection, atlas, storedPoints } from a version 5 payload, or
+// Rebuild { indirection, atlas, storedPoints } from a version 5, 6 or 7 payload, or
 // throw an Error naming what is inconsistent. `gi` is the parsed header.
 export function rebuildPacked(gi, payload) {
   const d = gi.indDims, cells = d[0] * d[1] * d[2];

@@ -1,7 +1,7 @@
 # Directional probes (--basis sh2) read with a normal: over the open ground a
 # surface facing down gets the lit ground, one facing up the black sky, one
 # facing sideways lies between; the scalar reads the same whatever the normal.
-# The bricks carry the terms (.gi version 6) and read alike.
+# The bricks carry the terms (.gi version 7) and read alike.
 # The L2 terms open in pyopenvdb as eight vec3s grids; a file missing one of
 # them reads as scalar, one holding a NaN term is refused by name.
 "$BIN/gi-bake" -q "$DATA/world.glb" -o sh.vdb --basis sh2 --rays 64 >/dev/null
@@ -20,7 +20,7 @@ c=$(first scalar.vdb --at 0,0.1,0)
 "$BIN/gi-inspect" sh.vdb | grep -E '^meta +basis='
 "$BIN/gi-inspect" sh.vdb --at 0,0.1,0 --normal 0,0,0 >/dev/null 2>err; echo "exit $? $(cat err)"
 "$BIN/gi-inspect" sh.vdb --at 0,0.1,0 --normal 1,nan,0 >/dev/null 2>err; echo "exit $? $(cat err)"
-# The same through the bricks (.gi version 6); a scalar .gi has no side to read.
+# The same through the bricks (.gi version 7); a scalar .gi has no side to read.
 "$BIN/vdb-to-gi" -q sh.vdb -o sh.gi.gz
 "$BIN/vdb-to-gi" -q sh.vdb -o flat.gi.gz --basis scalar
 up=$(first sh.gi.gz --at 0,0.1,0 --normal 0,1,0)
@@ -44,3 +44,32 @@ PY
 "$BIN/gi-inspect" seven.vdb --at 0,0.1,0 --normal 0,1,0 | sed -n 's/^at .*-> \([^ ]*\) \([^ ]*\) .*/\1 \2/p' > seven
 [ "$(cat seven)" = "$(first scalar.vdb --at 0,0.1,0)" ] && echo "seven terms of eight: read as scalar"
 "$BIN/gi-inspect" nan.vdb >/dev/null 2>err; echo "exit $? $(sed 's/probe [-0-9,]*/probe I,J,K/' err)"
+# The terms' rounding (--term-bits) and file version (--gi-version): every bit kept
+# makes a larger file than the default 6 bits, which reads within half its step (2/127
+# of each term's range R_k, times |p_k(n)|, times L0) of it; version 6 is larger still
+# and reads the same; nonsense is refused by name.
+"$BIN/vdb-to-gi" -q sh.vdb -o eight.gi.gz --term-bits 8 --stats eight.json
+"$BIN/vdb-to-gi" -q sh.vdb -o six.gi.gz --gi-version 6 --term-bits 8
+"$BIN/vdb-to-gi" -q sh.vdb -o sh.gi.gz --stats sh.json
+sed -n 's/.*"term_bits": \([0-9]*\).*/term bits: default \1/p' sh.json
+sed -n 's/.*"term_bits": \([0-9]*\).*/term bits: asked \1/p' eight.json
+size() { wc -c < "$1"; }
+[ "$(size sh.gi.gz)" -lt "$(size eight.gi.gz)" ] && [ "$(size eight.gi.gz)" -lt "$(size six.gi.gz)" ] &&
+    echo "files: 6 bits < 8 bits < 8 bits as version 6"
+for n in 0,-1,0 0.6,0.8,0 -1,0,0; do
+    a=$(first eight.gi.gz --at 0,0.1,0 --normal $n) b=$(first six.gi.gz --at 0,0.1,0 --normal $n)
+    c=$(first sh.gi.gz --at 0,0.1,0 --normal $n) l0=$(first sh.gi.gz --at 0,0.1,0)
+    [ "$a" = "$b" ] && echo "normal $n: version 6 reads as version 7" ||
+        echo "normal $n: version 6 reads $b, 7 $a"
+    echo "$a|$c|$l0|$n" | awk -F'|' '{ split($1, a, " "); split($2, c, " "); split($3, l, " ");
+        split($4, n, ","); s = sqrt(n[1] ^ 2 + n[2] ^ 2 + n[3] ^ 2); x = n[1] / s; y = n[2] / s; z = n[3] / s;
+        split("2 2 2 1.875 1.875 0.625 1.875 0.9375", R, " ");
+        p[1] = x; p[2] = y; p[3] = z; p[4] = x * y; p[5] = y * z; p[6] = 3 * z * z - 1; p[7] = x * z; p[8] = x * x - y * y;
+        b = 0; for (k = 1; k <= 8; k++) b += R[k] * (p[k] < 0 ? -p[k] : p[k]);
+        bound = l[2] * b * 2 / 127 + 1e-6; d = a[2] - c[2]; if (d < 0) d = -d;
+        print "normal " $4 ": 6 bits within half a step of 8 bits:", (d <= bound) ? "yes" : "no " d " > " bound }'
+done
+"$BIN/vdb-to-gi" -q sh.vdb -o x.gi.gz --term-bits 9 2>&1; echo "exit $?"
+"$BIN/vdb-to-gi" -q sh.vdb -o x.gi.gz --gi-version 5 2>&1; echo "exit $?"
+"$BIN/vdb-to-gi" -q sh.vdb -o x.gi.gz --gi-version 6 --basis scalar 2>&1; echo "exit $?"
+[ -e x.gi.gz ] || echo "no x.gi.gz written"

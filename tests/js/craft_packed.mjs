@@ -58,6 +58,8 @@ write('brick-over-the-block-of-zeros', (b, v) => { setOrigin(v, 0, [0, 0, 0]); }
 write('brick-over-another-bricks-points', (b, v) => { setOrigin(v, 1, origin(0)); });
 write('older-compact-version-4', (b, v) => { v.setUint32(8, 4, true); });
 write('older-compact-version-3', (b, v) => { v.setUint32(8, 3, true); v.setUint32(104, 1, true); });
+write('newer-version-8', (b, v) => { v.setUint32(8, 8, true); });
+write('version-7-without-l2-terms', (b, v) => { v.setUint32(8, 7, true); });
 write('unknown-layout-4', (b, v) => { v.setUint32(104, 4, true); });
 write('packed-with-the-old-compact-number-3', (b, v) => { v.setUint32(104, 3, true); });
 // 33.5 M cells of the indirection (512 x 512 x 128), empty but for the good file's few
