@@ -198,7 +198,7 @@ void bench_volume_reading(const vdbgi_volume *v, const bench_receivers *rv, floa
     vdbgi_volume_info vi;
     vdbgi_volume_get_info(v, &vi);
     const bool l2 = vi.basis == VDBGI_BASIS_SH2;
-    const float off = 0.25f * vi.spacing;
+    const float off = 0.5f * vi.spacing;
     for (size_t i = 0; i < rv->count; i++) {
         const float *const n = &rv->normal[3 * i];
         float at[3];
@@ -236,8 +236,8 @@ static vdbgi_result truth_at_spacing(vdbgi_context *ctx, const vdbgi_scene *scen
         bench_volume_reading(v, rv, got);
         print_row(csv, spacing, "scalar, bricks (defaults)", rv, got);
     }
-    /* The directional runtime: the same bricks carrying L2 terms, read with the normal a
-       quarter spacing off a surface, as the shaders read them. */
+    /* The directional runtime: the same bricks carrying L2 terms, read with the normal half
+       a spacing off a surface, as the shaders read them. */
     vdbgi_volume_destroy(v);
     v = NULL;
     if (r == VDBGI_OK)
@@ -381,8 +381,8 @@ int bench_truth(const char *scene_path, double spacing, bool spacing_given, int 
     for (int s = 0; r == VDBGI_OK && s < (spacing_given ? 1 : 2); s++)
         r = truth_at_spacing(ctx, scene, &rv, spacing_given ? spacing : spacings[s], rays, threads,
                              light, csv, got);
-    static const float offsets[3] = {0.02f, 0.0625f, 0.125f};
-    for (int o = 0; r == VDBGI_OK && o < 3; o++)
+    static const float offsets[4] = {0.02f, 0.0625f, 0.125f, 0.25f};
+    for (int o = 0; r == VDBGI_OK && o < 4; o++)
         r = truth_of_perfect_probes(scene, &rv, offsets[o], rays, threads, light, csv, got);
     if (r == VDBGI_OK)
         r = truth_of_lightmap(ctx, scene, &rv, threads, light, csv, got);

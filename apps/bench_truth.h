@@ -43,8 +43,8 @@ bench_error bench_error_of(const bench_receivers *rv, const float *got, int kind
 
 /*
  * What a volume gives every receiver, as E: a scalar one at the point; one
- * with L2 terms with the receiver's normal, a surface's point moved a
- * quarter spacing along it first (as the shaders read it).
+ * with L2 terms with the receiver's normal, a surface's point moved half a
+ * spacing along it first (as the shaders read it).
  */
 void bench_volume_reading(const vdbgi_volume *v, const bench_receivers *rv, float *got);
 

@@ -813,7 +813,7 @@ typedef struct vdbgi_convert_desc {
 
 /*
  * The default bits of an L2 ratio: a step of 4/127 of a term's range. On the
- * bundled world at 0.5 m it takes a third off the file for 0.4 points of
+ * bundled world at 0.5 m it takes a third off the file for 0.5 points of
  * surface error against the hemisphere truth (docs/directional.md): the
  * bake's noise in the ratios is larger than the step.
  */
@@ -978,7 +978,7 @@ VDBGI_API void vdbgi_volume_sample(const vdbgi_volume *volume, const float pos[3
  * vdbgi_volume_sample reads the atlas (one trilinear weight set), then
  * c0 (1 + sum r_k p_k(n)) clamped at 0 a channel (docs/format.md, "Version
  * 6"); a scalar volume reads what vdbgi_volume_sample does. The caller moves
- * pos off its surface as it sees fit (the runtime: a quarter spacing).
+ * pos off its surface as it sees fit (the runtime: half a spacing).
  */
 VDBGI_API void vdbgi_volume_sample_normal(const vdbgi_volume *volume, const float pos[3],
                                           const float n[3], float rgb[3]);

@@ -50,14 +50,14 @@ function giNodes(runtime) {
   };
   // Seed 000's volumeIrradiance(), as vdbgi.js's GLSL: returns irradiance,
   // level (-1: no brick) and the position inside the brick (0..1). With L2
-  // terms, read a quarter spacing off the surface along its world normal nrm,
+  // terms, read half a spacing off the surface along its world normal nrm,
   // and evaluated for it (docs/format.md, "Version 6").
   n.lookup = (pos0, nrm0) => {
     // A zero normal (a mesh without normals, per vertex) reads L0 alone.
     const nn = dot(nrm0, nrm0);
     const l2 = n.basis.greaterThan(0).and(nn.greaterThan(0.25));
     const nrm = select(l2, nrm0.mul(inverseSqrt(max(nn, 0.25))), vec3(0));
-    const pos = pos0.add(nrm.mul(n.boxSize.x.div(n.indDims.x.mul(4)).mul(0.25)));
+    const pos = pos0.add(nrm.mul(n.boxSize.x.div(n.indDims.x.mul(4)).mul(0.5)));
     const p = pos.sub(n.boxMin).div(n.boxSize).mul(n.indDims.mul(4)).sub(0.5);
     const baseBrick0 = floor(p.div(4));
     // The cell's indirection texel from its column's run, as the GLSL (docs/format.md).
@@ -193,8 +193,12 @@ function applyNodes(material, n, { set, perFragment }) {
       select(l.lessThan(1.5), c[2], select(l.lessThan(2.5), c[3], c[4]))));
   })();
   const boundaries = (() => {
-    const b = here.inBrick;
-    const d0 = min(b, b.oneMinus()).div(max(fwidth(b), vec3(1e-6)));
+    const b = here.inBrick, w = fwidth(b);
+    // A line where the surface crosses a brick's face: an axis along which the position
+    // does not move across the pixel (a floor read in a face's plane) crosses none.
+    const d1 = min(b, b.oneMinus()).div(max(w, vec3(1e-6)));
+    const d0 = vec3(select(w.x.lessThan(1e-6), float(1e6), d1.x), select(w.y.lessThan(1e-6), float(1e6), d1.y),
+      select(w.z.lessThan(1e-6), float(1e6), d1.z));
     // Below its column's lowest brick (the lift): no face there, so y draws no line.
     const d = vec3(d0.x, select(b.y.lessThan(0), float(1e6), d0.y), d0.z);
     const edge = clamp(min(d.x, min(d.y, d.z)).sub(0.5), 0, 1).oneMinus();

@@ -339,14 +339,14 @@ vec4 vdbgiColumnsTexel(float i) {
   return floor(texelFetch(giColumns, ivec2(int(i - row * w), int(row)), 0) * 255.0 + 0.5);
 }
 // n: the receiver's world normal. With L2 terms (docs/format.md, "Version 6")
-// the position moves a quarter spacing along it, off its own surface, and the
+// the position moves half a spacing along it, off its own surface, and the
 // six term textures, read where the atlas is, turn L0 into E(n) / pi. A zero
 // normal (a mesh without normals, per vertex) reads L0 alone.
 GiLookup vdbgiLookup(vec3 pos, vec3 n) {
   float nn = dot(n, n);
   bool l2 = giBasis > 0 && nn > 0.25;
   n = l2 ? n * inversesqrt(nn) : vec3(0.0);
-  pos += n * (0.25 * giBoxSize.x / (giIndDims.x * 4.0));
+  pos += n * (0.5 * giBoxSize.x / (giIndDims.x * 4.0));
   vec3 p = (pos - giBoxMin) / giBoxSize * (giIndDims * 4.0) - 0.5;
   vec3 baseBrick = floor(p / 4.0);
   // The cell's texel of the indirection, read from its column's run (docs/format.md,
@@ -478,7 +478,11 @@ if (giDebug != ${DebugView.OFF}) {
         : giL.level < 1.5 ? ${glslVec3(LEVEL_COLOURS[2])} : giL.level < 2.5 ? ${glslVec3(LEVEL_COLOURS[3])}
         : ${glslVec3(LEVEL_COLOURS[4])};
   } else if (giDebug == ${DebugView.BRICKS}) {
-    vec3 d = min(giL.inBrick, 1.0 - giL.inBrick) / max(fwidth(giL.inBrick), vec3(1e-6));
+    // A line where the surface crosses a brick's face: an axis along which the
+    // position does not move across the pixel (a floor read in a face's plane, as
+    // half a spacing off a floor at a round height is) crosses none.
+    vec3 w = fwidth(giL.inBrick);
+    vec3 d = mix(min(giL.inBrick, 1.0 - giL.inBrick) / max(w, vec3(1e-6)), vec3(1e6), lessThan(w, vec3(1e-6)));
     // Below its column's lowest brick (the lift) a position reads that brick's bottom
     // plane: no face of it lies there, so y draws no line.
     d.y = giL.inBrick.y < 0.0 ? 1e6 : d.y;

@@ -23,7 +23,7 @@ done
 for backend in webgl webgpu; do
     node "$ROOT/tests/web/check_probe.mjs" $backend "$DATA/world.glb" w.gi.gz "$BIN/gi-inspect" 2>/dev/null
 done
-# L2 terms (version 6): each pixel reads with its own world normal, a quarter
+# L2 terms (version 7): each pixel reads with its own world normal, half a
 # spacing off its surface, in both back ends.
 "$BIN/gi-bake" -q "$DATA/world.glb" -o sh.vdb --spacing 1 --rays 32 --basis sh2 >/dev/null
 "$BIN/vdb-to-gi" -q sh.vdb -o w.gi.gz --criterion range --eps 5

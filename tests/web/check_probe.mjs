@@ -32,12 +32,12 @@ try {
 }
 
 const gi = await loadGi(readFileSync(file));
-// With L2 terms each pixel reads a quarter spacing off its surface with its own
+// With L2 terms each pixel reads half a spacing off its surface with its own
 // normal (docs/format.md, "Version 6"): gi-inspect takes one normal a run, so
 // the float32 loader, held to gi-inspect by cli/convert_js_loader, gives the
 // value there. Without, gi-inspect at the pixel's position.
 const f = Math.fround;
-const offset = f(f(0.25 * f(gi.boxMax[0] - gi.boxMin[0])) / (gi.indDims[0] * 4));
+const offset = f(f(0.5 * f(gi.boxMax[0] - gi.boxMin[0])) / (gi.indDims[0] * 4));
 const reading = (p) => {
   const len = Math.hypot(...p.normal);
   const n = p.normal.map((v) => f(v / len));
