@@ -672,8 +672,8 @@ static int bench_memory(const options *o, bool one_spacing)
         r = vdbgi_probes_place(ctx, scene, &pd, &p);
         if (r == VDBGI_OK)
             r = vdbgi_probes_bake(p, scene, &bd, NULL);
-        /* A dense grid holds every probe as it is: the bricks at eps 0, level 0, with the
-           dense grid's bytes (RGBM; L2: 24 more a probe). */
+        /* A dense grid holds every probe: the bricks at eps 0, level 0 (L2 terms rounded as
+           by default), with the dense grid's bytes (RGBM; L2: 24 more a probe). */
         for (int b = 0; r == VDBGI_OK && b < 2; b++) {
             vdbgi_volume *exact = NULL;
             const vdbgi_convert_desc ed = {
