@@ -19,6 +19,12 @@
 
 static const char gi_magic[8] = {'v', 'd', 'b', 'g', 'i', '.', 'g', 'i'};
 
+/* Versions 6 and 7 hold L2 terms: a basis field ends their 116-byte header. */
+static bool holds_terms(uint32_t version)
+{
+    return version == 6 || version == 7;
+}
+
 size_t vdbgi_gifile_header(const vdbgi_volume_info *in, uint32_t packed,
                            uint8_t h[VDBGI_GI_HEADER_MAX])
 {
@@ -30,7 +36,7 @@ size_t vdbgi_gifile_header(const vdbgi_volume_info *in, uint32_t packed,
      * as its payload was written), or version 2 as textures.
      */
     const bool compact = in->layout == VDBGI_LAYOUT_COMPACT;
-    const bool sh = packed >= 6 && in->basis == VDBGI_BASIS_SH2;
+    const bool sh = holds_terms(packed) && in->basis == VDBGI_BASIS_SH2;
     const size_t size = sh ? VDBGI_GI_HEADER_MAX : VDBGI_GI_HEADER_SIZE;
     vdbgi_put_u32(h + 8, compact ? (packed ? packed : 2) : 1);
     vdbgi_put_u32(h + 12, (uint32_t)size);
@@ -127,7 +133,7 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
     const uint32_t version = vdbgi_get_u32(h + 8);
     const bool compact = layout == VDBGI_LAYOUT_COMPACT;
     *header_size = vdbgi_get_u32(h + 12);
-    const bool terms = version >= 6;
+    const bool terms = holds_terms(version);
     const size_t least_header = terms ? VDBGI_GI_HEADER_MAX : VDBGI_GI_HEADER_SIZE;
     VDBGI_FAIL_IF(ctx, *header_size < least_header || *header_size > 65536, VDBGI_ERR_FORMAT,
                   "%s: bad header size %zu", path, *header_size);
@@ -281,9 +287,8 @@ vdbgi_result vdbgi_gifile_parse(vdbgi_context *ctx, const char *path, const uint
     if (!gz)
         memcpy(h, file, got);
     /* The first 112 bytes say the version; a basis (versions 6 and 7) follows them. */
-    const size_t want = got >= 12 && (vdbgi_get_u32(h + 8) == 6 || vdbgi_get_u32(h + 8) == 7)
-                            ? VDBGI_GI_HEADER_MAX
-                            : VDBGI_GI_HEADER_SIZE;
+    const size_t want =
+        got >= 12 && holds_terms(vdbgi_get_u32(h + 8)) ? VDBGI_GI_HEADER_MAX : VDBGI_GI_HEADER_SIZE;
     if (got < want) {
         r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %s", path,
                        gz ? "damaged gzip data, or too short to be a .gi file"

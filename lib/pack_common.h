@@ -153,6 +153,19 @@ static inline void neighbours(const vdbgi_pack_plan *pl, const int32_t p[3], int
     n[3] = point_index(pl, e);
 }
 
+/* LOCO-I's median edge detector on the -x, -y and -x-y neighbours' numbers a, b and c. */
+static inline int median_edge(int a, int b, int c)
+{
+    const int lo = a < b ? a : b, hi = a < b ? b : a;
+    return c >= hi ? lo : c <= lo ? hi : a + b - c;
+}
+
+/* The stored neighbour a prediction falls back on: -x, else -y, else -z; -1 for none. */
+static inline int64_t first_stored(const int64_t n[4])
+{
+    return n[0] >= 0 ? n[0] : n[1] >= 0 ? n[1] : n[3];
+}
+
 /*
  * The prediction of a point's term byte k (docs/format.md, "Version 6" and
  * "Version 7"). Version 6: the same byte of the stored point at p - x, else
@@ -163,14 +176,11 @@ static inline void neighbours(const vdbgi_pack_plan *pl, const int32_t p[3], int
  */
 static inline int term_predict(uint32_t version, const uint8_t *sh, const int64_t n[4], int k)
 {
-    if (version >= 7 && n[0] >= 0 && n[1] >= 0 && n[2] >= 0) {
-        const int a = (int8_t)sh[VDBGI_SH_BYTES * (size_t)n[0] + k],
-                  b = (int8_t)sh[VDBGI_SH_BYTES * (size_t)n[1] + k],
-                  c = (int8_t)sh[VDBGI_SH_BYTES * (size_t)n[2] + k];
-        const int lo = a < b ? a : b, hi = a < b ? b : a;
-        return c >= hi ? lo : c <= lo ? hi : a + b - c;
-    }
-    const int64_t j = n[0] >= 0 ? n[0] : n[1] >= 0 ? n[1] : n[3];
+    if (version >= 7 && n[0] >= 0 && n[1] >= 0 && n[2] >= 0)
+        return median_edge((int8_t)sh[VDBGI_SH_BYTES * (size_t)n[0] + k],
+                           (int8_t)sh[VDBGI_SH_BYTES * (size_t)n[1] + k],
+                           (int8_t)sh[VDBGI_SH_BYTES * (size_t)n[2] + k]);
+    const int64_t j = first_stored(n);
     return j >= 0 ? sh[VDBGI_SH_BYTES * (size_t)j + k] : 0;
 }
 
@@ -221,13 +231,10 @@ static inline uint8_t predict(const uint8_t *values, const int64_t n[4], int k, 
                               int m)
 {
     const int mm = rgbm_colour ? m : 0;
-    if (n[0] >= 0 && n[1] >= 0 && n[2] >= 0) {
-        const int a = rescaled(values, n[0], k, mm), b = rescaled(values, n[1], k, mm),
-                  c = rescaled(values, n[2], k, mm);
-        const int lo = a < b ? a : b, hi = a < b ? b : a;
-        return (uint8_t)(c >= hi ? lo : c <= lo ? hi : a + b - c);
-    }
-    const int64_t j = n[0] >= 0 ? n[0] : n[1] >= 0 ? n[1] : n[3];
+    if (n[0] >= 0 && n[1] >= 0 && n[2] >= 0)
+        return (uint8_t)median_edge(rescaled(values, n[0], k, mm), rescaled(values, n[1], k, mm),
+                                    rescaled(values, n[2], k, mm));
+    const int64_t j = first_stored(n);
     return j >= 0 ? (uint8_t)rescaled(values, j, k, mm) : 0;
 }
 

@@ -299,6 +299,11 @@ export function rebuildPacked(gi, payload) {
     if (m === 0) return values[4 * j + k];
     return Math.min(Math.floor((2 * values[4 * j + k] * values[4 * j + 3] + m) / (2 * m)), 255);
   };
+  // LOCO-I's median edge detector on the -x, -y and -x-y neighbours' numbers.
+  const medianEdge = (A, B, C) => {
+    const lo = Math.min(A, B), hi = Math.max(A, B);
+    return C >= hi ? lo : C <= lo ? hi : A + B - C;
+  };
   // Every stored point in storage order: visit(i, x, y, z).
   const forEachPoint = (visit) => {
     let i = 0;
@@ -320,9 +325,7 @@ export function rebuildPacked(gi, payload) {
       const m = rgbm && k < 3 ? values[4 * i + 3] : 0;
       let pred = 0;
       if (a >= 0 && b >= 0 && cc >= 0) {
-        const A = rescaled(a, k, m), B = rescaled(b, k, m), C = rescaled(cc, k, m);
-        const lo = Math.min(A, B), hi = Math.max(A, B);
-        pred = C >= hi ? lo : C <= lo ? hi : A + B - C;
+        pred = medianEdge(rescaled(a, k, m), rescaled(b, k, m), rescaled(cc, k, m));
       } else {
         const j = a >= 0 ? a : b >= 0 ? b : e;
         if (j >= 0) pred = rescaled(j, k, m);
@@ -346,12 +349,8 @@ export function rebuildPacked(gi, payload) {
       const j = a >= 0 ? a : b >= 0 ? b : e;
       let d = 0;
       for (let k = 0; k < 24; k++) {
-        let pred = j >= 0 ? terms[24 * j + k] : 0;
-        if (c >= 0) {
-          const A = s8(terms[24 * a + k]), B = s8(terms[24 * b + k]), C = s8(terms[24 * c + k]);
-          const lo = Math.min(A, B), hi = Math.max(A, B);
-          pred = C >= hi ? lo : C <= lo ? hi : A + B - C;
-        }
+        const pred = c >= 0 ? medianEdge(s8(terms[24 * a + k]), s8(terms[24 * b + k]), s8(terms[24 * c + k]))
+          : j >= 0 ? terms[24 * j + k] : 0;
         const r = tplanes[k * points + i];
         d = gi.version >= 7 && k % 3 ? (r + d) & 255 : r;
         terms[24 * i + k] = (d + pred) & 255;
