@@ -71,7 +71,13 @@ int cli_fail(const vdbgi_context *ctx, vdbgi_result r)
 
 int cli_fail_about(const vdbgi_context *ctx, const char *name)
 {
-    cli_error("%s: %s", name, vdbgi_context_error(ctx));
+    /* An error from reading the file names it already. */
+    const char *const why = vdbgi_context_error(ctx);
+    const size_t n = strlen(name);
+    if (strncmp(why, name, n) == 0 && why[n] == ':')
+        cli_error("%s", why);
+    else
+        cli_error("%s: %s", name, why);
     return CLI_FAILED;
 }
 

@@ -70,6 +70,11 @@ static void usage(void)
            "      --memory-limit SIZE  stop with one line before holding more than SIZE\n"
            "                        (K, M, G, T: powers of 1024; vdbgi's own memory and\n"
            "                        the grids read)\n"
+           "      --region N        convert region by region: slabs of N lattice points\n"
+           "                        along z (a multiple of 32), each read with a halo of 16\n"
+           "                        points, filled, coarsened and sampled, then dropped; the\n"
+           "                        same bytes in less memory, the file read four times\n"
+           "                        (not with --slices or --bevy; docs/scale.md)\n"
            "  -q, --quiet           no statistics, errors only\n"
            "  -v, --verbose         more detail on stderr (-vv: timings of each step)\n"
            "  -h, --help            print this help and exit\n"
@@ -79,6 +84,7 @@ static void usage(void)
            "  vdb-to-gi world.vdb -o world.gi.gz\n"
            "  vdb-to-gi world.vdb -o world.gi.gz --eps 0.05 --slices slices --stats stats.json\n"
            "  vdb-to-gi world.vdb -o exact.gi.gz --eps 0 --max-level 0 --encoding rgb9e5\n"
+           "  vdb-to-gi big.vdb -o big.gi.gz --region 256 --memory-limit 8G\n"
            "  vdb-to-gi cubes.vdb --bevy volume.ktx2 --voxel 1\n");
 }
 
@@ -104,12 +110,14 @@ enum {
     OPT_BOX,
     OPT_RES,
     OPT_VOXEL,
-    OPT_THREADS
+    OPT_THREADS,
+    OPT_REGION
 };
 
 typedef struct options {
     const char *input, *output, *slices, *stats, *bevy, *bevy_baked_gi;
     size_t memory_peak; /* the most the context held, once converted */
+    int region;         /* lattice points a region, 0: the whole lattice at once */
     vdbgi_bevy_format bevy_format;
     vdbgi_bevy_desc bevy_desc;
     vdbgi_convert_desc convert;
@@ -145,6 +153,7 @@ static int parse_args(int argc, char **argv, options *o)
         {"voxel", required_argument, NULL, OPT_VOXEL},
         {"threads", required_argument, NULL, OPT_THREADS},
         {"memory-limit", required_argument, NULL, CLI_OPT_MEMORY_LIMIT},
+        {"region", required_argument, NULL, OPT_REGION},
         CLI_COMMON_LONG_OPTIONS};
     opterr = 0;
     int c;
@@ -287,6 +296,14 @@ static int parse_args(int argc, char **argv, options *o)
                 return rc;
             break;
         }
+        case OPT_REGION:
+            if (!cli_parse_int(optarg, &i) || i < VDBGI_REGION_STEP || i % VDBGI_REGION_STEP != 0 ||
+                i > (1 << 24))
+                return cli_usage_error("--region must be a multiple of %d lattice points, up to "
+                                       "%d (got '%s')",
+                                       VDBGI_REGION_STEP, 1 << 24, optarg);
+            o->region = (int)i;
+            break;
         case OPT_THREADS:
             if (!cli_parse_int(optarg, &i) || i < 1 || i > 1024)
                 return cli_usage_error("--threads must be an integer in 1..1024 (got '%s')",
@@ -307,6 +324,11 @@ static int parse_args(int argc, char **argv, options *o)
         return cli_usage_error("no output given: use -o OUT.gi.gz, --bevy or --bevy-baked-gi");
     if (!o->output && (o->slices || o->stats))
         return cli_usage_error("--slices and --stats describe the .gi: give -o OUT.gi.gz too");
+    if (o->region && (o->slices || o->bevy || o->bevy_baked_gi))
+        return cli_usage_error("--region converts to a .gi only: --slices, --bevy and "
+                               "--bevy-baked-gi need the whole lattice at once");
+    if (o->region && o->convert.layout == VDBGI_LAYOUT_SEED)
+        return cli_usage_error("--region writes the compact layout only");
     return -1;
 }
 
@@ -504,8 +526,10 @@ int main(int argc, char **argv)
     if (r == VDBGI_OK && o.stats)
         r = vdbgi_output_check(ctx, o.stats);
     const double t0 = cli_now();
+    vdbgi_probe_file *file = NULL; /* --region: the probes are read a region at a time */
     if (r == VDBGI_OK)
-        r = vdbgi_probes_read(ctx, o.input, &probes);
+        r = o.region ? vdbgi_probe_file_open(ctx, o.input, &file)
+                     : vdbgi_probes_read(ctx, o.input, &probes);
     const double read_seconds = cli_now() - t0;
     /* The Bevy volume first: it refuses probes without cubes before the longer conversion. */
     vdbgi_bevy *bevy = NULL;
@@ -525,7 +549,8 @@ int main(int argc, char **argv)
     bool built = true;
     const double t1 = cli_now();
     if (r == VDBGI_OK && o.output)
-        built = (r = vdbgi_volume_build(ctx, probes, &o.convert, &vol)) == VDBGI_OK;
+        built = (r = file ? vdbgi_volume_build_regions(ctx, file, o.region, &o.convert, &vol)
+                          : vdbgi_volume_build(ctx, probes, &o.convert, &vol)) == VDBGI_OK;
     if (r == VDBGI_OK && o.output)
         r = vdbgi_volume_write(vol, o.output);
     vdbgi_volume_info vi;
@@ -533,7 +558,13 @@ int main(int argc, char **argv)
     if (r == VDBGI_OK && o.output) {
         vdbgi_volume_get_info(vol, &vi);
         vi.seconds = cli_now() - t1; /* the conversion: the build, and the file (gzip on write) */
-        vdbgi_probes_get_info(probes, &pi);
+        if (probes) {
+            vdbgi_probes_get_info(probes, &pi);
+        } else { /* what the statistics print of the probes, from the volume */
+            memset(&pi, 0, sizeof(pi));
+            pi.probe_count = vi.probe_count;
+            pi.spacing = vi.spacing;
+        }
     }
     if (r == VDBGI_OK && o.slices) {
         const double at = isnan(o.slice_at) ? busiest_plane(probes, o.axis) : o.slice_at;
@@ -564,6 +595,7 @@ int main(int argc, char **argv)
     vdbgi_bevy_destroy(bevy);
     vdbgi_volume_destroy(vol);
     vdbgi_probes_destroy(probes);
+    vdbgi_probe_file_close(file);
     vdbgi_context_destroy(ctx);
     return code;
 }

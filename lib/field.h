@@ -70,6 +70,8 @@ typedef struct vdbgi_fill_params {
     bool darkest;            /* invalid probes take their darkest valued neighbour, not the
                                 mean: a probe inside a wall then leaks no light to the dark side */
     int threads;             /* 0: all cores */
+    int32_t core_z[2];       /* a region's fill: the points unreached counts are those with
+                                core_z[0] <= z < core_z[1] (equal: every point) */
 } vdbgi_fill_params;
 
 /* The converter's fill for a (checked) vdbgi_fill choice: what bricks and Bevy both use. */

@@ -301,6 +301,15 @@ static vdbgi_result spread(grid *g, const vdbgi_fill_params *fp, size_t *unreach
     vdbgi_free(ctx, ring);
     vdbgi_free(ctx, a);
     vdbgi_free(ctx, b);
+    if (fp->core_z[0] < fp->core_z[1]) { /* a region's: its own points only */
+        remaining = 0;
+        for (size_t l = 0; l < leaf_count; l++)
+            for (int w = 0; w < 8; w++)
+                for (uint64_t m = g->leaves[l].target[w] & ~g->leaves[l].filled[w]; m; m &= m - 1) {
+                    const int32_t z = g->leaves[l].origin[2] + (__builtin_ctzll(m) & 7);
+                    remaining += z >= fp->core_z[0] && z < fp->core_z[1];
+                }
+    }
     *unreached = remaining;
     return VDBGI_OK;
 }

@@ -27,13 +27,10 @@ static int brick_order(const void *pa, const void *pb)
     return 0;
 }
 
-/* Valid probes, a bit each, over the owner grid. */
-static uint64_t *valid_bits(vdbgi_volume *v, const vdbgi_pack_plan *pl, const vdbgi_probes *pr)
+/* Valid probes, a bit each, into bits over the owner grid. */
+static void valid_bits(const vdbgi_volume *v, const vdbgi_pack_plan *pl, const vdbgi_probes *pr,
+                       uint64_t *bits)
 {
-    const size_t cells = (size_t)pl->grid[0] * pl->grid[1] * pl->grid[2];
-    uint64_t *const bits = vdbgi_calloc(v->ctx, cells, sizeof(*bits));
-    if (!bits)
-        return NULL;
     for (size_t i = 0; i < pr->count; i++) {
         if (pr->backface[i] > pr->invalid_threshold)
             continue;
@@ -45,7 +42,6 @@ static uint64_t *valid_bits(vdbgi_volume *v, const vdbgi_pack_plan *pl, const vd
         if (grid_slot(pl, p, &c, &bit))
             bits[c] |= UINT64_C(1) << bit;
     }
-    return bits;
 }
 
 /*
@@ -120,6 +116,7 @@ static size_t first_reader(const vdbgi_pack_plan *pl, const int32_t p[3])
  */
 typedef struct band_job {
     const vdbgi_volume *v;
+    const vdbgi_field *filled;
     const vdbgi_pack_plan *pl;
     const vdbgi_brick *bricks;
     size_t count;
@@ -143,7 +140,7 @@ static void *values_worker(void *arg)
         const int32_t at[3] = {p[0] + VDBGI_BRICK * v->origin_cell[0],
                                p[1] + VDBGI_BRICK * v->origin_cell[1],
                                p[2] + VDBGI_BRICK * v->origin_cell[2]};
-        const float *f = vdbgi_field_at(&v->filled, at, &cache);
+        const float *f = vdbgi_field_at(job->filled, at, &cache);
         const bool valued = f != NULL;
         if (!f) { /* every stored point has a reader: the plan stored it for one */
             static const float none[3];
@@ -186,25 +183,31 @@ static void *residual_worker(void *arg)
     return NULL;
 }
 
-/*
- * Bands of about equal numbers of points, one a thread (at most MAX_JOBS),
- * into jobs; returns how many. The plan's offset of a plane's first owner
- * cell is the number of points before that plane.
- */
-static int split_bands(const vdbgi_pack_plan *pl, int threads, band_job *jobs,
-                       const band_job *proto)
+/* The number of stored points before owner-cell plane z (every one for z past the grid). */
+static size_t points_before(const vdbgi_pack_plan *pl, int32_t z)
 {
-    const int32_t planes = (int32_t)pl->grid[2];
     const size_t plane_cells = (size_t)pl->grid[0] * pl->grid[1];
+    return z < (int32_t)pl->grid[2] ? pl->offset[(size_t)z * plane_cells] : pl->points;
+}
+
+/*
+ * Bands of about equal numbers of points over the planes z0 <= z < z1, one
+ * a thread (at most MAX_JOBS), into jobs; returns how many.
+ */
+static int split_bands(const vdbgi_pack_plan *pl, int32_t z0, int32_t z1, int threads,
+                       band_job *jobs, const band_job *proto)
+{
+    const int32_t planes = z1 - z0;
     int nt = job_count(threads);
     nt = nt > planes ? (planes > 0 ? planes : 1) : nt;
-    int32_t z = 0;
+    const size_t first = points_before(pl, z0), points = points_before(pl, z1) - first;
+    int32_t z = z0;
     for (int t = 0; t < nt; t++) {
         jobs[t] = *proto;
         jobs[t].z0 = z;
-        jobs[t].i0 = z < planes ? pl->offset[(size_t)z * plane_cells] : pl->points;
-        const size_t until = pl->points * (size_t)(t + 1) / (size_t)nt;
-        while (z < planes && (t == nt - 1 || pl->offset[(size_t)z * plane_cells] < until))
+        jobs[t].i0 = points_before(pl, z);
+        const size_t until = first + points * (size_t)(t + 1) / (size_t)nt;
+        while (z < z1 && (t == nt - 1 || points_before(pl, z) < until))
             z++;
         jobs[t].z1 = z;
     }
@@ -279,82 +282,151 @@ static size_t predict_unread(const vdbgi_volume *v, const vdbgi_pack_plan *pl, u
     return unread;
 }
 
-vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count,
-                              const vdbgi_probes *probes, int threads, uint8_t **payload,
-                              size_t *payload_size)
+/* What a compact volume's writing holds between its passes (packed.h). */
+struct vdbgi_pack_writer {
+    vdbgi_volume *v;
+    vdbgi_brick *bricks;
+    size_t count;
+    int threads;
+    vdbgi_pack_plan pl;
+    uint8_t *levels, *values, *sh, *coarse_read, *out;
+    uint64_t *valid, *near;
+    size_t clamped;
+};
+
+void vdbgi_pack_writer_destroy(vdbgi_pack_writer *w)
+{
+    if (!w)
+        return;
+    vdbgi_context *const ctx = w->v->ctx;
+    vdbgi_pack_plan_free(ctx, &w->pl);
+    vdbgi_free(ctx, w->levels);
+    vdbgi_free(ctx, w->values);
+    vdbgi_free(ctx, w->sh);
+    vdbgi_free(ctx, w->coarse_read);
+    vdbgi_free(ctx, w->out);
+    vdbgi_free(ctx, w->valid);
+    vdbgi_free(ctx, w->near);
+    vdbgi_free(ctx, w);
+}
+
+vdbgi_result vdbgi_pack_writer_create(vdbgi_volume *v, vdbgi_brick *bricks, size_t count,
+                                      int threads, vdbgi_pack_writer **out)
 {
     vdbgi_context *const ctx = v->ctx;
-    *payload = NULL;
-    *payload_size = 0;
-    qsort(bricks, count, sizeof(*bricks), brick_order);
-    const uint32_t *const d = v->info.indirection_dims;
-    const size_t cells = (size_t)d[0] * d[1] * d[2];
-    uint8_t *const levels = level_bytes(v, bricks, count);
-    if (!levels)
+    *out = NULL;
+    vdbgi_pack_writer *const w = vdbgi_calloc(ctx, 1, sizeof(*w));
+    if (!w)
         return VDBGI_ERR_OUT_OF_MEMORY;
-    vdbgi_pack_plan pl;
-    uint8_t *values = NULL, *sh = NULL, *coarse_read = NULL, *out = NULL;
-    uint64_t *valid = NULL, *near = NULL;
-    vdbgi_result r = vdbgi_pack_plan_make(v, levels, NULL, NULL, "converter", threads, &pl);
+    *w = (vdbgi_pack_writer){.v = v, .bricks = bricks, .count = count, .threads = threads};
+    qsort(bricks, count, sizeof(*bricks), brick_order);
+    if (!(w->levels = level_bytes(v, bricks, count))) {
+        vdbgi_free(ctx, w);
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    }
+    vdbgi_result r = vdbgi_pack_plan_make(v, w->levels, NULL, NULL, "converter", threads, &w->pl);
     if (r != VDBGI_OK) {
-        vdbgi_free(ctx, levels);
+        vdbgi_free(ctx, w->levels);
+        vdbgi_free(ctx, w);
         return r;
     }
-    const size_t n = pl.points;
+    const uint32_t *const d = v->info.indirection_dims;
+    const size_t cells = (size_t)d[0] * d[1] * d[2], n = w->pl.points;
     const bool with_sh = v->info.basis == VDBGI_BASIS_SH2;
     const size_t point_bytes = 4 + (with_sh ? VDBGI_SH_BYTES : 0);
-    values = vdbgi_calloc(ctx, 4 * (n ? n : 1), 1);
-    sh = with_sh ? vdbgi_calloc(ctx, n ? n : 1, VDBGI_SH_BYTES) : NULL;
-    coarse_read = vdbgi_calloc(ctx, n ? n : 1, 1); /* 1: a coarse brick reads the point */
-    const size_t table = VDBGI_PLACEMENT_BYTES * count;
-    out = vdbgi_alloc(ctx, cells + table + point_bytes * n);
-    valid = valid_bits(v, &pl, probes);
-    const size_t grid_cells = (size_t)pl.grid[0] * pl.grid[1] * pl.grid[2];
-    near = vdbgi_alloc(ctx, grid_cells * sizeof(*near));
-    if (!values || (with_sh && !sh) || !coarse_read || !out || !valid || !near) {
-        r = VDBGI_ERR_OUT_OF_MEMORY;
-        goto done;
+    const size_t grid_cells = (size_t)w->pl.grid[0] * w->pl.grid[1] * w->pl.grid[2];
+    w->values = vdbgi_calloc(ctx, 4 * (n ? n : 1), 1);
+    w->sh = with_sh ? vdbgi_calloc(ctx, n ? n : 1, VDBGI_SH_BYTES) : NULL;
+    w->coarse_read = vdbgi_calloc(ctx, n ? n : 1, 1); /* 1: a coarse brick reads the point */
+    w->out = vdbgi_alloc(ctx, cells + VDBGI_PLACEMENT_BYTES * count + point_bytes * n);
+    w->valid = vdbgi_calloc(ctx, grid_cells ? grid_cells : 1, sizeof(*w->valid));
+    w->near = vdbgi_alloc(ctx, (grid_cells ? grid_cells : 1) * sizeof(*w->near));
+    if (!w->values || (with_sh && !w->sh) || !w->coarse_read || !w->out || !w->valid || !w->near) {
+        vdbgi_pack_writer_destroy(w);
+        return VDBGI_ERR_OUT_OF_MEMORY;
     }
+    *out = w;
+    return VDBGI_OK;
+}
+
+void vdbgi_pack_writer_values(vdbgi_pack_writer *w, const vdbgi_field *filled,
+                              const vdbgi_probes *probes, int32_t z0, int32_t z1)
+{
+    vdbgi_volume *const v = w->v;
+    const vdbgi_pack_plan *const pl = &w->pl;
+    const uint32_t *const d = v->info.indirection_dims;
+    /* The owner-cell planes holding lattice z0 <= k < z1, within the grid. */
+    const int32_t base = v->origin_cell[2], planes = (int32_t)pl->grid[2];
+    int32_t c0 = z0 == INT32_MIN ? 0 : vdbgi_floor_div(z0, VDBGI_BRICK) - base;
+    int32_t c1 = z1 == INT32_MAX ? planes : vdbgi_floor_div(z1, VDBGI_BRICK) - base;
+    c0 = c0 < 0 ? 0 : c0 > planes ? planes : c0;
+    c1 = c1 < c0 ? c0 : c1 > planes ? planes : c1;
+    valid_bits(v, pl, probes, w->valid);
     band_job jobs[MAX_JOBS];
+    const size_t cells = (size_t)d[0] * d[1] * d[2];
     const band_job proto = {.v = v,
-                            .pl = &pl,
-                            .bricks = bricks,
-                            .count = count,
-                            .values = values,
-                            .sh = sh,
-                            .out = out + cells + table};
-    const int bands = split_bands(&pl, threads, jobs, &proto);
+                            .filled = filled,
+                            .pl = pl,
+                            .bricks = w->bricks,
+                            .count = w->count,
+                            .values = w->values,
+                            .sh = w->sh,
+                            .out = w->out + cells + VDBGI_PLACEMENT_BYTES * w->count};
+    const int bands = split_bands(pl, c0, c1, w->threads, jobs, &proto);
     vdbgi_run_threads(bands, values_worker, jobs, sizeof(jobs[0]));
-    size_t clamped = 0;
     for (int t = 0; t < bands; t++) {
-        clamped += jobs[t].clamped;
+        w->clamped += jobs[t].clamped;
         v->info.fallback_count += jobs[t].fallback;
     }
-    memcpy(out, levels, cells);
+}
+
+vdbgi_result vdbgi_pack_writer_finish(vdbgi_pack_writer *w, uint8_t **payload, size_t *payload_size)
+{
+    vdbgi_volume *const v = w->v;
+    vdbgi_context *const ctx = v->ctx;
+    const vdbgi_pack_plan *const pl = &w->pl;
+    const uint32_t *const d = v->info.indirection_dims;
+    const size_t cells = (size_t)d[0] * d[1] * d[2], n = pl->points, count = w->count;
+    const size_t point_bytes = 4 + (w->sh ? VDBGI_SH_BYTES : 0);
+    memcpy(w->out, w->levels, cells);
     for (size_t b = 0; b < count; b++)
         for (int k = 0; k < 3; k++)
-            vdbgi_put_u16(out + cells + 2 * (k * count + b), pl.origin[b][k]);
-    const size_t unread = predict_unread(v, &pl, values, sh, coarse_read, valid, near);
+            vdbgi_put_u16(w->out + cells + 2 * (k * count + b), pl->origin[b][k]);
+    const size_t unread =
+        predict_unread(v, pl, w->values, w->sh, w->coarse_read, w->valid, w->near);
+    band_job jobs[MAX_JOBS];
+    const band_job proto = {.v = v,
+                            .pl = pl,
+                            .bricks = w->bricks,
+                            .count = count,
+                            .values = w->values,
+                            .sh = w->sh,
+                            .out = w->out + cells + VDBGI_PLACEMENT_BYTES * count};
+    const int bands = split_bands(pl, 0, (int32_t)pl->grid[2], w->threads, jobs, &proto);
     vdbgi_run_threads(bands, residual_worker, jobs, sizeof(jobs[0]));
     vdbgi_log(ctx, VDBGI_LOG_DEBUG, "%zu stored points, %zu of them read by no receiver", n,
               unread);
     size_t stitched_clamps = 0;
-    if ((r = vdbgi_pack_rebuild_values(v, &pl, values, (const int8_t *)sh, threads,
-                                       &stitched_clamps)) != VDBGI_OK)
-        goto done;
-    v->info.clamped_count += clamped + stitched_clamps;
+    VDBGI_TRY(vdbgi_pack_rebuild_values(v, pl, w->values, (const int8_t *)w->sh, w->threads,
+                                        &stitched_clamps));
+    v->info.clamped_count += w->clamped + stitched_clamps;
     v->info.stored_points = n;
-    *payload = out;
-    *payload_size = cells + table + point_bytes * n;
-    out = NULL;
-done:
-    vdbgi_pack_plan_free(ctx, &pl);
-    vdbgi_free(ctx, levels);
-    vdbgi_free(ctx, values);
-    vdbgi_free(ctx, sh);
-    vdbgi_free(ctx, coarse_read);
-    vdbgi_free(ctx, out);
-    vdbgi_free(ctx, valid);
-    vdbgi_free(ctx, near);
+    *payload = w->out;
+    *payload_size = cells + VDBGI_PLACEMENT_BYTES * count + point_bytes * n;
+    w->out = NULL;
+    return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count,
+                              const vdbgi_probes *probes, int threads, uint8_t **payload,
+                              size_t *payload_size)
+{
+    *payload = NULL;
+    *payload_size = 0;
+    vdbgi_pack_writer *w = NULL;
+    VDBGI_TRY(vdbgi_pack_writer_create(v, bricks, count, threads, &w));
+    vdbgi_pack_writer_values(w, &v->filled, probes, INT32_MIN, INT32_MAX);
+    const vdbgi_result r = vdbgi_pack_writer_finish(w, payload, payload_size);
+    vdbgi_pack_writer_destroy(w);
     return r;
 }

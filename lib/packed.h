@@ -65,6 +65,23 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
                               size_t *payload_size);
 
 /*
+ * The same in passes, for a conversion region by region: create sorts the
+ * bricks (kept by the writer until destroy) and makes the plan; values
+ * takes the stored points of the owner cells holding lattice z0 <= k < z1
+ * from a field valid there, and the valid probes it is given (INT32_MIN,
+ * INT32_MAX: all); finish, once every point has its value, writes the
+ * payload and builds v's textures as vdbgi_pack_write does.
+ */
+typedef struct vdbgi_pack_writer vdbgi_pack_writer;
+vdbgi_result vdbgi_pack_writer_create(vdbgi_volume *v, vdbgi_brick *bricks, size_t count,
+                                      int threads, vdbgi_pack_writer **out);
+void vdbgi_pack_writer_values(vdbgi_pack_writer *w, const vdbgi_field *filled,
+                              const vdbgi_probes *probes, int32_t z0, int32_t z1);
+vdbgi_result vdbgi_pack_writer_finish(vdbgi_pack_writer *w, uint8_t **payload,
+                                      size_t *payload_size);
+void vdbgi_pack_writer_destroy(vdbgi_pack_writer *w);
+
+/*
  * The reader's half: v's atlas from the plan and the payload's planes
  * (after its level bytes): stored texels copied, stitched ones interpolated
  * from their coarser brick and encoded (a texel two bricks share gets the

@@ -89,23 +89,24 @@ static vdbgi_result make_probes(vdbgi_vdb_sink *sink, size_t count, bool with_st
     return VDBGI_OK;
 }
 
-vdbgi_result vdbgi_probes_read(vdbgi_context *ctx, const char *path, vdbgi_probes **out)
+/*
+ * The probes a read put into target, parsed and checked (settings from the
+ * metadata, values in range) into *out; r is the read's result. A region of
+ * a file (whole false) may hold none.
+ */
+static vdbgi_result take_read(vdbgi_context *ctx, const char *path, vdbgi_result r,
+                              read_target *target, const vdbgi_vdb_sink *sink, bool whole,
+                              vdbgi_probes **out)
 {
-    VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
-    *out = NULL;
-    VDBGI_TRY(vdbgi_input_check(ctx, path));
-    read_target target = {ctx, NULL};
-    vdbgi_vdb_sink sink = {.make = make_probes, .user = &target};
-    const vdbgi_result r = vdbgi_vdb_read(ctx, path, &sink);
-    vdbgi_probes *const p = target.p;
+    vdbgi_probes *const p = target->p;
     if (r != VDBGI_OK) {
         vdbgi_probes_destroy(p);
         return r;
     }
-    p->count = sink.count;
-    p->spacing = sink.spacing;
-    memcpy(p->origin, sink.origin, sizeof(p->origin));
-    if (p->count == 0) {
+    p->count = sink->count;
+    p->spacing = sink->spacing;
+    memcpy(p->origin, sink->origin, sizeof(p->origin));
+    if (p->count == 0 && whole) {
         vdbgi_probes_destroy(p);
         return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid 'irradiance' holds no probes", path);
     }
@@ -156,6 +157,69 @@ vdbgi_result vdbgi_probes_read(vdbgi_context *ctx, const char *path, vdbgi_probe
     }
     *out = p;
     return VDBGI_OK;
+}
+
+vdbgi_result vdbgi_probes_read(vdbgi_context *ctx, const char *path, vdbgi_probes **out)
+{
+    VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
+    *out = NULL;
+    VDBGI_TRY(vdbgi_input_check(ctx, path));
+    read_target target = {ctx, NULL};
+    vdbgi_vdb_sink sink = {.make = make_probes, .user = &target};
+    const vdbgi_result r = vdbgi_vdb_read(ctx, path, &sink);
+    return take_read(ctx, path, r, &target, &sink, true, out);
+}
+
+struct vdbgi_probe_file {
+    vdbgi_context *ctx;
+    vdbgi_vdb_regions *regions;
+    int32_t leaf_z[2];
+    char path[];
+};
+
+vdbgi_result vdbgi_probe_file_open(vdbgi_context *ctx, const char *path, vdbgi_probe_file **out)
+{
+    VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
+    *out = NULL;
+    VDBGI_TRY(vdbgi_input_check(ctx, path));
+    vdbgi_probe_file *const f = vdbgi_calloc(ctx, 1, sizeof(*f) + strlen(path) + 1);
+    if (!f)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    f->ctx = ctx;
+    strcpy(f->path, path);
+    const vdbgi_result r = vdbgi_vdb_regions_open(ctx, path, &f->regions, f->leaf_z);
+    if (r == VDBGI_OK && f->leaf_z[0] > f->leaf_z[1])
+        vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid 'irradiance' holds no probes", path);
+    if (r != VDBGI_OK || f->leaf_z[0] > f->leaf_z[1]) {
+        vdbgi_probe_file_close(f);
+        return r != VDBGI_OK ? r : VDBGI_ERR_FORMAT;
+    }
+    *out = f;
+    return VDBGI_OK;
+}
+
+void vdbgi_probe_file_extent(const vdbgi_probe_file *f, int32_t z[2])
+{
+    memcpy(z, f->leaf_z, sizeof(f->leaf_z));
+}
+
+vdbgi_result vdbgi_probe_file_read(vdbgi_probe_file *f, int32_t z0, int32_t z1, vdbgi_probes **out)
+{
+    VDBGI_FAIL_IF(f->ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
+    *out = NULL;
+    VDBGI_FAIL_IF(f->ctx, z0 >= z1, VDBGI_ERR_INVALID_ARG, "an empty z range (%d..%d)", z0, z1);
+    read_target target = {f->ctx, NULL};
+    vdbgi_vdb_sink sink = {.make = make_probes, .user = &target};
+    const vdbgi_result r = vdbgi_vdb_regions_read(f->regions, z0, z1, &sink);
+    return take_read(f->ctx, f->path, r, &target, &sink, false, out);
+}
+
+void vdbgi_probe_file_close(vdbgi_probe_file *f)
+{
+    if (!f)
+        return;
+    vdbgi_vdb_regions_close(f->regions);
+    vdbgi_free(f->ctx, f);
 }
 
 void vdbgi_probes_get_info(const vdbgi_probes *p, vdbgi_probes_info *info)

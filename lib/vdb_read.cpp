@@ -129,6 +129,9 @@ struct GridLayout : openvdb::io::Archive {
     std::streamoff size = 0;
     std::vector<openvdb::io::GridDescriptor> descriptors;
     openvdb::GridPtrVec grids;
+    std::vector<vdbgi_vdb_tree_counts> counts;                /* per grid, once checked */
+    std::vector<size_t> wanted;                               /* the grids checked, to be read */
+    std::shared_ptr<openvdb::io::StreamMetadata> stream_meta; /* as long as the stream */
 
     /* Header, file metadata and grid descriptors, each grid inside the file. */
     void read_table(std::istream &is)
@@ -175,6 +178,7 @@ struct GridLayout : openvdb::io::Archive {
                 throw Damaged{"truncated or damaged VDB file (a grid ends past its end)"};
             descriptors.push_back(gd);
             grids.push_back(grid);
+            counts.push_back(vdbgi_vdb_tree_counts{});
             gd.seekToEnd(is);
         }
     }
@@ -205,10 +209,11 @@ struct GridLayout : openvdb::io::Archive {
                            : f.value_size;
         f.max_index = VDBGI_MAX_INDEX;
         char why[160];
-        size_t leaves = 0, active = 0;
-        if (!vdbgi_vdb_tree_check(bytes.data(), size_t(block - topology), bytes.size(), &f, &leaves,
-                                  &active, why, sizeof why))
+        vdbgi_vdb_tree_counts &n = counts[i];
+        if (!vdbgi_vdb_tree_check(bytes.data(), size_t(block - topology), bytes.size(), &f, &n, why,
+                                  sizeof why))
             throw Damaged{why};
+        const size_t leaves = n.leaves, active = n.active;
         /*
          * OpenVDB holds every leaf whole (512 values): probes one per leaf cost
          * 6 kB each (200 000 of them, 1.2 GB from a 33 MB file). A bake's leaves
@@ -226,22 +231,44 @@ struct GridLayout : openvdb::io::Archive {
     }
 
     /*
-     * Read the named grids of the types vdbgi takes whole, as io::File does
-     * (seek to each, Archive::readGrid) once its bytes have been walked, from
-     * a stream that throws at the end of the file. Other grids stay unread.
+     * Open the file at path on is as io::File does: a stream that throws at
+     * its end (a damaged count must not read zeros forever), the table read,
+     * the stream tagged for seeking.
      */
-    void read(const char *path, const std::vector<std::string> &names)
+    void open(std::ifstream &is, const char *path)
     {
-        std::ifstream is(path, std::ios::binary);
-        // Reading past the end throws: a damaged count must not read zeros forever.
+        is.open(path, std::ios::binary);
         is.exceptions(std::ios::failbit | std::ios::badbit | std::ios::eofbit);
         read_table(is);
-        auto meta = std::make_shared<openvdb::io::StreamMetadata>();
-        meta->setFileVersion(fileVersion());
-        meta->setLibraryVersion(libraryVersion());
-        meta->setCompression(compression());
-        meta->setSeekable(true);
-        openvdb::io::setStreamMetadataPtr(is, meta, /*transfer=*/false);
+        stream_meta = std::make_shared<openvdb::io::StreamMetadata>();
+        stream_meta->setFileVersion(fileVersion());
+        stream_meta->setLibraryVersion(libraryVersion());
+        stream_meta->setCompression(compression());
+        stream_meta->setSeekable(true);
+        openvdb::io::setStreamMetadataPtr(is, stream_meta, /*transfer=*/false);
+    }
+
+    /* f(), with what it throws said about grid gd. */
+    template <class F> static void about(const openvdb::io::GridDescriptor &gd, F f)
+    {
+        try {
+            f();
+        } catch (const Sparse &d) {
+            throw Damaged{"grid '" + gd.gridName() + "': " + d.why +
+                          ": too sparse a lattice to read"};
+        } catch (const Damaged &d) {
+            throw Damaged{"damaged VDB file (grid '" + gd.gridName() + "': " + d.why + ")"};
+        } catch (const openvdb::Exception &e) {
+            throw Damaged{"damaged VDB file (grid '" + gd.gridName() + "': " + e.what() + ")"};
+        }
+    }
+
+    /*
+     * Walk the named grids of the types vdbgi takes (check_tree) and list
+     * them in wanted; other grids stay unread.
+     */
+    void check(std::istream &is, const std::vector<std::string> &names)
+    {
         // Two grids of one name vdbgi reads: which one holds the probes is anyone's guess.
         for (size_t i = 0; i < descriptors.size(); i++)
             for (size_t j = 0; j < i; j++)
@@ -257,20 +284,52 @@ struct GridLayout : openvdb::io::Archive {
                 !(g.isType<openvdb::Vec3SGrid>() || g.isType<openvdb::FloatGrid>() ||
                   g.isType<openvdb::Int32Grid>()))
                 continue;
-            try {
-                check_tree(is, i);
-                gd.seekToGrid(is);
-                readGrid(grids[i], gd, is);
-            } catch (const Sparse &d) {
-                throw Damaged{"grid '" + gd.gridName() + "': " + d.why +
-                              ": too sparse a lattice to read"};
-            } catch (const Damaged &d) {
-                throw Damaged{"damaged VDB file (grid '" + gd.gridName() + "': " + d.why + ")"};
-            } catch (const openvdb::Exception &e) {
-                throw Damaged{"damaged VDB file (grid '" + gd.gridName() + "': " + e.what() + ")"};
-            }
-            grids[i]->setName(gd.gridName());
+            about(gd, [&] { check_tree(is, i); });
+            wanted.push_back(i);
         }
+    }
+
+    /*
+     * Read the checked grids (Archive::readGrid, as io::File does), whole
+     * into grids, or with box only the voxels inside it, into fresh grids
+     * in out (OpenVDB reads the topology whole and seeks past the other
+     * leaves' values).
+     */
+    void load(std::istream &is, const openvdb::CoordBBox *box, openvdb::GridPtrVec &out)
+    {
+        out = grids;
+        for (size_t i : wanted) {
+            const openvdb::io::GridDescriptor &gd = descriptors[i];
+            about(gd, [&] {
+                gd.seekToGrid(is);
+                if (box) {
+                    out[i] = grids[i]->copyGridWithNewTree();
+                    readGrid(out[i], gd, is, *box);
+                    // The clipped read prunes: a leaf of equal active values becomes an
+                    // active tile. Irradiance and validity held none in the file
+                    // (vdbgi_vdb_regions_open), so theirs are probes, made voxels again;
+                    // the other grids are only looked up, tiles or not.
+                    const bool probes =
+                        gd.gridName() == "irradiance" || gd.gridName() == "validity";
+                    if (auto g = openvdb::gridPtrCast<openvdb::Vec3SGrid>(out[i]); g && probes)
+                        g->tree().voxelizeActiveTiles();
+                    else if (auto f = openvdb::gridPtrCast<openvdb::FloatGrid>(out[i]); f && probes)
+                        f->tree().voxelizeActiveTiles();
+                } else {
+                    readGrid(grids[i], gd, is);
+                }
+            });
+            out[i]->setName(gd.gridName());
+        }
+    }
+
+    /* The named grids read whole. */
+    void read(const char *path, const std::vector<std::string> &names)
+    {
+        std::ifstream is;
+        open(is, path);
+        check(is, names);
+        load(is, nullptr, grids);
     }
 
     /* The grid of that name, or null; one not read still tells its type. */
@@ -372,11 +431,10 @@ namespace
 {
 
 /* The named grids read through GridLayout, each failure a one-line refusal naming the file. */
-vdbgi_result read_layout(vdbgi_context *ctx, const char *path, GridLayout &layout,
-                         const std::vector<std::string> &names)
+template <class F> vdbgi_result read_layout(vdbgi_context *ctx, const char *path, F read)
 {
     try {
-        layout.read(path, names);
+        read();
     } catch (const GridLayout::OverLimit &) {
         return vdbgi_fail_about(ctx, VDBGI_ERR_OUT_OF_MEMORY, path);
     } catch (const GridLayout::Damaged &d) {
@@ -394,30 +452,32 @@ vdbgi_result read_layout(vdbgi_context *ctx, const char *path, GridLayout &layou
     return VDBGI_OK;
 }
 
-} // namespace
-
-/*
- * Read the grids, check their types and transform, copy their values into
- * the sink's arrays (about 70 lines: the OpenVDB objects live only inside
- * this exception boundary).
- */
-extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_vdb_sink *p)
+/* The names of the grids vdbgi reads. */
+std::vector<std::string> probe_grid_names()
 {
-    VDBGI_SHIM_BEGIN
-    openvdb::initialize();
-    GridLayout layout;
     std::vector<std::string> names{"irradiance", "validity", "stderr", "rays"};
     for (int side = 0; side < 6; side++)
         names.push_back(vdbgi_side_grid_name(side));
     for (int term = 1; term <= 8; term++)
         names.push_back(vdbgi_sh_grid_name(term));
-    // Each grid's estimate is held before OpenVDB reads it, then what it holds.
-    VdbgiMemoryCharge held(ctx);
-    layout.admit = [&](size_t bytes) { return held.hold(held.bytes + bytes); };
-    VDBGI_TRY(read_layout(ctx, path, layout, names));
-    if (!held.hold(vdbgi_grids_bytes(layout.grids)))
-        return vdbgi_fail_about(ctx, VDBGI_ERR_OUT_OF_MEMORY, path);
-    const auto grid = [&](const char *name) { return layout.find(name); };
+    return names;
+}
+
+/*
+ * Check the grids read (whole or a region of them) for their types and
+ * transform, and copy their values into the sink's arrays (about 70 lines:
+ * the OpenVDB objects live only inside the callers' exception boundary).
+ */
+vdbgi_result to_sink(vdbgi_context *ctx, const char *path, const GridLayout &layout,
+                     const openvdb::GridPtrVec &read, vdbgi_vdb_sink *p)
+{
+    const auto grid = [&](const char *name) -> openvdb::GridBase::Ptr {
+        for (size_t i = 0; i < read.size(); i++)
+            if (read[i] && !layout.descriptors[i].isInstance() &&
+                layout.descriptors[i].gridName() == name)
+                return read[i];
+        return nullptr;
+    };
     const openvdb::GridBase::Ptr base = grid("irradiance"), vbase = grid("validity");
     const openvdb::GridBase::Ptr sebase = grid("stderr"), raysbase = grid("rays");
     if (!base)
@@ -474,5 +534,92 @@ extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdb
     copy_extras(p, n, se, rays, vec_grids, vec_count);
     p->count = n;
     return VDBGI_OK;
+}
+
+} // namespace
+
+extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_vdb_sink *p)
+{
+    VDBGI_SHIM_BEGIN
+    openvdb::initialize();
+    GridLayout layout;
+    // Each grid's estimate is held before OpenVDB reads it, then what it holds.
+    VdbgiMemoryCharge held(ctx);
+    layout.admit = [&](size_t bytes) { return held.hold(held.bytes + bytes); };
+    VDBGI_TRY(read_layout(ctx, path, [&] { layout.read(path, probe_grid_names()); }));
+    if (!held.hold(vdbgi_grids_bytes(layout.grids)))
+        return vdbgi_fail_about(ctx, VDBGI_ERR_OUT_OF_MEMORY, path);
+    return to_sink(ctx, path, layout, layout.grids, p);
     VDBGI_SHIM_END_FILE(ctx, "openvdb", path)
+}
+
+/* An open .vdb file whose grids were checked once, read a z range at a time. */
+struct vdbgi_vdb_regions {
+    vdbgi_context *ctx;
+    std::string path;
+    GridLayout layout;
+    std::ifstream is;
+    /* The irradiance grid's leaves along x and y: OpenVDB's clip fills every empty
+       128-point tile that a region's faces cut across its box, so it is kept tight. */
+    openvdb::CoordBBox box;
+};
+
+extern "C" vdbgi_result vdbgi_vdb_regions_open(vdbgi_context *ctx, const char *path,
+                                               vdbgi_vdb_regions **out, int32_t leaf_z[2])
+{
+    *out = nullptr;
+    VDBGI_SHIM_BEGIN
+    openvdb::initialize();
+    auto f = std::make_unique<vdbgi_vdb_regions>();
+    f->ctx = ctx;
+    f->path = path;
+    VDBGI_TRY(read_layout(ctx, path, [&] {
+        f->layout.open(f->is, path);
+        f->layout.check(f->is, probe_grid_names());
+    }));
+    leaf_z[0] = 1, leaf_z[1] = 0;
+    bool found = false;
+    for (size_t i : f->layout.wanted) {
+        const std::string &name = f->layout.descriptors[i].gridName();
+        found = found || name == "irradiance";
+        // Refused as the whole read refuses them, before a clipped read makes tiles its own.
+        if (f->layout.counts[i].tiles && (name == "irradiance" || name == "validity"))
+            return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                              "%s: grid '%s' has active tiles: probes are single voxels", path,
+                              name.c_str());
+    }
+    if (!found)
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: no grid named 'irradiance'", path);
+    for (size_t i : f->layout.wanted)
+        if (f->layout.descriptors[i].gridName() == "irradiance" && f->layout.counts[i].active) {
+            const vdbgi_vdb_tree_counts &n = f->layout.counts[i];
+            leaf_z[0] = n.leaf_min[2], leaf_z[1] = n.leaf_max[2];
+            f->box = openvdb::CoordBBox(openvdb::Coord(n.leaf_min), openvdb::Coord(n.leaf_max));
+        }
+    *out = f.release();
+    return VDBGI_OK;
+    VDBGI_SHIM_END_FILE(ctx, "openvdb", path)
+}
+
+extern "C" vdbgi_result vdbgi_vdb_regions_read(vdbgi_vdb_regions *f, int32_t z0, int32_t z1,
+                                               vdbgi_vdb_sink *p)
+{
+    vdbgi_context *const ctx = f->ctx;
+    const char *const path = f->path.c_str();
+    VDBGI_SHIM_BEGIN
+    const openvdb::Coord &lo = f->box.min(), &hi = f->box.max();
+    const openvdb::CoordBBox box(openvdb::Coord(lo.x(), lo.y(), z0),
+                                 openvdb::Coord(hi.x(), hi.y(), z1 - 1));
+    openvdb::GridPtrVec read;
+    VDBGI_TRY(read_layout(ctx, path, [&] { f->layout.load(f->is, &box, read); }));
+    VdbgiMemoryCharge held(ctx);
+    if (!held.hold(vdbgi_grids_bytes(read)))
+        return vdbgi_fail_about(ctx, VDBGI_ERR_OUT_OF_MEMORY, path);
+    return to_sink(ctx, path, f->layout, read, p);
+    VDBGI_SHIM_END_FILE(ctx, "openvdb", path)
+}
+
+extern "C" void vdbgi_vdb_regions_close(vdbgi_vdb_regions *f)
+{
+    delete f;
 }

@@ -608,6 +608,22 @@ VDBGI_API vdbgi_result vdbgi_probes_write(const vdbgi_probes *probes, const char
  */
 VDBGI_API vdbgi_result vdbgi_probes_read(vdbgi_context *ctx, const char *path, vdbgi_probes **out);
 
+/*
+ * The same file read a z range at a time, for a conversion region by region
+ * (vdbgi_volume_build_regions): open checks every grid's bytes once and
+ * holds no probe; read gives the probes with z0 <= k < z1 (perhaps none),
+ * with every check of vdbgi_probes_read, in the order it gives them.
+ * extent is the z range (inclusive, whole 8-point leaves) holding them all.
+ */
+typedef struct vdbgi_probe_file vdbgi_probe_file;
+VDBGI_API vdbgi_result vdbgi_probe_file_open(vdbgi_context *ctx, const char *path,
+                                             vdbgi_probe_file **out);
+VDBGI_API void vdbgi_probe_file_extent(const vdbgi_probe_file *file, int32_t extent[2]);
+VDBGI_API vdbgi_result vdbgi_probe_file_read(vdbgi_probe_file *file, int32_t z0, int32_t z1,
+                                             vdbgi_probes **out);
+/* Close the file; NULL is a no-op. */
+VDBGI_API void vdbgi_probe_file_close(vdbgi_probe_file *file);
+
 /* Destroy probes; NULL is a no-op. */
 VDBGI_API void vdbgi_probes_destroy(vdbgi_probes *probes);
 
@@ -860,6 +876,23 @@ VDBGI_API void vdbgi_rgb9e5_decode(uint32_t in, float rgb[3]);
  */
 VDBGI_API vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
                                           const vdbgi_convert_desc *desc, vdbgi_volume **out);
+
+/*
+ * The same volume, to the same bytes, built region by region: slabs of
+ * region_points lattice points along z (a multiple of VDBGI_REGION_STEP),
+ * each read with VDBGI_REGION_HALO points either side, filled, coarsened
+ * and sampled, then dropped. What stays whole is the lattice's cells and
+ * bricks (a few bytes a 64-probe cell) and the volume itself (its textures
+ * and payload). The file is read four times (statistics, bricks, values,
+ * error figures). The volume holds no filled field: vdbgi_volume_write_slices
+ * refuses it.
+ */
+#define VDBGI_REGION_STEP 32
+#define VDBGI_REGION_HALO 16
+VDBGI_API vdbgi_result vdbgi_volume_build_regions(vdbgi_context *ctx, vdbgi_probe_file *file,
+                                                  int32_t region_points,
+                                                  const vdbgi_convert_desc *desc,
+                                                  vdbgi_volume **out);
 
 /*
  * Write the .gi file (docs/format.md), gzip-compressed, through a temporary

@@ -36,7 +36,7 @@ typedef struct walk {
     const vdbgi_vdb_tree_format *f;
     char *why;
     size_t why_size;
-    size_t leaves, active; /* leaves walked, active voxels in them */
+    vdbgi_vdb_tree_counts counts;
 } walk;
 
 static bool fail(walk *w, const char *fmt, ...)
@@ -117,7 +117,7 @@ static bool values(walk *w, cursor *c, size_t count, const uint8_t *mask)
 }
 
 /* A leaf: its mask in the topology, then its mask again and its values in the buffers. */
-static bool leaf(walk *w)
+static bool leaf(walk *w, const int32_t o[3])
 {
     const uint8_t *mask = NULL, *again = NULL;
     if (!take(w, &w->topo, LEAF_MASK_BYTES, &mask) || !take(w, &w->data, LEAF_MASK_BYTES, &again))
@@ -125,13 +125,26 @@ static bool leaf(walk *w)
     // OpenVDB counts the topology's mask and skips this copy: both must agree.
     if (memcmp(mask, again, LEAF_MASK_BYTES) != 0)
         return fail(w, "a leaf's mask differs between its topology and its data");
-    w->leaves++;
-    w->active += count_on(mask, LEAF_MASK_BYTES);
+    vdbgi_vdb_tree_counts *const n = &w->counts;
+    const size_t on = count_on(mask, LEAF_MASK_BYTES);
+    for (int k = 0; on && k < 3; k++) {
+        if (n->active == 0 || o[k] < n->leaf_min[k])
+            n->leaf_min[k] = o[k];
+        if (n->active == 0 || o[k] + 7 > n->leaf_max[k])
+            n->leaf_max[k] = o[k] + 7;
+    }
+    n->leaves++;
+    n->active += on;
     return values(w, &w->data, LEAF_VALUES, mask);
 }
 
-/* An internal node of 2^(3 log2dim) slots: 5 holds nodes of 4, 4 holds leaves. */
-static bool internal(walk *w, int log2dim)
+/*
+ * An internal node of 2^(3 log2dim) slots at origin o: 5 holds nodes of 4,
+ * 4 holds leaves. Slot n's child lies n >> 2 log2dim children along x,
+ * (n >> log2dim) mod 2^log2dim along y and n mod 2^log2dim along z
+ * (OpenVDB's offsetToLocalCoord).
+ */
+static bool internal(walk *w, int log2dim, const int32_t o[3])
 {
     const size_t slots = (size_t)1 << (3 * log2dim), bytes = slots / 8;
     const uint8_t *child = NULL, *value = NULL;
@@ -140,12 +153,19 @@ static bool internal(walk *w, int log2dim)
     for (size_t i = 0; i < bytes; i++)
         if (child[i] & value[i])
             return fail(w, "a node marks one slot both child and active tile");
+    w->counts.tiles += count_on(value, bytes);
     if (!values(w, &w->topo, slots, value))
         return false;
+    const int child_log2 = log2dim == 5 ? 7 : 3; /* 128 or 8 points a child */
+    const size_t dim_mask = ((size_t)1 << log2dim) - 1;
     for (size_t i = 0; i < slots; i++)
-        if (child[i >> 3] >> (i & 7) & 1)
-            if (!(log2dim == 5 ? internal(w, 4) : leaf(w)))
+        if (child[i >> 3] >> (i & 7) & 1) {
+            const int32_t c[3] = {o[0] + (int32_t)((i >> 2 * log2dim) << child_log2),
+                                  o[1] + (int32_t)((i >> log2dim & dim_mask) << child_log2),
+                                  o[2] + (int32_t)((i & dim_mask) << child_log2)};
+            if (!(log2dim == 5 ? internal(w, 4, c) : leaf(w, c)))
                 return false;
+        }
     return true;
 }
 
@@ -172,6 +192,8 @@ static bool root(walk *w)
     const uint32_t children = vdbgi_get_u32(p + f->value_size + 4);
     if (!take(w, &w->topo, (uint64_t)tiles * (12 + f->value_size + 1), &p))
         return false;
+    for (uint32_t t = 0; t < tiles; t++) /* origin, value, then the active byte */
+        w->counts.tiles += p[t * (12 + f->value_size + 1) + 12 + f->value_size] != 0;
     int32_t prev[3] = {0, 0, 0};
     for (uint32_t n = 0; n < children; n++) {
         if (!take(w, &w->topo, 12, &p))
@@ -190,17 +212,17 @@ static bool root(walk *w)
         if (n > 0 && !coord_less(prev, o))
             return fail(w, "its top-level nodes are not in ascending order");
         memcpy(prev, o, sizeof prev);
-        if (!internal(w, 5))
+        if (!internal(w, 5, o))
             return false;
     }
     return true;
 }
 
 bool vdbgi_vdb_tree_check(const uint8_t *buf, size_t topology, size_t size,
-                          const vdbgi_vdb_tree_format *f, size_t *leaves, size_t *active, char *why,
+                          const vdbgi_vdb_tree_format *f, vdbgi_vdb_tree_counts *counts, char *why,
                           size_t why_size)
 {
-    walk w = {{buf, 0, topology}, {buf, topology, size}, f, why, why_size, 0, 0};
+    walk w = {{buf, 0, topology}, {buf, topology, size}, f, why, why_size, {0}};
     if (topology > size)
         return fail(&w, "its topology ends past its data");
     if (!root(&w))
@@ -210,9 +232,7 @@ bool vdbgi_vdb_tree_check(const uint8_t *buf, size_t topology, size_t size,
                     topology - w.topo.pos);
     if (w.data.pos != size)
         return fail(&w, "its data ends %zu bytes before the grid does", size - w.data.pos);
-    if (leaves)
-        *leaves = w.leaves;
-    if (active)
-        *active = w.active;
+    if (counts)
+        *counts = w.counts;
     return true;
 }

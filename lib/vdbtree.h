@@ -18,6 +18,13 @@ typedef struct vdbgi_vdb_tree_format {
     int32_t max_index;    /* no node may reach beyond +-max_index */
 } vdbgi_vdb_tree_format;
 
+/* What a walk found: leaves, their active voxels, active tiles, and the index box of the
+   leaves holding any voxel (inclusive; meaningless when active is 0). */
+typedef struct vdbgi_vdb_tree_counts {
+    size_t leaves, active, tiles;
+    int32_t leaf_min[3], leaf_max[3];
+} vdbgi_vdb_tree_counts;
+
 /*
  * Do buf[0..topology) and buf[topology..size) hold a 5-4-3 tree's topology and
  * leaf buffers as OpenVDB 10 reads them (file format 222 and later), with
@@ -25,11 +32,10 @@ typedef struct vdbgi_vdb_tree_format {
  * 10 trusts a chunk's stored size and copies that many bytes into a buffer
  * sized by the mask (one flipped byte corrupted the heap); it also allocates
  * whatever size a chunk claims. On false, why says what is wrong; on true,
- * *leaves and *active (either may be NULL) count its leaves and their active
- * voxels.
+ * *counts (if not NULL) says what the tree holds.
  */
 bool vdbgi_vdb_tree_check(const uint8_t *buf, size_t topology, size_t size,
-                          const vdbgi_vdb_tree_format *f, size_t *leaves, size_t *active, char *why,
+                          const vdbgi_vdb_tree_format *f, vdbgi_vdb_tree_counts *counts, char *why,
                           size_t why_size);
 
 #ifdef __cplusplus

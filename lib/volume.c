@@ -198,21 +198,148 @@ static void *sample_worker(void *arg)
     return NULL;
 }
 
+/* ---- sums that do not depend on how the lattice is read ------------------- */
+
 /*
- * The shader's view of every valid probe against its value (which the fill
- * kept): sampled over threads, summed on one in probe order, so the figures
- * do not depend on the thread count.
+ * A sum over the lattice adds each VDBGI_REGION_STEP-point z slab's terms in
+ * probe order, then the slabs in z order. A region is whole slabs, and its
+ * probes come in the whole read's order, so a conversion region by region
+ * adds exactly what the whole one does.
  */
-static vdbgi_result measure_error(vdbgi_volume *v, const vdbgi_probes *p, int threads)
+typedef struct slab_sums {
+    int32_t first; /* the first slab's index */
+    size_t count;
+    int width; /* doubles a slab */
+    double *v;
+} slab_sums;
+
+static vdbgi_result slab_sums_init(vdbgi_context *ctx, slab_sums *s, const int32_t z[2], int width)
 {
-    double *const err =
-        vdbgi_calloc(v->ctx, v->info.valid_count ? v->info.valid_count : 1, sizeof(double));
-    float *const got = vdbgi_alloc(v->ctx, 3 * sizeof(float) * (p->count ? p->count : 1));
-    if (!err || !got) {
-        vdbgi_free(v->ctx, err);
-        vdbgi_free(v->ctx, got);
-        return VDBGI_ERR_OUT_OF_MEMORY;
+    s->first = vdbgi_floor_div(z[0], VDBGI_REGION_STEP);
+    s->count = (size_t)(vdbgi_floor_div(z[1], VDBGI_REGION_STEP) - s->first) + 1;
+    s->width = width;
+    s->v = vdbgi_calloc(ctx, s->count * (size_t)width, sizeof(double));
+    return s->v ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
+}
+
+static double *slab_at(const slab_sums *s, int32_t z)
+{
+    return &s->v[(size_t)(vdbgi_floor_div(z, VDBGI_REGION_STEP) - s->first) * (size_t)s->width];
+}
+
+static void slab_sums_total(const slab_sums *s, double *out)
+{
+    for (int k = 0; k < s->width; k++)
+        out[k] = 0.0;
+    for (size_t i = 0; i < s->count; i++)
+        for (int k = 0; k < s->width; k++)
+            out[k] += s->v[i * (size_t)s->width + k];
+}
+
+/* What the conversion needs of the whole lattice before it fills any of it. */
+typedef struct lattice_stats {
+    size_t probes, valid;
+    int32_t lo[3], hi[3];           /* every probe's index */
+    int32_t cell_lo[3], cell_hi[3]; /* the valid probes' cells */
+    slab_sums colour;               /* the valid probes' colours */
+} lattice_stats;
+
+static vdbgi_result stats_init(vdbgi_context *ctx, lattice_stats *st, const int32_t z[2])
+{
+    memset(st, 0, sizeof(*st));
+    for (int k = 0; k < 3; k++) {
+        st->lo[k] = st->cell_lo[k] = INT32_MAX;
+        st->hi[k] = st->cell_hi[k] = INT32_MIN;
     }
+    return slab_sums_init(ctx, &st->colour, z, 3);
+}
+
+static void stats_add(lattice_stats *st, const vdbgi_probes *p)
+{
+    st->probes += p->count;
+    for (size_t i = 0; i < p->count; i++) {
+        const int32_t *const ijk = &p->ijk[3 * i];
+        for (int k = 0; k < 3; k++) {
+            st->lo[k] = ijk[k] < st->lo[k] ? ijk[k] : st->lo[k];
+            st->hi[k] = ijk[k] > st->hi[k] ? ijk[k] : st->hi[k];
+        }
+        if (p->backface[i] > p->invalid_threshold)
+            continue;
+        st->valid++;
+        double *const sum = slab_at(&st->colour, ijk[2]);
+        for (int k = 0; k < 3; k++) {
+            sum[k] += p->rgb[3 * i + k];
+            const int32_t c = vdbgi_floor_div(ijk[k], VDBGI_BRICK);
+            st->cell_lo[k] = c < st->cell_lo[k] ? c : st->cell_lo[k];
+            st->cell_hi[k] = c > st->cell_hi[k] ? c : st->cell_hi[k];
+        }
+    }
+}
+
+/* The error figures, summed as they come (a region's probes, or all). */
+typedef struct error_sums {
+    slab_sums sq; /* squared channel errors */
+    double worst;
+    size_t n;
+    /* The largest errors seen, a min-heap of at most top_cap: once every valid probe is in,
+       its root is the one vdbgi_quantile's 0.99 picks. */
+    double *top;
+    size_t top_count, top_cap;
+} error_sums;
+
+static vdbgi_result error_sums_init(vdbgi_context *ctx, error_sums *e, const int32_t z[2],
+                                    size_t valid)
+{
+    memset(e, 0, sizeof(*e));
+    e->top_cap = valid - (size_t)(0.99 * (double)(valid ? valid - 1 : 0));
+    e->top = vdbgi_alloc(ctx, (e->top_cap ? e->top_cap : 1) * sizeof(double));
+    const vdbgi_result r = slab_sums_init(ctx, &e->sq, z, 1);
+    return e->top ? r : VDBGI_ERR_OUT_OF_MEMORY;
+}
+
+static void error_sums_free(vdbgi_context *ctx, error_sums *e)
+{
+    vdbgi_free(ctx, e->sq.v);
+    vdbgi_free(ctx, e->top);
+}
+
+static void top_push(error_sums *e, double x)
+{
+    double *const h = e->top;
+    size_t i;
+    if (e->top_count < e->top_cap) {
+        for (i = e->top_count++; i > 0 && h[(i - 1) / 2] > x; i = (i - 1) / 2)
+            h[i] = h[(i - 1) / 2];
+        h[i] = x;
+        return;
+    }
+    if (e->top_cap == 0 || x <= h[0])
+        return;
+    for (i = 0;;) { /* the root gives way to x: sift down */
+        size_t c = 2 * i + 1;
+        if (c >= e->top_count)
+            break;
+        if (c + 1 < e->top_count && h[c + 1] < h[c])
+            c++;
+        if (h[c] >= x)
+            break;
+        h[i] = h[c];
+        i = c;
+    }
+    h[i] = x;
+}
+
+/*
+ * The shader's view of the valid probes p against their values (which the
+ * fill kept): sampled over threads, summed on one in probe order, so the
+ * figures do not depend on the thread count.
+ */
+static vdbgi_result measure_error(vdbgi_volume *v, const vdbgi_probes *p, int threads,
+                                  error_sums *e)
+{
+    float *const got = vdbgi_alloc(v->ctx, 3 * sizeof(float) * (p->count ? p->count : 1));
+    if (!got)
+        return VDBGI_ERR_OUT_OF_MEMORY;
     enum { MAX_JOBS = 64 };
     sample_job jobs[MAX_JOBS];
     const int nt = threads < 1 ? 1 : threads > MAX_JOBS ? MAX_JOBS : threads;
@@ -220,27 +347,30 @@ static vdbgi_result measure_error(vdbgi_volume *v, const vdbgi_probes *p, int th
         jobs[t] = (sample_job){v, p, got, p->count * (size_t)t / (size_t)nt,
                                p->count * (size_t)(t + 1) / (size_t)nt};
     vdbgi_run_threads(nt, sample_worker, jobs, sizeof(jobs[0]));
-    vdbgi_volume_info *const info = &v->info;
-    double sq = 0.0, worst = 0.0;
-    size_t n = 0;
     for (size_t i = 0; i < p->count; i++) {
         if (p->backface[i] > p->invalid_threshold)
             continue;
-        double e = 0.0;
+        double err = 0.0, *const sq = slab_at(&e->sq, p->ijk[3 * i + 2]);
         for (int k = 0; k < 3; k++) {
             const double d = (double)got[3 * i + k] - (double)p->rgb[3 * i + k];
-            sq += d * d;
-            e = fmax(e, fabs(d));
+            *sq += d * d;
+            err = fmax(err, fabs(d));
         }
-        err[n++] = e;
-        worst = fmax(worst, e);
+        e->n++;
+        e->worst = fmax(e->worst, err);
+        top_push(e, err);
     }
-    info->rmse = n ? sqrt(sq / (3.0 * (double)n)) : 0.0;
-    info->max_error = worst;
-    info->p99 = n ? vdbgi_quantile(err, n, 0.99) : 0.0;
-    vdbgi_free(v->ctx, err);
     vdbgi_free(v->ctx, got);
     return VDBGI_OK;
+}
+
+static void error_figures(vdbgi_volume_info *info, const error_sums *e)
+{
+    double sq;
+    slab_sums_total(&e->sq, &sq);
+    info->rmse = e->n ? sqrt(sq / (3.0 * (double)e->n)) : 0.0;
+    info->max_error = e->worst;
+    info->p99 = e->n ? e->top[0] : 0.0;
 }
 
 static int report(const vdbgi_convert_desc *desc, float done)
@@ -248,10 +378,11 @@ static int report(const vdbgi_convert_desc *desc, float done)
     return desc && desc->progress ? desc->progress(desc->progress_user, done) : 0;
 }
 
-/* The volume's settings, and the mean irradiance of the valid probes: the scale of eps
-   and of the error figures. */
-static vdbgi_volume *volume_start(vdbgi_context *ctx, const vdbgi_probes *probes,
-                                  vdbgi_encoding encoding, vdbgi_layout layout, int max_level)
+/* The volume's settings (like: a read of the probes, for their lattice), and the mean
+   irradiance of the valid probes: the scale of eps and of the error figures. */
+static vdbgi_volume *volume_start(vdbgi_context *ctx, const vdbgi_probes *like,
+                                  const lattice_stats *st, vdbgi_encoding encoding,
+                                  vdbgi_layout layout, int max_level)
 {
     vdbgi_volume *const v = vdbgi_calloc(ctx, 1, sizeof(*v));
     if (!v)
@@ -261,33 +392,20 @@ static vdbgi_volume *volume_start(vdbgi_context *ctx, const vdbgi_probes *probes
     info->encoding = encoding;
     info->layout = layout;
     info->rgbm_range = VDBGI_RGBM_RANGE;
-    info->spacing = (float)probes->spacing;
+    info->spacing = (float)like->spacing;
     info->max_level = (uint32_t)max_level;
-    info->probe_count = probes->count;
-    memcpy(v->lattice_origin, probes->origin, sizeof(v->lattice_origin));
-    double sum[3] = {0.0, 0.0, 0.0};
-    for (size_t i = 0; i < probes->count; i++) {
-        if (probes->backface[i] > probes->invalid_threshold)
-            continue;
-        info->valid_count++;
-        for (int k = 0; k < 3; k++)
-            sum[k] += probes->rgb[3 * i + k];
-    }
+    info->probe_count = st->probes;
+    info->valid_count = st->valid;
+    memcpy(v->lattice_origin, like->origin, sizeof(v->lattice_origin));
+    double sum[3];
+    slab_sums_total(&st->colour, sum);
     for (int k = 0; k < 3; k++)
         v->mean_rgb[k] = info->valid_count ? (float)(sum[k] / (double)info->valid_count) : 0.0f;
     info->mean_irradiance = (v->mean_rgb[0] + v->mean_rgb[1] + v->mean_rgb[2]) / 3.0;
     /* A dense RGBA8 grid over the probes' box at the same spacing, for comparison. */
-    int32_t pmin[3] = {INT32_MAX, INT32_MAX, INT32_MAX},
-            pmax[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
-    for (size_t i = 0; i < probes->count; i++)
-        for (int k = 0; k < 3; k++) {
-            const int32_t c = probes->ijk[3 * i + k];
-            pmin[k] = c < pmin[k] ? c : pmin[k];
-            pmax[k] = c > pmax[k] ? c : pmax[k];
-        }
     info->dense_rgba8_size = 4;
     for (int k = 0; k < 3; k++)
-        info->dense_rgba8_size *= (size_t)(pmax[k] - pmin[k] + 1);
+        info->dense_rgba8_size *= (size_t)(st->hi[k] - st->lo[k] + 1);
     return v;
 }
 
@@ -297,20 +415,10 @@ static vdbgi_volume *volume_start(vdbgi_context *ctx, const vdbgi_probes *probes
  * place_indirection will count (the valid probes' cells, one cell of margin,
  * the corner aligned to 8 cells).
  */
-static vdbgi_result check_extent(vdbgi_context *ctx, const vdbgi_probes *p)
+static vdbgi_result check_extent(vdbgi_context *ctx, const lattice_stats *st)
 {
-    int32_t lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, hi[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
-    size_t valid = 0;
-    for (size_t i = 0; i < p->count; i++) {
-        if (p->backface[i] > p->invalid_threshold)
-            continue;
-        valid++;
-        for (int k = 0; k < 3; k++) {
-            const int32_t c = vdbgi_floor_div(p->ijk[3 * i + k], VDBGI_BRICK);
-            lo[k] = c < lo[k] ? c : lo[k];
-            hi[k] = c > hi[k] ? c : hi[k];
-        }
-    }
+    const int32_t *const lo = st->cell_lo, *const hi = st->cell_hi;
+    const size_t valid = st->valid;
     double cells = 1.0;
     for (int k = 0; k < 3 && lo[k] <= hi[k]; k++) {
         const int64_t dim = (int64_t)hi[k] + 1 - (int64_t)vdbgi_floor_div(lo[k] - 1, 8) * 8 + 1;
@@ -467,101 +575,428 @@ static vdbgi_result step_done(vdbgi_context *ctx, const vdbgi_convert_desc *desc
     return VDBGI_OK;
 }
 
+/* What a conversion settled before it reads any value. */
+typedef struct build_plan {
+    vdbgi_coarsen_params cp;
+    vdbgi_fill_params fp;
+    bool terms; /* L2 terms go through with L0 */
+} build_plan;
+
+/*
+ * desc resolved against probes like (a read of them: their settings) and
+ * the lattice's statistics, checked, and the volume started.
+ */
+static vdbgi_result build_start(vdbgi_context *ctx, const vdbgi_probes *like,
+                                const lattice_stats *st, const vdbgi_convert_desc *desc,
+                                build_plan *bp, vdbgi_volume **out)
+{
+    *out = NULL;
+    memset(bp, 0, sizeof(*bp));
+    vdbgi_coarsen_params *const cp = &bp->cp;
+    float eps = 0.0f;
+    vdbgi_encoding encoding = VDBGI_ENCODING_RGBM;
+    VDBGI_TRY(resolve_desc(ctx, desc, &eps, &cp->sigmas, &cp->max_level, &cp->criterion, &encoding,
+                           &cp->threads));
+    /*
+     * A fixed Fibonacci set gives every probe the same directions: its error is a bias
+     * shared by neighbours, not noise, and its standard error is no measure of it. The
+     * default allowance applies to random and adaptive bakes only.
+     */
+    if (like->sampling == VDBGI_SAMPLING_FIBONACCI && !like->adaptive &&
+        (!desc || desc->noise_sigmas == 0.0f))
+        cp->sigmas = 0.0f;
+    VDBGI_FAIL_IF(ctx, !like->rgb, VDBGI_ERR_FORMAT, "probes have no values: bake them first");
+    VDBGI_FAIL_IF(ctx, st->probes == 0, VDBGI_ERR_FORMAT, "the grid holds no probes");
+    VDBGI_TRY(check_extent(ctx, st));
+    cp->layout =
+        desc && desc->layout == VDBGI_LAYOUT_SEED ? VDBGI_LAYOUT_SEED : VDBGI_LAYOUT_COMPACT;
+    bp->terms = like->sh && cp->layout == VDBGI_LAYOUT_COMPACT && !(desc && desc->scalar_only);
+    VDBGI_FAIL_IF(ctx, !bp->terms && desc && desc->gi_version, VDBGI_ERR_INVALID_ARG,
+                  ".gi version %d holds L2 terms, and this volume has none (the scalar basis, the "
+                  "seed layout or probes baked without sh2)",
+                  desc->gi_version);
+    vdbgi_volume *const v = volume_start(ctx, like, st, encoding, cp->layout, cp->max_level);
+    if (!v)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    v->version = !bp->terms                 ? 5
+                 : desc && desc->gi_version ? (uint32_t)desc->gi_version
+                                            : VDBGI_GI_VERSION;
+    if (bp->terms) {
+        v->info.basis = VDBGI_BASIS_SH2;
+        v->info.term_bits = desc && desc->term_bits ? desc->term_bits : VDBGI_TERM_BITS;
+    }
+    cp->tolerance = eps * (float)v->info.mean_irradiance;
+    memcpy(cp->fallback, v->mean_rgb, sizeof(cp->fallback));
+    bp->fp = vdbgi_fill_params_default(like->invalid_threshold, desc ? desc->fill : VDBGI_FILL_AUTO,
+                                       cp->threads);
+    bp->fp.filter_below = cp->layout == VDBGI_LAYOUT_COMPACT ? 0 : 1; /* compact: no apron */
+    bp->fp.lift = cp->layout == VDBGI_LAYOUT_COMPACT;
+    *out = v;
+    return VDBGI_OK;
+}
+
+/*
+ * The probes p filled into *field, L2 terms with L0 as one field of nine
+ * colours a point, with the cells the fill occupied (tree order) and those
+ * it reads on their top face only; unreached counts the points of
+ * bp->fp.core_z.
+ */
+static vdbgi_result fill_probes(vdbgi_context *ctx, const vdbgi_probes *p, const build_plan *bp,
+                                vdbgi_field *field, int32_t **cells, size_t *cell_count,
+                                int32_t **top_only, size_t *top_count, size_t *unreached)
+{
+    float *joined = NULL;
+    if (bp->terms) {
+        if (!(joined = vdbgi_alloc(ctx, 27 * sizeof(float) * (p->count ? p->count : 1))))
+            return VDBGI_ERR_OUT_OF_MEMORY;
+        for (size_t i = 0; i < p->count; i++) {
+            memcpy(&joined[27 * i], &p->rgb[3 * i], 3 * sizeof(float));
+            memcpy(&joined[27 * i + 3], &p->sh[24 * i], 24 * sizeof(float));
+        }
+    }
+    const vdbgi_fill_input in = {.count = p->count,
+                                 .ijk = p->ijk,
+                                 .values = joined ? joined : p->rgb,
+                                 .backface = p->backface,
+                                 .channels = joined ? 9 : 1,
+                                 .signed_terms = joined != NULL};
+    const vdbgi_result r = vdbgi_field_fill(ctx, &in, &bp->fp, field, cells, cell_count, top_only,
+                                            top_count, unreached);
+    vdbgi_free(ctx, joined);
+    return r;
+}
+
+/* The field's points with z0 <= z < z1. */
+static size_t points_within(const vdbgi_field *f, int32_t z0, int32_t z1)
+{
+    size_t n = 0;
+    for (size_t li = 0; li < f->leaf_count; li++) {
+        const vdbgi_leaf *const leaf = &f->leaves[li];
+        for (int w = 0; w < 8; w++)
+            for (uint64_t m = leaf->mask[w]; m; m &= m - 1) {
+                const int32_t z = leaf->origin[2] + (__builtin_ctzll(m) & 7);
+                n += z >= z0 && z < z1;
+            }
+    }
+    return n;
+}
+
 vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
                                 const vdbgi_convert_desc *desc, vdbgi_volume **out)
 {
     VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
     *out = NULL;
     VDBGI_FAIL_IF(ctx, !probes, VDBGI_ERR_INVALID_ARG, "no probes given");
+    VDBGI_FAIL_IF(ctx, !probes->rgb, VDBGI_ERR_FORMAT, "probes have no values: bake them first");
     const double t0 = vdbgi_now();
     double t = t0;
-    vdbgi_coarsen_params cp = {0};
-    float eps = 0.0f;
-    vdbgi_encoding encoding = VDBGI_ENCODING_RGBM;
-    VDBGI_TRY(resolve_desc(ctx, desc, &eps, &cp.sigmas, &cp.max_level, &cp.criterion, &encoding,
-                           &cp.threads));
-    /*
-     * A fixed Fibonacci set gives every probe the same directions: its error is a bias
-     * shared by neighbours, not noise, and its standard error is no measure of it. The
-     * default allowance applies to random and adaptive bakes only.
-     */
-    if (probes->sampling == VDBGI_SAMPLING_FIBONACCI && !probes->adaptive &&
-        (!desc || desc->noise_sigmas == 0.0f))
-        cp.sigmas = 0.0f;
-    VDBGI_FAIL_IF(ctx, !probes->rgb, VDBGI_ERR_FORMAT, "probes have no values: bake them first");
-    VDBGI_FAIL_IF(ctx, probes->count == 0, VDBGI_ERR_FORMAT, "the grid holds no probes");
-    VDBGI_TRY(check_extent(ctx, probes));
-    cp.layout =
-        desc && desc->layout == VDBGI_LAYOUT_SEED ? VDBGI_LAYOUT_SEED : VDBGI_LAYOUT_COMPACT;
-    const bool terms =
-        probes->sh && cp.layout == VDBGI_LAYOUT_COMPACT && !(desc && desc->scalar_only);
-    VDBGI_FAIL_IF(ctx, !terms && desc && desc->gi_version, VDBGI_ERR_INVALID_ARG,
-                  ".gi version %d holds L2 terms, and this volume has none (the scalar basis, the "
-                  "seed layout or probes baked without sh2)",
-                  desc->gi_version);
-    vdbgi_volume *const v = volume_start(ctx, probes, encoding, cp.layout, cp.max_level);
-    if (!v)
-        return VDBGI_ERR_OUT_OF_MEMORY;
-    v->version = !terms                     ? 5
-                 : desc && desc->gi_version ? (uint32_t)desc->gi_version
-                                            : VDBGI_GI_VERSION;
-    vdbgi_volume_info *const info = &v->info;
-    cp.tolerance = eps * (float)info->mean_irradiance;
-    memcpy(cp.fallback, v->mean_rgb, sizeof(cp.fallback));
-
+    int32_t z[2] = {0, 0};
+    for (size_t i = 0; i < probes->count; i++) {
+        const int32_t k = probes->ijk[3 * i + 2];
+        z[0] = i == 0 || k < z[0] ? k : z[0];
+        z[1] = i == 0 || k > z[1] ? k : z[1];
+    }
+    lattice_stats st;
+    error_sums e = {0};
+    build_plan bp;
+    vdbgi_volume *v = NULL;
     int32_t *cells = NULL, *top_only = NULL;
     size_t cell_count = 0, brick_count = 0, top_count = 0;
     vdbgi_brick *bricks = NULL;
-    vdbgi_fill_params fp = vdbgi_fill_params_default(
-        probes->invalid_threshold, desc ? desc->fill : VDBGI_FILL_AUTO, cp.threads);
-    fp.filter_below = cp.layout == VDBGI_LAYOUT_COMPACT ? 0 : 1; /* compact: no apron */
-    fp.lift = cp.layout == VDBGI_LAYOUT_COMPACT;
-    /* L2 terms go through the fill with L0, as one field of nine colours a point. */
-    float *joined = NULL;
-    if (terms) {
-        info->basis = VDBGI_BASIS_SH2;
-        info->term_bits = desc && desc->term_bits ? desc->term_bits : VDBGI_TERM_BITS;
-        if (!(joined = vdbgi_alloc(ctx, 27 * sizeof(float) * probes->count))) {
-            vdbgi_volume_destroy(v);
-            return VDBGI_ERR_OUT_OF_MEMORY;
-        }
-        for (size_t i = 0; i < probes->count; i++) {
-            memcpy(&joined[27 * i], &probes->rgb[3 * i], 3 * sizeof(float));
-            memcpy(&joined[27 * i + 3], &probes->sh[24 * i], 24 * sizeof(float));
-        }
+    vdbgi_result r = stats_init(ctx, &st, z);
+    if (r == VDBGI_OK) {
+        stats_add(&st, probes);
+        r = build_start(ctx, probes, &st, desc, &bp, &v);
     }
-    const vdbgi_fill_input in = {.count = probes->count,
-                                 .ijk = probes->ijk,
-                                 .values = joined ? joined : probes->rgb,
-                                 .backface = probes->backface,
-                                 .channels = joined ? 9 : 1,
-                                 .signed_terms = joined != NULL};
-    vdbgi_result r = vdbgi_field_fill(ctx, &in, &fp, &v->filled, &cells, &cell_count, &top_only,
-                                      &top_count, &info->unreached_count);
-    vdbgi_free(ctx, joined);
     if (r != VDBGI_OK)
         goto fail;
-    for (size_t li = 0; li < v->filled.leaf_count; li++)
-        for (int w = 0; w < 8; w++)
-            info->filled_count += (size_t)__builtin_popcountll(v->filled.leaves[li].mask[w]);
+    vdbgi_volume_info *const info = &v->info;
+    if ((r = fill_probes(ctx, probes, &bp, &v->filled, &cells, &cell_count, &top_only, &top_count,
+                         &info->unreached_count)) != VDBGI_OK)
+        goto fail;
+    info->filled_count = points_within(&v->filled, INT32_MIN, INT32_MAX);
     if ((r = step_done(ctx, desc, 0.3f, &t, "fill")) != VDBGI_OK ||
-        (r = vdbgi_coarsen(ctx, &v->filled, probes, cells, cell_count, &cp, &bricks,
+        (r = vdbgi_coarsen(ctx, &v->filled, probes, cells, cell_count, &bp.cp, &bricks,
                            &brick_count)) != VDBGI_OK ||
         (r = lift_bricks(ctx, bricks, &brick_count, cells, &cell_count, top_only, top_count)) !=
             VDBGI_OK ||
         (r = place_indirection(v, cells, cell_count, probes->spacing)) != VDBGI_OK ||
         (r = step_done(ctx, desc, 0.6f, &t, "pyramid and coarsening")) != VDBGI_OK ||
-        (r = lay_out(v, bricks, brick_count, probes, cp.threads)) != VDBGI_OK ||
+        (r = lay_out(v, bricks, brick_count, probes, bp.cp.threads)) != VDBGI_OK ||
         (r = step_done(ctx, desc, 0.8f, &t, "sampling and encoding")) != VDBGI_OK ||
-        (r = measure_error(v, probes, cp.threads)) != VDBGI_OK)
+        (r = error_sums_init(ctx, &e, z, info->valid_count)) != VDBGI_OK ||
+        (r = measure_error(v, probes, bp.cp.threads, &e)) != VDBGI_OK)
         goto fail;
+    error_figures(info, &e);
     vdbgi_log(ctx, VDBGI_LOG_DEBUG, "error measurement in %.3f s", vdbgi_now() - t);
     info->seconds = vdbgi_now() - t0;
     report(desc, 1.0f);
 fail:
+    vdbgi_free(ctx, st.colour.v);
+    error_sums_free(ctx, &e);
     vdbgi_free(ctx, cells);
     vdbgi_free(ctx, top_only);
     vdbgi_free(ctx, bricks);
+    if (r != VDBGI_OK) {
+        vdbgi_volume_destroy(v);
+        return r;
+    }
+    *out = v;
+    return VDBGI_OK;
+}
+
+/* ---- region by region ------------------------------------------------------ */
+
+/* Append n triples (or bricks) to a growing array: *items holds *count of *capacity. */
+static vdbgi_result append(vdbgi_context *ctx, void **items, size_t *count, size_t *capacity,
+                           const void *more, size_t n, size_t size)
+{
+    if (*count + n > *capacity) {
+        size_t grown = *capacity ? 2 * *capacity : 1024;
+        while (grown < *count + n)
+            grown *= 2;
+        void *const bigger = vdbgi_alloc(ctx, grown * size);
+        if (!bigger)
+            return VDBGI_ERR_OUT_OF_MEMORY;
+        if (*count)
+            memcpy(bigger, *items, *count * size);
+        vdbgi_free(ctx, *items);
+        *items = bigger, *capacity = grown;
+    }
+    if (n)
+        memcpy((char *)*items + *count * size, more, n * size);
+    *count += n;
+    return VDBGI_OK;
+}
+
+/* Keep the cells (triples) whose points lie in z0 <= z < z1, in their order; returns how many. */
+static size_t keep_cells(int32_t *cells, size_t count, int32_t z0, int32_t z1)
+{
+    size_t n = 0;
+    for (size_t c = 0; c < count; c++) {
+        const int32_t z = cells[3 * c + 2] * VDBGI_BRICK;
+        if (z >= z0 && z < z1)
+            memmove(&cells[3 * n++], &cells[3 * c], 3 * sizeof(int32_t));
+    }
+    return n;
+}
+
+/* The regions of a conversion, and what it keeps of the lattice between its passes. */
+typedef struct regions {
+    vdbgi_context *ctx;
+    vdbgi_probe_file *file;
+    const vdbgi_convert_desc *desc;
+    int32_t first, end, size; /* regions first + k size, up to end */
+    int halo;                 /* points read either side of a region for its fill */
+    int pass;                 /* 0..3, for progress */
+    vdbgi_brick *bricks;
+    int32_t *cells;
+    size_t brick_count, brick_capacity, cell_count, cell_capacity;
+} regions;
+
+/*
+ * The points region z0 answers for: its own slab, and past the lattice's
+ * first and last slabs whatever lies beyond (a cell's rim, a + border).
+ */
+static void region_core(const regions *rg, int32_t z0, int32_t core[2])
+{
+    core[0] = z0 == rg->first ? INT32_MIN : z0;
+    core[1] = z0 + rg->size >= rg->end ? INT32_MAX : z0 + rg->size;
+}
+
+/* Region k's probes, with halo points either side; progress says how far the pass is. */
+static vdbgi_result region_read(regions *rg, int32_t z0, int halo, vdbgi_probes **p)
+{
+    const float done = (float)(z0 - rg->first) / (float)(rg->end - rg->first);
+    VDBGI_FAIL_IF(rg->ctx, report(rg->desc, 0.25f * ((float)rg->pass + done)), VDBGI_ERR_CANCELLED,
+                  "conversion cancelled");
+    return vdbgi_probe_file_read(rg->file, z0 - halo, z0 + rg->size + halo, p);
+}
+
+/* Pass 1 for one region: its cells' bricks, coarsened and lifted, and its counts. */
+static vdbgi_result region_bricks(regions *rg, vdbgi_volume *v, const build_plan *bp, int32_t z0)
+{
+    vdbgi_context *const ctx = rg->ctx;
+    vdbgi_probes *p = NULL;
+    vdbgi_field field = {0};
+    int32_t *cells = NULL, *top_only = NULL;
+    vdbgi_brick *bricks = NULL;
+    size_t cell_count = 0, top_count = 0, brick_count = 0, unreached = 0;
+    build_plan own = *bp;
+    int32_t core[2];
+    region_core(rg, z0, core);
+    memcpy(own.fp.core_z, core, sizeof(core));
+    vdbgi_result r = region_read(rg, z0, rg->halo, &p);
+    /* A region with no valid probe near it has nothing to fill. */
+    size_t valid = 0;
+    for (size_t i = 0; r == VDBGI_OK && i < p->count; i++)
+        valid += p->backface[i] <= p->invalid_threshold;
+    if (r != VDBGI_OK || valid == 0)
+        goto done;
+    if ((r = fill_probes(ctx, p, &own, &field, &cells, &cell_count, &top_only, &top_count,
+                         &unreached)) != VDBGI_OK)
+        goto done;
+    v->info.unreached_count += unreached;
+    v->info.filled_count += points_within(&field, core[0], core[1]);
+    /*
+     * The interpolation test of a block reads one point past its far faces where a
+     * cell holds it: the coarsening sees the next region's first plane of cells too,
+     * and the bricks it makes there are dropped (that region makes them again).
+     */
+    const int32_t next = core[1] == INT32_MAX ? INT32_MAX : core[1] + VDBGI_BRICK;
+    cell_count = keep_cells(cells, cell_count, core[0], next);
+    top_count = keep_cells(top_only, top_count, core[0], core[1]);
+    if ((r = vdbgi_coarsen(ctx, &field, p, cells, cell_count, &bp->cp, &bricks, &brick_count)) !=
+        VDBGI_OK)
+        goto done;
+    size_t kept = 0;
+    for (size_t i = 0; i < brick_count; i++)
+        if (bricks[i].key[2] * (VDBGI_BRICK << bricks[i].level) < core[1])
+            bricks[kept++] = bricks[i];
+    brick_count = kept;
+    cell_count = keep_cells(cells, cell_count, core[0], core[1]);
+    if ((r = lift_bricks(ctx, bricks, &brick_count, cells, &cell_count, top_only, top_count)) !=
+            VDBGI_OK ||
+        (r = append(ctx, (void **)&rg->bricks, &rg->brick_count, &rg->brick_capacity, bricks,
+                    brick_count, sizeof(*bricks))) != VDBGI_OK)
+        goto done;
+    r = append(ctx, (void **)&rg->cells, &rg->cell_count, &rg->cell_capacity, cells, cell_count,
+               3 * sizeof(int32_t));
+done:
+    vdbgi_free(ctx, cells);
+    vdbgi_free(ctx, top_only);
+    vdbgi_free(ctx, bricks);
+    vdbgi_field_free(&field);
+    vdbgi_probes_destroy(p);
+    return r;
+}
+
+/* Pass 2 for one region: the stored points of its owner cells, from its field. */
+static vdbgi_result region_values(regions *rg, vdbgi_pack_writer *w, const build_plan *bp,
+                                  int32_t z0)
+{
+    vdbgi_context *const ctx = rg->ctx;
+    vdbgi_probes *p = NULL;
+    vdbgi_field field = {0};
+    int32_t *cells = NULL, *top_only = NULL;
+    size_t cell_count = 0, top_count = 0, unreached = 0, valid = 0;
+    vdbgi_result r = region_read(rg, z0, rg->halo, &p);
+    for (size_t i = 0; r == VDBGI_OK && i < p->count; i++)
+        valid += p->backface[i] <= p->invalid_threshold;
+    if (r == VDBGI_OK && valid > 0)
+        r = fill_probes(ctx, p, bp, &field, &cells, &cell_count, &top_only, &top_count, &unreached);
+    /* Points with no field near take their brick's mean, as in the whole conversion. */
+    int32_t core[2];
+    region_core(rg, z0, core);
+    if (r == VDBGI_OK)
+        vdbgi_pack_writer_values(w, &field, p, core[0], core[1]);
+    vdbgi_free(ctx, cells);
+    vdbgi_free(ctx, top_only);
+    vdbgi_field_free(&field);
+    vdbgi_probes_destroy(p);
+    return r;
+}
+
+vdbgi_result vdbgi_volume_build_regions(vdbgi_context *ctx, vdbgi_probe_file *file,
+                                        int32_t region_points, const vdbgi_convert_desc *desc,
+                                        vdbgi_volume **out)
+{
+    return vdbgi_volume_build_regions_halo(ctx, file, region_points, VDBGI_REGION_HALO, desc, out);
+}
+
+vdbgi_result vdbgi_volume_build_regions_halo(vdbgi_context *ctx, vdbgi_probe_file *file,
+                                             int32_t region_points, int halo,
+                                             const vdbgi_convert_desc *desc, vdbgi_volume **out)
+{
+    VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
+    *out = NULL;
+    VDBGI_FAIL_IF(ctx, !file, VDBGI_ERR_INVALID_ARG, "no probe file given");
+    VDBGI_FAIL_IF(ctx,
+                  region_points < VDBGI_REGION_STEP || region_points % VDBGI_REGION_STEP != 0 ||
+                      region_points > VDBGI_MAX_INDEX,
+                  VDBGI_ERR_INVALID_ARG,
+                  "a region is a multiple of %d lattice points thick, up to %d (got %d)",
+                  VDBGI_REGION_STEP, VDBGI_MAX_INDEX, region_points);
+    VDBGI_FAIL_IF(ctx, desc && desc->layout == VDBGI_LAYOUT_SEED, VDBGI_ERR_INVALID_ARG,
+                  "a conversion region by region writes the compact layout only");
+    const double t0 = vdbgi_now();
+    double t = t0;
+    int32_t z[2];
+    vdbgi_probe_file_extent(file, z);
+    /* A lattice the indirection cannot hold is refused before a pass over its regions. */
+    const int64_t span = (int64_t)z[1] - z[0] + 1, most = 4 * (VDBGI_MAX_TEXTURE_DIM + 16);
+    VDBGI_FAIL_IF(ctx, span > most, VDBGI_ERR_OUT_OF_MEMORY,
+                  "the probes span %lld lattice points along z, more than the %lld the "
+                  "indirection texture's %d-texel limit holds: raise the probe spacing",
+                  (long long)span, (long long)most, VDBGI_MAX_TEXTURE_DIM);
+    regions rg = {.ctx = ctx, .file = file, .desc = desc, .size = region_points, .halo = halo};
+    rg.first = vdbgi_floor_div(z[0], VDBGI_REGION_STEP) * VDBGI_REGION_STEP;
+    rg.end = z[1] + 1;
+    lattice_stats st;
+    error_sums e = {0};
+    build_plan bp;
+    vdbgi_volume *v = NULL;
+    vdbgi_probes *like = NULL, *p = NULL;
+    vdbgi_pack_writer *w = NULL;
+    uint8_t *payload = NULL;
+    size_t payload_size = 0;
+    /* Pass 0: what the whole lattice's fill and coarsening need to know first. */
+    vdbgi_result r = stats_init(ctx, &st, z);
+    for (int32_t z0 = rg.first; r == VDBGI_OK && z0 < rg.end; z0 += rg.size) {
+        if ((r = region_read(&rg, z0, 0, &p)) != VDBGI_OK)
+            break;
+        stats_add(&st, p);
+        if (!like) { /* the lattice's settings, from its first read */
+            like = p;
+            continue;
+        }
+        vdbgi_probes_destroy(p);
+    }
+    p = NULL;
+    if (r != VDBGI_OK || (r = build_start(ctx, like, &st, desc, &bp, &v)) != VDBGI_OK ||
+        (r = step_done(ctx, desc, 0.25f, &t, "statistics")) != VDBGI_OK)
+        goto fail;
+    /* Pass 1: bricks, region by region; then the indirection over all their cells. */
+    rg.pass = 1;
+    for (int32_t z0 = rg.first; r == VDBGI_OK && z0 < rg.end; z0 += rg.size)
+        r = region_bricks(&rg, v, &bp, z0);
+    if (r != VDBGI_OK ||
+        (r = place_indirection(v, rg.cells, rg.cell_count, like->spacing)) != VDBGI_OK ||
+        (r = step_done(ctx, desc, 0.5f, &t, "fill, pyramid and coarsening")) != VDBGI_OK)
+        goto fail;
+    /* Pass 2: every stored point's value; then the payload and the textures, whole. */
+    rg.pass = 2;
+    if ((r = vdbgi_pack_writer_create(v, rg.bricks, rg.brick_count, bp.cp.threads, &w)) != VDBGI_OK)
+        goto fail;
+    for (int32_t z0 = rg.first; r == VDBGI_OK && z0 < rg.end; z0 += rg.size)
+        r = region_values(&rg, w, &bp, z0);
+    if (r != VDBGI_OK || (r = vdbgi_pack_writer_finish(w, &payload, &payload_size)) != VDBGI_OK)
+        goto fail;
+    v->payload = payload, v->payload_size = payload_size;
+    if ((r = step_done(ctx, desc, 0.75f, &t, "sampling and encoding")) != VDBGI_OK ||
+        (r = error_sums_init(ctx, &e, z, v->info.valid_count)) != VDBGI_OK)
+        goto fail;
+    /* Pass 3: the error figures. */
+    rg.pass = 3;
+    for (int32_t z0 = rg.first; r == VDBGI_OK && z0 < rg.end; z0 += rg.size) {
+        if ((r = region_read(&rg, z0, 0, &p)) == VDBGI_OK)
+            r = measure_error(v, p, bp.cp.threads, &e);
+        vdbgi_probes_destroy(p);
+        p = NULL;
+    }
+    if (r != VDBGI_OK)
+        goto fail;
+    error_figures(&v->info, &e);
+    vdbgi_log(ctx, VDBGI_LOG_DEBUG, "error measurement in %.3f s", vdbgi_now() - t);
+    v->info.seconds = vdbgi_now() - t0;
+    report(desc, 1.0f);
+fail:
+    vdbgi_pack_writer_destroy(w);
+    vdbgi_probes_destroy(like);
+    vdbgi_free(ctx, st.colour.v);
+    error_sums_free(ctx, &e);
+    vdbgi_free(ctx, rg.cells);
+    vdbgi_free(ctx, rg.bricks);
     if (r != VDBGI_OK) {
         vdbgi_volume_destroy(v);
         return r;

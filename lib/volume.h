@@ -31,4 +31,13 @@ const float *vdbgi_level_colour(int level);
 /* The textures and uniforms of a volume, as the sampler takes them. */
 vdbgi_volume_view vdbgi_volume_view_of(const vdbgi_volume *v);
 
+/*
+ * vdbgi_volume_build_regions with halo points read either side of a region
+ * (VDBGI_REGION_HALO); fewer than the fill reaches give other bytes, which
+ * is how a test shows the halo matters.
+ */
+vdbgi_result vdbgi_volume_build_regions_halo(vdbgi_context *ctx, vdbgi_probe_file *file,
+                                             int32_t region_points, int halo,
+                                             const vdbgi_convert_desc *desc, vdbgi_volume **out);
+
 #endif /* VDBGI_VOLUME_H */

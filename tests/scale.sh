@@ -5,7 +5,9 @@
 # RSS, and the merge. Then the 4x world (400 m) at 0.25 m in 8 tiles on every core,
 # merged and converted: each step's wall and CPU time and peak RSS, the peak the
 # converter counts, and the conversion again under --memory-limit, at the figure
-# it counted (the same bytes) and below it (refused). Writes build/bench/scale.md.
+# it counted (the same bytes) and below it (refused); then region by region (--region
+# 512, 256, 128), and under the limit the whole conversion was refused at. Writes
+# build/bench/scale.md.
 set -eu
 BUILD=${BUILD:-build/release}
 BIN=$BUILD/bin
@@ -81,6 +83,26 @@ run() {
         echo "--memory-limit ${under}M: NOT REFUSED"
     else
         echo "--memory-limit ${under}M: $(cat "$W/err.txt")"
+    fi
+    echo
+    echo "### The same conversion region by region"
+    echo
+    echo "| --region | wall | CPU | peak RSS | counted peak | against the whole conversion |"
+    echo "|---:|---:|---:|---:|---:|---|"
+    for region in 512 256 128; do
+        run "region $region" "$BIN/vdb-to-gi" "$W/world400.vdb" -o "$W/regions.gi.gz" --region "$region" >/dev/null
+        counted=$("$BIN/vdb-to-gi" -v "$W/world400.vdb" -o "$W/regions.gi.gz" --region "$region" |
+            sed -n 's/^memory *peak \([0-9.]*\) MiB.*/\1/p')
+        if cmp -s "$W/regions.gi.gz" "$W/world400.gi.gz"; then same="the same bytes"; else same="OTHER BYTES"; fi
+        echo "| $region | $wall s | $cpu s | $rss MB | $counted MiB | $same |"
+    done
+    if "$BIN/vdb-to-gi" -q "$W/world400.vdb" -o "$W/regions.gi.gz" --region 128 --memory-limit "${under}M" &&
+        cmp -s "$W/regions.gi.gz" "$W/world400.gi.gz"; then
+        echo
+        echo "--region 128 --memory-limit ${under}M (the limit the whole conversion stopped at): the same bytes"
+    else
+        echo
+        echo "--region 128 --memory-limit ${under}M: FAILED"
     fi
 } | tee "$OUT/scale.md"
 rm -f "$W"/*.vdb "$W"/*.gi.gz

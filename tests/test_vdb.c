@@ -2,10 +2,13 @@
  * test_vdb.c: baked probes written as .vdb read back bit for bit, with the
  * lattice transform and the bake settings as metadata; a failed write leaves
  * no file and never replaces an existing one; files that are not VDB, or are
- * cut short, are refused; the tiles of a bake merge into the whole bake.
+ * cut short, are refused; the tiles of a bake merge into the whole bake; a
+ * conversion region by region gives the whole conversion's bytes.
  */
 #define _POSIX_C_SOURCE 200809L
+#include "probes.h"
 #include "test_util.h"
+#include "volume.h"
 
 #include <dirent.h>
 #include <math.h>
@@ -438,6 +441,138 @@ static void a_memory_limit_stops_a_conversion_at_its_figure(void)
     CHECK(strstr(why, "limit.vdb") != NULL && strstr(why, "memory limit of") != NULL);
 }
 
+/* The .gi bytes and figures of a conversion, whole (region 0) or region by region. */
+static size_t convert_to(const char *path, int region, int halo, int threads, unsigned char *bytes,
+                         vdbgi_volume_info *info)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_probes *p = NULL;
+    vdbgi_probe_file *f = NULL;
+    vdbgi_volume *v = NULL;
+    const vdbgi_convert_desc cd = {.threads = threads};
+    if (region) {
+        CHECK_RESULT(ctx, vdbgi_probe_file_open(ctx, path, &f), VDBGI_OK);
+        CHECK_RESULT(ctx, vdbgi_volume_build_regions_halo(ctx, f, region, halo, &cd, &v), VDBGI_OK);
+    } else {
+        CHECK_RESULT(ctx, vdbgi_probes_read(ctx, path, &p), VDBGI_OK);
+        CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
+    }
+    const size_t size = v ? vdbgi_volume_write_memory(v, bytes, 1 << 22) : 0;
+    if (v)
+        vdbgi_volume_get_info(v, info);
+    vdbgi_volume_destroy(v);
+    vdbgi_probes_destroy(p);
+    vdbgi_probe_file_close(f);
+    vdbgi_context_destroy(ctx);
+    return size;
+}
+
+/*
+ * A lattice read a z range at a time holds every probe once, in the whole
+ * read's order; converted region by region (any size, any threads) it gives
+ * the whole conversion's bytes and figures, L2 terms and all. Without a
+ * halo the fill at a region's faces lacks its neighbours and the bytes
+ * change: the comparison can fail.
+ */
+static void regions_match_on_a_floor(float floor_size)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    test_mesh_plane(&m, floor_size, 0.0f);
+    const float lo[3] = {-1, 0, -2}, hi[3] = {1, 2, 0.5f};
+    test_mesh_box(&m, lo, hi, 0);
+    const vdbgi_mesh_desc d = test_mesh_desc(&m, 0.6f, 0);
+    vdbgi_scene *s = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &d, 1, &s), VDBGI_OK);
+    vdbgi_probes *p = NULL;
+    const vdbgi_place_desc pd = {.spacing = 0.125, .origin = {0.1, -0.2, 0.3}, .origin_is_set = 1};
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
+    const vdbgi_bake_desc bd = {.rays = 16,
+                                .falloff = INFINITY,
+                                .sampling = VDBGI_SAMPLING_RANDOM,
+                                .seed = 3,
+                                .basis = VDBGI_BASIS_SH2,
+                                .sky = {0.05f, 0.06f, 0.08f}};
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &bd, NULL), VDBGI_OK);
+    const char *const path = tmp_path("regions.vdb");
+    CHECK_RESULT(ctx, vdbgi_probes_write(p, path), VDBGI_OK);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
+    /* Regions read back the whole read, probe for probe. */
+    vdbgi_probes *whole = NULL;
+    vdbgi_probe_file *f = NULL;
+    CHECK_RESULT(ctx, vdbgi_probes_read(ctx, path, &whole), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probe_file_open(ctx, path, &f), VDBGI_OK);
+    int32_t z[2];
+    vdbgi_probe_file_extent(f, z);
+    size_t seen = 0;
+    bool same = true;
+    for (int32_t z0 = z[0]; z0 <= z[1]; z0 += 32) {
+        vdbgi_probes *r = NULL;
+        CHECK_RESULT(ctx, vdbgi_probe_file_read(f, z0, z0 + 32, &r), VDBGI_OK);
+        for (size_t i = 0; r && i < r->count; i++) {
+            same = same && r->ijk[3 * i + 2] >= z0 && r->ijk[3 * i + 2] < z0 + 32;
+            /* the whole read's next probe in this slab */
+            while (seen < whole->count &&
+                   !(whole->ijk[3 * seen + 2] >= z0 && whole->ijk[3 * seen + 2] < z0 + 32))
+                seen++;
+            same = same && seen < whole->count &&
+                   memcmp(&r->ijk[3 * i], &whole->ijk[3 * seen], 12) == 0 &&
+                   memcmp(&r->rgb[3 * i], &whole->rgb[3 * seen], 12) == 0 &&
+                   memcmp(&r->sh[24 * i], &whole->sh[24 * seen], 96) == 0 &&
+                   r->backface[i] == whole->backface[seen];
+            seen++;
+        }
+        size_t in_slab = 0; /* and none of the whole read's is missing */
+        for (size_t i = 0; i < whole->count; i++)
+            in_slab += whole->ijk[3 * i + 2] >= z0 && whole->ijk[3 * i + 2] < z0 + 32;
+        same = same && r && r->count == in_slab;
+        seen = 0;
+        vdbgi_probes_destroy(r);
+    }
+    CHECK(same);
+    CHECK(z[1] - z[0] > 32); /* two regions of 32 at least */
+    vdbgi_probes *none = NULL;
+    CHECK_RESULT(ctx, vdbgi_probe_file_read(f, z[1] + 8, z[1] + 40, &none), VDBGI_OK);
+    CHECK(none && none->count == 0);
+    vdbgi_probes_destroy(none);
+    vdbgi_probes_destroy(whole);
+    /* Refused: a region not a multiple of 32, the seed layout. */
+    vdbgi_volume *v = NULL;
+    CHECK_RESULT(ctx, vdbgi_volume_build_regions(ctx, f, 33, NULL, &v), VDBGI_ERR_INVALID_ARG);
+    CHECK_RESULT(ctx, vdbgi_volume_build_regions(ctx, f, 0, NULL, &v), VDBGI_ERR_INVALID_ARG);
+    const vdbgi_convert_desc seed = {.layout = VDBGI_LAYOUT_SEED};
+    CHECK_RESULT(ctx, vdbgi_volume_build_regions(ctx, f, 32, &seed, &v), VDBGI_ERR_INVALID_ARG);
+    CHECK(v == NULL);
+    vdbgi_probe_file_close(f);
+    vdbgi_context_destroy(ctx);
+
+    static unsigned char a[1 << 22], b[1 << 22];
+    vdbgi_volume_info ia, ib;
+    const size_t size = convert_to(path, 0, 0, 1, a, &ia);
+    CHECK(size > 0 && ia.basis == VDBGI_BASIS_SH2);
+    const int cases[][3] = {
+        {32, VDBGI_REGION_HALO, 1}, {32, VDBGI_REGION_HALO, 2}, {64, VDBGI_REGION_HALO, 2}};
+    for (size_t c = 0; c < sizeof(cases) / sizeof(cases[0]); c++) {
+        CHECK(convert_to(path, cases[c][0], cases[c][1], cases[c][2], b, &ib) == size);
+        CHECK(memcmp(a, b, size) == 0);
+        CHECK(ia.rmse == ib.rmse && ia.p99 == ib.p99 && ia.max_error == ib.max_error);
+        CHECK(ia.filled_count == ib.filled_count && ia.unreached_count == ib.unreached_count &&
+              ia.fallback_count == ib.fallback_count && ia.valid_count == ib.valid_count &&
+              ia.mean_irradiance == ib.mean_irradiance);
+    }
+    const size_t bare = convert_to(path, 32, 0, 1, b, &ib);
+    CHECK(bare > 0 && (bare != size || memcmp(a, b, size) != 0));
+}
+
+/* A 6 m floor (two regions of 32 points: its cells reach below the first, its + borders
+   above the last) and a 10 m one (more). */
+static void regions_convert_to_the_whole_conversions_bytes(void)
+{
+    regions_match_on_a_floor(6.0f);
+    regions_match_on_a_floor(10.0f);
+}
+
 int main(void)
 {
     test_tmpdir_make("test-vdb");
@@ -448,6 +583,7 @@ int main(void)
     RUN(sh2_terms_round_trip_as_eight_grids);
     RUN(tiles_merge_into_the_whole_bake);
     RUN(a_memory_limit_stops_a_conversion_at_its_figure);
+    RUN(regions_convert_to_the_whole_conversions_bytes);
     test_tmpdir_remove();
     return CHECK_EXIT();
 }
