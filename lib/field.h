@@ -12,6 +12,8 @@ extern "C" {
 #define VDBGI_LEAF_VOXELS 512
 /* Colours a point may carry: 1 (irradiance), 6 (ambient-cube sides), 9 (L0 and the L2 terms). */
 #define VDBGI_FIELD_MAX_CHANNELS 9
+/* Cells any fill may have however sparse its probes: 64 k, 4 M points. */
+#define VDBGI_FILL_SPARSE_CELLS 65536
 
 /* One leaf: point (x, y, z) of the leaf is number x*64 + y*8 + z (VDB's order). */
 typedef struct vdbgi_leaf {

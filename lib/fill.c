@@ -8,9 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Cells any fill may have however sparse its probes: 64 k, 4 M points. */
-#define VDBGI_FILL_SPARSE_CELLS 65536
-
 /* A leaf of the grid being filled: which points are to be filled, which are. */
 typedef struct grid_leaf {
     int32_t origin[3];

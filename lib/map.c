@@ -47,6 +47,8 @@ void vdbgi_map_free(vdbgi_map *m)
 
 long vdbgi_map_find(const vdbgi_map *m, const int32_t k[3])
 {
+    if (m->table_size == 0) /* never initialised: an empty field, say */
+        return -1;
     const size_t mask = m->table_size - 1;
     for (size_t s = hash_key(k) & mask; m->table[s]; s = (s + 1) & mask)
         if (same_key(m->keys[m->table[s] - 1], k))

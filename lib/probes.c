@@ -173,7 +173,7 @@ vdbgi_result vdbgi_probes_read(vdbgi_context *ctx, const char *path, vdbgi_probe
 struct vdbgi_probe_file {
     vdbgi_context *ctx;
     vdbgi_vdb_regions *regions;
-    int32_t leaf_z[2];
+    int32_t lo[3], hi[3]; /* the irradiance grid's leaves */
     char path[];
 };
 
@@ -187,10 +187,10 @@ vdbgi_result vdbgi_probe_file_open(vdbgi_context *ctx, const char *path, vdbgi_p
         return VDBGI_ERR_OUT_OF_MEMORY;
     f->ctx = ctx;
     strcpy(f->path, path);
-    const vdbgi_result r = vdbgi_vdb_regions_open(ctx, path, &f->regions, f->leaf_z);
-    if (r == VDBGI_OK && f->leaf_z[0] > f->leaf_z[1])
+    const vdbgi_result r = vdbgi_vdb_regions_open(ctx, path, &f->regions, f->lo, f->hi);
+    if (r == VDBGI_OK && f->lo[0] > f->hi[0])
         vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid 'irradiance' holds no probes", path);
-    if (r != VDBGI_OK || f->leaf_z[0] > f->leaf_z[1]) {
+    if (r != VDBGI_OK || f->lo[0] > f->hi[0]) {
         vdbgi_probe_file_close(f);
         return r != VDBGI_OK ? r : VDBGI_ERR_FORMAT;
     }
@@ -198,9 +198,10 @@ vdbgi_result vdbgi_probe_file_open(vdbgi_context *ctx, const char *path, vdbgi_p
     return VDBGI_OK;
 }
 
-void vdbgi_probe_file_extent(const vdbgi_probe_file *f, int32_t z[2])
+void vdbgi_probe_file_extent(const vdbgi_probe_file *f, int32_t lo[3], int32_t hi[3])
 {
-    memcpy(z, f->leaf_z, sizeof(f->leaf_z));
+    memcpy(lo, f->lo, sizeof(f->lo));
+    memcpy(hi, f->hi, sizeof(f->hi));
 }
 
 vdbgi_result vdbgi_probe_file_read(vdbgi_probe_file *f, int32_t z0, int32_t z1, vdbgi_probes **out)

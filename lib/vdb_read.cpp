@@ -9,7 +9,10 @@
 #include <openvdb/io/GridDescriptor.h>
 #include <openvdb/openvdb.h>
 
+#include <sys/stat.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -562,10 +565,25 @@ struct vdbgi_vdb_regions {
     /* The irradiance grid's leaves along x and y: OpenVDB's clip fills every empty
        128-point tile that a region's faces cut across its box, so it is kept tight. */
     openvdb::CoordBBox box;
+    /* The file as it was checked: OpenVDB trusts what it reads, so a file rewritten
+       in place since open is refused, not read. */
+    struct stat checked;
 };
 
+namespace
+{
+
+bool same_file(const struct stat &a, const struct stat &b)
+{
+    return a.st_dev == b.st_dev && a.st_ino == b.st_ino && a.st_size == b.st_size &&
+           a.st_mtim.tv_sec == b.st_mtim.tv_sec && a.st_mtim.tv_nsec == b.st_mtim.tv_nsec;
+}
+
+} // namespace
+
 extern "C" vdbgi_result vdbgi_vdb_regions_open(vdbgi_context *ctx, const char *path,
-                                               vdbgi_vdb_regions **out, int32_t leaf_z[2])
+                                               vdbgi_vdb_regions **out, int32_t lo[3],
+                                               int32_t hi[3])
 {
     *out = nullptr;
     VDBGI_SHIM_BEGIN
@@ -573,11 +591,16 @@ extern "C" vdbgi_result vdbgi_vdb_regions_open(vdbgi_context *ctx, const char *p
     auto f = std::make_unique<vdbgi_vdb_regions>();
     f->ctx = ctx;
     f->path = path;
+    if (stat(path, &f->checked) != 0)
+        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     VDBGI_TRY(read_layout(ctx, path, [&] {
         f->layout.open(f->is, path);
         f->layout.check(f->is, probe_grid_names());
     }));
-    leaf_z[0] = 1, leaf_z[1] = 0;
+    struct stat now;
+    if (stat(path, &now) != 0 || !same_file(now, f->checked))
+        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: changed while it was read", path);
+    lo[0] = lo[1] = lo[2] = 1, hi[0] = hi[1] = hi[2] = 0;
     bool found = false;
     for (size_t i : f->layout.wanted) {
         const std::string &name = f->layout.descriptors[i].gridName();
@@ -593,7 +616,8 @@ extern "C" vdbgi_result vdbgi_vdb_regions_open(vdbgi_context *ctx, const char *p
     for (size_t i : f->layout.wanted)
         if (f->layout.descriptors[i].gridName() == "irradiance" && f->layout.counts[i].active) {
             const vdbgi_vdb_tree_counts &n = f->layout.counts[i];
-            leaf_z[0] = n.leaf_min[2], leaf_z[1] = n.leaf_max[2];
+            memcpy(lo, n.leaf_min, sizeof(n.leaf_min));
+            memcpy(hi, n.leaf_max, sizeof(n.leaf_max));
             f->box = openvdb::CoordBBox(openvdb::Coord(n.leaf_min), openvdb::Coord(n.leaf_max));
         }
     *out = f.release();
@@ -610,6 +634,9 @@ extern "C" vdbgi_result vdbgi_vdb_regions_read(vdbgi_vdb_regions *f, int32_t z0,
     const openvdb::Coord &lo = f->box.min(), &hi = f->box.max();
     const openvdb::CoordBBox box(openvdb::Coord(lo.x(), lo.y(), z0),
                                  openvdb::Coord(hi.x(), hi.y(), z1 - 1));
+    struct stat now;
+    if (stat(path, &now) != 0 || !same_file(now, f->checked))
+        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: changed since it was opened", path);
     openvdb::GridPtrVec read;
     VDBGI_TRY(read_layout(ctx, path, [&] { f->layout.load(f->is, &box, read); }));
     VdbgiMemoryCharge held(ctx);

@@ -43,6 +43,19 @@ openvdb::math::Transform::Ptr lattice_transform(const double origin[3], double s
 
 void add_meta(openvdb::GridBase &grid, const vdbgi_meta &m)
 {
+    // Probes read from a file carry OpenVDB's own grid metadata too: its name, class,
+    // vector type and file statistics belong to each grid, not to the bake (a copied
+    // "name" named every grid of a rewritten file 'irradiance').
+    static const char *const owned[] = {
+        openvdb::GridBase::META_GRID_NAME,        openvdb::GridBase::META_GRID_CLASS,
+        openvdb::GridBase::META_GRID_CREATOR,     openvdb::GridBase::META_VECTOR_TYPE,
+        openvdb::GridBase::META_IS_LOCAL_SPACE,   openvdb::GridBase::META_SAVE_HALF_FLOAT,
+        openvdb::GridBase::META_FILE_BBOX_MIN,    openvdb::GridBase::META_FILE_BBOX_MAX,
+        openvdb::GridBase::META_FILE_COMPRESSION, openvdb::GridBase::META_FILE_MEM_BYTES,
+        openvdb::GridBase::META_FILE_VOXEL_COUNT, openvdb::GridBase::META_FILE_DELAYED_LOAD};
+    for (const char *name : owned)
+        if (std::strcmp(m.name, name) == 0)
+            return;
     switch (m.type) {
     case VDBGI_META_STRING: grid.insertMeta(m.name, openvdb::StringMetadata(m.text)); break;
     case VDBGI_META_INT: grid.insertMeta(m.name, openvdb::Int64Metadata(m.i)); break;

@@ -66,13 +66,14 @@ vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_vdb_sink
 
 /*
  * The same file read a z range at a time: open checks every grid's bytes
- * once and gives the z extent of the irradiance grid's leaves that hold a
- * probe (leaf_z[0] > leaf_z[1]: none); read puts the probes with z0 <= k < z1
- * into the sink (perhaps none), with the whole read's checks.
+ * once and gives the index box of the irradiance grid's leaves that hold a
+ * probe (lo[0] > hi[0]: none); read puts the probes with z0 <= k < z1 into
+ * the sink (perhaps none), with the whole read's checks, once it finds the
+ * file as open left it.
  */
 typedef struct vdbgi_vdb_regions vdbgi_vdb_regions;
 vdbgi_result vdbgi_vdb_regions_open(vdbgi_context *ctx, const char *path, vdbgi_vdb_regions **out,
-                                    int32_t leaf_z[2]);
+                                    int32_t lo[3], int32_t hi[3]);
 vdbgi_result vdbgi_vdb_regions_read(vdbgi_vdb_regions *f, int32_t z0, int32_t z1,
                                     vdbgi_vdb_sink *sink);
 void vdbgi_vdb_regions_close(vdbgi_vdb_regions *f);

@@ -611,14 +611,17 @@ VDBGI_API vdbgi_result vdbgi_probes_read(vdbgi_context *ctx, const char *path, v
 /*
  * The same file read a z range at a time, for a conversion region by region
  * (vdbgi_volume_build_regions): open checks every grid's bytes once and
- * holds no probe; read gives the probes with z0 <= k < z1 (perhaps none),
- * with every check of vdbgi_probes_read, in the order it gives them.
- * extent is the z range (inclusive, whole 8-point leaves) holding them all.
+ * holds no probe; read gives the probes with z0 <= k < z1 (perhaps none), in
+ * the order vdbgi_probes_read gives them, with its checks of the values. A
+ * read's memory is counted once it is read, not estimated before; a file
+ * changed since open is refused, and after a failed read the file is not
+ * to be read again. extent is the index box (inclusive, whole 8-point
+ * leaves) holding every probe.
  */
 typedef struct vdbgi_probe_file vdbgi_probe_file;
 VDBGI_API vdbgi_result vdbgi_probe_file_open(vdbgi_context *ctx, const char *path,
                                              vdbgi_probe_file **out);
-VDBGI_API void vdbgi_probe_file_extent(const vdbgi_probe_file *file, int32_t extent[2]);
+VDBGI_API void vdbgi_probe_file_extent(const vdbgi_probe_file *file, int32_t lo[3], int32_t hi[3]);
 VDBGI_API vdbgi_result vdbgi_probe_file_read(vdbgi_probe_file *file, int32_t z0, int32_t z1,
                                              vdbgi_probes **out);
 /* Close the file; NULL is a no-op. */
@@ -885,7 +888,8 @@ VDBGI_API vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes
  * bricks (a few bytes a 64-probe cell) and the volume itself (its textures
  * and payload). The file is read four times (statistics, bricks, values,
  * error figures). The volume holds no filled field: vdbgi_volume_write_slices
- * refuses it.
+ * refuses it. Refused where the whole build is not: probes, valid or not,
+ * spanning more than the indirection can hold along an axis.
  */
 #define VDBGI_REGION_STEP 32
 #define VDBGI_REGION_HALO 16

@@ -244,16 +244,17 @@ typedef struct lattice_stats {
     slab_sums colour;               /* the valid probes' colours */
 } lattice_stats;
 
-static vdbgi_result stats_init(vdbgi_context *ctx, lattice_stats *st, const int32_t z[2])
+static void stats_init(lattice_stats *st)
 {
     memset(st, 0, sizeof(*st));
     for (int k = 0; k < 3; k++) {
         st->lo[k] = st->cell_lo[k] = INT32_MAX;
         st->hi[k] = st->cell_hi[k] = INT32_MIN;
     }
-    return slab_sums_init(ctx, &st->colour, z, 3);
 }
 
+/* Counts and extents; the colours too once st->colour is allocated (after check_extent,
+   which bounds its slabs). */
 static void stats_add(lattice_stats *st, const vdbgi_probes *p)
 {
     st->probes += p->count;
@@ -266,14 +267,24 @@ static void stats_add(lattice_stats *st, const vdbgi_probes *p)
         if (p->backface[i] > p->invalid_threshold)
             continue;
         st->valid++;
-        double *const sum = slab_at(&st->colour, ijk[2]);
         for (int k = 0; k < 3; k++) {
-            sum[k] += p->rgb[3 * i + k];
             const int32_t c = vdbgi_floor_div(ijk[k], VDBGI_BRICK);
             st->cell_lo[k] = c < st->cell_lo[k] ? c : st->cell_lo[k];
             st->cell_hi[k] = c > st->cell_hi[k] ? c : st->cell_hi[k];
         }
+        if (!st->colour.v)
+            continue;
+        double *const sum = slab_at(&st->colour, ijk[2]);
+        for (int k = 0; k < 3; k++)
+            sum[k] += p->rgb[3 * i + k];
     }
+}
+
+/* The z range of the valid probes' cells, which the sums over them cover. */
+static void valid_z(const lattice_stats *st, int32_t z[2])
+{
+    z[0] = st->valid ? st->cell_lo[2] * VDBGI_BRICK : 0;
+    z[1] = st->valid ? st->cell_hi[2] * VDBGI_BRICK + VDBGI_BRICK - 1 : 0;
 }
 
 /* The error figures, summed as they come (a region's probes, or all). */
@@ -584,7 +595,7 @@ typedef struct build_plan {
 
 /*
  * desc resolved against probes like (a read of them: their settings) and
- * the lattice's statistics, checked, and the volume started.
+ * the lattice's statistics (checked by check_extent), and the volume started.
  */
 static vdbgi_result build_start(vdbgi_context *ctx, const vdbgi_probes *like,
                                 const lattice_stats *st, const vdbgi_convert_desc *desc,
@@ -607,7 +618,6 @@ static vdbgi_result build_start(vdbgi_context *ctx, const vdbgi_probes *like,
         cp->sigmas = 0.0f;
     VDBGI_FAIL_IF(ctx, !like->rgb, VDBGI_ERR_FORMAT, "probes have no values: bake them first");
     VDBGI_FAIL_IF(ctx, st->probes == 0, VDBGI_ERR_FORMAT, "the grid holds no probes");
-    VDBGI_TRY(check_extent(ctx, st));
     cp->layout =
         desc && desc->layout == VDBGI_LAYOUT_SEED ? VDBGI_LAYOUT_SEED : VDBGI_LAYOUT_COMPACT;
     bp->terms = like->sh && cp->layout == VDBGI_LAYOUT_COMPACT && !(desc && desc->scalar_only);
@@ -690,21 +700,21 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     VDBGI_FAIL_IF(ctx, !probes->rgb, VDBGI_ERR_FORMAT, "probes have no values: bake them first");
     const double t0 = vdbgi_now();
     double t = t0;
-    int32_t z[2] = {0, 0};
-    for (size_t i = 0; i < probes->count; i++) {
-        const int32_t k = probes->ijk[3 * i + 2];
-        z[0] = i == 0 || k < z[0] ? k : z[0];
-        z[1] = i == 0 || k > z[1] ? k : z[1];
-    }
     lattice_stats st;
     error_sums e = {0};
     build_plan bp;
     vdbgi_volume *v = NULL;
-    int32_t *cells = NULL, *top_only = NULL;
+    int32_t *cells = NULL, *top_only = NULL, z[2];
     size_t cell_count = 0, brick_count = 0, top_count = 0;
     vdbgi_brick *bricks = NULL;
-    vdbgi_result r = stats_init(ctx, &st, z);
-    if (r == VDBGI_OK) {
+    stats_init(&st);
+    stats_add(&st, probes);
+    valid_z(&st, z);
+    vdbgi_result r = check_extent(ctx, &st);
+    if (r == VDBGI_OK && (r = slab_sums_init(ctx, &st.colour, z, 3)) == VDBGI_OK) {
+        const slab_sums colour = st.colour; /* again, with the colours */
+        stats_init(&st);
+        st.colour = colour;
         stats_add(&st, probes);
         r = build_start(ctx, probes, &st, desc, &bp, &v);
     }
@@ -792,6 +802,7 @@ typedef struct regions {
     vdbgi_brick *bricks;
     int32_t *cells;
     size_t brick_count, brick_capacity, cell_count, cell_capacity;
+    size_t occupied; /* the cells the fills occupied, before the lift */
 } regions;
 
 /*
@@ -846,6 +857,8 @@ static vdbgi_result region_bricks(regions *rg, vdbgi_volume *v, const build_plan
     const int32_t next = core[1] == INT32_MAX ? INT32_MAX : core[1] + VDBGI_BRICK;
     cell_count = keep_cells(cells, cell_count, core[0], next);
     top_count = keep_cells(top_only, top_count, core[0], core[1]);
+    for (size_t c = 0; c < cell_count; c++)
+        rg->occupied += cells[3 * c + 2] * VDBGI_BRICK < core[1];
     if ((r = vdbgi_coarsen(ctx, &field, p, cells, cell_count, &bp->cp, &bricks, &brick_count)) !=
         VDBGI_OK)
         goto done;
@@ -921,14 +934,22 @@ vdbgi_result vdbgi_volume_build_regions_halo(vdbgi_context *ctx, vdbgi_probe_fil
                   "a conversion region by region writes the compact layout only");
     const double t0 = vdbgi_now();
     double t = t0;
-    int32_t z[2];
-    vdbgi_probe_file_extent(file, z);
-    /* A lattice the indirection cannot hold is refused before a pass over its regions. */
-    const int64_t span = (int64_t)z[1] - z[0] + 1, most = 4 * (VDBGI_MAX_TEXTURE_DIM + 16);
-    VDBGI_FAIL_IF(ctx, span > most, VDBGI_ERR_OUT_OF_MEMORY,
-                  "the probes span %lld lattice points along z, more than the %lld the "
-                  "indirection texture's %d-texel limit holds: raise the probe spacing",
-                  (long long)span, (long long)most, VDBGI_MAX_TEXTURE_DIM);
+    int32_t lo[3], hi[3];
+    vdbgi_probe_file_extent(file, lo, hi);
+    /*
+     * A lattice the indirection cannot hold is refused before a pass over its regions
+     * (OpenVDB's clipped read also fills every empty tile its box cuts across x and y).
+     * Unlike the whole conversion, invalid probes count: they are read.
+     */
+    const int64_t most = 4 * (VDBGI_MAX_TEXTURE_DIM + 16);
+    for (int k = 0; k < 3; k++) {
+        const int64_t span = (int64_t)hi[k] - lo[k] + 1;
+        VDBGI_FAIL_IF(ctx, span > most, VDBGI_ERR_OUT_OF_MEMORY,
+                      "the probes span %lld lattice points along %c, more than the %lld the "
+                      "indirection texture's %d-texel limit holds: raise the probe spacing",
+                      (long long)span, "xyz"[k], (long long)most, VDBGI_MAX_TEXTURE_DIM);
+    }
+    const int32_t z[2] = {lo[2], hi[2]};
     regions rg = {.ctx = ctx, .file = file, .desc = desc, .size = region_points, .halo = halo};
     rg.first = vdbgi_floor_div(z[0], VDBGI_REGION_STEP) * VDBGI_REGION_STEP;
     rg.end = z[1] + 1;
@@ -941,7 +962,8 @@ vdbgi_result vdbgi_volume_build_regions_halo(vdbgi_context *ctx, vdbgi_probe_fil
     uint8_t *payload = NULL;
     size_t payload_size = 0;
     /* Pass 0: what the whole lattice's fill and coarsening need to know first. */
-    vdbgi_result r = stats_init(ctx, &st, z);
+    stats_init(&st);
+    vdbgi_result r = slab_sums_init(ctx, &st.colour, z, 3);
     for (int32_t z0 = rg.first; r == VDBGI_OK && z0 < rg.end; z0 += rg.size) {
         if ((r = region_read(&rg, z0, 0, &p)) != VDBGI_OK)
             break;
@@ -953,15 +975,24 @@ vdbgi_result vdbgi_volume_build_regions_halo(vdbgi_context *ctx, vdbgi_probe_fil
         vdbgi_probes_destroy(p);
     }
     p = NULL;
-    if (r != VDBGI_OK || (r = build_start(ctx, like, &st, desc, &bp, &v)) != VDBGI_OK ||
+    if (r != VDBGI_OK || (r = check_extent(ctx, &st)) != VDBGI_OK ||
+        (r = build_start(ctx, like, &st, desc, &bp, &v)) != VDBGI_OK ||
         (r = step_done(ctx, desc, 0.25f, &t, "statistics")) != VDBGI_OK)
         goto fail;
+    const double spacing = like->spacing;
+    vdbgi_probes_destroy(like); /* a region's arrays: not to be held through the passes */
+    like = NULL;
     /* Pass 1: bricks, region by region; then the indirection over all their cells. */
     rg.pass = 1;
     for (int32_t z0 = rg.first; r == VDBGI_OK && z0 < rg.end; z0 += rg.size)
         r = region_bricks(&rg, v, &bp, z0);
-    if (r != VDBGI_OK ||
-        (r = place_indirection(v, rg.cells, rg.cell_count, like->spacing)) != VDBGI_OK ||
+    /* The whole fill's refusal of a sparse lattice, over all the regions' cells. */
+    if (r == VDBGI_OK && rg.occupied > VDBGI_FILL_SPARSE_CELLS && rg.occupied > st.valid)
+        r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                       "%zu valid probes spread over %zu cells of %d^3 points (more than %zu, "
+                       "and more than %d): too sparse a lattice to convert",
+                       st.valid, rg.occupied, VDBGI_BRICK, st.valid, VDBGI_FILL_SPARSE_CELLS);
+    if (r != VDBGI_OK || (r = place_indirection(v, rg.cells, rg.cell_count, spacing)) != VDBGI_OK ||
         (r = step_done(ctx, desc, 0.5f, &t, "fill, pyramid and coarsening")) != VDBGI_OK)
         goto fail;
     /* Pass 2: every stored point's value; then the payload and the textures, whole. */

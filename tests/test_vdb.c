@@ -503,10 +503,14 @@ static void regions_match_on_a_floor(float floor_size)
     vdbgi_probe_file *f = NULL;
     CHECK_RESULT(ctx, vdbgi_probes_read(ctx, path, &whole), VDBGI_OK);
     CHECK_RESULT(ctx, vdbgi_probe_file_open(ctx, path, &f), VDBGI_OK);
-    int32_t z[2];
-    vdbgi_probe_file_extent(f, z);
+    int32_t box_lo[3], box_hi[3];
+    vdbgi_probe_file_extent(f, box_lo, box_hi);
+    const int32_t z[2] = {box_lo[2], box_hi[2]};
     size_t seen = 0;
     bool same = true;
+    for (size_t i = 0; i < whole->count; i++) /* the box holds every probe */
+        for (int k = 0; k < 3; k++)
+            same = same && whole->ijk[3 * i + k] >= box_lo[k] && whole->ijk[3 * i + k] <= box_hi[k];
     for (int32_t z0 = z[0]; z0 <= z[1]; z0 += 32) {
         vdbgi_probes *r = NULL;
         CHECK_RESULT(ctx, vdbgi_probe_file_read(f, z0, z0 + 32, &r), VDBGI_OK);
@@ -536,6 +540,10 @@ static void regions_match_on_a_floor(float floor_size)
     CHECK_RESULT(ctx, vdbgi_probe_file_read(f, z[1] + 8, z[1] + 40, &none), VDBGI_OK);
     CHECK(none && none->count == 0);
     vdbgi_probes_destroy(none);
+    /* A file replaced since open is not read. */
+    CHECK_RESULT(ctx, vdbgi_probes_write(whole, path), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probe_file_read(f, z[0], z[0] + 32, &none), VDBGI_ERR_IO);
+    CHECK(none == NULL && strstr(vdbgi_context_error(ctx), "changed since it was opened"));
     vdbgi_probes_destroy(whole);
     /* Refused: a region not a multiple of 32, the seed layout. */
     vdbgi_volume *v = NULL;

@@ -18,8 +18,16 @@ for x in range(24):
             a.setValueOn((x, y, z), (0.5, 0.5, 0.5) if z < 40 else (0.2, 0.3, 0.4))
             b.setValueOn((x, y, z), 0.0)
 vdb.write("flat.vdb", grids=[g, v])
+# Two slabs of probes 84 points apart: a region and its halo between them read
+# nothing, yet hold the + border of the coarse bricks below (it crashed once).
+g = vdb.Vec3SGrid(); g.name = "irradiance"; a = g.getAccessor()
+for x in range(32):
+    for y in range(4):
+        for z in list(range(32, 36)) + list(range(120, 128)):
+            a.setValueOn((x, y, z), (0.5, 0.5, 0.5))
+vdb.write("gap.vdb", grids=[g])
 PY
-for f in world sh2 flat; do
+for f in world sh2 flat gap; do
     "$BIN/vdb-to-gi" -q $f.vdb -o $f.gi.gz --stats $f.json
     for run in 32,1 32,2 96,2; do
         "$BIN/vdb-to-gi" -q $f.vdb -o r.gi.gz --stats r.json --region ${run%,*} --threads ${run#*,}
