@@ -76,6 +76,26 @@ typedef struct vdbgi_fill_params {
                                 core_z[0] <= z < core_z[1] (equal: every point) */
 } vdbgi_fill_params;
 
+/* The points of a leaf mask (leaf origin z oz) with z0 <= z < z1. */
+static inline size_t vdbgi_mask_count_z(const uint64_t mask[8], int32_t oz, int32_t z0, int32_t z1)
+{
+    size_t n = 0;
+    for (int w = 0; w < 8; w++)
+        for (uint64_t m = mask[w]; m; m &= m - 1) {
+            const int32_t z = oz + (__builtin_ctzll(m) & 7);
+            n += z >= z0 && z < z1;
+        }
+    return n;
+}
+
+/*
+ * The fill's refusal of a lattice too sparse to fill: more than
+ * VDBGI_FILL_SPARSE_CELLS cells of cell_size^3 points, and more than allowed
+ * (what the sources could reach). VDBGI_OK when it is not.
+ */
+vdbgi_result vdbgi_fill_check_sparse(vdbgi_context *ctx, size_t sources, size_t cells,
+                                     int cell_size, size_t allowed);
+
 /* The converter's fill for a (checked) vdbgi_fill choice: what bricks and Bevy both use. */
 vdbgi_fill_params vdbgi_fill_params_default(float invalid_threshold, vdbgi_fill fill, int threads);
 

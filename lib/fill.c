@@ -300,12 +300,13 @@ static vdbgi_result spread(grid *g, const vdbgi_fill_params *fp, size_t *unreach
     vdbgi_free(ctx, b);
     if (fp->core_z[0] < fp->core_z[1]) { /* a region's: its own points only */
         remaining = 0;
-        for (size_t l = 0; l < leaf_count; l++)
+        for (size_t l = 0; l < leaf_count; l++) {
+            uint64_t left[8];
             for (int w = 0; w < 8; w++)
-                for (uint64_t m = g->leaves[l].target[w] & ~g->leaves[l].filled[w]; m; m &= m - 1) {
-                    const int32_t z = g->leaves[l].origin[2] + (__builtin_ctzll(m) & 7);
-                    remaining += z >= fp->core_z[0] && z < fp->core_z[1];
-                }
+                left[w] = g->leaves[l].target[w] & ~g->leaves[l].filled[w];
+            remaining +=
+                vdbgi_mask_count_z(left, g->leaves[l].origin[2], fp->core_z[0], fp->core_z[1]);
+        }
     }
     *unreached = remaining;
     return VDBGI_OK;
@@ -471,6 +472,16 @@ static void place_sources(grid *g, const vdbgi_fill_input *in, const vdbgi_fill_
     }
 }
 
+vdbgi_result vdbgi_fill_check_sparse(vdbgi_context *ctx, size_t sources, size_t cells,
+                                     int cell_size, size_t allowed)
+{
+    VDBGI_FAIL_IF(ctx, cells > VDBGI_FILL_SPARSE_CELLS && cells > allowed, VDBGI_ERR_FORMAT,
+                  "%zu valid probes spread over %zu cells of %d^3 points (more than %zu, and "
+                  "more than %d): too sparse a lattice to convert",
+                  sources, cells, cell_size, allowed, VDBGI_FILL_SPARSE_CELLS);
+    return VDBGI_OK;
+}
+
 vdbgi_result vdbgi_field_fill(vdbgi_context *ctx, const vdbgi_fill_input *in,
                               const vdbgi_fill_params *fp, vdbgi_field *field, int32_t **cells_out,
                               size_t *cell_count, int32_t **top_only_out, size_t *top_only_count,
@@ -509,13 +520,9 @@ vdbgi_result vdbgi_field_fill(vdbgi_context *ctx, const vdbgi_fill_input *in,
      * allocates; a margin of m cells lets a probe reach (2m + 2)^3.
      */
     const size_t reach = (size_t)fp->margin_cells + 1, allowed = reach * reach * reach * sources;
-    if (cells.count > VDBGI_FILL_SPARSE_CELLS && cells.count > allowed) {
-        r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
-                       "%zu valid probes spread over %zu cells of %d^3 points (more than %zu, and "
-                       "more than %d): too sparse a lattice to convert",
-                       sources, cells.count, fp->cell_size, allowed, VDBGI_FILL_SPARSE_CELLS);
+    if ((r = vdbgi_fill_check_sparse(ctx, sources, cells.count, fp->cell_size, allowed)) !=
+        VDBGI_OK)
         goto done;
-    }
     if ((r = vdbgi_map_init(ctx, &g.map, 4 * cells.count / 8 + 64)) != VDBGI_OK ||
         (r = mark_target(&g, &cells, fp->cell_size, fp->rim)) != VDBGI_OK ||
         (r = grid_finish_target(&g)) != VDBGI_OK)

@@ -349,12 +349,28 @@ vdbgi_result vdbgi_pack_writer_create(vdbgi_volume *v, vdbgi_brick *bricks, size
     return VDBGI_OK;
 }
 
+/* Bands over the planes z0 <= z < z1 for w's passes (reading filled, if any), into jobs. */
+static int writer_bands(const vdbgi_pack_writer *w, const vdbgi_field *filled, int32_t z0,
+                        int32_t z1, band_job *jobs)
+{
+    const uint32_t *const d = w->v->info.indirection_dims;
+    const size_t cells = (size_t)d[0] * d[1] * d[2];
+    const band_job proto = {.v = w->v,
+                            .filled = filled,
+                            .pl = &w->pl,
+                            .bricks = w->bricks,
+                            .count = w->count,
+                            .values = w->values,
+                            .sh = w->sh,
+                            .out = w->out + cells + VDBGI_PLACEMENT_BYTES * w->count};
+    return split_bands(&w->pl, z0, z1, w->threads, jobs, &proto);
+}
+
 void vdbgi_pack_writer_values(vdbgi_pack_writer *w, const vdbgi_field *filled,
                               const vdbgi_probes *probes, int32_t z0, int32_t z1)
 {
     vdbgi_volume *const v = w->v;
     const vdbgi_pack_plan *const pl = &w->pl;
-    const uint32_t *const d = v->info.indirection_dims;
     /* The owner-cell planes holding lattice z0 <= k < z1, within the grid. */
     const int32_t base = v->origin_cell[2], planes = (int32_t)pl->grid[2];
     int32_t c0 = z0 == INT32_MIN ? 0 : vdbgi_floor_div(z0, VDBGI_BRICK) - base;
@@ -363,16 +379,7 @@ void vdbgi_pack_writer_values(vdbgi_pack_writer *w, const vdbgi_field *filled,
     c1 = c1 < c0 ? c0 : c1 > planes ? planes : c1;
     valid_bits(v, pl, probes, w->valid);
     band_job jobs[MAX_JOBS];
-    const size_t cells = (size_t)d[0] * d[1] * d[2];
-    const band_job proto = {.v = v,
-                            .filled = filled,
-                            .pl = pl,
-                            .bricks = w->bricks,
-                            .count = w->count,
-                            .values = w->values,
-                            .sh = w->sh,
-                            .out = w->out + cells + VDBGI_PLACEMENT_BYTES * w->count};
-    const int bands = split_bands(pl, c0, c1, w->threads, jobs, &proto);
+    const int bands = writer_bands(w, filled, c0, c1, jobs);
     vdbgi_run_threads(bands, values_worker, jobs, sizeof(jobs[0]));
     for (int t = 0; t < bands; t++) {
         w->clamped += jobs[t].clamped;
@@ -395,14 +402,7 @@ vdbgi_result vdbgi_pack_writer_finish(vdbgi_pack_writer *w, uint8_t **payload, s
     const size_t unread =
         predict_unread(v, pl, w->values, w->sh, w->coarse_read, w->valid, w->near);
     band_job jobs[MAX_JOBS];
-    const band_job proto = {.v = v,
-                            .pl = pl,
-                            .bricks = w->bricks,
-                            .count = count,
-                            .values = w->values,
-                            .sh = w->sh,
-                            .out = w->out + cells + VDBGI_PLACEMENT_BYTES * count};
-    const int bands = split_bands(pl, 0, (int32_t)pl->grid[2], w->threads, jobs, &proto);
+    const int bands = writer_bands(w, NULL, 0, (int32_t)pl->grid[2], jobs);
     vdbgi_run_threads(bands, residual_worker, jobs, sizeof(jobs[0]));
     vdbgi_log(ctx, VDBGI_LOG_DEBUG, "%zu stored points, %zu of them read by no receiver", n,
               unread);

@@ -335,12 +335,13 @@ struct GridLayout : openvdb::io::Archive {
         load(is, nullptr, grids);
     }
 
-    /* The grid of that name, or null; one not read still tells its type. */
-    openvdb::GridBase::Ptr find(const char *name) const
+    /* The grid of that name in read (grids, or what load put in out), or null; one not
+       read still tells its type. */
+    openvdb::GridBase::Ptr find(const openvdb::GridPtrVec &read, const std::string &name) const
     {
-        for (size_t i = 0; i < grids.size(); i++)
-            if (grids[i] && !descriptors[i].isInstance() && descriptors[i].gridName() == name)
-                return grids[i];
+        for (size_t i = 0; i < read.size(); i++)
+            if (read[i] && !descriptors[i].isInstance() && descriptors[i].gridName() == name)
+                return read[i];
         return nullptr;
     }
 };
@@ -474,13 +475,7 @@ std::vector<std::string> probe_grid_names()
 vdbgi_result to_sink(vdbgi_context *ctx, const char *path, const GridLayout &layout,
                      const openvdb::GridPtrVec &read, vdbgi_vdb_sink *p)
 {
-    const auto grid = [&](const char *name) -> openvdb::GridBase::Ptr {
-        for (size_t i = 0; i < read.size(); i++)
-            if (read[i] && !layout.descriptors[i].isInstance() &&
-                layout.descriptors[i].gridName() == name)
-                return read[i];
-        return nullptr;
-    };
+    const auto grid = [&](const char *name) { return layout.find(read, name); };
     const openvdb::GridBase::Ptr base = grid("irradiance"), vbase = grid("validity");
     const openvdb::GridBase::Ptr sebase = grid("stderr"), raysbase = grid("rays");
     if (!base)
@@ -604,22 +599,23 @@ extern "C" vdbgi_result vdbgi_vdb_regions_open(vdbgi_context *ctx, const char *p
     bool found = false;
     for (size_t i : f->layout.wanted) {
         const std::string &name = f->layout.descriptors[i].gridName();
-        found = found || name == "irradiance";
+        const vdbgi_vdb_tree_counts &n = f->layout.counts[i];
         // Refused as the whole read refuses them, before a clipped read makes tiles its own.
-        if (f->layout.counts[i].tiles && (name == "irradiance" || name == "validity"))
+        if (n.tiles && (name == "irradiance" || name == "validity"))
             return vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
                               "%s: grid '%s' has active tiles: probes are single voxels", path,
                               name.c_str());
-    }
-    if (!found)
-        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: no grid named 'irradiance'", path);
-    for (size_t i : f->layout.wanted)
-        if (f->layout.descriptors[i].gridName() == "irradiance" && f->layout.counts[i].active) {
-            const vdbgi_vdb_tree_counts &n = f->layout.counts[i];
+        if (name != "irradiance")
+            continue;
+        found = true;
+        if (n.active) {
             memcpy(lo, n.leaf_min, sizeof(n.leaf_min));
             memcpy(hi, n.leaf_max, sizeof(n.leaf_max));
             f->box = openvdb::CoordBBox(openvdb::Coord(n.leaf_min), openvdb::Coord(n.leaf_max));
         }
+    }
+    if (!found)
+        return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: no grid named 'irradiance'", path);
     *out = f.release();
     return VDBGI_OK;
     VDBGI_SHIM_END_FILE(ctx, "openvdb", path)

@@ -253,8 +253,7 @@ static void stats_init(lattice_stats *st)
     }
 }
 
-/* Counts and extents; the colours too once st->colour is allocated (after check_extent,
-   which bounds its slabs). */
+/* Counts and extents. */
 static void stats_add(lattice_stats *st, const vdbgi_probes *p)
 {
     st->probes += p->count;
@@ -272,9 +271,16 @@ static void stats_add(lattice_stats *st, const vdbgi_probes *p)
             st->cell_lo[k] = c < st->cell_lo[k] ? c : st->cell_lo[k];
             st->cell_hi[k] = c > st->cell_hi[k] ? c : st->cell_hi[k];
         }
-        if (!st->colour.v)
+    }
+}
+
+/* The valid probes' colours into st->colour, allocated once check_extent bounds its slabs. */
+static void stats_add_colours(lattice_stats *st, const vdbgi_probes *p)
+{
+    for (size_t i = 0; i < p->count; i++) {
+        if (p->backface[i] > p->invalid_threshold)
             continue;
-        double *const sum = slab_at(&st->colour, ijk[2]);
+        double *const sum = slab_at(&st->colour, p->ijk[3 * i + 2]);
         for (int k = 0; k < 3; k++)
             sum[k] += p->rgb[3 * i + k];
     }
@@ -680,14 +686,8 @@ static vdbgi_result fill_probes(vdbgi_context *ctx, const vdbgi_probes *p, const
 static size_t points_within(const vdbgi_field *f, int32_t z0, int32_t z1)
 {
     size_t n = 0;
-    for (size_t li = 0; li < f->leaf_count; li++) {
-        const vdbgi_leaf *const leaf = &f->leaves[li];
-        for (int w = 0; w < 8; w++)
-            for (uint64_t m = leaf->mask[w]; m; m &= m - 1) {
-                const int32_t z = leaf->origin[2] + (__builtin_ctzll(m) & 7);
-                n += z >= z0 && z < z1;
-            }
-    }
+    for (size_t li = 0; li < f->leaf_count; li++)
+        n += vdbgi_mask_count_z(f->leaves[li].mask, f->leaves[li].origin[2], z0, z1);
     return n;
 }
 
@@ -712,10 +712,7 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     valid_z(&st, z);
     vdbgi_result r = check_extent(ctx, &st);
     if (r == VDBGI_OK && (r = slab_sums_init(ctx, &st.colour, z, 3)) == VDBGI_OK) {
-        const slab_sums colour = st.colour; /* again, with the colours */
-        stats_init(&st);
-        st.colour = colour;
-        stats_add(&st, probes);
+        stats_add_colours(&st, probes);
         r = build_start(ctx, probes, &st, desc, &bp, &v);
     }
     if (r != VDBGI_OK)
@@ -824,6 +821,20 @@ static vdbgi_result region_read(regions *rg, int32_t z0, int halo, vdbgi_probes 
     return vdbgi_probe_file_read(rg->file, z0 - halo, z0 + rg->size + halo, p);
 }
 
+/*
+ * Region z0 read with its halo into *p and, where it holds a valid probe,
+ * filled with fp (else *field stays empty: every lookup misses).
+ */
+static vdbgi_result region_fill(regions *rg, int32_t z0, const build_plan *bp, vdbgi_probes **p,
+                                vdbgi_field *field, int32_t **cells, size_t *cell_count,
+                                int32_t **top_only, size_t *top_count, size_t *unreached)
+{
+    VDBGI_TRY(region_read(rg, z0, rg->halo, p));
+    if ((*p)->invalid_count == (*p)->count)
+        return VDBGI_OK;
+    return fill_probes(rg->ctx, *p, bp, field, cells, cell_count, top_only, top_count, unreached);
+}
+
 /* Pass 1 for one region: its cells' bricks, coarsened and lifted, and its counts. */
 static vdbgi_result region_bricks(regions *rg, vdbgi_volume *v, const build_plan *bp, int32_t z0)
 {
@@ -837,15 +848,9 @@ static vdbgi_result region_bricks(regions *rg, vdbgi_volume *v, const build_plan
     int32_t core[2];
     region_core(rg, z0, core);
     memcpy(own.fp.core_z, core, sizeof(core));
-    vdbgi_result r = region_read(rg, z0, rg->halo, &p);
-    /* A region with no valid probe near it has nothing to fill. */
-    size_t valid = 0;
-    for (size_t i = 0; r == VDBGI_OK && i < p->count; i++)
-        valid += p->backface[i] <= p->invalid_threshold;
-    if (r != VDBGI_OK || valid == 0)
-        goto done;
-    if ((r = fill_probes(ctx, p, &own, &field, &cells, &cell_count, &top_only, &top_count,
-                         &unreached)) != VDBGI_OK)
+    vdbgi_result r = region_fill(rg, z0, &own, &p, &field, &cells, &cell_count, &top_only,
+                                 &top_count, &unreached);
+    if (r != VDBGI_OK || !field.leaf_count) /* no valid probe near: nothing to fill */
         goto done;
     v->info.unreached_count += unreached;
     v->info.filled_count += points_within(&field, core[0], core[1]);
@@ -892,12 +897,9 @@ static vdbgi_result region_values(regions *rg, vdbgi_pack_writer *w, const build
     vdbgi_probes *p = NULL;
     vdbgi_field field = {0};
     int32_t *cells = NULL, *top_only = NULL;
-    size_t cell_count = 0, top_count = 0, unreached = 0, valid = 0;
-    vdbgi_result r = region_read(rg, z0, rg->halo, &p);
-    for (size_t i = 0; r == VDBGI_OK && i < p->count; i++)
-        valid += p->backface[i] <= p->invalid_threshold;
-    if (r == VDBGI_OK && valid > 0)
-        r = fill_probes(ctx, p, bp, &field, &cells, &cell_count, &top_only, &top_count, &unreached);
+    size_t cell_count = 0, top_count = 0, unreached = 0;
+    vdbgi_result r =
+        region_fill(rg, z0, bp, &p, &field, &cells, &cell_count, &top_only, &top_count, &unreached);
     /* Points with no field near take their brick's mean, as in the whole conversion. */
     int32_t core[2];
     region_core(rg, z0, core);
@@ -968,7 +970,8 @@ vdbgi_result vdbgi_volume_build_regions_halo(vdbgi_context *ctx, vdbgi_probe_fil
         if ((r = region_read(&rg, z0, 0, &p)) != VDBGI_OK)
             break;
         stats_add(&st, p);
-        if (!like) { /* the lattice's settings, from its first read */
+        stats_add_colours(&st, p); /* the guard above bounds the slabs */
+        if (!like) {               /* the lattice's settings, from its first read */
             like = p;
             continue;
         }
@@ -987,11 +990,8 @@ vdbgi_result vdbgi_volume_build_regions_halo(vdbgi_context *ctx, vdbgi_probe_fil
     for (int32_t z0 = rg.first; r == VDBGI_OK && z0 < rg.end; z0 += rg.size)
         r = region_bricks(&rg, v, &bp, z0);
     /* The whole fill's refusal of a sparse lattice, over all the regions' cells. */
-    if (r == VDBGI_OK && rg.occupied > VDBGI_FILL_SPARSE_CELLS && rg.occupied > st.valid)
-        r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
-                       "%zu valid probes spread over %zu cells of %d^3 points (more than %zu, "
-                       "and more than %d): too sparse a lattice to convert",
-                       st.valid, rg.occupied, VDBGI_BRICK, st.valid, VDBGI_FILL_SPARSE_CELLS);
+    if (r == VDBGI_OK)
+        r = vdbgi_fill_check_sparse(ctx, st.valid, rg.occupied, VDBGI_BRICK, st.valid);
     if (r != VDBGI_OK || (r = place_indirection(v, rg.cells, rg.cell_count, spacing)) != VDBGI_OK ||
         (r = step_done(ctx, desc, 0.5f, &t, "fill, pyramid and coarsening")) != VDBGI_OK)
         goto fail;

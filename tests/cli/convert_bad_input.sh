@@ -4,16 +4,10 @@
 # spent; a conversion past --memory-limit: stopped, naming the file). The odd
 # files are made with pyopenvdb (Debian's system python3).
 "$BIN/gi-bake" -q "$DATA/room.obj" -o good.vdb --rays 8 >/dev/null
-head -c 300 good.vdb > truncated.vdb
-printf 'not a vdb file\n' > text.vdb
+. "$ROOT/tests/cli/bad_vdb.inc"
+make_bad_vdbs good.vdb
 /usr/bin/python3 - <<'PY'
 import pyopenvdb as vdb
-d = vdb.FloatGrid(); d.name = "density"; d.getAccessor().setValueOn((0, 0, 0), 1.0)
-vdb.write("nogrid.vdb", grids=[d])
-f = vdb.FloatGrid(); f.name = "irradiance"; f.getAccessor().setValueOn((0, 0, 0), 1.0)
-vdb.write("wrongtype.vdb", grids=[f])
-e = vdb.Vec3SGrid(); e.name = "irradiance"
-vdb.write("empty.vdb", grids=[e])
 a = vdb.Vec3SGrid(); a.name = "irradiance"; a.getAccessor().setValueOn((0, 0, 0), (1, 1, 1))
 b = vdb.Vec3SGrid(); b.name = "irradiance"; b.getAccessor().setValueOn((0, 0, 0), (2, 2, 2))
 vdb.write("twice.vdb", grids=[a, b])

@@ -46,17 +46,8 @@ for args in "--region 0" "--region 48" "--region x" "--region 64 --slices d" \
     "$BIN/vdb-to-gi" world.vdb -o bad.gi.gz $args 2>err >/dev/null
     echo "$? $(cat err)"
 done
-head -c 300 world.vdb > truncated.vdb
-printf 'not a vdb file\n' > text.vdb
-/usr/bin/python3 - <<'PY'
-import pyopenvdb as vdb
-d = vdb.FloatGrid(); d.name = "density"; d.getAccessor().setValueOn((0, 0, 0), 1.0)
-vdb.write("nogrid.vdb", grids=[d])
-f = vdb.FloatGrid(); f.name = "irradiance"; f.getAccessor().setValueOn((0, 0, 0), 1.0)
-vdb.write("wrongtype.vdb", grids=[f])
-e = vdb.Vec3SGrid(); e.name = "irradiance"
-vdb.write("empty.vdb", grids=[e])
-PY
+. "$ROOT/tests/cli/bad_vdb.inc"
+make_bad_vdbs world.vdb
 for f in missing.vdb text.vdb truncated.vdb nogrid.vdb wrongtype.vdb empty.vdb; do
     "$BIN/vdb-to-gi" "$f" -o out.gi.gz --region 32 2>err >/dev/null
     echo "$? $(cat err)"
