@@ -1,7 +1,7 @@
 /* placement.c: the probe lattice (origin, spacing) and which probes exist near the surfaces. */
+#include "band.h"
 #include "probes.h"
 #include "scene.h"
-#include "vdb_shim.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -179,23 +179,23 @@ vdbgi_result vdbgi_probes_place(vdbgi_context *ctx, const vdbgi_scene *scene,
         p->tile_index = desc->tile_index;
         p->tile_count = tiles;
     }
-    if (r == VDBGI_OK && triangles)
-        r = vdbgi_vdb_topology(ctx, scene->positions, scene->vertex_count, indices, triangles,
-                               origin, spacing, margin, max_probes, &p->ijk, &p->count);
-    vdbgi_free(ctx, subset);
-    if (r == VDBGI_OK && tiles > 1) {
-        size_t kept = 0;
-        for (size_t i = 0; i < p->count; i++)
-            if (p->ijk[3 * i] >= p->tile_x[0] && p->ijk[3 * i] < p->tile_x[1]) {
-                memmove(&p->ijk[3 * kept], &p->ijk[3 * i], 3 * sizeof(int32_t));
-                kept++;
-            }
-        p->count = kept;
-        if (!kept)
-            r = vdbgi_fail(ctx, VDBGI_ERR_INVALID_ARG,
-                           "tile %d of %d (lattice i %d..%d) would hold no probe: use fewer tiles",
-                           desc->tile_index + 1, tiles, p->tile_x[0], p->tile_x[1] - 1);
+    if (r == VDBGI_OK && triangles) {
+        vdbgi_band_desc band = {
+            .positions = scene->positions,
+            .indices = indices,
+            .triangle_count = triangles,
+            .spacing = spacing,
+            .margin = margin,
+            .x_range = {tiles > 1 ? p->tile_x[0] : INT64_MIN, tiles > 1 ? p->tile_x[1] : INT64_MAX},
+            .max_count = max_probes};
+        memcpy(band.origin, origin, sizeof(origin));
+        r = vdbgi_band_points(ctx, &band, &p->ijk, &p->count);
     }
+    vdbgi_free(ctx, subset);
+    if (r == VDBGI_OK && tiles > 1 && p->count == 0)
+        r = vdbgi_fail(ctx, VDBGI_ERR_INVALID_ARG,
+                       "tile %d of %d (lattice i %d..%d) would hold no probe: use fewer tiles",
+                       desc->tile_index + 1, tiles, p->tile_x[0], p->tile_x[1] - 1);
     if (r == VDBGI_OK && p->count == 0)
         r = vdbgi_fail(ctx, VDBGI_ERR_INVALID_ARG,
                        "no lattice point lies within the %g m margin of a surface", margin);

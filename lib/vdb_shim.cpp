@@ -1,10 +1,9 @@
-/* vdb_shim.cpp: OpenVDB behind a C interface: the topology near surfaces, and writing grids. */
+/* vdb_shim.cpp: OpenVDB behind a C interface: sets of lattice points, and writing grids. */
 #include "vdb_shim.h"
 #include "shim.h"
 
 #include <openvdb/io/GridDescriptor.h>
 #include <openvdb/openvdb.h>
-#include <openvdb/tools/MeshToVolume.h>
 
 #include <algorithm>
 #include <array>
@@ -68,32 +67,60 @@ void add_meta(openvdb::GridBase &grid, const vdbgi_meta &m)
 
 } // namespace
 
-extern "C" vdbgi_result vdbgi_vdb_topology(vdbgi_context *ctx, const float *positions,
-                                           size_t vertex_count, const uint32_t *indices,
-                                           size_t triangle_count, const double origin[3],
-                                           double spacing, double margin, uint64_t max_count,
-                                           int32_t **ijk_out, size_t *count_out)
+struct vdbgi_vdb_mask {
+    openvdb::MaskGrid::Ptr grid;
+};
+
+extern "C" vdbgi_result vdbgi_vdb_mask_create(vdbgi_context *ctx, vdbgi_vdb_mask **out)
+{
+    VDBGI_SHIM_BEGIN
+    *out = nullptr;
+    openvdb::initialize();
+    std::unique_ptr<vdbgi_vdb_mask> mask(new vdbgi_vdb_mask);
+    mask->grid = openvdb::MaskGrid::create();
+    *out = mask.release();
+    return VDBGI_OK;
+    VDBGI_SHIM_END(ctx, "openvdb")
+}
+
+extern "C" void vdbgi_vdb_mask_destroy(vdbgi_vdb_mask *mask)
+{
+    delete mask;
+}
+
+extern "C" vdbgi_result vdbgi_vdb_mask_add_leaf(vdbgi_vdb_mask *mask, const int32_t origin[3],
+                                                const uint64_t bits[8])
+{
+    try {
+        auto *leaf = mask->grid->tree().touchLeaf(openvdb::Coord(origin[0], origin[1], origin[2]));
+        auto &on = leaf->getValueMask();
+        for (openvdb::Index w = 0; w < 8; w++)
+            on.template getWord<openvdb::Index64>(w) |= bits[w];
+        return VDBGI_OK;
+    } catch (const std::bad_alloc &) {
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    } catch (...) {
+        return VDBGI_ERR_BACKEND;
+    }
+}
+
+extern "C" vdbgi_result vdbgi_vdb_mask_merge(vdbgi_context *ctx, vdbgi_vdb_mask *mask,
+                                             const vdbgi_vdb_mask *from)
+{
+    VDBGI_SHIM_BEGIN
+    mask->grid->tree().topologyUnion(from->grid->tree());
+    return VDBGI_OK;
+    VDBGI_SHIM_END(ctx, "openvdb")
+}
+
+extern "C" vdbgi_result vdbgi_vdb_mask_points(vdbgi_context *ctx, const vdbgi_vdb_mask *mask,
+                                              uint64_t max_count, int32_t **ijk_out,
+                                              size_t *count_out)
 {
     VDBGI_SHIM_BEGIN
     *ijk_out = nullptr;
     *count_out = 0;
-    openvdb::initialize();
-    std::vector<openvdb::Vec3s> points(vertex_count);
-    for (size_t i = 0; i < vertex_count; i++)
-        points[i] = openvdb::Vec3s(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]);
-    std::vector<openvdb::Vec3I> tris(triangle_count);
-    for (size_t t = 0; t < triangle_count; t++)
-        tris[t] = openvdb::Vec3I(indices[3 * t], indices[3 * t + 1], indices[3 * t + 2]);
-    const std::vector<openvdb::Vec4I> quads;
-    // The band is in voxels; it reaches half a voxel past the margin so that probes at exactly
-    // the margin (common where geometry lines up with the lattice) survive float rounding.
-    const float band = float(margin / spacing) + 0.5f;
-    const auto dist = openvdb::tools::meshToUnsignedDistanceField<openvdb::FloatGrid>(
-        *lattice_transform(origin, spacing), points, tris, quads, band);
-    const float limit = float(margin);
-    uint64_t count = 0;
-    for (auto it = dist->tree().cbeginValueOn(); it; ++it)
-        count += *it <= limit;
+    const uint64_t count = mask->grid->tree().activeVoxelCount();
     if (count > max_count) {
         return vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY,
                           "lattice would hold %llu probes (%.1f GiB), above the limit of %llu",
@@ -105,9 +132,7 @@ extern "C" vdbgi_result vdbgi_vdb_topology(vdbgi_context *ctx, const float *posi
     if (!ijk)
         return VDBGI_ERR_OUT_OF_MEMORY;
     size_t n = 0;
-    for (auto it = dist->tree().cbeginValueOn(); it; ++it) {
-        if (*it > limit)
-            continue;
+    for (auto it = mask->grid->tree().cbeginValueOn(); it; ++it) {
         const openvdb::Coord c = it.getCoord();
         ijk[3 * n + 0] = c.x();
         ijk[3 * n + 1] = c.y();

@@ -8,16 +8,27 @@
 extern "C" {
 #endif
 
+/* A set of lattice points: OpenVDB's MaskGrid. One thread at a time per mask. */
+typedef struct vdbgi_vdb_mask vdbgi_vdb_mask;
+vdbgi_result vdbgi_vdb_mask_create(vdbgi_context *ctx, vdbgi_vdb_mask **out);
+void vdbgi_vdb_mask_destroy(vdbgi_vdb_mask *mask);
 /*
- * Active lattice points of an unsigned distance field of the triangles:
- * every ijk with distance(origin + spacing * ijk, mesh) <= margin, in VDB
- * tree order. *ijk_out (3 int32 per point) is allocated through ctx. Fails
- * with VDBGI_ERR_OUT_OF_MEMORY, stating count and memory, past max_count.
+ * Add the points of the 8^3 leaf at origin (multiples of 8) whose bits are
+ * set: point (x, y, z) of it is bit y * 8 + z of bits[x], OpenVDB's order.
+ * Records no message (workers call it): VDBGI_ERR_OUT_OF_MEMORY or _BACKEND.
  */
-vdbgi_result vdbgi_vdb_topology(vdbgi_context *ctx, const float *positions, size_t vertex_count,
-                                const uint32_t *indices, size_t triangle_count,
-                                const double origin[3], double spacing, double margin,
-                                uint64_t max_count, int32_t **ijk_out, size_t *count_out);
+vdbgi_result vdbgi_vdb_mask_add_leaf(vdbgi_vdb_mask *mask, const int32_t origin[3],
+                                     const uint64_t bits[8]);
+/* Add every point of from to mask. */
+vdbgi_result vdbgi_vdb_mask_merge(vdbgi_context *ctx, vdbgi_vdb_mask *mask,
+                                  const vdbgi_vdb_mask *from);
+/*
+ * The points as ijk triples in tree order into *ijk_out (allocated through
+ * ctx, *count_out of them). Fails with VDBGI_ERR_OUT_OF_MEMORY, stating
+ * count and memory, past max_count.
+ */
+vdbgi_result vdbgi_vdb_mask_points(vdbgi_context *ctx, const vdbgi_vdb_mask *mask,
+                                   uint64_t max_count, int32_t **ijk_out, size_t *count_out);
 
 /* Write probes (baked) as the "irradiance" and "validity" grids at path (no temp dance);
    messages say name. */
