@@ -1,85 +1,69 @@
 #!/bin/sh
-# run.sh: run every unit test program and CLI script; the last line is "N passed, N failed".
+# run.sh: run every unit test program and CLI script, JOBS at a time (default: one more
+# than the cores, as many tests wait on a browser, python or the disk); print each
+# test's verdict as it ends, then each failure's output, the times slowest first, and
+# last "N passed, N failed".
 # Unit tests print "ok - name" / "not ok - name" per test; a CLI script is one test
 # (tests/cli/NAME.sh, with NAME.exit, NAME.stdout and NAME.stderr as expectations, or
 # exit 77 and a line saying why when it cannot run on this machine;
 # in those, '*' matches anything and every other character stands for itself).
+# The slowest start first: by the last run's times (build/test-times.txt) when there
+# are some, else the scripts whose first lines say "run: early". A script whose first
+# lines say "run: alone" runs after the others, by itself.
 set -u
 BUILD=${BUILD:-build/release}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
-BIN="$ROOT/$BUILD/bin"
-pass=0
-fail=0
-skip=0
-failed_names=""
+JOBS=${JOBS:-$(($(nproc 2>/dev/null || echo 1) + 1))}
+RESULTS=$(mktemp -d)
+export BUILD ROOT RESULTS
+trap 'rm -rf "$RESULTS"' EXIT
 
-note_fail() {
-    fail=$((fail + 1))
-    failed_names="$failed_names $1"
-}
-
+items=""
+alone=""
 for t in "$ROOT/$BUILD"/tests/test_*; do
     case "$t" in *.o | *.d) continue ;; esac
-    [ -x "$t" ] || continue
-    name=$(basename "$t")
-    log=$(mktemp)
-    (cd "$ROOT" && "$t") >"$log" 2>&1
-    status=$?
-    p=$(grep -c '^ok - ' "$log")
-    f=$(grep -c '^not ok - ' "$log")
-    pass=$((pass + p))
-    fail=$((fail + f))
-    if [ "$f" -gt 0 ] || [ "$status" -ne 0 ] || [ "$p" -eq 0 ]; then
-        [ "$f" -gt 0 ] || note_fail "$name"
-        echo "---- $name (exit $status)"
-        cat "$log"
-        failed_names="$failed_names $(sed -n 's/^not ok - //p' "$log" | tr '\n' ' ')"
-    else
-        echo "ok   $name ($p tests)"
-    fi
-    rm -f "$log"
+    [ -x "$t" ] && items="$items $t"
 done
-
-# CLI scripts: run in an empty directory with BIN, DATA and ROOT set.
 for s in "$ROOT"/tests/cli/*.sh; do
     [ -f "$s" ] || continue
-    base=${s%.sh}
-    name=$(basename "$base")
-    dir=$(mktemp -d)
-    (cd "$dir" && BIN="$BIN" DATA="$ROOT/data" ROOT="$ROOT" sh "$s" >"$dir/.stdout" 2>"$dir/.stderr")
-    status=$?
-    # Exit 77 (automake's convention): the script cannot run here, and says why.
-    if [ "$status" = 77 ]; then
-        skip=$((skip + 1))
-        echo "skip cli/$name: $(head -n 1 "$dir/.stdout")"
-        rm -rf "$dir"
-        continue
-    fi
-    want=0
-    [ -f "$base.exit" ] && want=$(cat "$base.exit")
-    ok=1
-    why=""
-    if [ "$status" != "$want" ]; then ok=0; why="exit $status, expected $want"; fi
-    for stream in stdout stderr; do
-        if [ -f "$base.$stream" ]; then
-            got=$(cat "$dir/.$stream")
-            # Only '*' is a wildcard: brackets and '?' in expectations are literal.
-            pattern=$(sed 's/[][?\\]/\\&/g' "$base.$stream")
-            # shellcheck disable=SC2254
-            case "$got" in $pattern) ;; *) ok=0; why="$why; $stream differs" ;; esac
-        fi
-    done
-    if [ $ok = 1 ]; then
-        pass=$((pass + 1))
-        echo "ok   cli/$name"
-    else
-        note_fail "cli/$name"
-        echo "---- cli/$name: $why"
-        echo "stdout:"; cat "$dir/.stdout"
-        echo "stderr:"; cat "$dir/.stderr"
-    fi
-    rm -rf "$dir"
+    if head -n 5 "$s" | grep -q 'run: alone'; then alone="$alone $s"; else items="$items $s"; fi
 done
+
+order="$ROOT/build/test-times.txt"
+if [ ! -f "$order" ]; then
+    early=""
+    rest=""
+    for i in $items; do
+        if head -n 5 "$i" 2>/dev/null | grep -aq 'run: early'; then early="$early $i"; else rest="$rest $i"; fi
+    done
+    items="$early $rest"
+else
+    items=$(for i in $items; do
+        n=$(basename "$i" .sh)
+        printf '%s %s\n' "$(awk -v n="$n" '$2 == n || $2 == "cli/" n { print $1; exit }' "$order")" "$i"
+    done | sort -k1,1gr | cut -d' ' -f2)
+fi
+# shellcheck disable=SC2086
+printf '%s\n' $items | xargs -P "$JOBS" -n 1 sh "$ROOT/tests/run_one.sh"
+for s in $alone; do
+    sh "$ROOT/tests/run_one.sh" "$s"
+done
+
+pass=0 fail=0 skip=0 failed_names=""
+for i in "$ROOT/$BUILD"/tests/test_* "$ROOT"/tests/cli/*.sh; do
+    case "$i" in *.o | *.d) continue ;; esac
+    case "$i" in *.sh) key=cli_$(basename "$i" .sh) ;; *) key=$(basename "$i") ;; esac
+    [ -f "$RESULTS/$key.count" ] || continue
+    read -r p f s names <"$RESULTS/$key.count"
+    pass=$((pass + p)) fail=$((fail + f)) skip=$((skip + s))
+    if [ "$f" -gt 0 ]; then
+        cat "$RESULTS/$key.out"
+        failed_names="$failed_names $names"
+    fi
+done
+echo "times (seconds, slowest first, $JOBS at a time):"
+cat "$RESULTS"/*.time | sort -k1,1gr | tee "$RESULTS/all-times" | awk '{ printf "  %6s  %s\n", $1, $2 }'
+mkdir -p "$ROOT/build" && cp "$RESULTS/all-times" "$order" 2>/dev/null
 
 [ -n "$failed_names" ] && echo "failed:$failed_names"
 if [ "$skip" -gt 0 ]; then

@@ -1,3 +1,4 @@
+# run: early (among the slowest, so started first)
 # assimp's own test corpus (Debian's assimp-testmodels, which make deps installs):
 # every model, the broken ones in invalid/ among them, is baked by gi-bake or
 # refused in one line of its own, within 20 s and 2 GB each (one ray a probe, at most

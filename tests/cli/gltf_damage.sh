@@ -1,3 +1,4 @@
+# run: early (among the slowest, so started first)
 # Generated damage to a .glb (issue 27): gi-lightmap's own output for the room, which
 # has a texture and two UV sets, cut at 24 lengths and with 60 seeded byte flips
 # (one to four bytes each), through gi-bake and gi-lightmap: each file bakes or is

@@ -1,3 +1,4 @@
+# run: early (among the slowest, so started first)
 # Tiles equal the whole bake at the default spacing (issue 41): the bundled world at 0.5 m
 # with L2 terms in 2, 5 and 8 tiles, and the 200 m world in 4, merged by gi-merge and
 # compared with the one-machine bake grid by grid, bit for bit, in pyopenvdb. Placement

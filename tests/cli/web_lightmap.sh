@@ -1,3 +1,4 @@
+# run: early (among the slowest, so started first)
 # web/viewer.html in headless Chromium with a scene from gi-lightmap and no
 # probe volume: it finds the lightmap on every material, and the map only adds
 # light (WebGL2, untone-mapped), in WebGPU too; with --layers, the panel's

@@ -1,3 +1,4 @@
+# run: early (among the slowest, so started first)
 # The browser runtime (web/) draws what the C sampler computes: headless
 # Chromium renders the bundled world's probe-colour view through WebGL2 and
 # through WebGPU (TSL), for both encodings and both brick layouts, and 400

@@ -1,3 +1,4 @@
+# run: early (among the slowest, so started first)
 # The three.js range web/package.json claims (>= 0.165 for WebGL2, >= 0.175 for
 # WebGPU, up to 0.187, the version every other browser test runs): the oldest
 # ends draw what the C sampler computes, as cli/web_render checks on 0.187.

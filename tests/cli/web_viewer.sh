@@ -1,3 +1,4 @@
+# run: early (among the slowest, so started first)
 # web/viewer.html in headless Chromium: with a good .gi.gz it shows the file's
 # figures (WebGL2 and WebGPU, whose frame carries the same light); GI on only adds light, to most of the frame; a
 # truncated file and a foreign one each give an error naming the file while
