@@ -54,6 +54,10 @@ DEP_LIBS = $(VDB_LIBS) $(EMBREE_LIBS) $(ASSIMP_LIBS) -ltinygltf -ldeflate -lz -l
 
 # -ffp-contract=off: no fused multiply-adds, so float results are the same on every CPU and
 # compiler (the packed .gi's JavaScript reader rebuilds the C one's bytes, docs/format.md).
+# lib/ is one folder a stage (lib/README.md); file names are unique across them, so a
+# source names a header by its file name alone and tests/cli/lib_layers.sh holds the rule.
+LIB_DIRS := $(sort $(dir $(wildcard lib/*/)))
+LIB_INC := -Ilib $(LIB_DIRS:%/=-I%)
 ALL_CFLAGS = -std=c11 $(WARN_C) $(OPT) -ffp-contract=off -MMD -MP -fvisibility=hidden -DVDBGI_BUILDING \
              -DVDBGI_MODULE_DIR='"$(PREFIX)/lib/vdbgi"' $(ASSIMP_CFLAGS) $(call pkg_cflags,stb) \
              $(CFLAGS)
@@ -65,13 +69,14 @@ ALL_LDFLAGS = $(OPT) $(LDFLAGS)
 
 # ---- sources ----------------------------------------------------------------
 
-LIB_C := $(wildcard lib/*.c)
-LIB_CXX := lib/vdb_shim.cpp lib/vdb_read.cpp lib/gltf_shim.cpp
+LIB_C := $(wildcard lib/*/*.c)
+# The OpenImageIO shim is not among them: it is a module of its own.
+LIB_CXX := $(filter-out lib/shim/image_shim.cpp,$(wildcard lib/shim/*.cpp))
 LIB_OBJ := $(LIB_C:%.c=$(BUILD)/%.o) $(LIB_CXX:%.cpp=$(BUILD)/%.o)
 LIB_A := $(BUILD)/libvdbgi.a
-# The OpenImageIO shim as a module of its own (lib/image.c opens it).
+# The OpenImageIO shim as a module of its own (lib/shim/image.c opens it).
 IMAGE_MODULE := $(BUILD)/lib/vdbgi/libvdbgi_image.so
-IMAGE_OBJ := $(BUILD)/lib/image_shim.pic.o
+IMAGE_OBJ := $(BUILD)/lib/shim/image_shim.pic.o
 
 APP_NAMES := gi-bake vdb-to-gi gi-inspect gi-bench gi-lightmap gi-merge
 APPS := $(APP_NAMES:%=$(BUILD)/bin/%)
@@ -102,23 +107,23 @@ tests: $(TESTS)
 $(BUILD)/lib/%.o: lib/%.c Makefile
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  CC      $<")
-	$(Q)$(CC) $(ALL_CFLAGS) -c $< -o $@
+	$(Q)$(CC) $(ALL_CFLAGS) $(LIB_INC) -c $< -o $@
 
 $(BUILD)/lib/%.o: lib/%.cpp Makefile
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  CXX     $<")
-	$(Q)$(CXX) $(ALL_CXXFLAGS) -c $< -o $@
+	$(Q)$(CXX) $(ALL_CXXFLAGS) $(LIB_INC) -c $< -o $@
 
 # The installed module directory is compiled into image.o: rebuild it when PREFIX changes.
 PREFIX_STAMP := $(BUILD)/prefix$(subst /,_,$(PREFIX)).stamp
-$(BUILD)/lib/image.o: $(PREFIX_STAMP)
+$(BUILD)/lib/shim/image.o: $(PREFIX_STAMP)
 $(PREFIX_STAMP):
 	@mkdir -p $(@D) && rm -f $(BUILD)/prefix*.stamp && touch $@
 
-$(IMAGE_OBJ): lib/image_shim.cpp Makefile
+$(IMAGE_OBJ): lib/shim/image_shim.cpp Makefile
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  CXX     $<")
-	$(Q)$(CXX) $(ALL_CXXFLAGS) -fPIC -c $< -o $@
+	$(Q)$(CXX) $(ALL_CXXFLAGS) $(LIB_INC) -fPIC -c $< -o $@
 
 $(IMAGE_MODULE): $(IMAGE_OBJ)
 	@mkdir -p $(@D)
@@ -134,24 +139,26 @@ $(BUILD)/apps/%.o: apps/%.c
 	@$(if $(Q),echo "  CC      $<")
 	$(Q)$(CC) $(ALL_CFLAGS) -Ilib -c $< -o $@
 
+# Objects first, the library after them all (gi-bench's subcommands add objects).
 $(BUILD)/bin/%: $(BUILD)/apps/%.o $(CLI_OBJ) $(LIB_A) | $(IMAGE_MODULE)
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  LINK    $@")
-	$(Q)$(CXX) $(ALL_LDFLAGS) $^ $(DEP_LIBS) -o $@
+	$(Q)$(CXX) $(ALL_LDFLAGS) $(filter %.o,$^) $(filter %.a,$^) $(DEP_LIBS) -o $@
 
-# gi-bench's truth chart and lights benchmark are files of their own.
-$(BUILD)/bin/gi-bench: $(BUILD)/apps/bench_truth.o $(BUILD)/apps/bench_lights.o
+# gi-bench is one file a subcommand (apps/bench_*.c).
+BENCH_OBJ := $(patsubst apps/%.c,$(BUILD)/apps/%.o,$(wildcard apps/bench_*.c))
+$(BUILD)/bin/gi-bench: $(BENCH_OBJ)
 
 $(BUILD)/tests/%.o: tests/%.c
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  CC      $<")
-	$(Q)$(CC) $(ALL_CFLAGS) -Ilib -Itests -c $< -o $@
+	$(Q)$(CC) $(ALL_CFLAGS) $(LIB_INC) -Itests -c $< -o $@
 
 $(BUILD)/tests/%: $(BUILD)/tests/%.o $(LIB_A) | $(IMAGE_MODULE)
 	@$(if $(Q),echo "  LINK    $@")
 	$(Q)$(CXX) $(ALL_LDFLAGS) $^ $(DEP_LIBS) -o $@
 
--include $(LIB_OBJ:.o=.d) $(IMAGE_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(BUILD)/apps/bench_truth.d $(BUILD)/apps/bench_lights.d $(APP_NAMES:%=$(BUILD)/apps/%.d) \
+-include $(LIB_OBJ:.o=.d) $(IMAGE_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(BENCH_OBJ:.o=.d) $(APP_NAMES:%=$(BUILD)/apps/%.d) \
          $(TEST_SRC:tests/%.c=$(BUILD)/tests/%.d)
 
 ## deps: install the Debian packages vdbgi needs (only those missing)
@@ -188,7 +195,7 @@ deps:
 check:
 	$(Q)$(MAKE) --no-print-directory deps
 	$(Q)$(MAKE) --no-print-directory all tests
-	$(Q)BUILD=$(BUILD) sh tests/run.sh
+	$(Q)BUILD=$(BUILD) JOBS=$(JOBS) sh tests/run.sh
 
 ## asan: the test suite under AddressSanitizer and UBSan (same as SANITIZE=1 make check)
 asan:
@@ -270,7 +277,7 @@ clean:
 
 ## format: apply .clang-format to every C and C++ source
 format:
-	clang-format -i lib/*.c lib/*.h lib/*.cpp apps/*.c apps/*.h tests/*.c tests/*.h
+	clang-format -i lib/*.h lib/*/*.c lib/*/*.h lib/*/*.cpp apps/*.c apps/*.h tests/*.c tests/*.h
 
 ## list: show these targets
 list:

@@ -13,6 +13,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "encode.h"
+#include "field.h"
 #include "gifile.h"
 #include "image_shim.h"
 #include "test_slab.h"
@@ -392,10 +393,10 @@ static void invalid_probes_never_leak_their_value(void)
             worst = fmaxf(worst, got[2]);
         }
         CHECK(worst <= 0.51f); /* the valid field's 0.5, never 100 */
-        for (size_t l = 0; l < v->filled.leaf_count; l++)
+        for (size_t l = 0; l < v->filled->leaf_count; l++)
             for (int n = 0; n < 512; n++)
-                if (v->filled.leaves[l].mask[n >> 6] >> (n & 63) & 1)
-                    CHECK(v->filled.leaves[l].values[3 * n + 2] <= 0.5f + 1e-6f);
+                if (v->filled->leaves[l].mask[n >> 6] >> (n & 63) & 1)
+                    CHECK(v->filled->leaves[l].values[3 * n + 2] <= 0.5f + 1e-6f);
         vdbgi_volume_info info;
         vdbgi_volume_get_info(v, &info);
         CHECK(info.valid_count == p->count / 2 && info.unreached_count == 0);
@@ -451,7 +452,7 @@ static void cells_with_a_valid_corner_read_the_filled_field(void)
                         const double f = k == 1 && lo[1] < 8 ? 1.0 : q[k] - lo[k];
                         w *= corner >> k & 1 ? f : 1.0 - f;
                     }
-                    const float *const at = vdbgi_field_at(&v->filled, ijk, NULL);
+                    const float *const at = vdbgi_field_at(v->filled, ijk, NULL);
                     all = at != NULL;
                     for (int k = 0; all && k < 3; k++) {
                         want[k] += (float)w * at[k];
@@ -732,7 +733,7 @@ static void coarse_bricks_under_the_first_valid_plane_read_the_filled_field(void
                     float pos[3], got[3];
                     world_of(p, q, pos);
                     const int32_t ijk[3] = {x, y, z};
-                    const float *const want = vdbgi_field_at(&v->filled, ijk, NULL);
+                    const float *const want = vdbgi_field_at(v->filled, ijk, NULL);
                     if (no_brick(v, pos)) {
                         lifted++;
                         continue;

@@ -1,6 +1,6 @@
 // gi-packed.js: the runtime textures of a version 5, 6 or 7 .gi (docs/format.md,
 // "Version 5" to "Version 7"), rebuilt from its level bytes, its bricks'
-// places and the probe values (and L2 terms) it stores once. Bit for bit what lib/packed.c rebuilds: every float operation below
+// places and the probe values (and L2 terms) it stores once. Bit for bit what lib/format/packed.c rebuilds: every float operation below
 // is a float32 one (Math.fround) in the C code's order, and the encoders
 // round as the C ones do, so a test can compare the two byte for byte.
 
@@ -11,7 +11,7 @@ const f = Math.fround;
 const ATLAS_TEXELS_PER_BRICK = 500;
 
 // Each brick's first atlas texel from the placement table (u16 x of every
-// brick, then y, then z), checked as lib/packed.c checks it: inside the
+// brick, then y, then z), checked as lib/format/packed.c checks it: inside the
 // atlas, in a layer (y a multiple of 5), sharing texels only with bricks of
 // its level that hold the same lattice points there, and never the block of
 // zeros at the atlas's corner.
@@ -30,7 +30,7 @@ function readPlacement(table, keys, lv, dims) {
   const owner = new Uint32Array(dims[0] * dims[1] * dims[2]);
   const ZERO = 0xffffffff;
   for (let t = 0; t < TEXELS; t++) owner[(Math.floor(t / (N * N)) * dims[1] + Math.floor(t / N) % N) * dims[0] + (t % N)] = ZERO;
-  // Layer by layer, in brick order within one, as lib/packed.c (the first overlap found is the one named).
+  // Layer by layer, in brick order within one, as lib/format/packed.c (the first overlap found is the one named).
   const order = Array.from({ length: count }, (_, b) => b).sort((a, b) => origin[3 * a + 1] - origin[3 * b + 1] || a - b);
   for (const b of order) {
     const o = origin.subarray(3 * b, 3 * b + 3);
@@ -113,7 +113,7 @@ function rgb9e5Encode(rgb, b, o) {
   return rgb.some((v) => v > MAX);
 }
 
-// Trilinear over a compact brick's 5^3 float samples at fine lattice point p (lib/coarsen.c).
+// Trilinear over a compact brick's 5^3 float samples at fine lattice point p (lib/convert/coarsen.c).
 function interpolate(s, key, level, p, out) {
   const span = f(1 << level);
   const i0 = [0, 0, 0], fr = [0, 0, 0];
@@ -357,7 +357,7 @@ export function rebuildPacked(gi, payload) {
       }
     });
   }
-  // One pass of the rebuild (lib/packed.c's rebuild_pass): stored texels
+  // One pass of the rebuild (lib/format/packed.c's rebuild_pass): stored texels
   // copied, stitched ones interpolated from their coarser brick (coarse
   // bricks' samples kept as floats, coarsest first) and encoded.
   // decode(idx, out): a stored point's three numbers; copy(idx, texel): its

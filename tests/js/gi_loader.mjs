@@ -68,7 +68,7 @@ const termTexel = (term) => (gi, x, y, z) => {
 // The seed's volumeIrradiance(): NEAREST indirection, level and slot, LINEAR atlas, decode;
 // the compact layout changes only where a brick's probes stand. With a unit
 // normal and L2 terms (versions 6 and 7), what a surface facing it reads
-// (docs/format.md, "Version 6"), in lib/sampler.c's float32 order.
+// (docs/format.md, "Version 6"), in lib/format/sampler.c's float32 order.
 export function sampleGi(gi, pos, detail = null, normal = null) {
   const p = [], base = [];
   for (let k = 0; k < 3; k++) {

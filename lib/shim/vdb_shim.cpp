@@ -179,7 +179,7 @@ vdbgi_result write_grids(vdbgi_context *ctx, const char *path, const char *name,
 } // namespace
 
 extern "C" vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, const char *name,
-                                        const vdbgi_probes *p)
+                                        const vdbgi_vdb_arrays *p, const vdbgi_meta_store *meta)
 {
     VDBGI_SHIM_BEGIN
     openvdb::initialize();
@@ -245,8 +245,8 @@ extern "C" vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, co
         grids.push_back(g);
     }
     for (auto &g : grids)
-        for (size_t m = 0; m < p->meta.count; m++)
-            add_meta(*g, p->meta.items[m]);
+        for (size_t m = 0; m < meta->count; m++)
+            add_meta(*g, meta->items[m]);
     return write_grids(ctx, path, name, grids);
     VDBGI_SHIM_END(ctx, "openvdb")
 }

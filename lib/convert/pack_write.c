@@ -4,6 +4,7 @@
  * and the payload (level bytes, placement, residual planes); the textures
  * are then rebuilt from the values exactly as a reader rebuilds them.
  */
+#include "pack_write.h"
 #include "encode.h"
 #include "gifile.h"
 #include "pack_common.h"
@@ -425,7 +426,7 @@ vdbgi_result vdbgi_pack_write(vdbgi_volume *v, vdbgi_brick *bricks, size_t count
     *payload_size = 0;
     vdbgi_pack_writer *w = NULL;
     VDBGI_TRY(vdbgi_pack_writer_create(v, bricks, count, threads, &w));
-    vdbgi_pack_writer_values(w, &v->filled, probes, INT32_MIN, INT32_MAX);
+    vdbgi_pack_writer_values(w, v->filled, probes, INT32_MIN, INT32_MAX);
     const vdbgi_result r = vdbgi_pack_writer_finish(w, payload, payload_size);
     vdbgi_pack_writer_destroy(w);
     return r;

@@ -143,45 +143,6 @@ size_t vdbgi_brick_samples(const vdbgi_field *filled, const int32_t key[3], int 
     return fallbacks;
 }
 
-void vdbgi_brick_interpolate(const float s[][3], vdbgi_layout layout, const int32_t key[3],
-                             int level, const double pos[3], float rgb[3])
-{
-    vdbgi_brick_interpolate_n(s[0], 3, layout, key, level, pos, rgb);
-}
-
-void vdbgi_brick_interpolate_n(const float *s, int channels, vdbgi_layout layout,
-                               const int32_t key[3], int level, const double pos[3], float *out)
-{
-    const float span = (float)(1 << level);
-    const int n = vdbgi_slot_texels(layout);
-    int i0[3];
-    float fr[3];
-    for (int k = 0; k < 3; k++) {
-        const float origin = (float)key[k] * VDBGI_BRICK * span;
-        /* texel units: seed probes sit half a texel in, behind the apron */
-        const float t = layout == VDBGI_LAYOUT_COMPACT
-                            ? ((float)pos[k] - origin) / span
-                            : ((float)pos[k] - origin + 0.5f) / span - 0.5f + 1.0f;
-        const float fl = floorf(t);
-        i0[k] = (int)fl;
-        fr[k] = t - fl;
-        if (i0[k] > n - 2) { /* the far face itself, or a guard past it */
-            i0[k] = n - 2;
-            fr[k] = 1.0f;
-        }
-    }
-    for (int k = 0; k < channels; k++)
-        out[k] = 0.0f;
-    for (int c = 0; c < 8; c++) {
-        const float w = (c & 1 ? fr[0] : 1.0f - fr[0]) * (c & 2 ? fr[1] : 1.0f - fr[1]) *
-                        (c & 4 ? fr[2] : 1.0f - fr[2]);
-        const int x = i0[0] + (c & 1), y = i0[1] + (c >> 1 & 1), z = i0[2] + (c >> 2 & 1);
-        const float *const v = &s[(size_t)channels * (size_t)((z * n + y) * n + x)];
-        for (int k = 0; k < channels; k++)
-            out[k] += w * v[k];
-    }
-}
-
 /*
  * Does the coarse brick reproduce the filled points it draws within
  * tolerance: every one (INTERP), or in the root mean square of each point's

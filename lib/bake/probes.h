@@ -2,20 +2,12 @@
 #ifndef VDBGI_PROBES_H
 #define VDBGI_PROBES_H
 
+#include "lattice.h"
 #include "meta.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/*
- * What a lattice may be, so that no index arithmetic (cells, blocks, leaves,
- * their neighbours) can overflow int32 and no .gi box is meaningless.
- */
-#define VDBGI_MAX_INDEX (1 << 26)
-#define VDBGI_MIN_SPACING 1e-4 /* metres */
-#define VDBGI_MAX_SPACING 1e4
-#define VDBGI_MAX_ORIGIN 1e9
 
 struct vdbgi_probes {
     vdbgi_context *ctx;

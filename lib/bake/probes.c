@@ -46,7 +46,7 @@ void vdbgi_probes_destroy(vdbgi_probes *p)
     vdbgi_free(p->ctx, p);
 }
 
-/* Upper bound on the probes within margin of the triangles: area x band / spacing^3. */
+/* What write_vdb writes, and the name its messages give. */
 typedef struct vdb_job {
     const vdbgi_probes *probes;
     const char *path; /* for messages: the name the user gave */
@@ -55,7 +55,18 @@ typedef struct vdb_job {
 static vdbgi_result write_vdb(vdbgi_context *ctx, const char *tmp, const void *user)
 {
     const vdb_job *const job = user;
-    return vdbgi_vdb_write(ctx, tmp, job->path, job->probes);
+    const vdbgi_probes *const p = job->probes;
+    const vdbgi_vdb_arrays arrays = {.spacing = p->spacing,
+                                     .origin = {p->origin[0], p->origin[1], p->origin[2]},
+                                     .count = p->count,
+                                     .ijk = p->ijk,
+                                     .rgb = p->rgb,
+                                     .backface = p->backface,
+                                     .stderr_ = p->stderr_,
+                                     .rays = p->rays,
+                                     .cube = p->cube,
+                                     .sh = p->sh};
+    return vdbgi_vdb_write(ctx, tmp, job->path, &arrays, &p->meta);
 }
 
 vdbgi_result vdbgi_probes_write(const vdbgi_probes *p, const char *path)
@@ -71,7 +82,7 @@ typedef struct read_target {
     vdbgi_probes *p;
 } read_target;
 
-static vdbgi_result make_probes(vdbgi_vdb_sink *sink, size_t count, bool with_stderr,
+static vdbgi_result make_probes(vdbgi_vdb_arrays *sink, size_t count, bool with_stderr,
                                 bool with_rays, bool with_cube, bool with_sh)
 {
     read_target *const t = sink->user;
@@ -95,7 +106,7 @@ static vdbgi_result make_probes(vdbgi_vdb_sink *sink, size_t count, bool with_st
  * a file (whole false) may hold none.
  */
 static vdbgi_result take_read(vdbgi_context *ctx, const char *path, vdbgi_result r,
-                              read_target *target, const vdbgi_vdb_sink *sink, bool whole,
+                              read_target *target, const vdbgi_vdb_arrays *sink, bool whole,
                               vdbgi_probes **out)
 {
     vdbgi_probes *const p = target->p;
@@ -165,7 +176,7 @@ vdbgi_result vdbgi_probes_read(vdbgi_context *ctx, const char *path, vdbgi_probe
     *out = NULL;
     VDBGI_TRY(vdbgi_input_check(ctx, path));
     read_target target = {ctx, NULL};
-    vdbgi_vdb_sink sink = {.make = make_probes, .user = &target};
+    vdbgi_vdb_arrays sink = {.make = make_probes, .user = &target};
     const vdbgi_result r = vdbgi_vdb_read(ctx, path, &sink);
     return take_read(ctx, path, r, &target, &sink, true, out);
 }
@@ -210,7 +221,7 @@ vdbgi_result vdbgi_probe_file_read(vdbgi_probe_file *f, int32_t z0, int32_t z1, 
     *out = NULL;
     VDBGI_FAIL_IF(f->ctx, z0 >= z1, VDBGI_ERR_INVALID_ARG, "an empty z range (%d..%d)", z0, z1);
     read_target target = {f->ctx, NULL};
-    vdbgi_vdb_sink sink = {.make = make_probes, .user = &target};
+    vdbgi_vdb_arrays sink = {.make = make_probes, .user = &target};
     const vdbgi_result r = vdbgi_vdb_regions_read(f->regions, z0, z1, &sink);
     return take_read(f->ctx, f->path, r, &target, &sink, false, out);
 }

@@ -42,11 +42,4 @@ vdbgi_result vdbgi_coarsen(vdbgi_context *ctx, const vdbgi_field *filled,
 size_t vdbgi_brick_samples(const vdbgi_field *filled, const int32_t key[3], int level,
                            const float mean[3], vdbgi_layout layout, float out[][3]);
 
-/* Trilinear reconstruction from a brick's samples s at fine lattice position pos. */
-void vdbgi_brick_interpolate(const float s[][3], vdbgi_layout layout, const int32_t key[3],
-                             int level, const double pos[3], float rgb[3]);
-/* The same for samples of `channels` floats each (L2 terms: 24), channel by channel. */
-void vdbgi_brick_interpolate_n(const float *s, int channels, vdbgi_layout layout,
-                               const int32_t key[3], int level, const double pos[3], float *out);
-
 #endif /* VDBGI_COARSEN_H */

@@ -103,7 +103,7 @@ static void *atlas_worker(void *arg)
         const uint32_t slot = (uint32_t)i + 1;
         float s[SLOT_MAX][3];
         job->fallbacks +=
-            vdbgi_brick_samples(&job->v->filled, k->key, k->level, k->mean, VDBGI_LAYOUT_SEED, s);
+            vdbgi_brick_samples(job->v->filled, k->key, k->level, k->mean, VDBGI_LAYOUT_SEED, s);
         job->clamped += encode_brick(job->v, (const float(*)[3])s, slot);
         mark_indirection(job->v, k, slot);
     }

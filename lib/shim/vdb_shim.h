@@ -2,7 +2,9 @@
 #ifndef VDBGI_VDB_SHIM_H
 #define VDBGI_VDB_SHIM_H
 
-#include "probes.h"
+#include "context.h"
+#include "lattice.h"
+#include "meta.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -30,11 +32,6 @@ vdbgi_result vdbgi_vdb_mask_merge(vdbgi_context *ctx, vdbgi_vdb_mask *mask,
 vdbgi_result vdbgi_vdb_mask_points(vdbgi_context *ctx, const vdbgi_vdb_mask *mask,
                                    uint64_t max_count, int32_t **ijk_out, size_t *count_out);
 
-/* Write probes (baked) as the "irradiance" and "validity" grids at path (no temp dance);
-   messages say name. */
-vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, const char *name,
-                             const vdbgi_probes *probes);
-
 /*
  * Merge the grids of the .vdb tiles (checked by the caller: one bake, disjoint
  * leaves) with OpenVDB's tree merge, drop the metadata named in drop, set
@@ -50,14 +47,14 @@ const char *vdbgi_side_grid_name(int side);
 const char *vdbgi_sh_grid_name(int term);
 
 /*
- * Where vdbgi_vdb_read hands what it read across: plain arrays that the
- * caller (probes.c) owns. make is called once, when the reader knows the
- * probe count and which per-probe grids the file holds; it sets the array
- * pointers (NULL for an absent grid) and meta, or fails, which the reader
- * returns.
+ * Probes as they cross the shim: plain arrays that the caller (probes.c)
+ * owns. vdbgi_vdb_write reads them; vdbgi_vdb_read calls make once, when it
+ * knows the probe count and which per-probe grids the file holds, to set the
+ * array pointers (NULL for an absent grid) and meta, or fail, which the
+ * reader returns.
  */
-typedef struct vdbgi_vdb_sink {
-    vdbgi_result (*make)(struct vdbgi_vdb_sink *sink, size_t count, bool with_stderr,
+typedef struct vdbgi_vdb_arrays {
+    vdbgi_result (*make)(struct vdbgi_vdb_arrays *sink, size_t count, bool with_stderr,
                          bool with_rays, bool with_cube, bool with_sh);
     void *user;
     double spacing, origin[3];
@@ -70,10 +67,15 @@ typedef struct vdbgi_vdb_sink {
     float *cube;     /* 18 per probe, or NULL */
     float *sh;       /* 24 per probe, or NULL */
     vdbgi_meta_store *meta;
-} vdbgi_vdb_sink;
+} vdbgi_vdb_arrays;
+
+/* Write baked probes (their arrays, make unused) as the "irradiance" and "validity" grids
+   and those beside them, with meta on each, at path (no temp dance); messages say name. */
+vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, const char *name,
+                             const vdbgi_vdb_arrays *probes, const vdbgi_meta_store *meta);
 
 /* Read "irradiance" (and the grids beside it, if present) from path into the sink's arrays. */
-vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_vdb_sink *sink);
+vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_vdb_arrays *sink);
 
 /*
  * The same file read a z range at a time: open checks every grid's bytes
@@ -86,7 +88,7 @@ typedef struct vdbgi_vdb_regions vdbgi_vdb_regions;
 vdbgi_result vdbgi_vdb_regions_open(vdbgi_context *ctx, const char *path, vdbgi_vdb_regions **out,
                                     int32_t lo[3], int32_t hi[3]);
 vdbgi_result vdbgi_vdb_regions_read(vdbgi_vdb_regions *f, int32_t z0, int32_t z1,
-                                    vdbgi_vdb_sink *sink);
+                                    vdbgi_vdb_arrays *sink);
 void vdbgi_vdb_regions_close(vdbgi_vdb_regions *f);
 
 #ifdef __cplusplus

@@ -399,7 +399,7 @@ vdbgi_result check_lattice(vdbgi_context *ctx, const char *path, const openvdb::
 }
 
 /* The per-probe extras beside the irradiance: noise, rays, cube sides and L2 terms, at n probes. */
-void copy_extras(vdbgi_vdb_sink *p, size_t n, const openvdb::FloatGrid::Ptr &se,
+void copy_extras(vdbgi_vdb_arrays *p, size_t n, const openvdb::FloatGrid::Ptr &se,
                  const openvdb::Int32Grid::Ptr &rays, const openvdb::Vec3SGrid::Ptr *vec_grids,
                  int vec_count)
 {
@@ -473,7 +473,7 @@ std::vector<std::string> probe_grid_names()
  * the OpenVDB objects live only inside the callers' exception boundary).
  */
 vdbgi_result to_sink(vdbgi_context *ctx, const char *path, const GridLayout &layout,
-                     const openvdb::GridPtrVec &read, vdbgi_vdb_sink *p)
+                     const openvdb::GridPtrVec &read, vdbgi_vdb_arrays *p)
 {
     const auto grid = [&](const char *name) { return layout.find(read, name); };
     const openvdb::GridBase::Ptr base = grid("irradiance"), vbase = grid("validity");
@@ -536,7 +536,7 @@ vdbgi_result to_sink(vdbgi_context *ctx, const char *path, const GridLayout &lay
 
 } // namespace
 
-extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_vdb_sink *p)
+extern "C" vdbgi_result vdbgi_vdb_read(vdbgi_context *ctx, const char *path, vdbgi_vdb_arrays *p)
 {
     VDBGI_SHIM_BEGIN
     openvdb::initialize();
@@ -622,7 +622,7 @@ extern "C" vdbgi_result vdbgi_vdb_regions_open(vdbgi_context *ctx, const char *p
 }
 
 extern "C" vdbgi_result vdbgi_vdb_regions_read(vdbgi_vdb_regions *f, int32_t z0, int32_t z1,
-                                               vdbgi_vdb_sink *p)
+                                               vdbgi_vdb_arrays *p)
 {
     vdbgi_context *const ctx = f->ctx;
     const char *const path = f->path.c_str();

@@ -1,6 +1,7 @@
 /* slices.c: images of a plane through the baked, filled and bricked fields, and the atlas. */
 #define _POSIX_C_SOURCE 200809L
 #include "encode.h"
+#include "field.h"
 #include "image_shim.h"
 #include "probes.h"
 #include "util.h"
@@ -73,8 +74,8 @@ vdbgi_result vdbgi_volume_write_slices(const vdbgi_volume *v, const vdbgi_probes
                                        vdbgi_axis axis, double at, float exposure, const char *dir)
 {
     vdbgi_context *const ctx = v->ctx;
-    VDBGI_FAIL_IF(ctx, !v->filled.leaves || !probes || !probes->rgb, VDBGI_ERR_INVALID_ARG,
-                  "slices need a volume built from baked probes");
+    VDBGI_FAIL_IF(ctx, !v->filled || !v->filled->leaves || !probes || !probes->rgb,
+                  VDBGI_ERR_INVALID_ARG, "slices need a volume built from baked probes");
     VDBGI_FAIL_IF(
         ctx, axis < VDBGI_AXIS_X || axis > VDBGI_AXIS_Z || !isfinite(at) || !isfinite(exposure),
         VDBGI_ERR_INVALID_ARG, "bad slice axis, position or exposure");
@@ -123,7 +124,7 @@ vdbgi_result vdbgi_volume_write_slices(const vdbgi_volume *v, const vdbgi_probes
             vdbgi_sampler_sample(&view, pos, got);
             const ptrdiff_t p = PIXEL(iu, iv);
             memcpy(&bricks[3 * p], got, sizeof(got));
-            const float *const want = vdbgi_field_at(&v->filled, ijk, NULL);
+            const float *const want = vdbgi_field_at(v->filled, ijk, NULL);
             if (want)
                 for (int k = 0; k < 3; k++)
                     diff[3 * p + k] = fabsf(got[k] - want[k]);

@@ -1,4 +1,5 @@
-/* sampler.h: seed 000's runtime lookup on the CPU, on plain texture bytes. */
+/* sampler.h: seed 000's runtime lookup on the CPU, on plain texture bytes; a brick's
+   reconstruction from its samples. */
 #ifndef VDBGI_SAMPLER_H
 #define VDBGI_SAMPLER_H
 
@@ -43,5 +44,16 @@ void vdbgi_sampler_sample_normal(const vdbgi_volume_view *v, const float pos[3],
  * texel is 0, 0, 0, 0.
  */
 int vdbgi_cell_level(const vdbgi_volume_view *v, const uint8_t texel[4]);
+
+/*
+ * Trilinear reconstruction from a brick's samples s (the layout's texels of
+ * it, x fastest) at fine lattice position pos: what a coarse brick gives a
+ * point, for the coarsening's test and the compact layout's stitched seams.
+ */
+void vdbgi_brick_interpolate(const float s[][3], uint32_t layout, const int32_t key[3], int level,
+                             const double pos[3], float rgb[3]);
+/* The same for samples of `channels` floats each (L2 terms: 24), channel by channel. */
+void vdbgi_brick_interpolate_n(const float *s, int channels, uint32_t layout, const int32_t key[3],
+                               int level, const double pos[3], float *out);
 
 #endif /* VDBGI_SAMPLER_H */

@@ -9,7 +9,6 @@
  * The converter builds its own textures through the reader's code, so what
  * it measures is what a reader gets.
  */
-#include "atlas.h"
 #include "encode.h"
 #include "gifile.h"
 #include "pack_common.h"

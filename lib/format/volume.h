@@ -2,7 +2,6 @@
 #ifndef VDBGI_VOLUME_H
 #define VDBGI_VOLUME_H
 
-#include "field.h"
 #include "sampler.h"
 #include "textures.h"
 
@@ -15,10 +14,10 @@ struct vdbgi_volume {
     uint32_t version; /* the file version the payload follows: 5, or 6 or 7 with L2 terms */
     uint8_t *file;    /* the gzip'd .gi, made by the first write and kept (volume_io.c) */
     /* Only from vdbgi_volume_build: */
-    vdbgi_field filled;
-    double lattice_origin[3]; /* world position of fine index (0,0,0) */
-    int32_t origin_cell[3];   /* absolute level-0 cell of indirection texel (0,0,0) */
-    float mean_rgb[3];        /* mean of the valid probes */
+    struct vdbgi_field *filled; /* convert/field.h; NULL unless built whole */
+    double lattice_origin[3];   /* world position of fine index (0,0,0) */
+    int32_t origin_cell[3];     /* absolute level-0 cell of indirection texel (0,0,0) */
+    float mean_rgb[3];          /* mean of the valid probes */
 };
 
 /*
@@ -30,6 +29,15 @@ const float *vdbgi_level_colour(int level);
 
 /* The textures and uniforms of a volume, as the sampler takes them. */
 vdbgi_volume_view vdbgi_volume_view_of(const vdbgi_volume *v);
+
+/*
+ * The runtime's indirection (docs/format.md): two texels a column (its run,
+ * and where the run starts in the list), then the runs' texels, in a 2D
+ * texture at most VDBGI_COLUMNS_ROW texels wide. Writes it to out unless NULL
+ * or shorter than capacity (then returns 0); returns its bytes, 0 (dims 0)
+ * above VDBGI_COLUMNS_ROW^2 texels.
+ */
+size_t vdbgi_volume_columns(const vdbgi_volume *v, uint8_t *out, size_t capacity, uint32_t dims[2]);
 
 /*
  * vdbgi_volume_build_regions with halo points read either side of a region

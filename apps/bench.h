@@ -1,0 +1,38 @@
+/* bench.h: what gi-bench's subcommands share: the options, helpers and one entry each. */
+#ifndef VDBGI_BENCH_H
+#define VDBGI_BENCH_H
+
+#include "bench_truth.h"
+#include "vdbgi.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdio.h>
+
+typedef struct bench_options {
+    const char *mode, *scene, *gi_bake, *out;
+    double spacing;
+    bool spacing_given;
+    int rays, threads, repeat;
+    bench_light light;
+} bench_options;
+
+/* Wall seconds of running argv to completion, or -1 if it failed. */
+double bench_time_process(char *const argv[]);
+/* A built volume's figures with its file's size: its file made (gzip happens on write). */
+void bench_info(const vdbgi_volume *v, vdbgi_volume_info *vi);
+/* dir/name opened for writing with its header line, or NULL (said on stderr). */
+FILE *bench_open_csv(const char *dir, const char *name, const char *header);
+/* RMSE and p99 of b against a over n RGB values, relative to a's mean. */
+void bench_compare(const float *a, const float *b, size_t n, double *rmse_rel, double *p99_rel);
+/* A tool beside gi-bench (argv0's directory) into out. */
+void bench_beside(const char *argv0, const char *tool, char *out, size_t cap);
+
+/* The subcommands (gi-bench --help); each returns the exit code. */
+int bench_bake(const bench_options *o, const char *argv0);
+int bench_convert(const bench_options *o);
+int bench_sweep(const bench_options *o);
+int bench_memory(const bench_options *o, bool one_spacing);
+int bench_lightmap(const bench_options *o, const char *argv0);
+
+#endif /* VDBGI_BENCH_H */

@@ -1,0 +1,184 @@
+/* volume_stats.c: sums over the lattice slab by slab, its extents, and a conversion's
+   error figures (the shader's view of the valid probes against their values). */
+#include "volume_stats.h"
+#include "util.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Probes i0 <= i < i1: what the shader reads at each valid one, into got (3 floats a probe). */
+typedef struct sample_job {
+    const vdbgi_volume *v;
+    const vdbgi_probes *p;
+    float *got;
+    size_t i0, i1;
+} sample_job;
+
+static void *sample_worker(void *arg)
+{
+    const sample_job *const job = arg;
+    const vdbgi_probes *const p = job->p;
+    const vdbgi_volume_view view = vdbgi_volume_view_of(job->v);
+    for (size_t i = job->i0; i < job->i1; i++) {
+        if (p->backface[i] > p->invalid_threshold)
+            continue;
+        float pos[3];
+        for (int k = 0; k < 3; k++)
+            pos[k] = (float)(job->v->lattice_origin[k] + p->spacing * p->ijk[3 * i + k]);
+        vdbgi_sampler_sample(&view, pos, &job->got[3 * i]);
+    }
+    return NULL;
+}
+
+/* ---- sums that do not depend on how the lattice is read ------------------- */
+
+vdbgi_result vdbgi_slab_sums_init(vdbgi_context *ctx, vdbgi_slab_sums *s, const int32_t z[2],
+                                  int width)
+{
+    s->first = vdbgi_floor_div(z[0], VDBGI_REGION_STEP);
+    s->count = (size_t)(vdbgi_floor_div(z[1], VDBGI_REGION_STEP) - s->first) + 1;
+    s->width = width;
+    s->v = vdbgi_calloc(ctx, s->count * (size_t)width, sizeof(double));
+    return s->v ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
+}
+
+static double *slab_at(const vdbgi_slab_sums *s, int32_t z)
+{
+    return &s->v[(size_t)(vdbgi_floor_div(z, VDBGI_REGION_STEP) - s->first) * (size_t)s->width];
+}
+
+void vdbgi_slab_sums_total(const vdbgi_slab_sums *s, double *out)
+{
+    for (int k = 0; k < s->width; k++)
+        out[k] = 0.0;
+    for (size_t i = 0; i < s->count; i++)
+        for (int k = 0; k < s->width; k++)
+            out[k] += s->v[i * (size_t)s->width + k];
+}
+
+void vdbgi_stats_init(vdbgi_lattice_stats *st)
+{
+    memset(st, 0, sizeof(*st));
+    for (int k = 0; k < 3; k++) {
+        st->lo[k] = st->cell_lo[k] = INT32_MAX;
+        st->hi[k] = st->cell_hi[k] = INT32_MIN;
+    }
+}
+
+void vdbgi_stats_add(vdbgi_lattice_stats *st, const vdbgi_probes *p)
+{
+    st->probes += p->count;
+    for (size_t i = 0; i < p->count; i++) {
+        const int32_t *const ijk = &p->ijk[3 * i];
+        for (int k = 0; k < 3; k++) {
+            st->lo[k] = ijk[k] < st->lo[k] ? ijk[k] : st->lo[k];
+            st->hi[k] = ijk[k] > st->hi[k] ? ijk[k] : st->hi[k];
+        }
+        if (p->backface[i] > p->invalid_threshold)
+            continue;
+        st->valid++;
+        for (int k = 0; k < 3; k++) {
+            const int32_t c = vdbgi_floor_div(ijk[k], VDBGI_BRICK);
+            st->cell_lo[k] = c < st->cell_lo[k] ? c : st->cell_lo[k];
+            st->cell_hi[k] = c > st->cell_hi[k] ? c : st->cell_hi[k];
+        }
+    }
+}
+
+void vdbgi_stats_add_colours(vdbgi_lattice_stats *st, const vdbgi_probes *p)
+{
+    for (size_t i = 0; i < p->count; i++) {
+        if (p->backface[i] > p->invalid_threshold)
+            continue;
+        double *const sum = slab_at(&st->colour, p->ijk[3 * i + 2]);
+        for (int k = 0; k < 3; k++)
+            sum[k] += p->rgb[3 * i + k];
+    }
+}
+
+void vdbgi_stats_valid_z(const vdbgi_lattice_stats *st, int32_t z[2])
+{
+    z[0] = st->valid ? st->cell_lo[2] * VDBGI_BRICK : 0;
+    z[1] = st->valid ? st->cell_hi[2] * VDBGI_BRICK + VDBGI_BRICK - 1 : 0;
+}
+
+vdbgi_result vdbgi_error_sums_init(vdbgi_context *ctx, vdbgi_error_sums *e, const int32_t z[2],
+                                   size_t valid)
+{
+    memset(e, 0, sizeof(*e));
+    e->top_cap = valid - (size_t)(0.99 * (double)(valid ? valid - 1 : 0));
+    e->top = vdbgi_alloc(ctx, (e->top_cap ? e->top_cap : 1) * sizeof(double));
+    const vdbgi_result r = vdbgi_slab_sums_init(ctx, &e->sq, z, 1);
+    return e->top ? r : VDBGI_ERR_OUT_OF_MEMORY;
+}
+
+void vdbgi_error_sums_free(vdbgi_context *ctx, vdbgi_error_sums *e)
+{
+    vdbgi_free(ctx, e->sq.v);
+    vdbgi_free(ctx, e->top);
+}
+
+static void top_push(vdbgi_error_sums *e, double x)
+{
+    double *const h = e->top;
+    size_t i;
+    if (e->top_count < e->top_cap) {
+        for (i = e->top_count++; i > 0 && h[(i - 1) / 2] > x; i = (i - 1) / 2)
+            h[i] = h[(i - 1) / 2];
+        h[i] = x;
+        return;
+    }
+    if (e->top_cap == 0 || x <= h[0])
+        return;
+    for (i = 0;;) { /* the root gives way to x: sift down */
+        size_t c = 2 * i + 1;
+        if (c >= e->top_count)
+            break;
+        if (c + 1 < e->top_count && h[c + 1] < h[c])
+            c++;
+        if (h[c] >= x)
+            break;
+        h[i] = h[c];
+        i = c;
+    }
+    h[i] = x;
+}
+
+vdbgi_result vdbgi_error_measure(vdbgi_volume *v, const vdbgi_probes *p, int threads,
+                                 vdbgi_error_sums *e)
+{
+    float *const got = vdbgi_alloc(v->ctx, 3 * sizeof(float) * (p->count ? p->count : 1));
+    if (!got)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    enum { MAX_JOBS = 64 };
+    sample_job jobs[MAX_JOBS];
+    const int nt = threads < 1 ? 1 : threads > MAX_JOBS ? MAX_JOBS : threads;
+    for (int t = 0; t < nt; t++)
+        jobs[t] = (sample_job){v, p, got, p->count * (size_t)t / (size_t)nt,
+                               p->count * (size_t)(t + 1) / (size_t)nt};
+    vdbgi_run_threads(nt, sample_worker, jobs, sizeof(jobs[0]));
+    for (size_t i = 0; i < p->count; i++) {
+        if (p->backface[i] > p->invalid_threshold)
+            continue;
+        double err = 0.0, *const sq = slab_at(&e->sq, p->ijk[3 * i + 2]);
+        for (int k = 0; k < 3; k++) {
+            const double d = (double)got[3 * i + k] - (double)p->rgb[3 * i + k];
+            *sq += d * d;
+            err = fmax(err, fabs(d));
+        }
+        e->n++;
+        e->worst = fmax(e->worst, err);
+        top_push(e, err);
+    }
+    vdbgi_free(v->ctx, got);
+    return VDBGI_OK;
+}
+
+void vdbgi_error_figures(vdbgi_volume_info *info, const vdbgi_error_sums *e)
+{
+    double sq;
+    vdbgi_slab_sums_total(&e->sq, &sq);
+    info->rmse = e->n ? sqrt(sq / (3.0 * (double)e->n)) : 0.0;
+    info->max_error = e->worst;
+    info->p99 = e->n ? e->top[0] : 0.0;
+}
