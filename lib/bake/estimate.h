@@ -88,6 +88,9 @@ void vdbgi_hemisphere_directions(int n, float *dirs);
 void vdbgi_hemisphere_turn(const float *base, int count, const float n[3], uint64_t stream,
                            bool random, float *out);
 /* A sample point's random stream: from its lattice point (or index) and the seed only. */
+/* base's n directions turned by the rotation of a point's stream into out (seed 000's
+   set made random a probe at a time). */
+void vdbgi_directions_rotate(uint64_t stream, const float *base, int n, float *out);
 uint64_t vdbgi_point_stream(int32_t i, int32_t j, int32_t k, uint64_t seed);
 /* The direction set bp's points share, allocated through ctx: *count directions. */
 vdbgi_result vdbgi_estimator_directions(vdbgi_context *ctx, const vdbgi_bake_params *bp,
