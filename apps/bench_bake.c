@@ -1,11 +1,11 @@
 /* bench_bake.c: gi-bench bake: the bake against a bare Embree loop over the same rays, and the
    whole gi-bake process. */
-#define _DEFAULT_SOURCE     /* mkstemps */
-#define VDBGI_BENCHMARK_API /* vdbgi_probes_trace_bare, vdbgi_lightmap_trace_bare, ... */
+#define _DEFAULT_SOURCE /* mkstemps */
 #include "bench.h"
 #include "bench_lights.h"
 #include "cli.h"
 #include "vdbgi.h"
+#include "vdbgi_bench.h"
 
 #include <stdlib.h>
 #include <string.h>

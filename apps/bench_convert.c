@@ -1,10 +1,10 @@
 /* bench_convert.c: gi-bench convert: conversion size, error and time against reading the .vdb. */
-#define _DEFAULT_SOURCE     /* mkstemps */
-#define VDBGI_BENCHMARK_API /* vdbgi_probes_trace_bare, vdbgi_lightmap_trace_bare, ... */
+#define _DEFAULT_SOURCE /* mkstemps */
 #include "bench.h"
 #include "bench_lights.h"
 #include "cli.h"
 #include "vdbgi.h"
+#include "vdbgi_bench.h"
 
 /* One row of the convert table: the fastest of `repeat` builds, timed as the read is
    (into *fastest if not NULL). */

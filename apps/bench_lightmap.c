@@ -1,10 +1,10 @@
 /* bench_lightmap.c: gi-bench lightmap: the lightmapper's time, charts and error. */
-#define _DEFAULT_SOURCE     /* mkstemps */
-#define VDBGI_BENCHMARK_API /* vdbgi_probes_trace_bare, vdbgi_lightmap_trace_bare, ... */
+#define _DEFAULT_SOURCE /* mkstemps */
 #include "bench.h"
 #include "bench_lights.h"
 #include "cli.h"
 #include "vdbgi.h"
+#include "vdbgi_bench.h"
 
 #include <errno.h>
 #include <math.h>

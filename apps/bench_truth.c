@@ -3,9 +3,9 @@
  * same truth: the hemisphere estimator (2048 random rays) at each receiver,
  * over the receiver's own normal.
  */
-#define VDBGI_BENCHMARK_API /* vdbgi_scene_bake_surface, vdbgi_scene_bake_hemispheres */
 #include "bench_truth.h"
 #include "cli.h"
+#include "vdbgi_bench.h"
 
 #include <errno.h>
 #include <math.h>

@@ -1,11 +1,11 @@
 /* gi-bench: measure vdbgi: the bake against a bare Embree loop over the same rays, the
    conversion, speed against accuracy, memory, lightmaps, the truth, lights (one file each). */
-#define _DEFAULT_SOURCE     /* mkstemps */
-#define VDBGI_BENCHMARK_API /* vdbgi_probes_trace_bare, vdbgi_lightmap_trace_bare, ... */
+#define _DEFAULT_SOURCE /* mkstemps */
 #include "bench.h"
 #include "bench_lights.h"
 #include "cli.h"
 #include "vdbgi.h"
+#include "vdbgi_bench.h"
 
 #include <fcntl.h>
 #include <getopt.h>

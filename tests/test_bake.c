@@ -5,8 +5,8 @@
  * cancelling callback and failing allocations are refused cleanly.
  */
 #define _POSIX_C_SOURCE 200809L
-#define VDBGI_BENCHMARK_API /* vdbgi_probes_trace_bare */
 #include "test_util.h"
+#include "vdbgi_bench.h"
 
 #include <math.h>
 

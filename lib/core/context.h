@@ -2,9 +2,7 @@
 #ifndef VDBGI_CONTEXT_H
 #define VDBGI_CONTEXT_H
 
-/* The library sees its benchmark calls too. */
-#define VDBGI_BENCHMARK_API
-#include "vdbgi.h"
+#include "vdbgi_bench.h" /* the library defines its benchmark calls too */
 
 #include <stdarg.h>
 #include <stdbool.h>

@@ -4,9 +4,9 @@
  * by the fill, the sun and the previous pass's map; the map is dilated
  * after each pass so the next one, and a GPU's filter, never read a gutter.
  */
-#define VDBGI_BENCHMARK_API /* vdbgi_scene_bake_surface */
 #include "lightmap.h"
 #include "util.h"
+#include "vdbgi_bench.h"
 
 #include <math.h>
 #include <string.h>

@@ -4,11 +4,11 @@
  * as a .glb (through gltf_shim.cpp).
  */
 #define _POSIX_C_SOURCE 200809L
-#define VDBGI_BENCHMARK_API /* vdbgi_lightmap_trace_bare, vdbgi_lightmap_result_boxes */
 #include "encode.h"
 #include "gltf_shim.h"
 #include "lightmap.h"
 #include "util.h"
+#include "vdbgi_bench.h"
 
 #include <errno.h>
 #include <math.h>

@@ -1,7 +1,7 @@
 /* scene.c: the triangle soup: building it, albedo at a hit, points on its surfaces. */
-#define VDBGI_BENCHMARK_API /* vdbgi_scene_sample_triangles */
 #include "scene.h"
 #include "util.h"
+#include "vdbgi_bench.h"
 
 #include <math.h>
 #include <stdio.h>
