@@ -1,61 +1,19 @@
 /*
  * fill.c: invalid and absent probes take values from valid neighbours, ring
- * by ring, over a sparse grid of 8^3 leaves; for 1 colour or 6 cube sides.
+ * by ring (fill_rings.c), over a sparse grid of 8^3 leaves; for 1 colour or 6
+ * cube sides. Here: the grid from the probes, its target, and the field out.
  */
-#include "field.h"
+#include "fill_grid.h"
 
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* A leaf of the grid being filled: which points are to be filled, which are. */
-typedef struct grid_leaf {
-    int32_t origin[3];
-    uint64_t target[8];  /* points the fill should reach */
-    uint64_t filled[8];  /* points holding a value */
-    uint64_t invalid[8]; /* invalid probes (for the darkest choice) */
-    int32_t nb[27];      /* the 3^3 leaves around this one, -1 where none */
-} grid_leaf;
-
-typedef struct grid {
-    vdbgi_context *ctx;
-    int channels;
-    int judged;    /* leading channels the darkest choice sums */
-    vdbgi_map map; /* origin -> leaf */
-    grid_leaf *leaves;
-    size_t leaf_capacity;
-    float *values; /* 512 * 3 * channels a leaf, allocated once the leaves are known */
-} grid;
-
-/* A point of the grid: leaf index and point number. */
-typedef struct point_ref {
-    uint32_t leaf, n;
-} point_ref;
-
-static bool bit(const uint64_t m[8], unsigned n)
-{
-    return m[n >> 6] >> (n & 63) & 1;
-}
-
-static void set_bit(uint64_t m[8], unsigned n)
-{
-    m[n >> 6] |= 1ull << (n & 63);
-}
-
-static size_t popcount512(const uint64_t m[8])
-{
-    size_t c = 0;
-    for (int w = 0; w < 8; w++)
-        c += (size_t)__builtin_popcountll(m[w]);
-    return c;
-}
 
 static unsigned point_number(const int32_t ijk[3])
 {
     return (unsigned)((ijk[0] & 7) << 6 | (ijk[1] & 7) << 3 | (ijk[2] & 7));
 }
 
-static void grid_free(grid *g)
+static void grid_free(vdbgi_fill_grid *g)
 {
     vdbgi_map_free(&g->map);
     vdbgi_free(g->ctx, g->leaves);
@@ -64,7 +22,7 @@ static void grid_free(grid *g)
 }
 
 /* The leaf holding ijk, created (all masks clear) if new. */
-static vdbgi_result grid_touch(grid *g, const int32_t ijk[3], uint32_t *leaf)
+static vdbgi_result grid_touch(vdbgi_fill_grid *g, const int32_t ijk[3], uint32_t *leaf)
 {
     const int32_t o[3] = {ijk[0] & ~7, ijk[1] & ~7, ijk[2] & ~7};
     size_t i;
@@ -73,7 +31,7 @@ static vdbgi_result grid_touch(grid *g, const int32_t ijk[3], uint32_t *leaf)
     if (added) {
         if (i == g->leaf_capacity) {
             const size_t capacity = g->leaf_capacity ? 2 * g->leaf_capacity : 64;
-            grid_leaf *const leaves = vdbgi_calloc(g->ctx, capacity, sizeof(*leaves));
+            vdbgi_fill_leaf *const leaves = vdbgi_calloc(g->ctx, capacity, sizeof(*leaves));
             if (!leaves)
                 return VDBGI_ERR_OUT_OF_MEMORY;
             if (g->leaves)
@@ -89,23 +47,18 @@ static vdbgi_result grid_touch(grid *g, const int32_t ijk[3], uint32_t *leaf)
     return VDBGI_OK;
 }
 
-static long grid_find(const grid *g, const int32_t ijk[3])
+static long grid_find(const vdbgi_fill_grid *g, const int32_t ijk[3])
 {
     const int32_t o[3] = {ijk[0] & ~7, ijk[1] & ~7, ijk[2] & ~7};
     return vdbgi_map_find(&g->map, o);
 }
 
-static float *grid_value(const grid *g, size_t leaf, unsigned n)
-{
-    return g->values + ((size_t)leaf * VDBGI_LEAF_VOXELS + n) * 3 * (size_t)g->channels;
-}
-
 /* Once the target is complete: neighbour tables and the value block. */
-static vdbgi_result grid_finish_target(grid *g)
+static vdbgi_result grid_finish_target(vdbgi_fill_grid *g)
 {
     const size_t count = g->map.count;
     for (size_t l = 0; l < count; l++) {
-        grid_leaf *const leaf = &g->leaves[l];
+        vdbgi_fill_leaf *const leaf = &g->leaves[l];
         for (int i = 0; i < 27; i++) {
             const int32_t o[3] = {leaf->origin[0] + (i % 3 - 1) * 8,
                                   leaf->origin[1] + (i / 3 % 3 - 1) * 8,
@@ -116,200 +69,6 @@ static vdbgi_result grid_finish_target(grid *g)
     g->values = vdbgi_calloc(g->ctx, count ? count * VDBGI_LEAF_VOXELS : 1,
                              3 * (size_t)g->channels * sizeof(float));
     return g->values ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
-}
-
-/* ---- one ring -------------------------------------------------------------- */
-
-typedef struct ring_job {
-    const grid *g;
-    const vdbgi_fill_params *fp;
-    const point_ref *points;
-    size_t begin, end;
-} ring_job;
-
-/*
- * The value of one point from its neighbours valued before this ring: the
- * weighted mean, or for an invalid probe between two valued face neighbours
- * its darkest neighbour. Sums in double, in a fixed neighbour order, so the
- * result does not depend on how the ring is split over threads.
- */
-static void fill_point(const grid *g, const vdbgi_fill_params *fp, point_ref p)
-{
-    const grid_leaf *const leaf = &g->leaves[p.leaf];
-    const int ch3 = 3 * g->channels;
-    const int x = (int)(p.n >> 6), y = (int)(p.n >> 3 & 7), z = (int)(p.n & 7);
-    const float w[4] = {0.0f, fp->weights[0], fp->weights[1], fp->weights[2]};
-    const bool invalid_probe = bit(leaf->invalid, p.n);
-    double sum[3 * VDBGI_FIELD_MAX_CHANNELS] = {0.0}, wsum = 0.0;
-    const float *dark = NULL;
-    float best = INFINITY;
-    uint32_t valued = 0; /* bit (dx+1) + 3(dy+1) + 9(dz+1) */
-    for (int dz = -1; dz <= 1; dz++)
-        for (int dy = -1; dy <= 1; dy++)
-            for (int dx = -1; dx <= 1; dx++) {
-                const int k = abs(dx) + abs(dy) + abs(dz);
-                const int nx = x + dx + 8, ny = y + dy + 8, nz = z + dz + 8;
-                const int32_t l = leaf->nb[nx / 8 + 3 * (ny / 8) + 9 * (nz / 8)];
-                const unsigned n = (unsigned)((nx & 7) << 6 | (ny & 7) << 3 | (nz & 7));
-                if (!k || l < 0 || !bit(g->leaves[l].filled, n))
-                    continue;
-                const float *const c = grid_value(g, (size_t)l, n);
-                for (int i = 0; i < ch3; i++)
-                    sum[i] += (double)c[i] * w[k];
-                wsum += w[k];
-                if (invalid_probe) {
-                    valued |= 1u << ((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1));
-                    /* Darkest by the sum of the judged channels' r + g + b; the first
-                       of equals, in this fixed order. */
-                    float s = 0.0f;
-                    for (int i = 0; i < 3 * g->judged; i += 3)
-                        s += c[i] + c[i + 1] + c[i + 2];
-                    if (s < best) {
-                        best = s;
-                        dark = c;
-                    }
-                }
-            }
-    /*
-     * A probe inside a thin wall is shared by the cells on both sides of it: when
-     * two of its face neighbours on one axis are both valued, its darkest neighbour
-     * keeps light from crossing (docs/stability.md). A probe under a floor, valued
-     * from one side only, takes the weighted mean, and so does one inside a convex
-     * corner, whose valued neighbours are diagonal. Face pairs: -x/+x are bits
-     * 12/14, -y/+y 10/16, -z/+z 4/22.
-     */
-    const bool across = ((valued >> 12 & valued >> 14) | (valued >> 10 & valued >> 16) |
-                         (valued >> 4 & valued >> 22)) &
-                        1u;
-    float *const out = grid_value(g, p.leaf, p.n);
-    for (int i = 0; i < ch3; i++)
-        out[i] = fp->darkest && across ? dark[i] : (float)(sum[i] / wsum);
-}
-
-static void *ring_worker(void *arg)
-{
-    const ring_job *const job = arg;
-    for (size_t i = job->begin; i < job->end; i++)
-        fill_point(job->g, job->fp, job->points[i]);
-    return NULL;
-}
-
-/* Values for every point of a ring, over threads: each writes only its own points. */
-static void fill_ring(const grid *g, const vdbgi_fill_params *fp, const point_ref *points,
-                      size_t count)
-{
-    enum { MAX_JOBS = 64 };
-    ring_job jobs[MAX_JOBS];
-    int n = fp->threads > 0 ? fp->threads : vdbgi_core_count();
-    n = n > MAX_JOBS ? MAX_JOBS : n;
-    /* A thread start costs about what a few thousand points do. */
-    if ((size_t)n > count / 4096 + 1)
-        n = (int)(count / 4096 + 1);
-    for (int t = 0; t < n; t++)
-        jobs[t] = (ring_job){g, fp, points, count * (size_t)t / (size_t)n,
-                             count * (size_t)(t + 1) / (size_t)n};
-    vdbgi_run_threads(n, ring_worker, jobs, sizeof(jobs[0]));
-}
-
-/*
- * Dilate each leaf's mask by one point along one axis (the masks of the 27
- * leaves around it from nb): bit n of a leaf is point x << 6 | y << 3 | z,
- * so word x holds its 8 x 8 y-z plane, y steps by 8 bits and z by 1. Three
- * passes, z then y then x, reach the 26 neighbours.
- */
-static void dilate(const grid *g, const uint64_t (*in)[8], uint64_t (*out)[8], int axis)
-{
-    static const uint64_t z0 = UINT64_C(0x0101010101010101), z7 = z0 << 7;
-    const int below = axis == 0 ? 4 : axis == 1 ? 10 : 12; /* nb index of the -axis leaf */
-    const int above = 26 - below;
-    for (size_t l = 0; l < g->map.count; l++) {
-        const uint64_t *const m = in[l];
-        const int32_t lo = g->leaves[l].nb[below], hi = g->leaves[l].nb[above];
-        for (int w = 0; w < 8; w++) {
-            uint64_t d = m[w];
-            if (axis == 0) { /* z, within each byte */
-                d |= (m[w] << 1 & ~z0) | (m[w] >> 1 & ~z7);
-                if (lo >= 0)
-                    d |= in[lo][w] >> 7 & z0;
-                if (hi >= 0)
-                    d |= (in[hi][w] & z0) << 7;
-            } else if (axis == 1) { /* y, by bytes */
-                d |= m[w] << 8 | m[w] >> 8;
-                if (lo >= 0)
-                    d |= in[lo][w] >> 56;
-                if (hi >= 0)
-                    d |= in[hi][w] << 56;
-            } else { /* x, by words */
-                d |= w > 0 ? m[w - 1] : lo >= 0 ? in[lo][7] : 0;
-                d |= w < 7 ? m[w + 1] : hi >= 0 ? in[hi][0] : 0;
-            }
-            out[l][w] = d;
-        }
-    }
-}
-
-/*
- * Spread ring by ring from the filled points until every target point holds
- * a value, a ring finds nothing, or fp->max_iterations rings have run. A
- * ring is the target points next to a filled one, found by dilating the
- * leaves' masks; a point's value reads only points filled before its ring,
- * so the order a ring is listed in changes nothing.
- */
-static vdbgi_result spread(grid *g, const vdbgi_fill_params *fp, size_t *unreached)
-{
-    vdbgi_context *const ctx = g->ctx;
-    const size_t leaf_count = g->map.count;
-    size_t remaining = 0, filled = 0;
-    for (size_t l = 0; l < leaf_count; l++) {
-        remaining += popcount512(g->leaves[l].target);
-        filled += popcount512(g->leaves[l].filled);
-    }
-    remaining -= filled; /* every filled point is a target point */
-    point_ref *const ring = vdbgi_calloc(ctx, remaining ? remaining : 1, sizeof(*ring));
-    uint64_t(*a)[8] = vdbgi_alloc(ctx, (leaf_count ? leaf_count : 1) * sizeof(*a));
-    uint64_t(*b)[8] = vdbgi_alloc(ctx, (leaf_count ? leaf_count : 1) * sizeof(*b));
-    if (!ring || !a || !b) {
-        vdbgi_free(ctx, ring);
-        vdbgi_free(ctx, a);
-        vdbgi_free(ctx, b);
-        return VDBGI_ERR_OUT_OF_MEMORY;
-    }
-    for (int iter = 0; iter < fp->max_iterations && remaining > 0; iter++) {
-        for (size_t l = 0; l < leaf_count; l++)
-            memcpy(a[l], g->leaves[l].filled, sizeof(a[l]));
-        dilate(g, (const uint64_t(*)[8])a, b, 0);
-        dilate(g, (const uint64_t(*)[8])b, a, 1);
-        dilate(g, (const uint64_t(*)[8])a, b, 2);
-        size_t count = 0;
-        for (size_t l = 0; l < leaf_count; l++)
-            for (int w = 0; w < 8; w++) {
-                uint64_t m = b[l][w] & g->leaves[l].target[w] & ~g->leaves[l].filled[w];
-                for (; m; m &= m - 1)
-                    ring[count++] =
-                        (point_ref){(uint32_t)l, (unsigned)(w << 6 | __builtin_ctzll(m))};
-            }
-        if (count == 0)
-            break; /* what is left cannot be reached from any source */
-        fill_ring(g, fp, ring, count);
-        for (size_t i = 0; i < count; i++)
-            set_bit(g->leaves[ring[i].leaf].filled, ring[i].n);
-        remaining -= count;
-    }
-    vdbgi_free(ctx, ring);
-    vdbgi_free(ctx, a);
-    vdbgi_free(ctx, b);
-    if (fp->core_z[0] < fp->core_z[1]) { /* a region's: its own points only */
-        remaining = 0;
-        for (size_t l = 0; l < leaf_count; l++) {
-            uint64_t left[8];
-            for (int w = 0; w < 8; w++)
-                left[w] = g->leaves[l].target[w] & ~g->leaves[l].filled[w];
-            remaining +=
-                vdbgi_mask_count_z(left, g->leaves[l].origin[2], fp->core_z[0], fp->core_z[1]);
-        }
-    }
-    *unreached = remaining;
-    return VDBGI_OK;
 }
 
 /* ---- from probes to the field ---------------------------------------------- */
@@ -329,7 +88,7 @@ typedef struct leaf_order {
  * The filled points as a field, leaves in tree order (the order sums over it
  * add in). The field takes over the grid's block of values.
  */
-static vdbgi_result export_field(grid *g, vdbgi_field *f)
+static vdbgi_result export_field(vdbgi_fill_grid *g, vdbgi_field *f)
 {
     vdbgi_context *const ctx = g->ctx;
     memset(f, 0, sizeof(*f));
@@ -337,7 +96,7 @@ static vdbgi_result export_field(grid *g, vdbgi_field *f)
     f->channels = g->channels;
     size_t count = 0;
     for (size_t l = 0; l < g->map.count; l++)
-        count += popcount512(g->leaves[l].filled) > 0;
+        count += fill_popcount512(g->leaves[l].filled) > 0;
     leaf_order *const order = vdbgi_calloc(ctx, count ? count : 1, sizeof(leaf_order));
     vdbgi_result r = order ? vdbgi_map_init(ctx, &f->index, count) : VDBGI_ERR_OUT_OF_MEMORY;
     if (r == VDBGI_OK && !(f->leaves = vdbgi_calloc(ctx, count ? count : 1, sizeof(vdbgi_leaf))))
@@ -351,14 +110,14 @@ static vdbgi_result export_field(grid *g, vdbgi_field *f)
     g->values = NULL;
     size_t n = 0;
     for (size_t l = 0; l < g->map.count; l++)
-        if (popcount512(g->leaves[l].filled) > 0) {
+        if (fill_popcount512(g->leaves[l].filled) > 0) {
             memcpy(order[n].origin, g->leaves[l].origin, sizeof(order[n].origin));
             order[n++].leaf = (uint32_t)l;
         }
     qsort(order, count, sizeof(leaf_order), compare_triples);
     const size_t leaf_floats = VDBGI_LEAF_VOXELS * 3 * (size_t)g->channels;
     for (size_t i = 0; i < count && r == VDBGI_OK; i++) {
-        const grid_leaf *const src = &g->leaves[order[i].leaf];
+        const vdbgi_fill_leaf *const src = &g->leaves[order[i].leaf];
         vdbgi_leaf *const dst = &f->leaves[i];
         memcpy(dst->origin, src->origin, sizeof(dst->origin));
         memcpy(dst->mask, src->filled, sizeof(dst->mask));
@@ -374,7 +133,7 @@ static vdbgi_result export_field(grid *g, vdbgi_field *f)
 }
 
 /* Every fine point of the cells, each dilated by rim points, as target. */
-static vdbgi_result mark_target(grid *g, const vdbgi_map *cells, int cell_size, int rim)
+static vdbgi_result mark_target(vdbgi_fill_grid *g, const vdbgi_map *cells, int cell_size, int rim)
 {
     uint32_t leaf = 0;
     int32_t leaf_origin[3] = {1, 1, 1}; /* no leaf has an odd origin */
@@ -390,7 +149,7 @@ static vdbgi_result mark_target(grid *g, const vdbgi_map *cells, int cell_size, 
                         VDBGI_TRY(grid_touch(g, p, &leaf));
                         memcpy(leaf_origin, g->leaves[leaf].origin, sizeof(leaf_origin));
                     }
-                    set_bit(g->leaves[leaf].target, point_number(p));
+                    fill_set_bit(g->leaves[leaf].target, point_number(p));
                 }
     }
     return VDBGI_OK;
@@ -455,7 +214,8 @@ static vdbgi_result occupied_cells(vdbgi_context *ctx, const vdbgi_fill_input *i
 }
 
 /* The valid probes' values into the grid's leaves; the invalid ones marked, for the darkest fill. */
-static void place_sources(grid *g, const vdbgi_fill_input *in, const vdbgi_fill_params *fp)
+static void place_sources(vdbgi_fill_grid *g, const vdbgi_fill_input *in,
+                          const vdbgi_fill_params *fp)
 {
     const size_t ch3 = 3 * (size_t)in->channels;
     for (size_t n = 0; n < in->count; n++) {
@@ -464,10 +224,10 @@ static void place_sources(grid *g, const vdbgi_fill_input *in, const vdbgi_fill_
         const unsigned pn = point_number(p);
         if (in->backface[n] <= fp->invalid_threshold) {
             /* Every source lies in a target cell, so its leaf exists. */
-            set_bit(g->leaves[l].filled, pn);
-            memcpy(grid_value(g, (size_t)l, pn), &in->values[ch3 * n], ch3 * sizeof(float));
+            fill_set_bit(g->leaves[l].filled, pn);
+            memcpy(fill_grid_value(g, (size_t)l, pn), &in->values[ch3 * n], ch3 * sizeof(float));
         } else if (fp->darkest && l >= 0) {
-            set_bit(g->leaves[l].invalid, pn);
+            fill_set_bit(g->leaves[l].invalid, pn);
         }
     }
 }
@@ -502,7 +262,8 @@ vdbgi_result vdbgi_field_fill(vdbgi_context *ctx, const vdbgi_fill_input *in,
                   VDBGI_FIELD_MAX_CHANNELS, in->channels);
     vdbgi_map cells = {0};
     size_t sources = 0;
-    grid g = {.ctx = ctx, .channels = in->channels, .judged = in->signed_terms ? 1 : in->channels};
+    vdbgi_fill_grid g = {
+        .ctx = ctx, .channels = in->channels, .judged = in->signed_terms ? 1 : in->channels};
     int32_t *out = NULL;
     vdbgi_result r = occupied_cells(ctx, in, fp, &cells, &sources, &off_top);
     if (r != VDBGI_OK)
@@ -528,7 +289,7 @@ vdbgi_result vdbgi_field_fill(vdbgi_context *ctx, const vdbgi_fill_input *in,
         (r = grid_finish_target(&g)) != VDBGI_OK)
         goto done;
     place_sources(&g, in, fp);
-    if ((r = spread(&g, fp, unreached)) != VDBGI_OK)
+    if ((r = vdbgi_fill_spread(&g, fp, unreached)) != VDBGI_OK)
         goto done;
     out = vdbgi_calloc(ctx, cells.count ? cells.count : 1, 3 * sizeof(int32_t));
     if (!out) {
@@ -577,7 +338,7 @@ vdbgi_result vdbgi_fill_dense(vdbgi_context *ctx, const int res[3], int channels
     VDBGI_FAIL_IF(ctx, channels < 1 || channels > VDBGI_FIELD_MAX_CHANNELS, VDBGI_ERR_INVALID_ARG,
                   "a field holds 1 to %d colours a point (got %d)", VDBGI_FIELD_MAX_CHANNELS,
                   channels);
-    grid g = {.ctx = ctx, .channels = channels, .judged = channels};
+    vdbgi_fill_grid g = {.ctx = ctx, .channels = channels, .judged = channels};
     const size_t ch3 = 3 * (size_t)channels;
     vdbgi_fill_params dense = *fp;
     dense.darkest = false;
@@ -588,7 +349,7 @@ vdbgi_result vdbgi_fill_dense(vdbgi_context *ctx, const int res[3], int channels
                 const int32_t p[3] = {x, y, z};
                 uint32_t l;
                 if ((r = grid_touch(&g, p, &l)) == VDBGI_OK)
-                    set_bit(g.leaves[l].target, point_number(p));
+                    fill_set_bit(g.leaves[l].target, point_number(p));
             }
     if (r == VDBGI_OK)
         r = grid_finish_target(&g);
@@ -601,13 +362,13 @@ vdbgi_result vdbgi_fill_dense(vdbgi_context *ctx, const int res[3], int channels
                     continue;
                 const int32_t p[3] = {x, y, z};
                 const long l = grid_find(&g, p);
-                set_bit(g.leaves[l].filled, point_number(p));
-                memcpy(grid_value(&g, (size_t)l, point_number(p)), &values[ch3 * i],
+                fill_set_bit(g.leaves[l].filled, point_number(p));
+                memcpy(fill_grid_value(&g, (size_t)l, point_number(p)), &values[ch3 * i],
                        ch3 * sizeof(float));
             }
     size_t unreached = 0;
     if (r == VDBGI_OK)
-        r = spread(&g, &dense, &unreached);
+        r = vdbgi_fill_spread(&g, &dense, &unreached);
     for (int z = 0; z < res[2] && r == VDBGI_OK; z++)
         for (int y = 0; y < res[1]; y++)
             for (int x = 0; x < res[0]; x++) {
@@ -615,9 +376,9 @@ vdbgi_result vdbgi_fill_dense(vdbgi_context *ctx, const int res[3], int channels
                     ((size_t)z * (size_t)res[1] + (size_t)y) * (size_t)res[0] + (size_t)x;
                 const int32_t p[3] = {x, y, z};
                 const long l = grid_find(&g, p);
-                if (valued[i] || !bit(g.leaves[l].filled, point_number(p)))
+                if (valued[i] || !fill_bit(g.leaves[l].filled, point_number(p)))
                     continue;
-                memcpy(&values[ch3 * i], grid_value(&g, (size_t)l, point_number(p)),
+                memcpy(&values[ch3 * i], fill_grid_value(&g, (size_t)l, point_number(p)),
                        ch3 * sizeof(float));
                 valued[i] = 1;
             }
