@@ -163,7 +163,7 @@ def sample(gi, pos):
     ind, compact = gi['ind'], gi['layout'] == 2
     if compact:  # the lift: below a column's lowest brick, that brick's bottom plane
         filled = ind.any(-1)
-        ymin = np.where(filled.any(1), filled.argmax(1), 1 << 30)[it[:, 2], it[:, 0]]
+        ymin = np.where(filled.any(1), filled.argmax(1), -(1 << 30))[it[:, 2], it[:, 0]]  # none: no lift
         lift = base[:, 1] < ymin
         base[:, 1] = np.where(lift, ymin, base[:, 1]).astype(F)
         it[:, 1] = np.where(lift, ymin, it[:, 1])

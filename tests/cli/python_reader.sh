@@ -1,7 +1,8 @@
 # tests/gi_reader.py, a reader written in Python from docs/format.md alone, agrees
 # with the C sampler (gi-inspect --at) at 1000 points, in the seed layout (version
 # 1), the compact layout packed (version 5, both encodings, with few and with many
-# level seams to stitch), and the compact layout's textures (version 2).
+# level seams to stitch), and the compact layout's textures (version 2); and between two
+# floors 76 m apart, where columns hold no brick and read black (no lift).
 /usr/bin/python3 -c 'import numpy' 2>/dev/null || { echo "no numpy for /usr/bin/python3"; exit 77; }
 "$BIN/gi-bake" -q "$DATA/world.glb" -o world.vdb --spacing 1 --rays 16 >/dev/null
 set -- $(awk 'BEGIN { s = 4242; for (i = 0; i < 1000; i++) {
@@ -32,3 +33,8 @@ RUN
 done
 "$BIN/gi-inspect" w.gi.gz --textures t.gi >/dev/null
 file=t.gi name="version 2, compact textures" compare "$@"
+printf 'v -42 0 -2\nv -38 0 -2\nv -38 0 2\nv -42 0 2\nv 38 0 -2\nv 42 0 -2\nv 42 0 2\nv 38 0 2\nf 4 3 2 1\nf 8 7 6 5\n' >gap.obj
+"$BIN/gi-bake" -q gap.obj -o gap.vdb --spacing 1 --rays 16 --sky 0.5,0.5,0.5
+"$BIN/vdb-to-gi" -q gap.vdb -o gap.gi.gz
+file=gap.gi.gz name="version 5, two floors and empty columns between" compare $(awk 'BEGIN {
+    for (i = 0; i <= 40; i++) printf "%.2f,0.5,0.3 ", -44 + i * 2.2 }')
