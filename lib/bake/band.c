@@ -187,11 +187,9 @@ static void *run_job(void *arg)
         tri t;
         double *const v[3] = {t.a, t.b, t.c};
         box b;
-        for (int k = 0; k < 3; k++) {
-            b.lo[k] = INT64_MAX, b.hi[k] = INT64_MIN;
+        for (int k = 0; k < 3; k++)
             for (int c = 0; c < 3; c++)
                 v[c][k] = d->positions[3 * (size_t)idx[c] + (size_t)k];
-        }
         for (int k = 0; k < 3; k++) {
             const double lo = fmin(t.a[k], fmin(t.b[k], t.c[k])) - limit - d->origin[k];
             const double hi = fmax(t.a[k], fmax(t.b[k], t.c[k])) + limit - d->origin[k];
