@@ -52,8 +52,16 @@ done
 pass=0 fail=0 skip=0 failed_names=""
 for i in "$ROOT/$BUILD"/tests/test_* "$ROOT"/tests/cli/*.sh; do
     case "$i" in *.o | *.d) continue ;; esac
-    case "$i" in *.sh) key=cli_$(basename "$i" .sh) ;; *) key=$(basename "$i") ;; esac
-    [ -f "$RESULTS/$key.count" ] || continue
+    case "$i" in
+    *.sh) key=cli_$(basename "$i" .sh) name=cli/$(basename "$i" .sh) ;;
+    *) key=$(basename "$i") name=$key ;;
+    esac
+    [ -x "$i" ] || [ "${i%.sh}" != "$i" ] || continue
+    if [ ! -f "$RESULTS/$key.count" ]; then # its runner died before the verdict
+        echo "---- $name: no verdict"
+        fail=$((fail + 1)) failed_names="$failed_names $name"
+        continue
+    fi
     read -r p f s names <"$RESULTS/$key.count"
     pass=$((pass + p)) fail=$((fail + f)) skip=$((skip + s))
     if [ "$f" -gt 0 ]; then
