@@ -1,5 +1,4 @@
 /* bench_convert.c: gi-bench convert: conversion size, error and time against reading the .vdb. */
-#define _DEFAULT_SOURCE /* mkstemps */
 #include "bench.h"
 #include "bench_lights.h"
 #include "cli.h"

@@ -1,5 +1,4 @@
 /* bench_memory.c: gi-bench memory: VRAM and file against the error at the receivers (CSV). */
-#define _DEFAULT_SOURCE /* mkstemps */
 #include "bench.h"
 #include "bench_lights.h"
 #include "cli.h"

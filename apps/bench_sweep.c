@@ -1,5 +1,4 @@
 /* bench_sweep.c: gi-bench sweep: speed against accuracy over rays, size and spacing (CSV). */
-#define _DEFAULT_SOURCE /* mkstemps */
 #include "bench.h"
 #include "bench_lights.h"
 #include "cli.h"

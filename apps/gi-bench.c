@@ -1,6 +1,6 @@
 /* gi-bench: measure vdbgi: the bake against a bare Embree loop over the same rays, the
    conversion, speed against accuracy, memory, lightmaps, the truth, lights (one file each). */
-#define _DEFAULT_SOURCE /* mkstemps */
+#define _DEFAULT_SOURCE /* posix_spawn, waitpid */
 #include "bench.h"
 #include "bench_lights.h"
 #include "cli.h"

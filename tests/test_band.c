@@ -153,10 +153,12 @@ static size_t brute_force(const soup *m, const vdbgi_band_desc *d, int32_t *out,
     return n;
 }
 
-static bool same_sorted(int32_t *ijk, size_t count, const int32_t *want, size_t want_count)
+/* ijk (sorted here) holds the points of want (sorted), no more; what names want. */
+static bool same_sorted(int32_t *ijk, size_t count, const int32_t *want, size_t want_count,
+                        const char *what)
 {
     if (count != want_count) {
-        fprintf(stderr, "  %zu points, the brute force %zu\n", count, want_count);
+        fprintf(stderr, "  %zu points, %s %zu\n", count, what, want_count);
         return false;
     }
     qsort(ijk, count, 3 * sizeof(int32_t), compare_ijk);
@@ -187,7 +189,7 @@ static void band_holds_exactly_the_points_within_the_margin(void)
         int32_t *ijk = NULL;
         size_t count = 0;
         CHECK_RESULT(ctx, vdbgi_band_points(ctx, &d, &ijk, &count), VDBGI_OK);
-        CHECK(ijk && same_sorted(ijk, count, want, want_count));
+        CHECK(ijk && same_sorted(ijk, count, want, want_count, "the brute force"));
         vdbgi_free(ctx, ijk);
     }
     /* Past the stated count: refused, naming it. */
@@ -246,21 +248,11 @@ static void a_slab_from_its_triangles_holds_the_whole_lattices_points(void)
         int32_t *ijk = NULL;
         size_t count = 0;
         CHECK_RESULT(ctx, vdbgi_band_points(ctx, &d, &ijk, &count), VDBGI_OK);
-        CHECK(ijk && count > 0 && same_sorted(ijk, count, want, want_count));
+        CHECK(ijk && count > 0 && same_sorted(ijk, count, want, want_count, "the brute force"));
         vdbgi_free(ctx, ijk);
     }
     free(want);
     vdbgi_context_destroy(ctx);
-}
-
-static bool same_points(const int32_t *a, size_t na, int32_t *b, size_t nb)
-{
-    if (na != nb) {
-        fprintf(stderr, "  whole lattice %zu points, tiles %zu\n", na, nb);
-        return false;
-    }
-    qsort(b, nb, 3 * sizeof(int32_t), compare_ijk);
-    return memcmp(a, b, 3 * sizeof(int32_t) * na) == 0;
 }
 
 /* The bundled world at the default 0.5 m, in 2 to 8 tiles, places the whole lattice's probes. */
@@ -276,7 +268,12 @@ static void tiles_of_the_bundled_world_place_the_whole_lattice(void)
     vdbgi_place_desc pd = {0};
     vdbgi_probes *whole = NULL;
     CHECK_RESULT(ctx, vdbgi_probes_place(ctx, world, &pd, &whole), VDBGI_OK);
-    const size_t n = whole ? whole->count : 0;
+    if (!whole) {
+        vdbgi_scene_destroy(world);
+        vdbgi_context_destroy(ctx);
+        return;
+    }
+    const size_t n = whole->count;
     int32_t *const all = malloc(3 * sizeof(int32_t) * (n + 1));
     int32_t *const tiled = malloc(3 * sizeof(int32_t) * (n + 1));
     memcpy(all, whole->ijk, 3 * sizeof(int32_t) * n);
@@ -295,9 +292,10 @@ static void tiles_of_the_bundled_world_place_the_whole_lattice(void)
             got += tile ? tile->count : 0;
             vdbgi_probes_destroy(tile);
         }
-        if (!(fits && same_points(all, n, tiled, got)))
+        const bool same = fits && same_sorted(tiled, got, all, n, "the whole lattice");
+        if (!same)
             fprintf(stderr, "  %d tiles differ from the whole lattice\n", tiles);
-        CHECK(fits && got == n && memcmp(all, tiled, 3 * sizeof(int32_t) * n) == 0);
+        CHECK(same);
     }
     free(all);
     free(tiled);

@@ -34,9 +34,9 @@ def grids(path):
 
 
 first = ["irradiance", "validity", "stderr"]
-names = grids(sys.argv[1]) | grids(sys.argv[2])
-for name in first + sorted(names - set(first)):
-    if name not in grids(sys.argv[1]) or name not in grids(sys.argv[2]):
+in_a, in_b = grids(sys.argv[1]), grids(sys.argv[2])
+for name in first + sorted((in_a | in_b) - set(first)):
+    if name not in in_a or name not in in_b:
         print(name, "in one file only: DIFFERENT")
         continue
     count, equal = same(sys.argv[1], sys.argv[2], name)
