@@ -24,7 +24,10 @@ static void usage(void)
            "  -o, --output FILE        the .glb to write (required; replaced only on success)\n"
            "      --texel M            metres a texel edge (0.25)\n"
            "      --size N             atlas edge in texels (1024); more atlases if needed\n"
-           "      --passes N           bounces, 1..16 (2)\n"
+           "      --passes N|auto      reflections, 1..16: every source's light reaches a\n"
+           "                           texel over at most N, as gi-bake's --bounces; auto:\n"
+           "                           until the last adds under 1 %% of the light (physical\n"
+           "                           model: auto; seed: 2, its fill stands in for the rest)\n"
            "      --direct             add the direct sun and lights (fully baked); default:\n"
            "                           bounced light only, the lights stay on at runtime\n"
            "      --mode M             lightmap or ao (ambient occlusion, the glTF\n"
@@ -89,6 +92,7 @@ enum {
 typedef struct options {
     const char *scene, *output, *slices, *stats;
     bool ao;
+    bool passes_auto; /* --passes auto: only the physical model bakes until converged */
     vdbgi_lightmap_desc lm;
 } options;
 
@@ -133,9 +137,13 @@ static int parse_args(int argc, char **argv, options *o)
             o->lm.size = (int)i;
             break;
         case OPT_PASSES:
-            if (!cli_parse_int(optarg, &i) || i < 1 || i > 16)
-                return cli_usage_error("--passes must be an integer in 1..16 (got '%s')", optarg);
-            o->lm.passes = (int)i;
+            if (strcmp(optarg, "auto") == 0)
+                o->lm.passes = 0, o->passes_auto = true;
+            else if (!cli_parse_int(optarg, &i) || i < 1 || i > VDBGI_LIGHTMAP_MAX_PASSES)
+                return cli_usage_error("--passes must be auto or an integer in 1..%d (got '%s')",
+                                       VDBGI_LIGHTMAP_MAX_PASSES, optarg);
+            else
+                o->lm.passes = (int)i;
             break;
         case OPT_DIRECT: o->lm.direct = 1; break;
         case OPT_MODE:
@@ -164,6 +172,9 @@ static int parse_args(int argc, char **argv, options *o)
     }
     if (o->ao && o->lm.layers)
         return cli_usage_error("--layers is for lightmaps, not --mode ao");
+    if (o->passes_auto && o->lm.bake.model != VDBGI_MODEL_PHYSICAL)
+        return cli_usage_error("--passes auto is for --model physical: the seed model's fill "
+                               "stands in for further passes (give --passes N)");
     if (o->ao)
         o->lm.ao_dist = (float)ao_dist;
     else if (ao_dist != 1.0)
@@ -202,10 +213,10 @@ static void print_figures(FILE *f, const run_figures *g, bool json)
                 "  \"charts\": %zu,\n  \"atlases\": %zu,\n  \"atlas_size\": %d,\n"
                 "  \"texels\": %zu,\n  \"utilisation\": %.4f,\n  \"samples\": %zu,\n"
                 "  \"invalid\": %zu,\n  \"layers\": %zu,\n  \"passes\": %d,\n"
-                "  \"pass_seconds\": [",
+                "  \"last_pass_share\": %.5f,\n  \"pass_seconds\": [",
                 g->o->ao ? "ao" : "lightmap", g->si.triangle_count, st->kept_uv1 ? "true" : "false",
                 st->charts, st->atlases, size, st->texels, st->utilisation, st->samples,
-                st->invalid, st->layers, st->passes);
+                st->invalid, st->layers, st->passes, st->last_share);
         for (int p = 0; p < st->passes && p < 16; p++)
             fprintf(f, "%s%.4f", p ? ", " : "", st->pass_seconds[p]);
         fprintf(f,
@@ -229,7 +240,10 @@ static void print_figures(FILE *f, const run_figures *g, bool json)
     fprintf(f, "passes   %d:", st->passes);
     for (int p = 0; p < st->passes && p < 16; p++)
         fprintf(f, " %.2f s", st->pass_seconds[p]);
-    fprintf(f, ", %.1f Mrays/s\n", mrays);
+    fprintf(f, ", %.1f Mrays/s", mrays);
+    if (!g->o->ao)
+        fprintf(f, "; the last added %.2f %% of the light", 100.0 * st->last_share);
+    fputc('\n', f);
     fprintf(f, "time     %.2f s: load %.2f, bake %.2f, write %.2f\n", g->load + g->bake + g->write,
             g->load, g->bake, g->write);
     fprintf(f, "output   %s (%s)\n", g->o->output, cli_bytes(g->glb_bytes, bytes, sizeof(bytes)));

@@ -5,6 +5,9 @@
   make_scenes.py --world SIZE OUT.glb writes a generated world SIZE x SIZE metres
   make_scenes.py --town OUT.glb       writes the town: 200 x 200 m, up to 60 m tall
   make_scenes.py --interior OUT.glb   writes two rooms lit by a window and by lamps
+  make_scenes.py --room OUT.glb       writes a 6 x 4 x 3 m room with a window, a red wall
+                                      and a 20 cd lamp, and OUT.json: the same scene for
+                                      a path tracer (tests/truth/)
 
 The outdoor world follows seed 000: orange canyon walls meeting green grass (a
 sharp colour seam), a few buildings with an embedded brick texture, trees
@@ -553,6 +556,35 @@ def write_interior(path):
     w.write(path)
 
 
+def write_room_truth(path):
+    """A 6 x 4 x 3 m room (x 0..6, z 0..4), a shell of inward faces with a 2 x 1.2 m
+    window in its south wall (z = 0), a red west wall, a 20 cd point lamp; and,
+    beside the .glb, a .json of the same triangles, albedos and lamp for a path
+    tracer to build the scene from (so both read one geometry)."""
+    h = 3.0
+    walls, red, floor_ = Mesh(), Mesh(), Mesh()
+    floor_.quad((0, 0, 4), (6, 0, 4), (6, 0, 0), (0, 0, 0))                                  # up
+    walls.quad((0, h, 0), (6, h, 0), (6, h, 4), (0, h, 4))                                   # ceiling
+    wall(walls, lambda s, y: (s, y, 0.0), 0.0, 6.0, h, (2.0, 4.0, 1.0, 2.2), (0, 0, 1))    # south
+    wall(walls, lambda s, y: (s, y, 4.0), 0.0, 6.0, h, None, (0, 0, -1))                   # north
+    wall(walls, lambda s, y: (6.0, y, s), 0.0, 4.0, h, None, (-1, 0, 0))                   # east
+    wall(red, lambda s, y: (0.0, y, s), 0.0, 4.0, h, None, (1, 0, 0))                      # west
+    parts = [("walls", walls, (0.8, 0.8, 0.8)), ("red wall", red, (0.7, 0.15, 0.1)),
+             ("floor", floor_, (0.5, 0.4, 0.3))]
+    lamp = {"position": [3.5, 2.6, 2.5], "color": [1.0, 1.0, 1.0], "intensity": 20.0}
+    w = GlbWriter()
+    for name, m, albedo in parts:
+        w.node(name, w.mesh(name, m, w.material(name, albedo)))
+    w.light("lamp", "point", lamp["color"], lamp["intensity"], lamp["position"])
+    w.write(path)
+    truth = {"meshes": [{"name": n, "albedo": a, "positions": m.pos, "indices": m.idx}
+                        for n, m, a in parts], "lamps": [lamp]}
+    base = path[:-4] if path.endswith(".glb") else path
+    with open(base + ".json.tmp", "w") as f:
+        json.dump(truth, f)
+    os.replace(base + ".json.tmp", base + ".json")
+
+
 def main(argv):
     if len(argv) == 3 and argv[0] == "--world":
         write_world(argv[2], float(argv[1]), seed=int(float(argv[1])))
@@ -562,6 +594,9 @@ def main(argv):
         return 0
     if len(argv) == 2 and argv[0] == "--interior":
         write_interior(argv[1])
+        return 0
+    if len(argv) == 2 and argv[0] == "--room":
+        write_room_truth(argv[1])
         return 0
     if argv:
         sys.stderr.write(__doc__)

@@ -235,9 +235,9 @@ typedef struct vdbgi_scene_info {
     size_t material_count;
     size_t texture_count;
     float bounds_min[3], bounds_max[3]; /* of the kept triangles, metres */
-    float ray_offset;                   /* self-intersection offset, metres */
-    const char *name;                   /* file name without directories */
-    size_t light_count;                 /* punctual lights (vdbgi_scene_get_lights) */
+    float ray_offset;   /* largest ray offset (1e-5 of the farthest coordinate), m */
+    const char *name;   /* file name without directories */
+    size_t light_count; /* punctual lights (vdbgi_scene_get_lights) */
 } vdbgi_scene_info;
 
 /* Describe a scene. Strings belong to the scene. */
@@ -1113,8 +1113,13 @@ typedef struct vdbgi_lightmap_result vdbgi_lightmap_result;
  *   texel:    metres a texel edge, > 0. 0 == 0.25.
  *   size:     atlas edge in texels, 16..16384. 0 == 1024. More atlases when
  *             the charts do not fit one; a chart larger than one shrinks.
- *   passes:   bounces, 1..16: pass k lights the hits with pass k-1's map.
- *             0 == 2.
+ *   passes:   reflections, 1..VDBGI_LIGHTMAP_MAX_PASSES: pass k lights the
+ *             hits with pass k-1's map, so every source's light reaches a
+ *             texel over at most that many. 0 == the model's default: under
+ *             the physical model pass after pass until the last adds less
+ *             than converge of the map's light (at least 2); under the seed
+ *             model 2 (seed 004's: its fill stands in for the rest).
+ *   converge: with passes 0, that share, in (0, 1). 0 == 0.01.
  *   direct:   non-zero: the map holds the texel's own sun too (fully
  *             baked); else bounced light only, the lights staying on at
  *             runtime (seed 004's default).
@@ -1135,6 +1140,7 @@ typedef struct vdbgi_lightmap_desc {
     float texel;
     int size;
     int passes;
+    float converge;
     int direct;
     float ao_dist;
     int layers; /* non-zero: also one map per light (seed 004's layers), which sum to the map */
@@ -1143,6 +1149,7 @@ typedef struct vdbgi_lightmap_desc {
 } vdbgi_lightmap_desc;
 
 #define VDBGI_LIGHTMAP_MAX_LAYERS 16
+#define VDBGI_LIGHTMAP_MAX_PASSES 16
 /* Most atlas texels a lightmap takes (about 60 bytes each while baking: 1 GB). */
 #define VDBGI_LIGHTMAP_MAX_TEXELS (1 << 24)
 /* Most hemisphere rays it traces, texels x rays x passes (minutes on a few cores). */
@@ -1156,7 +1163,8 @@ typedef struct vdbgi_lightmap_stats {
     size_t samples;     /* texels that sample a triangle */
     size_t invalid;     /* samples inside geometry or behind back faces (filled in) */
     double utilisation; /* chart texels over atlas texels */
-    int passes;
+    int passes;         /* done */
+    double last_share;  /* of the map's light, the last pass's (0 for AO) */
     double pass_seconds[16];
     double seconds; /* the whole bake, unwrap included */
     unsigned long long rays;

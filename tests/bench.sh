@@ -4,7 +4,8 @@
 # size, error and time against reading the .vdb; then gi-lightmap against a
 # bare loop over its rays, per pass, and its packing against potpack; then what each method
 # gives a surface against the hemisphere truth (gi-bench truth); then the scene's own light on
-# the interior (gi-bench lights, and truth under the physical model); then where the bytes of the
+# the interior (gi-bench lights, truth under the physical model, and Cycles where blender is
+# installed: tests/truth/room_vs_cycles.sh); then where the bytes of the
 # default volume go on those two and the town (tests/breakdown.py, Debian's
 # python3); then the browser runtime's load and frame times in headless
 # Chromium (tests/web/bench_web.mjs, docs/web.md). Writes build/bench/bench.md.
@@ -48,6 +49,14 @@ mkdir -p "$OUT"
     echo "### The scene's own light: cost, bounces and rays (docs/lights.md)"
     echo
     "$BUILD/bin/gi-bench" lights "$OUT/interior.glb" --repeat 2 --out "$OUT/lights"
+    echo
+    echo "### Every source's light counted alike: against Cycles (docs/lights.md)"
+    echo
+    if command -v blender > /dev/null; then
+        sh tests/truth/room_vs_cycles.sh "$BUILD/bin" "$OUT/cycles"
+    else
+        echo "(no blender: apt install blender to compare with Cycles)"
+    fi
     echo
     "$BUILD/bin/gi-bench" truth "$OUT/interior.glb" --model physical --bounces 3 --spacing 0.25 \
         --rays 1024 --out "$OUT/truth_interior"

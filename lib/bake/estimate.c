@@ -22,29 +22,29 @@ typedef struct probe_sums {
 } probe_sums;
 
 /*
- * Light from the lamps at count surface points: the shadow ray of each lamp
- * from each point that it can light (org: the point one ray offset off its
- * surface; n: facing normal), and for the open ones radiance[ray[i]] +=
- * weight[i] x f x the lamp's colour. Returns the shadow rays traced.
+ * Light from the lamps at the count path hits in th (phit, porg, poff,
+ * pnorm, pweight, pray): each lamp is read at the hit itself, and its shadow
+ * ray starts at the hit's origin, one offset off the surface; for the open
+ * ones radiance[ray[i]] += weight[i] x f x the lamp's colour. Returns the
+ * shadow rays traced.
  */
-static size_t light_points(vdbgi_estimator *th, const float *org, const float *n,
-                           const float *weight, const uint32_t *ray, size_t count)
+static size_t light_points(vdbgi_estimator *th, size_t count)
 {
     const vdbgi_bake_params *const bp = th->bp;
-    const float off = th->scene->ray_offset;
     size_t traced = 0;
     for (int li = 0; li < bp->lamp_count; li++) {
         const vdbgi_lamp *const l = &bp->lamps[li];
         size_t m = 0;
         for (size_t i = 0; i < count; i++) {
             float f, dist;
-            if (!vdbgi_lamp_light(l, &org[3 * i], &n[3 * i], &f, &th->sdir[3 * m], &dist))
+            if (!vdbgi_lamp_light(l, &th->phit[3 * i], &th->pnorm[3 * i], &f, &th->sdir[3 * m],
+                                  &dist))
                 continue;
-            memcpy(&th->sorg[3 * m], &org[3 * i], 3 * sizeof(float));
-            th->sdist[m] = dist - off; /* stop short of a lamp on a surface */
+            memcpy(&th->sorg[3 * m], &th->porg[3 * i], 3 * sizeof(float));
+            th->sdist[m] = dist - th->poff[i]; /* stop short of a lamp on a surface */
             for (int k = 0; k < 3; k++)
-                th->sun_weight[3 * m + k] = weight[3 * i + k] * f * l->rgb[k];
-            th->shadow_ray[m] = ray[i];
+                th->sun_weight[3 * m + k] = th->pweight[3 * i + k] * f * l->rgb[k];
+            th->shadow_ray[m] = th->pray[i];
             m++;
         }
         if (!m)
@@ -59,6 +59,41 @@ static size_t light_points(vdbgi_estimator *th, const float *org, const float *n
                         th->radiance[3 * th->shadow_ray[s] + k] += th->sun_weight[3 * s + k];
     }
     return traced;
+}
+
+/*
+ * Path slot i becomes hit h of a ray along d: the point on the surface, the
+ * origin one offset off its side facing the ray, that side's normal, and
+ * throughput w.
+ */
+static void set_path_hit(vdbgi_estimator *th, size_t i, const vdbgi_hit *h, const float d[3],
+                         const float w[3])
+{
+    const float *const tn = th->scene->tris[h->prim].normal;
+    const float flip = tn[0] * d[0] + tn[1] * d[1] + tn[2] * d[2] > 0.0f ? -1.0f : 1.0f;
+    float p[3];
+    const float off = vdbgi_scene_hit_point(th->scene, h->prim, h->u, h->v, p);
+    for (int k = 0; k < 3; k++) {
+        th->phit[3 * i + k] = p[k];
+        th->pnorm[3 * i + k] = tn[k] * flip;
+        th->porg[3 * i + k] = p[k] + off * tn[k] * flip;
+        th->pweight[3 * i + k] = w[k];
+    }
+    th->poff[i] = off;
+}
+
+/*
+ * The longest path, in surface hits, that still brings light to the point.
+ * Lamps are read at each of a path's bounces hits; the physical model lets
+ * the path go one ray further for what is met by looking, the sky and
+ * emitters, so that N bounces carry every source over N reflections. The seed
+ * model keeps seed 000's count; a previous pass's map (hit_light) already
+ * holds what the first hit sees.
+ */
+static int path_rays(const vdbgi_estimator *th)
+{
+    const vdbgi_bake_params *const bp = th->bp;
+    return bp->bounces + (bp->model == VDBGI_MODEL_PHYSICAL && !th->hit_light);
 }
 
 /* Unit t and b completing unit n to a right-handed frame (t, b, n). */
@@ -102,20 +137,20 @@ static void cosine_direction(const float n[3], double u1, double u2, float out[3
 }
 
 /*
- * Bounces 2..bp->bounces of the paths that left count hits (th->porg, pnorm,
- * pweight, pray): one cosine-weighted ray each per bounce, its own random
- * numbers from the point's stream, the ray's index and the bounce. A miss
- * brings the sky; a hit its emission and its lamps, times the path's
- * throughput; then the path goes on from there with its albedo. Returns
- * the rays traced (paths and shadows).
+ * Rays 2..path_rays of the paths that left count hits (th's path arrays):
+ * one cosine-weighted ray each, its own random numbers from the point's
+ * stream, the ray's index and the bounce. A miss brings the sky, a hit its
+ * emission, times the path's throughput; within the bounces the hit's lamps
+ * are read and the path goes on from there with its albedo. Returns the rays
+ * traced (paths and shadows).
  */
 static size_t trace_bounces(vdbgi_estimator *th, size_t count, size_t first_ray)
 {
     const vdbgi_bake_params *const bp = th->bp;
     const vdbgi_scene *const scene = th->scene;
-    const float off = scene->ray_offset;
+    const int last = path_rays(th);
     size_t traced = 0;
-    for (int b = 2; b <= bp->bounces && count; b++) {
+    for (int b = 2; b <= last && count; b++) {
         for (size_t i = 0; i < count; i++) {
             uint64_t st = th->stream ^
                           ((uint64_t)(first_ray + th->pray[i]) * 0x9E3779B97F4A7C15ull) ^
@@ -127,6 +162,7 @@ static size_t trace_bounces(vdbgi_estimator *th, size_t count, size_t first_ray)
         const vdbgi_ray_batch rays = {th->porg, th->dir, 3, 3, 0.0f, bp->ray_dist, count, NULL};
         vdbgi_tracer_intersect(th->tracer, bp->method, &rays, th->hits, th->scratch);
         traced += count;
+        const bool goes_on = b <= bp->bounces;
         size_t live = 0;
         for (size_t i = 0; i < count; i++) {
             const vdbgi_hit *const h = &th->hits[i];
@@ -140,26 +176,24 @@ static size_t trace_bounces(vdbgi_estimator *th, size_t count, size_t first_ray)
                     L[k] += w[k] * sky[k];
                 continue;
             }
-            const vdbgi_tri *const tri = &scene->tris[h->prim];
-            const float *const tn = tri->normal;
-            const float facing = tn[0] * d[0] + tn[1] * d[1] + tn[2] * d[2];
-            const float flip = facing > 0.0f ? -1.0f : 1.0f;
-            float albedo[3], e[3];
-            vdbgi_scene_albedo(scene, h->prim, h->u, h->v, albedo);
-            if (hit_emission(bp, scene, h, flip > 0.0f, e))
+            const float *const tn = scene->tris[h->prim].normal;
+            const bool front = tn[0] * d[0] + tn[1] * d[1] + tn[2] * d[2] <= 0.0f;
+            float e[3];
+            if (hit_emission(bp, scene, h, front, e))
                 for (int k = 0; k < 3; k++)
                     L[k] += w[k] * e[k];
+            if (!goes_on)
+                continue;
             /* The path goes on from this hit (compacted in place: live <= i). */
-            const float *const o = &th->porg[3 * i];
-            for (int k = 0; k < 3; k++) {
-                th->pnorm[3 * live + k] = tn[k] * flip;
-                th->porg[3 * live + k] = o[k] + h->t * d[k] + off * tn[k] * flip;
-                th->pweight[3 * live + k] = w[k] * albedo[k];
-            }
+            float albedo[3], wa[3];
+            vdbgi_scene_albedo(scene, h->prim, h->u, h->v, albedo);
+            for (int k = 0; k < 3; k++)
+                wa[k] = w[k] * albedo[k];
             th->pray[live] = th->pray[i];
-            live++;
+            set_path_hit(th, live++, h, d, wa);
         }
-        traced += light_points(th, th->porg, th->pnorm, th->pweight, th->pray, live);
+        if (goes_on)
+            traced += light_points(th, live);
         count = live;
     }
     return traced;
@@ -182,7 +216,6 @@ static void trace_batch(vdbgi_estimator *th, const float pos[3], const float *di
     vdbgi_tracer_intersect(th->tracer, bp->method, &primary, th->hits, th->scratch);
 
     size_t hit_count = 0;
-    const float off = scene->ray_offset;
     for (int i = 0; i < n; i++) {
         const vdbgi_hit *const h = &th->hits[i];
         float *const L = &th->radiance[3 * i];
@@ -196,11 +229,9 @@ static void trace_batch(vdbgi_estimator *th, const float pos[3], const float *di
         const float *const tn = tri->normal;
         const float facing = tn[0] * d[0] + tn[1] * d[1] + tn[2] * d[2];
         /* The ray arrives from the side the normal points away from: a back face. */
-        const float flip = facing > 0.0f ? -1.0f : 1.0f;
         if (facing > 0.0f && !(tri->flags & VDBGI_TRI_DOUBLE_SIDED))
             sums->back++;
-        float *const albedo_w = &th->pweight[3 * hit_count];
-        albedo_w[0] = albedo_w[1] = albedo_w[2] = 0.0f;
+        float albedo_w[3] = {0.0f, 0.0f, 0.0f};
         L[0] = L[1] = L[2] = 0.0f;
         if (th->shade) {
             float albedo[3], extra[3] = {0.0f, 0.0f, 0.0f};
@@ -214,19 +245,15 @@ static void trace_batch(vdbgi_estimator *th, const float pos[3], const float *di
                 L[k] = albedo_w[k] * (bp->ambient + extra[k]);
             }
             float e[3];
-            if (hit_emission(bp, scene, h, flip > 0.0f, e))
+            if (hit_emission(bp, scene, h, facing <= 0.0f, e))
                 for (int k = 0; k < 3; k++)
                     L[k] += w * e[k];
         }
-        /* The hit's point one ray offset off its lit side, and that side's normal. */
-        for (int k = 0; k < 3; k++) {
-            th->pnorm[3 * hit_count + k] = tn[k] * flip;
-            th->porg[3 * hit_count + k] = pos[k] + h->t * d[k] + off * tn[k] * flip;
-        }
-        th->pray[hit_count++] = (uint32_t)i;
+        th->pray[hit_count] = (uint32_t)i;
+        set_path_hit(th, hit_count++, h, d, albedo_w);
     }
-    size_t shadow_count = light_points(th, th->porg, th->pnorm, th->pweight, th->pray, hit_count);
-    if (bp->bounces > 1)
+    size_t shadow_count = light_points(th, hit_count);
+    if (path_rays(th) > 1)
         shadow_count += trace_bounces(th, hit_count, sums->rays);
     sums->rays += (size_t)n;
     sums->shadow += shadow_count;
@@ -393,14 +420,16 @@ vdbgi_result vdbgi_estimator_init(vdbgi_context *ctx, vdbgi_estimator *e, int se
     e->occluded = vdbgi_calloc(ctx, n, 1);
     e->sdir = vdbgi_calloc(ctx, n, 3 * sizeof(float));
     e->sdist = vdbgi_calloc(ctx, n, sizeof(float));
+    e->phit = vdbgi_calloc(ctx, n, 3 * sizeof(float));
     e->porg = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+    e->poff = vdbgi_calloc(ctx, n, sizeof(float));
     e->pnorm = vdbgi_calloc(ctx, n, 3 * sizeof(float));
     e->pweight = vdbgi_calloc(ctx, n, 3 * sizeof(float));
     e->pray = vdbgi_calloc(ctx, n, sizeof(uint32_t));
     e->scratch = vdbgi_alloc(ctx, vdbgi_tracer_scratch_size(n));
     if (!e->dir || !e->sorg || !e->sun_weight || !e->shadow_ray || !e->radiance || !e->hits ||
-        !e->occluded || !e->sdir || !e->sdist || !e->porg || !e->pnorm || !e->pweight || !e->pray ||
-        !e->scratch) {
+        !e->occluded || !e->sdir || !e->sdist || !e->phit || !e->porg || !e->poff || !e->pnorm ||
+        !e->pweight || !e->pray || !e->scratch) {
         vdbgi_estimator_free(ctx, e);
         return VDBGI_ERR_OUT_OF_MEMORY;
     }
@@ -419,11 +448,13 @@ void vdbgi_estimator_free(vdbgi_context *ctx, vdbgi_estimator *e)
     vdbgi_free(ctx, e->scratch);
     vdbgi_free(ctx, e->sdir);
     vdbgi_free(ctx, e->sdist);
+    vdbgi_free(ctx, e->phit);
     vdbgi_free(ctx, e->porg);
+    vdbgi_free(ctx, e->poff);
     vdbgi_free(ctx, e->pnorm);
     vdbgi_free(ctx, e->pweight);
     vdbgi_free(ctx, e->pray);
-    e->sdir = e->sdist = e->porg = e->pnorm = e->pweight = NULL;
+    e->sdir = e->sdist = e->phit = e->porg = e->poff = e->pnorm = e->pweight = NULL;
     e->pray = NULL;
     e->dir = e->sorg = e->sun_weight = e->radiance = NULL;
     e->shadow_ray = NULL;

@@ -123,8 +123,12 @@ typedef struct vdbgi_estimator {
     uint32_t *shadow_ray; /* per shadow ray: the primary ray it continues */
     vdbgi_hit *hits;
     unsigned char *occluded;
-    /* Bounces past the first: per ray, the path's hit, facing normal and throughput. */
-    float *porg, *pnorm, *pweight;
+    /*
+     * The paths' current hits, per ray: the point on the surface (where the
+     * lamps are read), the ray origin one offset off its lit side, that
+     * offset, the facing normal and the path's throughput.
+     */
+    float *phit, *porg, *poff, *pnorm, *pweight;
     uint32_t *pray;
     uint64_t stream; /* the point's, for the bounces' random numbers */
     void *scratch;

@@ -55,7 +55,8 @@ typedef struct pass_shared {
     const uint32_t *samples;    /* texel indices that sample a triangle */
     size_t sample_count;
     int pass;
-    bool direct;
+    bool direct;      /* add the texel's own lamps to what it gathers */
+    bool direct_only; /* only add them, to the map out already holds */
     float ao_dist;
     float *out;           /* 3 per texel */
     unsigned char *valid; /* per texel, written in the first pass */
@@ -95,14 +96,17 @@ static void *run_pass(void *arg)
         const size_t i = sh->samples[s];
         const int32_t tri = sh->tx->tri[i];
         const float *const n = sh->scene->tris[tri].normal;
+        /* The texel's point on its triangle, and the rays' origin one offset in front. */
         const float *const pos = &sh->tx->pos[3 * i];
+        const float off = vdbgi_scene_offset(sh->scene, (uint32_t)tri);
+        const float org[3] = {pos[0] + off * n[0], pos[1] + off * n[1], pos[2] + off * n[2]};
         const uint64_t stream = vdbgi_point_stream((int32_t)(i % size), (int32_t)(i / size % size),
                                                    (int32_t)(i / (size * size)), bp->seed);
         if (sh->ao_dist > 0.0f) {
             /* Ambient occlusion: the open part of the cosine-weighted hemisphere. */
             vdbgi_hemisphere_turn(th->est.base_dirs, bp->rays, n, stream,
                                   bp->sampling == VDBGI_SAMPLING_RANDOM, th->est.dir);
-            const vdbgi_ray_batch rays = {pos,         th->est.dir,      0,   3, 0.0f,
+            const vdbgi_ray_batch rays = {org,         th->est.dir,      0,   3, 0.0f,
                                           sh->ao_dist, (size_t)bp->rays, NULL};
             vdbgi_tracer_occluded(th->est.tracer, bp->method, &rays, th->est.occluded,
                                   th->est.scratch);
@@ -115,25 +119,28 @@ static void *run_pass(void *arg)
                 sh->out[3 * i + (size_t)k] = (float)open / (float)bp->rays;
             continue;
         }
-        vdbgi_estimate e;
-        vdbgi_estimate_hemisphere(&th->est, pos, n, stream, &e);
-        th->rays += e.rays + e.shadow;
-        if (sh->pass == 0)
-            sh->valid[i] = e.backface <= bp->invalid_threshold;
-        if (!sh->valid[i])
-            continue;
         float *const o = &sh->out[3 * i];
-        for (int k = 0; k < 3; k++)
-            o[k] = PI_F * e.rgb[k];
+        if (!sh->direct_only) {
+            vdbgi_estimate e;
+            vdbgi_estimate_hemisphere(&th->est, org, n, stream, &e);
+            th->rays += e.rays + e.shadow;
+            if (sh->pass == 0)
+                sh->valid[i] = e.backface <= bp->invalid_threshold;
+            if (!sh->valid[i])
+                continue;
+            for (int k = 0; k < 3; k++)
+                o[k] = PI_F * e.rgb[k];
+        } else if (!sh->valid[i]) {
+            continue;
+        }
         /* Fully baked: the texel's own lamps, E = pi f rgb (the lamps' light is E / pi). */
-        for (int li = 0; sh->direct && li < bp->lamp_count; li++) {
+        for (int li = 0; (sh->direct || sh->direct_only) && li < bp->lamp_count; li++) {
             const vdbgi_lamp *const l = &bp->lamps[li];
             float f, dir[3], dist;
             if (!vdbgi_lamp_light(l, pos, n, &f, dir, &dist))
                 continue;
             unsigned char blocked = 0;
-            const float tfar = dist - sh->scene->ray_offset;
-            const vdbgi_ray_batch ray = {pos, dir, 0, 0, 0.0f, tfar, 1, NULL};
+            const vdbgi_ray_batch ray = {org, dir, 0, 0, 0.0f, dist - off, 1, NULL};
             vdbgi_tracer_occluded(th->est.tracer, bp->method, &ray, &blocked, th->est.scratch);
             th->rays++;
             if (!blocked)
@@ -142,6 +149,51 @@ static void *run_pass(void *arg)
         }
     }
     return NULL;
+}
+
+/*
+ * One sweep of the threads over the samples into *cur (zeroed first, or for
+ * the lamps alone a copy of the map), dilated; then *cur becomes the map and
+ * the map the previous one (a swap of the buffers).
+ */
+static vdbgi_result sweep(pass_shared *sh, pass_thread *ths, int nth, vdbgi_tracer *tracer,
+                          const vdbgi_lightmap_params *lp, unsigned char *keep, float **cur,
+                          vdbgi_lightmap *out, vdbgi_lightmap *prev)
+{
+    const size_t texels = out->texel_count, n = sh->sample_count;
+    if (sh->direct_only)
+        memcpy(*cur, out->rgb, texels * 3 * sizeof(float));
+    else
+        memset(*cur, 0, texels * 3 * sizeof(float));
+    sh->prev = sh->pass ? prev : NULL;
+    sh->out = *cur;
+    for (int t = 0; t < nth; t++) {
+        ths[t].est.hit_light = sh->pass ? previous_light : NULL;
+        ths[t].begin = n * (size_t)t / (size_t)nth;
+        ths[t].end = n * (size_t)(t + 1) / (size_t)nth;
+    }
+    vdbgi_run_threads(nth, run_pass, ths, sizeof(*ths));
+    VDBGI_TRY(vdbgi_tracer_check(tracer));
+    memcpy(keep, out->valid, texels);
+    if (!lp->bare)
+        VDBGI_TRY(vdbgi_texels_dilate(sh->tx, *cur, 3, keep, lp->rings));
+    float *const done_map = *cur;
+    *cur = out->rgb;
+    out->rgb = done_map;
+    prev->rgb = out->rgb;
+    prev->texel_count = texels;
+    return VDBGI_OK;
+}
+
+/* The map's light: the sum over its valid samples and channels, in order (the same bits). */
+static double map_light(const vdbgi_lightmap *m, const uint32_t *samples, size_t n)
+{
+    double light = 0.0;
+    for (size_t s = 0; s < n; s++)
+        if (m->valid[samples[s]])
+            for (int k = 0; k < 3; k++)
+                light += m->rgb[3 * (size_t)samples[s] + (size_t)k];
+    return light;
 }
 
 /*
@@ -155,8 +207,12 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
                                  vdbgi_lightmap *out)
 {
     memset(out, 0, sizeof(*out));
-    VDBGI_FAIL_IF(ctx, lp->passes < 1 || lp->passes > 16, VDBGI_ERR_INVALID_ARG,
-                  "passes must be 1..16 (got %d)", lp->passes);
+    VDBGI_FAIL_IF(ctx, lp->passes < 0 || lp->passes > VDBGI_LIGHTMAP_MAX_PASSES,
+                  VDBGI_ERR_INVALID_ARG, "passes must be 1..%d, or 0 until converged (got %d)",
+                  VDBGI_LIGHTMAP_MAX_PASSES, lp->passes);
+    VDBGI_FAIL_IF(ctx, lp->passes == 0 && !(lp->converge > 0.0f && lp->converge < 1.0f),
+                  VDBGI_ERR_INVALID_ARG, "the converged share must be in (0, 1) (got %g)",
+                  (double)lp->converge);
     VDBGI_FAIL_IF(ctx, bp->adaptive, VDBGI_ERR_INVALID_ARG,
                   "lightmaps take a fixed ray count, not --rays auto");
     VDBGI_FAIL_IF(ctx, !(lp->ao_dist >= 0.0f) || !isfinite(lp->ao_dist), VDBGI_ERR_INVALID_ARG,
@@ -191,7 +247,15 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
         if (tx->tri[i] >= 0)
             samples[n++] = (uint32_t)i;
     vdbgi_hemisphere_directions(bp->rays, dirs);
-    pass_shared sh = {scene, un, tx, bp, NULL, samples, n, 0, false, lp->ao_dist, cur, out->valid};
+    pass_shared sh = {.scene = scene,
+                      .un = un,
+                      .tx = tx,
+                      .bp = bp,
+                      .samples = samples,
+                      .sample_count = n,
+                      .ao_dist = lp->ao_dist,
+                      .out = cur,
+                      .valid = out->valid};
     for (int t = 0; t < nth && r == VDBGI_OK; t++) {
         ths[t].sh = &sh;
         ths[t].est = (vdbgi_estimator){.scene = scene,
@@ -202,33 +266,28 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
                                        .hit_user = &sh};
         r = vdbgi_estimator_init(ctx, &ths[t].est, bp->rays);
     }
-    const int passes = lp->ao_dist > 0.0f ? 1 : lp->passes; /* AO bounces nothing */
-    for (int pass = 0; r == VDBGI_OK && pass < passes; pass++) {
-        const double t0 = vdbgi_now();
+    /* AO bounces nothing; until converged, the texels' own lamps come after the last pass. */
+    const bool until = lp->ao_dist <= 0.0f && lp->passes == 0;
+    const int most = lp->ao_dist > 0.0f ? 1 : until ? VDBGI_LIGHTMAP_MAX_PASSES : lp->passes;
+    double light_before = 0.0;
+    for (int pass = 0; r == VDBGI_OK && pass < most; pass++) {
         sh.pass = pass;
-        sh.direct = lp->direct && pass == passes - 1;
-        sh.prev = pass ? &prev : NULL;
-        sh.out = cur;
-        memset(cur, 0, texels * 3 * sizeof(float));
-        for (int t = 0; t < nth; t++) {
-            ths[t].est.hit_light = pass ? previous_light : NULL;
-            ths[t].begin = n * (size_t)t / (size_t)nth;
-            ths[t].end = n * (size_t)(t + 1) / (size_t)nth;
-        }
-        vdbgi_run_threads(nth, run_pass, ths, sizeof(*ths));
-        if ((r = vdbgi_tracer_check(tracer)) != VDBGI_OK)
+        sh.direct = lp->direct && !until && pass == most - 1;
+        const double t0 = vdbgi_now();
+        if ((r = sweep(&sh, ths, nth, tracer, lp, keep, &cur, out, &prev)) != VDBGI_OK)
             break;
-        memcpy(keep, out->valid, texels);
-        if (!lp->bare && (r = vdbgi_texels_dilate(tx, cur, 3, keep, lp->rings)) != VDBGI_OK)
-            break;
-        /* This pass's map becomes the previous one: swap the buffers. */
-        float *const done_map = cur;
-        cur = out->rgb;
-        out->rgb = done_map;
-        prev.rgb = out->rgb;
-        prev.texel_count = texels;
         if (pass < (int)(sizeof(out->pass_seconds) / sizeof(out->pass_seconds[0])))
             out->pass_seconds[pass] = vdbgi_now() - t0;
+        out->passes = pass + 1;
+        const double light = map_light(out, samples, n);
+        out->last_share = light > 0.0 ? (light - light_before) / light : 0.0;
+        light_before = light;
+        if (until && pass >= 1 && !(out->last_share >= lp->converge))
+            break;
+    }
+    if (r == VDBGI_OK && until && lp->direct) {
+        sh.direct_only = true;
+        r = sweep(&sh, ths, nth, tracer, lp, keep, &cur, out, &prev);
     }
     for (int t = 0; t < nth; t++)
         out->rays += ths[t].rays;
@@ -303,12 +362,11 @@ static void place_on_triangle(const vdbgi_scene *scene, const void *user, size_t
                               float n[3])
 {
     const on_triangles *const t = user;
-    const uint32_t *const idx = &scene->indices[3 * (size_t)t->prims[i]];
     memcpy(n, scene->tris[t->prims[i]].normal, 3 * sizeof(float));
-    const float u = t->uv[2 * i], v = t->uv[2 * i + 1], w = 1.0f - u - v;
+    const float off =
+        vdbgi_scene_hit_point(scene, t->prims[i], t->uv[2 * i], t->uv[2 * i + 1], pos);
     for (int k = 0; k < 3; k++)
-        pos[k] = w * scene->positions[3 * idx[0] + k] + u * scene->positions[3 * idx[1] + k] +
-                 v * scene->positions[3 * idx[2] + k] + scene->ray_offset * n[k];
+        pos[k] += off * n[k];
 }
 
 vdbgi_result vdbgi_scene_bake_surface(const vdbgi_scene *scene, const vdbgi_bake_desc *desc,

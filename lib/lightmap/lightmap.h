@@ -10,12 +10,14 @@
 #include "texels.h"
 
 typedef struct vdbgi_lightmap_params {
-    int passes;    /* bounces: pass k lights the hits with pass k - 1's map; >= 1 */
-    bool direct;   /* add the texel's own sun (fully baked lighting); else bounced light only */
-    int rings;     /* dilation rings after each pass (gutter + invalid texels) */
-    float ao_dist; /* > 0: ambient occlusion instead (seed 004's AO mode): the fraction of the
+    int passes;     /* reflections: pass k lights the hits with pass k - 1's map; >= 1, or 0:
+                      until a pass adds less than converge of the light (2..16 passes) */
+    float converge; /* with passes 0: the share of the map's light a last pass may add */
+    bool direct;    /* add the texel's own sun (fully baked lighting); else bounced light only */
+    int rings;      /* dilation rings after each pass (gutter + invalid texels) */
+    float ao_dist;  /* > 0: ambient occlusion instead (seed 004's AO mode): the fraction of the
                       cosine-weighted hemisphere open for this many metres, in every channel */
-    bool bare;     /* the same rays, nothing shaded nor dilated (the benchmark's bare loop) */
+    bool bare;      /* the same rays, nothing shaded nor dilated (the benchmark's bare loop) */
 } vdbgi_lightmap_params;
 
 typedef struct vdbgi_lightmap {
@@ -25,6 +27,8 @@ typedef struct vdbgi_lightmap {
     unsigned char *valid; /* per texel: a sample whose rays found no more back faces than allowed */
     size_t invalid_count; /* samples inside geometry or behind back faces */
     double pass_seconds[16];
+    int passes;        /* done */
+    double last_share; /* of the map's light (its valid samples, all channels), the last pass's */
     uint64_t rays;
 } vdbgi_lightmap;
 

@@ -372,8 +372,12 @@ static vdbgi_result bake_maps(vdbgi_context *ctx, vdbgi_lightmap_result *r,
     if (!m->rgb || !m->valid)
         return VDBGI_ERR_OUT_OF_MEMORY;
     memcpy(m->valid, r->layers[0].valid, m->texel_count);
-    for (size_t l = 0; l < n; l++)
+    for (size_t l = 0; l < n; l++) {
         lightmap_add(m, &r->layers[l]);
+        /* Until converged each layer takes its own count: the most, and its share, stand. */
+        m->passes = r->layers[l].passes > m->passes ? r->layers[l].passes : m->passes;
+        m->last_share = fmax(m->last_share, r->layers[l].last_share);
+    }
     return VDBGI_OK;
 }
 
@@ -392,9 +396,19 @@ static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
     VDBGI_TRY(vdbgi_bake_params_resolve(ctx, &bd, scene, &bp));
     VDBGI_FAIL_IF(ctx, bp.bounces > 1, VDBGI_ERR_INVALID_ARG,
                   "a lightmap bounces by its passes, not by bounces (got %d)", bp.bounces);
-    const int passes = d->passes == 0 ? 2 : d->passes;
-    VDBGI_FAIL_IF(ctx, passes < 1 || passes > 16, VDBGI_ERR_INVALID_ARG,
-                  "passes must be 1..16 (got %d)", d->passes);
+    VDBGI_FAIL_IF(ctx, d->passes < 0 || d->passes > VDBGI_LIGHTMAP_MAX_PASSES,
+                  VDBGI_ERR_INVALID_ARG, "passes must be 1..%d, or 0 until converged (got %d)",
+                  VDBGI_LIGHTMAP_MAX_PASSES, d->passes);
+    const float converge = d->converge == 0.0f ? 0.01f : d->converge;
+    VDBGI_FAIL_IF(ctx, !(converge > 0.0f && converge < 1.0f), VDBGI_ERR_INVALID_ARG,
+                  "the converged share must be in (0, 1) (got %g)", (double)d->converge);
+    /*
+     * By default the physical model bakes until converged; the seed model keeps seed 004's
+     * two passes, its fill standing in for the rest (more would count the fill again).
+     * Until converged, the limits count the fewest passes it takes (2).
+     */
+    const int asked = d->passes ? d->passes : bp.model == VDBGI_MODEL_PHYSICAL ? 0 : 2;
+    const int passes = asked ? asked : 2;
     VDBGI_FAIL_IF(ctx, d->layers && d->ao_dist > 0.0f, VDBGI_ERR_INVALID_ARG,
                   "layers are for lightmaps, not AO");
     vdbgi_lightmap_result *const r = vdbgi_calloc(ctx, 1, sizeof(*r));
@@ -434,8 +448,8 @@ static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
     if (res == VDBGI_OK)
         res = vdbgi_texels_build(ctx, scene, &r->un, &r->tx);
     /* Dilate past the gutters on both sides of a chart edge, and over invalid texels. */
-    const vdbgi_lightmap_params lp = {passes, d->direct != 0, 2 * (int)r->un.gutter + 2, d->ao_dist,
-                                      bare};
+    const vdbgi_lightmap_params lp = {
+        asked, converge, d->direct != 0, 2 * (int)r->un.gutter + 2, d->ao_dist, bare};
     if (res == VDBGI_OK)
         res = bake_maps(ctx, r, &bp, &lp, d->layers != 0);
     if (res != VDBGI_OK) {
@@ -452,7 +466,8 @@ static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
         stats->samples = r->tx.sample_count;
         stats->invalid = r->map.invalid_count;
         stats->utilisation = r->un.chart_texels / (double)r->map.texel_count;
-        stats->passes = r->ao ? 1 : passes;
+        stats->passes = r->map.passes;
+        stats->last_share = r->map.last_share;
         memcpy(stats->pass_seconds, r->map.pass_seconds, sizeof(stats->pass_seconds));
         stats->rays = r->map.rays;
         stats->seconds = vdbgi_now() - t0;

@@ -102,7 +102,6 @@ vdbgi_result vdbgi_texels_build(vdbgi_context *ctx, const vdbgi_scene *s, const 
         if (cross2(tri[0], tri[1], tri[2]) == 0.0)
             continue; /* no area in the atlas: nothing to sample (unwrap never makes one) */
         const size_t page = (size_t)u->page[u->chart[t]] * size * size;
-        const float *const n = s->tris[t].normal;
         for (long y = (long)fmax(0.0, floor(lo[1])); y <= (long)floor(hi[1]) && y < (long)size; y++)
             for (long x = (long)fmax(0.0, floor(lo[0])); x <= (long)floor(hi[0]) && x < (long)size;
                  x++) {
@@ -117,9 +116,9 @@ vdbgi_result vdbgi_texels_build(vdbgi_context *ctx, const vdbgi_scene *s, const 
                 score[i] = d;
                 out->tri[i] = (int32_t)t;
                 /*
-                 * On the triangle, then pulled towards its centroid by two ray offsets
-                 * (at most half the way): a point on an edge lies in the plane of the
-                 * face beyond it, and its rays would start on that face.
+                 * On the triangle, pulled towards its centroid by two ray offsets (at
+                 * most half the way): a point on an edge lies in the plane of the face
+                 * beyond it, and its rays would start on that face.
                  */
                 double p[3], g[3], len = 0.0;
                 for (int k = 0; k < 3; k++) {
@@ -133,10 +132,10 @@ vdbgi_result vdbgi_texels_build(vdbgi_context *ctx, const vdbgi_scene *s, const 
                     len += (g[k] - p[k]) * (g[k] - p[k]);
                 }
                 len = sqrt(len);
-                const double pull = len > 0.0 ? fmin(2.0 * s->ray_offset, 0.5 * len) / len : 0.0;
+                const double off = vdbgi_scene_offset(s, (uint32_t)t);
+                const double pull = len > 0.0 ? fmin(2.0 * off, 0.5 * len) / len : 0.0;
                 for (int k = 0; k < 3; k++)
-                    out->pos[3 * i + (size_t)k] =
-                        (float)(p[k] + pull * (g[k] - p[k]) + s->ray_offset * n[k]);
+                    out->pos[3 * i + (size_t)k] = (float)(p[k] + pull * (g[k] - p[k]));
             }
     }
     for (size_t i = 0; i < texels; i++) {

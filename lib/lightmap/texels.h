@@ -15,7 +15,7 @@ typedef struct vdbgi_texels {
     int size;          /* atlas edge, texels */
     size_t page_count; /* texel (p, x, y) is number (p * size + y) * size + x */
     int32_t *tri;      /* per texel: the triangle it samples, or -1 (a gutter) */
-    float *pos;        /* per texel, 3: the sample point, ray_offset off the front face */
+    float *pos;        /* per texel, 3: the sample point on its triangle (rays leave it lifted) */
     size_t sample_count;
     size_t centre_count; /* samples at the texel's centre (the rest: its nearest point inside) */
 } vdbgi_texels;

@@ -142,24 +142,14 @@ vdbgi_result vdbgi_scene_finish(vdbgi_scene *s, size_t nonfinite_count)
             max_abs = fmaxf(max_abs, fabsf(p[k]));
         }
     }
-    float diag2 = 0.0f;
-    for (int k = 0; k < 3; k++)
-        diag2 += (s->bounds_max[k] - s->bounds_min[k]) * (s->bounds_max[k] - s->bounds_min[k]);
-    /*
-     * A hit point carries a rounding error of a few ulps of its coordinates;
-     * 1e-5 of the larger of the coordinate magnitude and the scene size is
-     * ~80 ulps there, yet only 2 cm in a 2 km world and 10 um in a 1 m room.
-     */
-    const float reach = fmaxf(max_abs, sqrtf(diag2));
-    s->ray_offset = 1e-5f * reach;
-    /* A room with one triangle 1000 km away starts its rays 10 m off every surface and
-       bakes black: say so (5 cm is a 5 km scene). */
+    s->ray_offset = VDBGI_RAY_OFFSET_REL * fmaxf(max_abs, VDBGI_RAY_OFFSET_MIN_MAGNITUDE);
+    /* Offsets are local, but geometry 5 km out is coarse there (ulps of 0.5 mm): say so. */
     if (s->ray_offset > 0.05f)
         vdbgi_log(ctx, VDBGI_LOG_WARNING,
-                  "%s: geometry reaches %g m from the origin, so rays start %g m off every "
-                  "surface (1e-5 of that) and anything nearer reads dark: is some of it far "
-                  "from the rest?",
-                  s->name, (double)reach, (double)s->ray_offset);
+                  "%s: geometry reaches %g m from the origin, where rays leave surfaces up to "
+                  "%g m off (1e-5 of the coordinates) and detail is lost: keep what matters "
+                  "near the origin",
+                  s->name, (double)max_abs, (double)s->ray_offset);
     classify_triangles(s);
     return VDBGI_OK;
 }
@@ -361,6 +351,31 @@ void vdbgi_scene_albedo(const vdbgi_scene *scene, uint32_t prim, float u, float 
         rgb[k] = mat->base[k] * (w * c0[k] + u * c1[k] + v * c2[k]);
     if (mat->texture >= 0)
         times_texture(scene, prim, u, v, mat->texture, rgb);
+}
+
+float vdbgi_scene_offset(const vdbgi_scene *scene, uint32_t prim)
+{
+    const uint32_t *const idx = &scene->indices[3 * (size_t)prim];
+    float m = VDBGI_RAY_OFFSET_MIN_MAGNITUDE;
+    for (int c = 0; c < 3; c++)
+        for (int k = 0; k < 3; k++)
+            m = fmaxf(m, fabsf(scene->positions[3 * (size_t)idx[c] + (size_t)k]));
+    return VDBGI_RAY_OFFSET_REL * m;
+}
+
+float vdbgi_scene_hit_point(const vdbgi_scene *scene, uint32_t prim, float u, float v, float p[3])
+{
+    const uint32_t *const idx = &scene->indices[3 * (size_t)prim];
+    const float *const a = &scene->positions[3 * (size_t)idx[0]];
+    const float *const b = &scene->positions[3 * (size_t)idx[1]];
+    const float *const c = &scene->positions[3 * (size_t)idx[2]];
+    const float w = 1.0f - u - v;
+    float m = VDBGI_RAY_OFFSET_MIN_MAGNITUDE;
+    for (int k = 0; k < 3; k++) {
+        p[k] = w * a[k] + u * b[k] + v * c[k];
+        m = fmaxf(m, fmaxf(fabsf(a[k]), fmaxf(fabsf(b[k]), fabsf(c[k]))));
+    }
+    return VDBGI_RAY_OFFSET_REL * m;
 }
 
 void vdbgi_scene_emission(const vdbgi_scene *scene, uint32_t prim, float u, float v, float rgb[3])

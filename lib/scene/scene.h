@@ -50,7 +50,7 @@ struct vdbgi_scene {
     vdbgi_texture *textures;
     size_t texture_count;
     float bounds_min[3], bounds_max[3];
-    float ray_offset;
+    float ray_offset; /* the largest offset a hit gets: at the coordinate farthest out */
     char *name;
     vdbgi_light lights[VDBGI_MAX_LIGHTS];
     size_t light_count;
@@ -76,6 +76,20 @@ void vdbgi_scene_albedo(const vdbgi_scene *scene, uint32_t prim, float u, float 
  * double-sided): the material's emissive colour times its emissive texture.
  */
 void vdbgi_scene_emission(const vdbgi_scene *scene, uint32_t prim, float u, float v, float rgb[3]);
+/*
+ * Ray offsets follow the coordinates they guard, not the scene's extent: a
+ * point rebuilt on a triangle from its barycentrics is good to a few ulps of
+ * the triangle's largest vertex coordinate, so a ray leaves it 1e-5 of that
+ * (about 80 ulps) off the face, 1 cm counting as the smallest magnitude. A
+ * speck 1 km away changes nothing near the origin.
+ */
+#define VDBGI_RAY_OFFSET_REL 1e-5f
+#define VDBGI_RAY_OFFSET_MIN_MAGNITUDE 0.01f
+
+/* The offset a ray leaving triangle prim takes, metres. */
+float vdbgi_scene_offset(const vdbgi_scene *scene, uint32_t prim);
+/* Triangle prim's point at (u, v) into p; returns vdbgi_scene_offset there. */
+float vdbgi_scene_hit_point(const vdbgi_scene *scene, uint32_t prim, float u, float v, float p[3]);
 /* Area of triangle t, square metres. */
 double vdbgi_scene_triangle_area(const vdbgi_scene *scene, size_t t);
 
