@@ -19,7 +19,7 @@
 
 void vdbgi_lightmap_files_free(vdbgi_context *ctx, vdbgi_lightmap_files *f)
 {
-    free(f->glb); /* the shim's malloc */
+    vdbgi_free(ctx, f->glb);
     for (size_t p = 0; f->exr && p < f->exr_count; p++)
         vdbgi_free(ctx, f->exr[p]);
     vdbgi_free(ctx, f->exr);
@@ -209,9 +209,7 @@ vdbgi_result vdbgi_lightmap_encode(vdbgi_context *ctx, const vdbgi_scene *s, con
                                .layer_names = names,
                                .layer_scales = &scales[1],
                                .generator = "vdbgi gi-lightmap"};
-    char err[256] = "";
-    if (!vdbgi_gltf_encode(&d, &out->glb, &out->glb_size, err, sizeof(err)))
-        r = vdbgi_fail(ctx, VDBGI_ERR_BACKEND, "%s", err);
+    r = vdbgi_gltf_encode(ctx, &d, &out->glb, &out->glb_size);
 done:
     for (size_t i = 0; png && i < images; i++)
         vdbgi_free(ctx, png[i]);

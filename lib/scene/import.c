@@ -1,6 +1,7 @@
 /* import.c: any assimp format into the triangle soup: meshes under their node transforms,
    materials, embedded and external textures. */
 #define _POSIX_C_SOURCE 200809L
+#include "gltf_guard.h"
 #include "gltf_shim.h"
 #include "image_shim.h"
 #include "scene.h"
@@ -150,6 +151,20 @@ static void cap_emission(vdbgi_scene *s, const char *material, float e[3])
 }
 
 /*
+ * The result of reading from a glTF what assimp drops (the shim leaves none
+ * on a failure): out of memory stops the import; a file tinygltf cannot read
+ * only loses what, with a warning.
+ */
+static vdbgi_result what_assimp_drops(vdbgi_scene *s, vdbgi_result read, const char *what)
+{
+    if (read == VDBGI_OK || read == VDBGI_ERR_OUT_OF_MEMORY)
+        return read;
+    vdbgi_log(s->ctx, VDBGI_LOG_WARNING, "%s: %s ignored: %s", s->name, what, s->ctx->error);
+    s->ctx->error[0] = '\0'; /* a warning, not the import's failure */
+    return VDBGI_OK;
+}
+
+/*
  * glTF's KHR_materials_emissive_strength, which Debian's assimp 5.2 drops:
  * each emitting material takes the strength of the glTF material it came
  * from. Assimp orders materials as meshes first use them and drops unused
@@ -163,11 +178,8 @@ static vdbgi_result apply_emissive_strength(vdbgi_scene *s, const struct aiScene
 {
     vdbgi_gltf_material_info *info = NULL;
     size_t count = 0;
-    char err[256] = "";
-    if (!vdbgi_gltf_materials(path, &info, &count, err, sizeof(err))) {
-        vdbgi_log(s->ctx, VDBGI_LOG_WARNING, "%s: emissive strength ignored: %s", s->name, err);
-        return VDBGI_OK;
-    }
+    VDBGI_TRY(what_assimp_drops(s, vdbgi_gltf_materials(s->ctx, path, &info, &count),
+                                "emissive strength"));
     vdbgi_result r = VDBGI_OK;
     for (size_t m = 0; m < as->mNumMaterials && count; m++) {
         vdbgi_material *const mat = &s->materials[m];
@@ -206,7 +218,7 @@ static vdbgi_result apply_emissive_strength(vdbgi_scene *s, const struct aiScene
                       s->name, named ? name.data : "(unnamed)");
         }
     }
-    free(info); /* the shim's calloc */
+    vdbgi_free(s->ctx, info);
     return r;
 }
 
@@ -360,9 +372,8 @@ static vdbgi_result load_lights(vdbgi_scene *s, const struct aiScene *as, const 
         return VDBGI_OK;
     float *ranges = NULL;
     size_t range_count = 0;
-    char err[256] = "";
-    if (!vdbgi_gltf_light_ranges(path, &ranges, &range_count, err, sizeof(err)))
-        vdbgi_log(s->ctx, VDBGI_LOG_WARNING, "%s: light ranges ignored: %s", s->name, err);
+    VDBGI_TRY(what_assimp_drops(s, vdbgi_gltf_light_ranges(s->ctx, path, &ranges, &range_count),
+                                "light ranges"));
     if (range_count != as->mNumLights && ranges) {
         vdbgi_log(s->ctx, VDBGI_LOG_WARNING, "%s: %zu glTF lights but %u imported: ranges ignored",
                   s->name, range_count, as->mNumLights);
@@ -407,7 +418,7 @@ static vdbgi_result load_lights(vdbgi_scene *s, const struct aiScene *as, const 
             al->mName.length < sizeof(l->name) - 1 ? al->mName.length : sizeof(l->name) - 1;
         memcpy(l->name, al->mName.data, len); /* a longer name is cut: it is for messages */
     }
-    free(ranges);
+    vdbgi_free(s->ctx, ranges);
     if (r == VDBGI_OK && (r = vdbgi_scene_add_lights(s, lights, n)) != VDBGI_OK) {
         char why[512];
         snprintf(why, sizeof(why), "%s", vdbgi_context_error(s->ctx));
@@ -427,9 +438,7 @@ vdbgi_result vdbgi_scene_load(vdbgi_context *ctx, const char *path, vdbgi_scene 
     VDBGI_FAIL_IF(ctx, !out, VDBGI_ERR_INVALID_ARG, "no output pointer given");
     *out = NULL;
     VDBGI_TRY(vdbgi_input_check(ctx, path));
-    char refusal[512];
-    VDBGI_FAIL_IF(ctx, !vdbgi_gltf_precheck(path, refusal, sizeof(refusal)), VDBGI_ERR_FORMAT,
-                  "%s: %s", path, refusal);
+    VDBGI_TRY(vdbgi_gltf_precheck(ctx, path));
     VDBGI_TRY(vdbgi_scene_counts_check(ctx, path));
 
     const struct aiScene *const as = aiImportFile(

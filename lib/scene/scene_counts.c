@@ -6,7 +6,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "context.h"
-#include "gltf_shim.h"
+#include "gltf_guard.h"
 #include "util.h"
 
 #include <assimp/cimport.h>

@@ -6,9 +6,7 @@
 #ifndef VDBGI_GLTF_SHIM_H
 #define VDBGI_GLTF_SHIM_H
 
-#include <stdbool.h>
-#include <stddef.h>
-#include <stdint.h>
+#include "context.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -52,12 +50,9 @@ typedef struct vdbgi_gltf_desc {
     const char *generator;
 } vdbgi_gltf_desc;
 
-/*
- * The .glb's bytes into *out (malloc'd; the caller frees it with free()),
- * or false with a message in err.
- */
-bool vdbgi_gltf_encode(const vdbgi_gltf_desc *d, uint8_t **out, size_t *size, char *err,
-                       size_t err_size);
+/* The .glb's bytes into *out (through ctx's allocator: vdbgi_free) and *size. */
+vdbgi_result vdbgi_gltf_encode(vdbgi_context *ctx, const vdbgi_gltf_desc *d, uint8_t **out,
+                               size_t *size);
 
 /* A glTF material as the file has it: what the import needs to find it again. */
 typedef struct vdbgi_gltf_material_info {
@@ -69,37 +64,21 @@ typedef struct vdbgi_gltf_material_info {
 
 /*
  * The materials of the glTF file at path (by its name: .gltf or .glb) into
- * *out (malloc'd, the caller frees it with free()), *count of them; a file
- * of another kind gives none. False with a message in err when a glTF file
- * does not parse. Its images are not decoded.
+ * *out (through ctx's allocator), *count of them; a file of another kind
+ * gives none. VDBGI_ERR_FORMAT when a glTF file does not parse. Its images
+ * are not decoded.
  */
-bool vdbgi_gltf_materials(const char *path, vdbgi_gltf_material_info **out, size_t *count,
-                          char *err, size_t err_size);
+vdbgi_result vdbgi_gltf_materials(vdbgi_context *ctx, const char *path,
+                                  vdbgi_gltf_material_info **out, size_t *count);
 
 /*
  * The range of each KHR_lights_punctual light of the glTF at path, in the
  * file's order (0 for none), which Debian's assimp 5.2 drops, into *out
- * (malloc'd, the caller frees it with free()); a file of another kind gives
- * none. False with a message in err when a glTF file does not parse.
+ * (through ctx's allocator); a file of another kind gives none.
+ * VDBGI_ERR_FORMAT when a glTF file does not parse.
  */
-bool vdbgi_gltf_light_ranges(const char *path, float **out, size_t *count, char *err,
-                             size_t err_size);
-
-/* What a glTF may ask of the importers (docs: README, "Limits and what is refused"). */
-#define VDBGI_GLTF_MAX_NESTING 64            /* JSON arrays and objects inside each other */
-#define VDBGI_GLTF_MAX_NODE_DEPTH 256        /* nodes under nodes */
-#define VDBGI_GLTF_MAX_TRIANGLES 20000000ull /* every instance counted: about 4 GB to trace */
-#define VDBGI_GLTF_MAX_BUFFER (1ull << 31)   /* bytes of one external buffer */
-
-/*
- * Check a glTF (.glb by its magic, .gltf by its name) before any importer
- * parses it: a .glb's chunk sizes against the file, the JSON's nesting, the
- * node hierarchy (indices in range, a forest, its depth), the triangles its
- * instances add up to, and every external buffer and image a regular file
- * (not /proc, /sys or a device) of a sane size. Files of other kinds pass.
- * False with the reason in err.
- */
-bool vdbgi_gltf_precheck(const char *path, char *err, size_t err_size);
+vdbgi_result vdbgi_gltf_light_ranges(vdbgi_context *ctx, const char *path, float **out,
+                                     size_t *count);
 
 #ifdef __cplusplus
 }
