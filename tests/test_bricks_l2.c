@@ -1,0 +1,312 @@
+/*
+ * test_bricks_l2.c: bricks with L2 terms read each side of a surface and
+ * round-trip; at eps 0 every probe reads its own L2 light for any normal.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "encode.h"
+#include "field.h"
+#include "gifile.h"
+#include "image_shim.h"
+#include "test_bricks.h"
+#include "test_slab.h"
+#include "test_util.h"
+#include "util.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <unistd.h>
+
+/*
+ * L2 terms in bricks (.gi version 7, and 6): a surface reads its own side, as the
+ * probes' own L2 does; the L0 atlas is the scalar volume's, byte for byte;
+ * the file round-trips, does not depend on the thread count, and a damaged
+ * basis, a cut or a wrong version is refused.
+ */
+static void l2_bricks_read_each_side_and_round_trip(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    const float lo[3] = {-4.0f, 0.0f, -4.0f}, hi[3] = {4.0f, 8.0f, 4.0f};
+    test_mesh_plane(&m, 16.0f, 0.0f);
+    test_mesh_box(&m, lo, hi, 0);
+    const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.6f, 0);
+    vdbgi_scene *scene = NULL;
+    vdbgi_probes *p = NULL;
+    const vdbgi_place_desc pd = {.spacing = 0.5, .origin = {0.25, 0.25, 0.25}, .origin_is_set = 1};
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &scene), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, scene, &pd, &p), VDBGI_OK);
+    const vdbgi_bake_desc bd = {.rays = 64, .basis = VDBGI_BASIS_SH2};
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, scene, &bd, NULL), VDBGI_OK);
+    vdbgi_convert_desc cd = {.eps = VDBGI_ZERO, .max_level = VDBGI_ZERO, .threads = 1};
+    vdbgi_volume *v = NULL, *v3 = NULL, *v6 = NULL, *scalar = NULL, *back = NULL, *back6 = NULL;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
+    cd.threads = 3;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v3), VDBGI_OK);
+    cd.gi_version = 6;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v6), VDBGI_OK);
+    cd.gi_version = 5;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &scalar), VDBGI_ERR_INVALID_ARG);
+    cd.scalar_only = 1;
+    cd.gi_version = 6; /* a scalar volume has no terms to write as version 6 */
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &scalar), VDBGI_ERR_INVALID_ARG);
+    CHECK(strstr(vdbgi_context_error(ctx), "holds L2 terms") != NULL);
+    cd.gi_version = 0;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &scalar), VDBGI_OK);
+    if (!v || !v3 || !v6 || !scalar)
+        goto done;
+    CHECK(v->info.basis == VDBGI_BASIS_SH2 && scalar->info.basis == VDBGI_BASIS_SCALAR);
+    CHECK(v->tex.sh != NULL && scalar->tex.sh == NULL);
+    /* The terms leave L0 alone: the fill's choices, the bricks and the atlas are the scalar's. */
+    CHECK(v->info.atlas_size == scalar->info.atlas_size &&
+          memcmp(v->tex.atlas, scalar->tex.atlas, v->info.atlas_size) == 0);
+    /* Half a metre over the lit floor, two metres from the box: all eight probes valid. */
+    const float at[3] = {6.1f, 0.5f, 0.1f}, up[3] = {0, 1, 0}, down[3] = {0, -1, 0};
+    float vu[3], vd[3], pu[3], pdn[3], flat[3];
+    vdbgi_volume_sample_normal(v, at, up, vu);
+    vdbgi_volume_sample_normal(v, at, down, vd);
+    vdbgi_volume_sample_normal(scalar, at, up, flat);
+    CHECK_RESULT(ctx, vdbgi_probes_sample_points(p, 1, at, up, 0.0f, pu, NULL), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_sample_points(p, 1, at, down, 0.0f, pdn, NULL), VDBGI_OK);
+    for (int k = 0; k < 3; k++) {
+        CHECK_NEAR(vu[k], pu[k], 0.1f * pdn[k] + 1e-4f);
+        CHECK_NEAR(vd[k], pdn[k], 0.1f * pdn[k] + 1e-4f);
+    }
+    /* Facing the floor reads far more than facing the black sky; the scalar sits between. */
+    CHECK(vd[1] > 2.0f * vu[1] && flat[1] < vd[1] && flat[1] > vu[1]);
+    /* Same bytes for one thread and three; the file reads back to the same textures. */
+    const size_t size = vdbgi_volume_write_memory(v, NULL, 0);
+    CHECK(size > 0 && size == vdbgi_volume_write_memory(v3, NULL, 0) &&
+          memcmp(v->file, v3->file, size) == 0);
+    CHECK_RESULT(ctx, vdbgi_volume_write(v, tmp_path("l2.gi.gz")), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("l2.gi.gz"), &back), VDBGI_OK);
+    if (back) {
+        CHECK(back->info.basis == VDBGI_BASIS_SH2 && back->tex.sh);
+        CHECK(memcmp(back->tex.atlas, v->tex.atlas, v->info.atlas_size) == 0);
+        CHECK(back->tex.sh && memcmp(back->tex.sh, v->tex.sh, 6 * v->info.atlas_size) == 0);
+        float again[3];
+        vdbgi_volume_sample_normal(back, at, down, again);
+        CHECK(memcmp(again, vd, sizeof(again)) == 0);
+        CHECK_RESULT(ctx, vdbgi_volume_write_textures(back, tmp_path("l2-textures.gi")),
+                     VDBGI_ERR_INVALID_ARG);
+        CHECK(strstr(vdbgi_context_error(ctx), "L2") != NULL);
+    }
+    /*
+     * Version 6 predicts the terms from one neighbour, version 7 better, in
+     * a smaller file. The points no receiver reads take the prediction, so
+     * only their terms differ: every valid probe reads alike, any normal.
+     * Either version reads back as written.
+     */
+    CHECK(v->version == 7 && v6->version == 6 && scalar->version == 5);
+    CHECK(memcmp(v6->tex.atlas, v->tex.atlas, v->info.atlas_size) == 0);
+    size_t same = 0;
+    for (size_t i = 0; i < p->count; i++)
+        for (int a = 0; p->backface[i] <= p->invalid_threshold && a < 6; a++) {
+            const float n[3] = {a == 0   ? 1.0f
+                                : a == 1 ? -1.0f
+                                         : 0.0f,
+                                a == 2   ? 1.0f
+                                : a == 3 ? -1.0f
+                                         : 0.0f,
+                                a == 4   ? 1.0f
+                                : a == 5 ? -1.0f
+                                         : 0.0f};
+            float pos[3], r6[3], r7[3];
+            for (int k = 0; k < 3; k++)
+                pos[k] = (float)(p->origin[k] + p->spacing * p->ijk[3 * i + k]);
+            vdbgi_volume_sample_normal(v6, pos, n, r6);
+            vdbgi_volume_sample_normal(v, pos, n, r7);
+            same += memcmp(r6, r7, sizeof(r6)) == 0;
+            CHECK(memcmp(r6, r7, sizeof(r6)) == 0);
+        }
+    CHECK(same > 1000);
+    CHECK(vdbgi_volume_write_memory(v6, NULL, 0) > size);
+    CHECK_RESULT(ctx, vdbgi_volume_write(v6, tmp_path("l2-v6.gi.gz")), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("l2-v6.gi.gz"), &back6), VDBGI_OK);
+    if (back6) {
+        CHECK(back6->version == 6 && back6->info.basis == VDBGI_BASIS_SH2);
+        CHECK(memcmp(back6->tex.sh, v6->tex.sh, 6 * v->info.atlas_size) == 0);
+        const size_t again = vdbgi_volume_write_memory(back6, NULL, 0);
+        CHECK(again == vdbgi_volume_write_memory(v6, NULL, 0) &&
+              memcmp(back6->file, v6->file, again) == 0);
+    }
+    /* The plain file: header (116 bytes, version 7) and payload; then damaged. */
+    uint8_t h[VDBGI_GI_HEADER_MAX];
+    const size_t hs = vdbgi_gifile_header(&v->info, v->version, h);
+    CHECK(hs == 116 && vdbgi_get_u32(h + 8) == 7 && vdbgi_get_u32(h + 112) == 2);
+    const size_t raw = hs + v->payload_size;
+    CHECK(v->payload_size ==
+          v->info.indirection_size / 4 + 6 * v->info.brick_count + 28 * v->info.stored_points);
+    uint8_t *const plain = malloc(raw);
+    memcpy(plain, h, hs);
+    memcpy(plain + hs, v->payload, v->payload_size);
+    const struct {
+        size_t offset, size; /* bytes written; size < raw cuts the file */
+        uint32_t value;      /* at offset, if offset < hs */
+        const char *says;
+    } damage[] = {{raw, raw, 0, NULL},
+                  {112, raw, 3, "unknown basis 3"},
+                  {8, raw, 5, "cannot come from"},
+                  {8, raw, 8, "this reader knows 1..7"},
+                  {12, raw, 112, "bad header size"},
+                  {raw, raw - 1, 0, "cannot come from"},
+                  {raw, 114, 0, "too short"}};
+    for (size_t d = 0; d < sizeof(damage) / sizeof(damage[0]); d++) {
+        uint8_t *const copy = malloc(raw);
+        memcpy(copy, plain, raw);
+        if (damage[d].offset < hs)
+            vdbgi_put_u32(copy + damage[d].offset, damage[d].value);
+        FILE *f = fopen(tmp_path("l2-damaged.gi"), "wb");
+        fwrite(copy, 1, damage[d].size, f);
+        fclose(f);
+        vdbgi_volume *r = NULL;
+        CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("l2-damaged.gi"), &r),
+                     damage[d].says ? VDBGI_ERR_FORMAT : VDBGI_OK);
+        if (damage[d].says && !strstr(vdbgi_context_error(ctx), damage[d].says)) {
+            fprintf(stderr, "case %zu: %s\n", d, vdbgi_context_error(ctx));
+            CHECK(false);
+        }
+        vdbgi_volume_destroy(r);
+        free(copy);
+    }
+    free(plain);
+done:
+    vdbgi_volume_destroy(back);
+    vdbgi_volume_destroy(back6);
+    vdbgi_volume_destroy(scalar);
+    vdbgi_volume_destroy(v6);
+    vdbgi_volume_destroy(v3);
+    vdbgi_volume_destroy(v);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(scene);
+    vdbgi_context_destroy(ctx);
+}
+
+/* p's terms with band drop left out (0: none) or sign_of negated (0: none), read along n. */
+static void probe_l2_reading(const vdbgi_probes *p, size_t i, const float n[3], int drop,
+                             int sign_of, float rgb[3])
+{
+    float sh[VDBGI_SH2_TERMS][3];
+    CHECK_RESULT(p->ctx, vdbgi_probes_get_sh2(p, i, sh), VDBGI_OK);
+    for (int k = 0; k < 3; k++) {
+        if (drop)
+            sh[drop][k] = 0.0f;
+        if (sign_of)
+            sh[sign_of][k] = -sh[sign_of][k];
+    }
+    vdbgi_sh2_eval((const float(*)[3])sh, n, rgb);
+}
+
+/*
+ * The worst error over every valid probe of an eps-0 L2 volume, read at the
+ * probe along each of the normals, against the probe's own E(n) (a band
+ * dropped or negated when asked), in encoding steps: L0's RGBM step, and
+ * one step of each term's ratio (term_step of its range over 127, as
+ * term_bits rounds it) weighted by |p_k(n)|.
+ */
+static double worst_l2_error_in_steps(const vdbgi_probes *p, const vdbgi_volume *v,
+                                      const float (*normals)[3], int count, int drop, int sign_of,
+                                      int term_step)
+{
+    double worst = 0.0;
+    for (size_t i = 0; i < p->count; i++) {
+        if (p->backface[i] > p->invalid_threshold)
+            continue; /* the volume holds the fill there, not the probe */
+        const double q[3] = {p->ijk[3 * i], p->ijk[3 * i + 1], p->ijk[3 * i + 2]};
+        float pos[3];
+        world_of(p, q, pos);
+        const float *const c0 = &p->rgb[3 * i];
+        const float mx = fmaxf(c0[0], fmaxf(c0[1], c0[2]));
+        for (int j = 0; j < count; j++) {
+            const float *const n = normals[j];
+            const double pk[8] = {n[0],        n[1],
+                                  n[2],        n[0] * n[1],
+                                  n[1] * n[2], 3 * n[2] * n[2] - 1,
+                                  n[0] * n[2], n[0] * n[0] - n[1] * n[1]};
+            double s = 0.0;
+            for (int k = 0; k < 8; k++)
+                s += fabs(pk[k]) * vdbgi_sh_ratio_range(k);
+            float got[3], want[3];
+            vdbgi_volume_sample_normal(v, pos, n, got);
+            probe_l2_reading(p, i, n, drop, sign_of, want);
+            for (int k = 0; k < 3; k++) {
+                const double step =
+                    (mx + 8.0 / 255.0) / 255.0 * (1.0 + s) + c0[k] * s * term_step / 127.0;
+                worst = fmax(worst, fabs(got[k] - want[k]) / step);
+            }
+        }
+    }
+    return worst;
+}
+
+/*
+ * At eps 0 every probe's E(n) comes back within one encoding step, for the
+ * six axis normals and 20 random ones, with every bit of the terms kept and
+ * with the default's; and the same check fails when any one band is left
+ * out of the probe's own reading, or negated.
+ */
+static void at_eps_0_every_probe_reads_its_own_l2_for_any_normal(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    const float lo[3] = {-2.0f, 0.0f, -2.0f}, hi[3] = {2.0f, 3.0f, 2.0f};
+    const float wlo[3] = {4.0f, 0.0f, -4.0f}, whi[3] = {4.5f, 2.0f, 4.0f};
+    test_mesh_plane(&m, 16.0f, 0.0f);
+    test_mesh_box(&m, lo, hi, 0);
+    test_mesh_box(&m, wlo, whi, 0);
+    const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.6f, 0);
+    vdbgi_scene *scene = NULL;
+    vdbgi_probes *p = NULL;
+    vdbgi_volume *v = NULL, *coarse = NULL;
+    const vdbgi_place_desc pd = {.spacing = 0.5, .origin = {0.25, 0.25, 0.25}, .origin_is_set = 1};
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &scene), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, scene, &pd, &p), VDBGI_OK);
+    const vdbgi_bake_desc bd = {.rays = 64, .basis = VDBGI_BASIS_SH2, .sky = {0.2f, 0.3f, 0.5f}};
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, scene, &bd, NULL), VDBGI_OK);
+    vdbgi_convert_desc cd = {.eps = VDBGI_ZERO, .max_level = VDBGI_ZERO, .term_bits = 8};
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
+    cd.term_bits = 0;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &coarse), VDBGI_OK);
+    float normals[26][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    uint64_t state = 12345;
+    for (int j = 6; j < 26; j++) {
+        float l = 0.0f;
+        for (int k = 0; k < 3; k++) {
+            normals[j][k] = (float)(2.0 * vdbgi_uniform01(&state) - 1.0);
+            l += normals[j][k] * normals[j][k];
+        }
+        for (int k = 0; k < 3; k++)
+            normals[j][k] /= sqrtf(l);
+    }
+    if (v && coarse) {
+        const float(*const ns)[3] = (const float(*)[3])normals;
+        CHECK(worst_l2_error_in_steps(p, v, ns, 26, 0, 0, 1) <= 1.0);
+        /* The default rounds each ratio to a step 2^(8 - bits) times as large: within it. */
+        const int step = 1 << (8 - VDBGI_TERM_BITS);
+        CHECK(coarse->info.term_bits == VDBGI_TERM_BITS &&
+              worst_l2_error_in_steps(p, coarse, ns, 26, 0, 0, step) <= 1.0);
+        CHECK(worst_l2_error_in_steps(p, coarse, ns, 26, 0, 0, 1) > 1.0);
+        for (int band = 1; band <= 8; band++) {
+            const double dropped = worst_l2_error_in_steps(p, v, ns, 26, band, 0, 1);
+            const double negated = worst_l2_error_in_steps(p, v, ns, 26, 0, band, 1);
+            if (!(dropped > 1.0 && negated > 1.0)) {
+                fprintf(stderr, "band %d: %.2f steps dropped, %.2f negated\n", band, dropped,
+                        negated);
+                CHECK(false);
+            }
+        }
+    }
+    vdbgi_volume_destroy(coarse);
+    vdbgi_volume_destroy(v);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(scene);
+    vdbgi_context_destroy(ctx);
+}
+
+int main(void)
+{
+    test_tmpdir_make("test-bricks-l2");
+    RUN(l2_bricks_read_each_side_and_round_trip);
+    RUN(at_eps_0_every_probe_reads_its_own_l2_for_any_normal);
+    test_tmpdir_remove();
+    return CHECK_EXIT();
+}
