@@ -16,10 +16,15 @@ def text(path):
 
 
 def number(expr):
-    """A C or JS integer or float literal, or a shift of two (1 << 24)."""
-    expr = expr.strip().strip("()").rstrip("fu")
+    """A C or JS integer or float literal, a shift of two (1 << 24) or a quotient (1.0f / 2)."""
+    expr = expr.strip().strip("()")
     m = re.fullmatch(r"(\d+)\s*<<\s*(\d+)", expr)
-    return int(m.group(1)) << int(m.group(2)) if m else float(expr)
+    if m:
+        return int(m.group(1)) << int(m.group(2))
+    m = re.fullmatch(r"([0-9.]+)f?\s*/\s*([0-9.]+)f?", expr)
+    if m:
+        return float(m.group(1)) / float(m.group(2))
+    return float(expr.rstrip("fu"))
 
 
 def c_define(path, name):
@@ -69,6 +74,7 @@ def js_match(path, pattern):
 
 
 GIH, SAMP, API = "lib/format/gifile.h", "lib/format/sampler.h", "lib/vdbgi.h"
+LAT = "lib/core/lattice.h"
 FMT, PACKED, RUNTIME = "web/gi-format.js", "web/gi-packed.js", "web/vdbgi.js"
 PAIRS = [
     ("header bytes", lambda: js_const(FMT, "HEADER_BYTES"), lambda: c_define(GIH, "VDBGI_GI_HEADER_SIZE")),
@@ -97,6 +103,12 @@ PAIRS = [
     ("L2 terms' ranges (encoder)", lambda: js_array(FMT, "SH2_RANGE"), lambda: c_floats("lib/core/encode.c", "range")),
     ("L2 terms' ranges (sampler)", lambda: js_array(FMT, "SH2_RANGE"), lambda: c_floats("lib/format/sampler.c", "range")),
     ("level colours", lambda: js_array(RUNTIME, "LEVEL_COLOURS"), lambda: c_floats("lib/convert/slices.c", "colour")),
+    ("least RGBM range", lambda: js_const(FMT, "RANGE_MIN"), lambda: c_define(GIH, "VDBGI_GI_RANGE_MIN")),
+    ("largest RGBM range", lambda: js_const(FMT, "RANGE_MAX"), lambda: c_define(GIH, "VDBGI_GI_RANGE_MAX")),
+    ("least spacing", lambda: js_const(FMT, "MIN_SPACING"), lambda: c_define(LAT, "VDBGI_MIN_SPACING")),
+    ("largest spacing", lambda: js_const(FMT, "MAX_SPACING"), lambda: c_define(LAT, "VDBGI_MAX_SPACING")),
+    ("farthest lattice origin", lambda: js_const(FMT, "MAX_ORIGIN"), lambda: c_define(LAT, "VDBGI_MAX_ORIGIN")),
+    ("largest lattice index", lambda: js_const(FMT, "MAX_INDEX"), lambda: c_define(LAT, "VDBGI_MAX_INDEX")),
 ]
 
 agree = 0

@@ -4,6 +4,7 @@ docs/format.md alone, in Python and numpy, to show that page is enough. Reads
 versions 1, 2 and 5; prints the lookup (float32, as the page states it) at each
 point as `x,y,z -> r g b`."""
 import gzip
+import math
 import struct
 import sys
 import numpy as np
@@ -11,6 +12,22 @@ import numpy as np
 F = np.float32
 N = 5  # a compact brick's texels a side
 CORNERS = np.array([[c & 1, c >> 1 & 1, c >> 2 & 1] for c in range(8)])  # bit 0 x, 1 y, 2 z
+
+def check_bounds(gi, spacing):
+    """The header's sanity bounds (docs/format.md): the RGBM range, the spacing, the box."""
+    if not 2.0 ** -16 <= gi['range'] <= 65504:
+        raise ValueError('rgbm_range %g outside 2^-16..65504' % gi['range'])
+    if not 1e-4 <= spacing <= 1e4:
+        raise ValueError('spacing %g outside 1e-4..1e4' % spacing)
+    for k in range(3):
+        lo, hi = float(gi['box_min'][k]), float(gi['box_max'][k])
+        if not (math.isfinite(lo) and math.isfinite(hi) and hi > lo):
+            raise ValueError('box not finite and ordered')
+        corner, want = max(abs(lo), abs(hi)), 4.0 * int(gi['ind_dims'][k]) * spacing
+        if corner > 1e9 + 2 ** 26 * spacing:
+            raise ValueError('box reaches %g m' % corner)
+        if abs(hi - lo - want) > 1e-3 * want + 2.0 ** -20 * corner:
+            raise ValueError('box extent %g on axis %d, want %g' % (hi - lo, k, want))
 
 def read(path):
     data = open(path, 'rb').read()
@@ -28,6 +45,7 @@ def read(path):
     gi = dict(version=version, layout=layout, encoding=encoding, range=f32(20)[0],
               ind_dims=np.array(u32(24, 3)), atlas_dims=np.array(u32(36, 3)),
               box_min=f32(48, 3), box_max=f32(60, 3), bricks=u32(80, 4), stored=u32(108)[0])
+    check_bounds(gi, float(f32(72)[0]))
     body, cells = np.frombuffer(data, np.uint8, offset=header_size), np.prod(gi['ind_dims'])
     if version == 5:
         gi['ind'], gi['atlas'] = unpack(gi, body)

@@ -120,23 +120,39 @@ static void files_round_trip_and_are_deterministic(void)
     round_trip(VDBGI_LAYOUT_COMPACT);
 }
 
+/*
+ * A seed-layout volume of a smooth slab into *v (with its probes *p), and its
+ * file uncompressed (header, then the textures: *raw bytes, malloc'd); NULL,
+ * everything freed but ctx, when the build fails.
+ */
+static uint8_t *plain_seed_file(vdbgi_context *ctx, vdbgi_probes **p, vdbgi_volume **v, size_t *raw)
+{
+    *p = test_slab(ctx, 12, 6, 12, smooth);
+    *v = NULL;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, *p, &seed_layout, v), VDBGI_OK);
+    if (!*v) {
+        vdbgi_probes_destroy(*p);
+        return NULL;
+    }
+    *raw = VDBGI_GI_HEADER_SIZE + (*v)->info.indirection_size + (*v)->info.atlas_size;
+    uint8_t *const plain = malloc(*raw);
+    vdbgi_gifile_header(&(*v)->info, 0, plain);
+    memcpy(plain + VDBGI_GI_HEADER_SIZE, (*v)->tex.indirection, *raw - VDBGI_GI_HEADER_SIZE);
+    return plain;
+}
+
 static void damaged_files_are_refused(void)
 {
     vdbgi_context *ctx = test_context();
-    vdbgi_probes *p = test_slab(ctx, 12, 6, 12, smooth);
-    vdbgi_volume *v = NULL;
-    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &seed_layout, &v), VDBGI_OK);
-    if (!v) {
-        vdbgi_probes_destroy(p);
+    vdbgi_probes *p;
+    vdbgi_volume *v;
+    size_t raw;
+    uint8_t *const plain = plain_seed_file(ctx, &p, &v, &raw);
+    if (!plain) {
         vdbgi_context_destroy(ctx);
         return;
     }
     const size_t size = vdbgi_volume_write_memory(v, NULL, 0);
-    /* The uncompressed file: header, then the textures. */
-    const size_t raw = VDBGI_GI_HEADER_SIZE + v->info.indirection_size + v->info.atlas_size;
-    uint8_t *const plain = malloc(raw);
-    vdbgi_gifile_header(&v->info, 0, plain);
-    memcpy(plain + VDBGI_GI_HEADER_SIZE, v->tex.indirection, raw - VDBGI_GI_HEADER_SIZE);
     /* Every prefix of the gzip'd file. */
     for (size_t cut = 0; cut < size; cut += 1 + cut / 64) {
         FILE *f = fopen(tmp_path("cut.gi.gz"), "wb");
@@ -219,6 +235,68 @@ static void damaged_files_are_refused(void)
     free(lie);
     free(plain);
     free(copy);
+    vdbgi_volume_destroy(v);
+    vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+}
+
+/*
+ * Header values that are legal numbers but that no writer makes, and that
+ * would reach the frame (issue 47): an RGBM range of 3.4e38 or 1e-9, a
+ * spacing of 1e-6 m, corners at +-3.4e38 or 1e10 m, a box twice its
+ * lattice's extent. Each is refused naming the field; the same box moved
+ * whole by 1 km still reads (it moves the volume), as does a range of 65504.
+ */
+static void absurd_header_values_are_refused(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_probes *p;
+    vdbgi_volume *v;
+    size_t raw;
+    uint8_t *const plain = plain_seed_file(ctx, &p, &v, &raw);
+    if (!plain) {
+        vdbgi_context_destroy(ctx);
+        return;
+    }
+    uint8_t *const lie = malloc(raw);
+    const float lo = vdbgi_get_f32(plain + 48), hi = vdbgi_get_f32(plain + 60);
+    static const struct {
+        int offset[3]; /* the f32 fields set, -1 for none */
+        float value[3];
+        const char *says; /* in the refusal; NULL: the file reads */
+    } cases[] = {
+        {{20, -1, -1}, {3.4e38f}, "rgbm_range"},
+        {{20, -1, -1}, {1e-9f}, "rgbm_range"},
+        {{20, -1, -1}, {65504.0f}, NULL},
+        {{72, -1, -1}, {1e-6f}, "spacing"},
+        {{48, 52, 56}, {-3.4e38f, -3.4e38f, -3.4e38f}, "reach"},
+        {{48, 60, -1}, {1e10f, 2e10f}, "reach"},
+        {{60, -1, -1}, {0.0f}, "the box is"}, /* set below: twice the extent */
+        {{48, 60, -1}, {0.0f, 0.0f}, NULL},   /* set below: moved 1 km */
+    };
+    for (size_t c = 0; c < sizeof(cases) / sizeof(cases[0]); c++) {
+        memcpy(lie, plain, raw);
+        for (int k = 0; k < 3 && cases[c].offset[k] >= 0; k++)
+            vdbgi_put_f32(lie + cases[c].offset[k], cases[c].value[k]);
+        if (c == 6)
+            vdbgi_put_f32(lie + 60, hi + (hi - lo));
+        if (c == 7)
+            vdbgi_put_f32(lie + 48, lo + 1000.0f), vdbgi_put_f32(lie + 60, hi + 1000.0f);
+        FILE *f = fopen(tmp_path("absurd.gi"), "wb");
+        fwrite(lie, 1, raw, f);
+        fclose(f);
+        vdbgi_volume *r = NULL;
+        const vdbgi_result res = vdbgi_volume_read(ctx, tmp_path("absurd.gi"), &r);
+        if (cases[c].says) {
+            CHECK(res == VDBGI_ERR_FORMAT && r == NULL);
+            CHECK(strstr(vdbgi_context_error(ctx), cases[c].says) != NULL);
+        } else {
+            CHECK(res == VDBGI_OK);
+        }
+        vdbgi_volume_destroy(r);
+    }
+    free(lie);
+    free(plain);
     vdbgi_volume_destroy(v);
     vdbgi_probes_destroy(p);
     vdbgi_context_destroy(ctx);
@@ -427,6 +505,7 @@ int main(void)
     test_tmpdir_make("test-bricks-files");
     RUN(files_round_trip_and_are_deterministic);
     RUN(damaged_files_are_refused);
+    RUN(absurd_header_values_are_refused);
     RUN(bad_parameters_and_probes_are_refused);
     RUN(levels_png_shows_each_cells_level);
     RUN(failing_allocations_are_reported_without_leaks);

@@ -17,6 +17,12 @@ const OLD_LAYOUT_SEED = 0, OLD_LAYOUT_COMPACT = 3;
 const SPARSE_CELLS = 1 << 24; // indirection cells any volume may have, however sparse
 const ATLAS_MAX = 1024; // a compact brick's first texel is 4 r + two bits of a: at most 1023
 
+// Sanity bounds (docs/format.md): the RGBM range a file may say (the writer says 8), and
+// the lattice's own limits (lib/core/lattice.h) that a box must keep to.
+const RANGE_MIN = 1 / 65536, RANGE_MAX = 65504;
+const MIN_SPACING = 1e-4, MAX_SPACING = 1e4, MAX_ORIGIN = 1e9, MAX_INDEX = 1 << 26;
+const g = (x) => Number(x.toPrecision(6)); // a float32 field for a message, as C's %g
+
 const HEADER_BYTES = 112;
 // Version 6: the basis field follows, and 24 term bytes a stored point.
 const HEADER_BYTES_V6 = 116;
@@ -30,6 +36,24 @@ export const SH2_RANGE = Object.freeze([2, 2, 2, 1.875, 1.875, 0.625, 1.875, 0.9
 // probe stands inside its block (0.5: block centres, seed; 0: corners, compact).
 export function layoutGeometry(layout) {
   return layout === LAYOUT_COMPACT ? { brick: 5, pad: 0, centre: 0 } : { brick: 6, pad: 1, centre: 0.5 };
+}
+
+// The box against the lattice it spans (docs/format.md, sanity bounds): a spacing the
+// lattice may have, an extent of 4 x indDims spacings on every axis (to 1e-3, plus 2^-20 of
+// the largest corner for the corners' rounding), corners its origin and index range reach.
+function checkBox(gi) {
+  const s = gi.spacing;
+  if (!(s >= MIN_SPACING && s <= MAX_SPACING))
+    throw new Error(`spacing ${g(s)} m is outside ${MIN_SPACING}..${MAX_SPACING}`);
+  for (let k = 0; k < 3; k++) {
+    const lo = gi.boxMin[k], hi = gi.boxMax[k];
+    const corner = Math.max(Math.abs(lo), Math.abs(hi)), extent = hi - lo;
+    const want = 4 * gi.indDims[k] * s;
+    if (corner > MAX_ORIGIN + MAX_INDEX * s)
+      throw new Error(`boxMin/boxMax reach ${g(corner)} m, past what a lattice of spacing ${g(s)} m can`);
+    if (Math.abs(extent - want) > 1e-3 * want + 2 ** -20 * corner)
+      throw new Error(`the box is ${g(extent)} m on ${'xyz'[k]}, where indDims (${gi.indDims[k]}) x 4 x spacing (${g(s)} m) is ${g(want)} m`);
+  }
 }
 
 // CRC-32 (IEEE, as gzip's trailer), table-driven.
@@ -148,13 +172,14 @@ function parseHeader(buf) {
   if (headerSize < (terms ? HEADER_BYTES_V6 : HEADER_BYTES) || headerSize > 65536)
     throw new Error(`bad header size ${headerSize}`);
   if (gi.encoding > ENCODING_RGB9E5) throw new Error(`unknown encoding ${gi.encoding}`);
-  if (!(gi.rgbmRange > 0) || !Number.isFinite(gi.rgbmRange)) throw new Error('bad RGBM range');
+  if (!(gi.rgbmRange >= RANGE_MIN && gi.rgbmRange <= RANGE_MAX))
+    throw new Error(`rgbm_range ${g(gi.rgbmRange)} is outside ${g(RANGE_MIN)}..${RANGE_MAX}`);
   for (let k = 0; k < 3; k++) {
     if (gi.indDims[k] < 1 || gi.indDims[k] > 2048) throw new Error('bad indirection size');
     if (gi.atlasDims[k] < lo || gi.atlasDims[k] > hi || gi.atlasDims[k] % step)
       throw new Error('bad atlas size');
     if (!Number.isFinite(gi.boxMin[k]) || !Number.isFinite(gi.boxMax[k]) || !(gi.boxMax[k] > gi.boxMin[k]))
-      throw new Error('bad volume box');
+      throw new Error(`boxMin/boxMax on ${'xyz'[k]}: not finite, or not ordered`);
   }
   if (gi.maxLevel > 3) throw new Error('bad max level');
   const indBytes = u32(96), atlasBytes = u32(100);
@@ -176,6 +201,7 @@ function parseHeader(buf) {
   if (packed && cells > SPARSE_CELLS && cells > 4096 * covered)
     throw new Error(`${cells} cells of the indirection for ${covered} under bricks (more than 4096 a ` +
       `brick's cell, and more than ${SPARSE_CELLS}): too sparse a volume`);
+  checkBox(gi);
   // Version 5 stores a level byte a cell, 6 bytes a brick (its place) and 4 a
   // stored point, not the textures; versions 6 and 7 24 more a point, the L2 terms.
   const brickCount = gi.bricks.reduce((a, b) => a + b, 0);

@@ -6,6 +6,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "gifile.h"
+#include "lattice.h"
 #include "sampler.h" /* the brick sizes: the atlas's limits */
 #include "util.h"
 
@@ -124,6 +125,33 @@ static vdbgi_result parse_version(vdbgi_context *ctx, const char *path, const ui
     return VDBGI_OK;
 }
 
+/*
+ * The box against the lattice it spans: a spacing the lattice may have, an
+ * extent of 4 x ind_dims spacings on every axis (to 1e-3, plus 2^-20 of the
+ * largest corner for the corners' rounding), and corners the lattice's
+ * origin and index range can reach. Legal numbers that no writer makes and
+ * that would move or lose the light are refused here.
+ */
+static vdbgi_result check_box(vdbgi_context *ctx, const char *path, const vdbgi_volume_info *info)
+{
+    const double s = info->spacing;
+    VDBGI_FAIL_IF(ctx, !(s >= VDBGI_MIN_SPACING && s <= VDBGI_MAX_SPACING), VDBGI_ERR_FORMAT,
+                  "%s: spacing %g m is outside %g..%g", path, s, VDBGI_MIN_SPACING,
+                  VDBGI_MAX_SPACING);
+    for (int k = 0; k < 3; k++) {
+        const double lo = info->box_min[k], hi = info->box_max[k];
+        const double corner = fmax(fabs(lo), fabs(hi)), extent = hi - lo;
+        const double want = 4.0 * info->indirection_dims[k] * s;
+        VDBGI_FAIL_IF(ctx, corner > VDBGI_MAX_ORIGIN + VDBGI_MAX_INDEX * s, VDBGI_ERR_FORMAT,
+                      "%s: box_min/box_max reach %g m, past what a lattice of spacing %g m can",
+                      path, corner, s);
+        VDBGI_FAIL_IF(ctx, fabs(extent - want) > 1e-3 * want + 0x1p-20 * corner, VDBGI_ERR_FORMAT,
+                      "%s: the box is %g m on %c, where ind_dims (%u) x 4 x spacing (%g m) is %g m",
+                      path, extent, "xyz"[k], info -> indirection_dims[k], s, want);
+    }
+    return VDBGI_OK;
+}
+
 static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uint8_t *h,
                                  vdbgi_volume_info *info, size_t *header_size,
                                  uint64_t *stored_size)
@@ -151,8 +179,10 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
                    lo = compact ? VDBGI_BRICK_COMPACT : VDBGI_BRICK_PADDED,
                    hi = compact ? VDBGI_ATLAS_MAX : 256 * VDBGI_BRICK_PADDED;
     info->rgbm_range = vdbgi_get_f32(h + 20);
-    VDBGI_FAIL_IF(ctx, !(info->rgbm_range > 0.0f) || !isfinite(info->rgbm_range), VDBGI_ERR_FORMAT,
-                  "%s: bad RGBM range", path);
+    VDBGI_FAIL_IF(
+        ctx, !(info->rgbm_range >= VDBGI_GI_RANGE_MIN && info->rgbm_range <= VDBGI_GI_RANGE_MAX),
+        VDBGI_ERR_FORMAT, "%s: rgbm_range %g is outside %g..%g", path, (double)info->rgbm_range,
+        (double)VDBGI_GI_RANGE_MIN, (double)VDBGI_GI_RANGE_MAX);
     size_t ind = 4, atlas = 4;
     for (int k = 0; k < 3; k++) {
         info->indirection_dims[k] = vdbgi_get_u32(h + 24 + 4 * k);
@@ -168,7 +198,8 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
         VDBGI_FAIL_IF(ctx,
                       !isfinite(info->box_min[k]) || !isfinite(info->box_max[k]) ||
                           !(info->box_max[k] > info->box_min[k]),
-                      VDBGI_ERR_FORMAT, "%s: bad volume box", path);
+                      VDBGI_ERR_FORMAT, "%s: box_min/box_max on %c: not finite, or not ordered",
+                      path, "xyz"[k]);
         ind *= info->indirection_dims[k];
         atlas *= info->atlas_dims[k];
     }
@@ -212,6 +243,7 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
                   "%s: %llu cells of the indirection for %llu under bricks (more than 4096 a "
                   "brick's cell, and more than %d): too sparse a volume",
                   path, (unsigned long long)cells, (unsigned long long)covered, VDBGI_SPARSE_CELLS);
+    VDBGI_TRY(check_box(ctx, path, info));
     *stored_size = packed ? ind / 4 + VDBGI_PLACEMENT_BYTES * (uint64_t)info->brick_count +
                                 (4 + (terms ? VDBGI_SH_BYTES : 0)) * (uint64_t)info->stored_points
                           : ind + atlas;

@@ -36,6 +36,13 @@
    convert. Past it the converter takes at most 64 cells a valid probe, and a reader at
    most 4096 for every cell under a brick. */
 #define VDBGI_SPARSE_CELLS (1 << 24)
+/*
+ * Sanity bounds (docs/format.md): the RGBM range a file may say (the writer
+ * says 8); 65504, half floats' largest, is the most light a texel can carry
+ * to a GPU anyway.
+ */
+#define VDBGI_GI_RANGE_MIN (1.0f / 65536.0f)
+#define VDBGI_GI_RANGE_MAX 65504.0f
 
 /*
  * The header of a volume's file: version 1 for the seed layout, 2 for the
