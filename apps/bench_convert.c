@@ -15,12 +15,16 @@ static int convert_row(vdbgi_context *ctx, const vdbgi_probes *p, const vdbgi_co
     for (int rep = 0; rep < repeat; rep++) {
         vdbgi_volume_destroy(v);
         v = NULL;
-        const vdbgi_result r = vdbgi_volume_build(ctx, p, d, &v);
-        if (r != VDBGI_OK)
-            return cli_fail(ctx, r);
+        vdbgi_result r = vdbgi_volume_build(ctx, p, d, &v);
         /* The conversion is the build and the file's bytes (gzip happens on write). */
         const double t0 = cli_now();
-        vdbgi_volume_write_memory(v, NULL, 0);
+        size_t size;
+        if (r == VDBGI_OK)
+            r = vdbgi_volume_write_memory(v, NULL, 0, &size);
+        if (r != VDBGI_OK) {
+            vdbgi_volume_destroy(v);
+            return cli_fail(ctx, r);
+        }
         vdbgi_volume_info run;
         vdbgi_volume_get_info(v, &run);
         run.seconds += cli_now() - t0;

@@ -908,15 +908,15 @@ VDBGI_API vdbgi_result vdbgi_volume_read_memory(vdbgi_context *ctx, const void *
                                                 const char *name, vdbgi_volume **out);
 
 /*
- * The bytes vdbgi_volume_write writes (the gzip'd .gi) into the caller's
- * buffer. With a NULL buffer, returns their size; else the bytes copied, or
- * 0 (nothing written) when capacity is smaller, or when the file cannot be
- * made (out of memory). The file is gzip'd by the first write or size query
- * and kept with the volume; a volume read from a file writes back the same
- * bytes as vdb-to-gi wrote.
+ * The bytes vdbgi_volume_write writes (the gzip'd .gi): their count into
+ * *size, and into buffer (capacity bytes) unless it is NULL (a size query).
+ * VDBGI_ERR_INVALID_ARG, nothing written, when capacity is smaller than
+ * *size; VDBGI_ERR_OUT_OF_MEMORY when the file cannot be made. The file is
+ * gzip'd by the first write or size query and kept with the volume; a volume
+ * read from a file writes back the same bytes as vdb-to-gi wrote.
  */
-VDBGI_API size_t vdbgi_volume_write_memory(const vdbgi_volume *volume, void *buffer,
-                                           size_t capacity);
+VDBGI_API vdbgi_result vdbgi_volume_write_memory(const vdbgi_volume *volume, void *buffer,
+                                                 size_t capacity, size_t *size);
 
 VDBGI_API void vdbgi_volume_destroy(vdbgi_volume *volume);
 

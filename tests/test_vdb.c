@@ -398,8 +398,8 @@ static vdbgi_result convert_limited(const char *path, size_t limit, size_t *peak
     if (r == VDBGI_OK)
         r = vdbgi_volume_build(ctx, p, &cd, &v);
     *size = 0;
-    if (r == VDBGI_OK && !(*size = vdbgi_volume_write_memory(v, bytes, 1 << 20)))
-        r = VDBGI_ERR_OUT_OF_MEMORY;
+    if (r == VDBGI_OK)
+        r = vdbgi_volume_write_memory(v, bytes, 1 << 20, size);
     *peak = vdbgi_context_memory_peak(ctx);
     snprintf(why, 512, "%s", vdbgi_context_error(ctx));
     vdbgi_volume_destroy(v);
@@ -457,7 +457,9 @@ static size_t convert_to(const char *path, int region, int halo, int threads, un
         CHECK_RESULT(ctx, vdbgi_probes_read(ctx, path, &p), VDBGI_OK);
         CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
     }
-    const size_t size = v ? vdbgi_volume_write_memory(v, bytes, 1 << 22) : 0;
+    size_t size = 0;
+    if (v)
+        CHECK_RESULT(ctx, vdbgi_volume_write_memory(v, bytes, 1 << 22, &size), VDBGI_OK);
     if (v)
         vdbgi_volume_get_info(v, info);
     vdbgi_volume_destroy(v);

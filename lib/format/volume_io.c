@@ -137,13 +137,17 @@ vdbgi_result vdbgi_volume_write(const vdbgi_volume *v, const char *path)
     return vdbgi_write_bytes_atomic(v->ctx, path, v->file, v->info.file_size);
 }
 
-size_t vdbgi_volume_write_memory(const vdbgi_volume *v, void *buffer, size_t capacity)
+vdbgi_result vdbgi_volume_write_memory(const vdbgi_volume *v, void *buffer, size_t capacity,
+                                       size_t *size)
 {
-    if (file_bytes(v) != VDBGI_OK || (buffer && capacity < v->info.file_size))
-        return 0;
+    *size = 0;
+    VDBGI_TRY(file_bytes(v));
+    *size = v->info.file_size;
+    VDBGI_FAIL_IF(v->ctx, buffer && capacity < *size, VDBGI_ERR_INVALID_ARG,
+                  "a buffer of %zu bytes for a %zu-byte file", capacity, *size);
     if (buffer)
-        memcpy(buffer, v->file, v->info.file_size);
-    return v->info.file_size;
+        memcpy(buffer, v->file, *size);
+    return VDBGI_OK;
 }
 
 typedef struct texture_file {
