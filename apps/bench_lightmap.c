@@ -98,7 +98,7 @@ int bench_lightmap(const bench_options *o, const char *argv0)
         if ((r = vdbgi_lightmap_trace_bare(ctx, scene, &def, &s)) != VDBGI_OK)
             break;
         keep_fastest(&bare, &s, rep == 0);
-        vdbgi_lightmap_destroy(res);
+        vdbgi_lightmap_result_destroy(res);
         res = NULL;
         if ((r = vdbgi_lightmap_bake_scene(ctx, scene, &def, &res, &s)) != VDBGI_OK)
             break;
@@ -177,7 +177,7 @@ int bench_lightmap(const bench_options *o, const char *argv0)
     fputs(",\n  \"sets\": [\n", json);
     const double ours =
         boxes_json(json, "vdbgi: 15 degree charts, smallest boxes, stb_rect_pack", res, &bake);
-    vdbgi_lightmap_destroy(res);
+    vdbgi_lightmap_result_destroy(res);
     res = NULL;
     vdbgi_lightmap_desc cop = {
         .chart_angle = 0.5f, .passes = 1, .bake = {.rays = 1, .threads = o->threads}};
@@ -189,7 +189,7 @@ int bench_lightmap(const bench_options *o, const char *argv0)
     fputs(",\n", json);
     boxes_json(json, "coplanar islands (seed 004), smallest boxes, stb_rect_pack", res, &cs);
     fputs("\n  ]\n}\n", json);
-    vdbgi_lightmap_destroy(res);
+    vdbgi_lightmap_result_destroy(res);
     res = NULL;
     printf("Packing: %zu charts into %.0f texels of atlas, %.1f %% of it covered by triangles "
            "(%s; tests/js/potpack.mjs packs the same boxes as seed 004 does).\n\n",
@@ -232,7 +232,7 @@ int bench_lightmap(const bench_options *o, const char *argv0)
         while (size < 8192 && (double)size * size < area)
             size *= 2;
         for (; size <= 8192; size *= 2) {
-            vdbgi_lightmap_destroy(res);
+            vdbgi_lightmap_result_destroy(res);
             res = NULL;
             const vdbgi_lightmap_desc d = {
                 .texel = texels[t], .size = size, .passes = 1, .bake = {.threads = o->threads}};
@@ -262,7 +262,7 @@ done:
         fclose(csv);
     if (json)
         fclose(json);
-    vdbgi_lightmap_destroy(res);
+    vdbgi_lightmap_result_destroy(res);
     vdbgi_scene_destroy(scene);
     vdbgi_context_destroy(ctx);
     free(prims);

@@ -330,7 +330,7 @@ static vdbgi_result truth_of_lightmap(vdbgi_context *ctx, const vdbgi_scene *sce
         print_row(csv, 0.25, passes == 1 ? "lightmap, one pass" : "lightmap, a pass a bounce",
                   &surface, got);
     }
-    vdbgi_lightmap_destroy(res);
+    vdbgi_lightmap_result_destroy(res);
     return r;
 }
 

@@ -299,15 +299,16 @@ int main(int argc, char **argv)
             code = cli_fail(ctx, r);
     }
     const double t2 = cli_now();
+    size_t glb_bytes = 0;
     if (r == VDBGI_OK)
-        r = vdbgi_lightmap_write(lm, o.output);
+        r = vdbgi_lightmap_write(lm, o.output, &glb_bytes);
     if (r == VDBGI_OK && o.slices)
         r = vdbgi_lightmap_write_slices(lm, o.slices);
     const double t3 = cli_now();
     if (r == VDBGI_OK) {
         vdbgi_scene_get_info(scene, &g.si);
         g.load = t1 - t0, g.bake = t2 - t1, g.write = t3 - t2;
-        g.glb_bytes = (double)vdbgi_lightmap_glb_size(lm);
+        g.glb_bytes = (double)glb_bytes;
     }
     if (r == VDBGI_OK && o.stats)
         r = cli_write_printed(ctx, o.stats, print_json, &g);
@@ -317,7 +318,7 @@ int main(int argc, char **argv)
         code = cli_fail(ctx, r);
     else if (r == VDBGI_OK && cli_verbosity >= 2)
         print_figures(stdout, &g, false);
-    vdbgi_lightmap_destroy(lm);
+    vdbgi_lightmap_result_destroy(lm);
     vdbgi_sky_destroy(sky);
     vdbgi_scene_destroy(scene);
     vdbgi_context_destroy(ctx);

@@ -1175,7 +1175,7 @@ VDBGI_API vdbgi_result vdbgi_lightmap_bake_scene(vdbgi_context *ctx, const vdbgi
                                                  const vdbgi_lightmap_desc *desc,
                                                  vdbgi_lightmap_result **out,
                                                  vdbgi_lightmap_stats *stats);
-VDBGI_API void vdbgi_lightmap_destroy(vdbgi_lightmap_result *result);
+VDBGI_API void vdbgi_lightmap_result_destroy(vdbgi_lightmap_result *result);
 
 /*
  * Write the bake: the scene as a binary glTF at path (its second UV set,
@@ -1184,10 +1184,9 @@ VDBGI_API void vdbgi_lightmap_destroy(vdbgi_lightmap_result *result);
  * and beside it, for a lightmap, each atlas's irradiance as half floats
  * (path without ".glb", then ".lightmap0.exr", ".lightmap1.exr", ...).
  */
-VDBGI_API vdbgi_result vdbgi_lightmap_write(vdbgi_lightmap_result *result, const char *path);
-/* (It records the .glb's size in result: one thread at a time per result.) */
-/* Bytes of the .glb vdbgi_lightmap_write wrote last (0 before it has). */
-VDBGI_API size_t vdbgi_lightmap_glb_size(const vdbgi_lightmap_result *result);
+/* The .glb's size in bytes into *glb_size unless it is NULL. */
+VDBGI_API vdbgi_result vdbgi_lightmap_write(const vdbgi_lightmap_result *result, const char *path,
+                                            size_t *glb_size);
 
 /*
  * Pictures for people, into directory dir (made if missing), per atlas N:

@@ -228,8 +228,8 @@ static void layers_add_up_to_the_whole_map(void)
     }
     CHECK(n > 100 && peak > 0.0 && least > 0.01 * peak);
     CHECK(worst <= 1e-5 * peak);
-    vdbgi_lightmap_destroy(whole);
-    vdbgi_lightmap_destroy(split);
+    vdbgi_lightmap_result_destroy(whole);
+    vdbgi_lightmap_result_destroy(split);
     vdbgi_scene_destroy(scene);
     vdbgi_context_destroy(ctx);
 }

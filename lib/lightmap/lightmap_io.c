@@ -238,11 +238,10 @@ struct vdbgi_lightmap_result {
     vdbgi_lightmap layers[VDBGI_LIGHTMAP_MAX_LAYERS];
     char layer_names[VDBGI_LIGHTMAP_MAX_LAYERS][32];
     size_t layer_count;
-    size_t glb_size; /* of the last .glb written */
     bool ao;
 };
 
-void vdbgi_lightmap_destroy(vdbgi_lightmap_result *r)
+void vdbgi_lightmap_result_destroy(vdbgi_lightmap_result *r)
 {
     if (!r)
         return;
@@ -451,7 +450,7 @@ static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
     if (res == VDBGI_OK)
         res = bake_maps(ctx, r, &bp, &lp, d->layers != 0);
     if (res != VDBGI_OK) {
-        vdbgi_lightmap_destroy(r);
+        vdbgi_lightmap_result_destroy(r);
         return res;
     }
     if (stats) {
@@ -486,7 +485,7 @@ vdbgi_result vdbgi_lightmap_trace_bare(vdbgi_context *ctx, const vdbgi_scene *sc
 {
     vdbgi_lightmap_result *r = NULL;
     const vdbgi_result res = bake_scene(ctx, scene, desc, true, &r, stats);
-    vdbgi_lightmap_destroy(r);
+    vdbgi_lightmap_result_destroy(r);
     return res;
 }
 
@@ -512,13 +511,11 @@ const vdbgi_lightmap *vdbgi_lightmap_result_map(const vdbgi_lightmap_result *r, 
     return i == 0 ? &r->map : i <= r->layer_count ? &r->layers[i - 1] : NULL;
 }
 
-size_t vdbgi_lightmap_glb_size(const vdbgi_lightmap_result *r)
+vdbgi_result vdbgi_lightmap_write(const vdbgi_lightmap_result *r, const char *path,
+                                  size_t *glb_size)
 {
-    return r ? r->glb_size : 0;
-}
-
-vdbgi_result vdbgi_lightmap_write(vdbgi_lightmap_result *r, const char *path)
-{
+    if (glb_size)
+        *glb_size = 0;
     vdbgi_context *const ctx = r->ctx;
     const size_t len = strlen(path);
     VDBGI_FAIL_IF(ctx, len < 5 || strcmp(path + len - 4, ".glb") != 0, VDBGI_ERR_INVALID_ARG,
@@ -538,8 +535,8 @@ vdbgi_result vdbgi_lightmap_write(vdbgi_lightmap_result *r, const char *path)
     }
     if (res == VDBGI_OK)
         res = vdbgi_write_bytes_atomic(ctx, path, f.glb, f.glb_size);
-    if (res == VDBGI_OK)
-        r->glb_size = f.glb_size;
+    if (res == VDBGI_OK && glb_size)
+        *glb_size = f.glb_size;
     vdbgi_free(ctx, name);
     vdbgi_lightmap_files_free(ctx, &f);
     return res;
