@@ -18,7 +18,9 @@ intensity / (intensity per watt) watts.
 """
 import json
 import math
+import os
 import sys
+import tempfile
 
 import bpy
 
@@ -30,6 +32,7 @@ part = opts.get("--part", "all")
 sky = [float(c) for c in opts.get("--sky", "0,0,0").split(",")]
 samples = int(opts.get("--samples", "256"))
 width = int(opts.get("--size", "128"))
+scratch = tempfile.mkdtemp(prefix="vdbgi-cycles-")
 
 
 def reset():
@@ -105,6 +108,7 @@ def render(sc, path):
     w, h = img.size
     px = list(img.pixels)
     bpy.data.images.remove(img)
+    os.remove(path)
     return w, h, px
 
 
@@ -124,7 +128,7 @@ def intensity_per_watt():
     sc.camera = ob
     sc.render.resolution_x = sc.render.resolution_y = 4
     sc.cycles.samples = 16
-    w, h, px = render(sc, "/tmp/vdbgi_cycles_calibrate.exr")
+    w, h, px = render(sc, os.path.join(scratch, "calibrate.exr"))
     L = sum(px[4 * i] for i in range(w * h)) / (w * h)
     return L * math.pi * 2.0 * 2.0
 
@@ -155,7 +159,7 @@ def main():
     means = []
     for i, p in enumerate(points):
         ob.location = y_up(p)
-        w, h, px = render(sc, "/tmp/vdbgi_cycles_probe.exr")
+        w, h, px = render(sc, os.path.join(scratch, "probe.exr"))
         total = [0.0, 0.0, 0.0]
         weight = 0.0
         for y in range(h):
@@ -173,3 +177,4 @@ def main():
 
 
 main()
+os.rmdir(scratch)
