@@ -137,9 +137,10 @@ static int parse_args(int argc, char **argv, options *o)
             o->lm.size = (int)i;
             break;
         case OPT_PASSES:
-            if (strcmp(optarg, "auto") == 0)
-                o->lm.passes = 0, o->passes_auto = true;
-            else if (!cli_parse_int(optarg, &i) || i < 1 || i > VDBGI_LIGHTMAP_MAX_PASSES)
+            if (strcmp(optarg, "auto") == 0) {
+                o->lm.passes = 0;
+                o->passes_auto = true;
+            } else if (!cli_parse_int(optarg, &i) || i < 1 || i > VDBGI_LIGHTMAP_MAX_PASSES)
                 return cli_usage_error("--passes must be auto or an integer in 1..%d (got '%s')",
                                        VDBGI_LIGHTMAP_MAX_PASSES, optarg);
             else

@@ -370,12 +370,9 @@ float vdbgi_scene_hit_point(const vdbgi_scene *scene, uint32_t prim, float u, fl
     const float *const b = &scene->positions[3 * (size_t)idx[1]];
     const float *const c = &scene->positions[3 * (size_t)idx[2]];
     const float w = 1.0f - u - v;
-    float m = VDBGI_RAY_OFFSET_MIN_MAGNITUDE;
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < 3; k++)
         p[k] = w * a[k] + u * b[k] + v * c[k];
-        m = fmaxf(m, fmaxf(fabsf(a[k]), fmaxf(fabsf(b[k]), fabsf(c[k]))));
-    }
-    return VDBGI_RAY_OFFSET_REL * m;
+    return vdbgi_scene_offset(scene, prim);
 }
 
 void vdbgi_scene_emission(const vdbgi_scene *scene, uint32_t prim, float u, float v, float rgb[3])

@@ -280,7 +280,7 @@ bool vdbgi_gltf_named(const char *path, const char *ext)
     return ends_with(name, ext);
 }
 
-/* The checks above in order, the first refusal a message; true when the file passes. */
+/* The checks above in order: true, with the first refusal's reason in *why, when one fails. */
 static bool refused(const char *path, std::string *why)
 {
     std::vector<unsigned char> file;
