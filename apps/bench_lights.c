@@ -169,7 +169,7 @@ int bench_lights(const char *scene_path, double spacing, int threads, int repeat
                repeat, sky_path);
         const vdbgi_bake_desc seed = {.threads = threads, .lights = VDBGI_LIGHTS_OFF};
         vdbgi_bake_desc lights = {.threads = threads};
-        vdbgi_bake_desc phys = {.threads = threads, .model = VDBGI_MODEL_PHYSICAL};
+        vdbgi_bake_desc phys = {.threads = threads, .model = VDBGI_MODEL_PHYSICAL, .bounces = 1};
         vdbgi_bake_desc skyd = phys;
         skyd.sky_map = sky;
         cost_row rows[8] = {{"seed 000: sun, fill, falloff, one bounce", seed},
@@ -185,6 +185,9 @@ int bench_lights(const char *scene_path, double spacing, int threads, int repeat
             rows[n].bd = skyd;
             rows[n].bd.bounces = b;
         }
+        rows[n].name = "physical + sky map, until converged (the default)";
+        rows[n].bd = skyd;
+        rows[n++].bd.bounces = 0;
         r = costs(ctx, scene, p, rows, n, repeat);
     }
     /* Error against bounces and rays, at valid probes, against 8 bounces of 4096 rays. */

@@ -42,7 +42,7 @@ static vdbgi_bake_desc lit(vdbgi_bake_desc d, const bench_light *light)
 {
     if (light) {
         d.model = light->model;
-        d.bounces = light->bounces;
+        d.bounces = light->bounces ? light->bounces : 1; /* the truth at a count, never auto */
     }
     return d;
 }

@@ -15,7 +15,7 @@ static void usage(void)
 {
     printf("Usage: gi-bake SCENE -o OUT.vdb [options]\n"
            "\n"
-           "Bake the one-bounce irradiance of SCENE (any format assimp reads: .glb,\n"
+           "Bake the bounced irradiance of SCENE (any format assimp reads: .glb,\n"
            ".gltf, .obj, .fbx, ...) into light probes on a regular lattice, keeping only\n"
            "probes near surfaces, and write them to an OpenVDB file: a Vec3s grid\n"
            "\"irradiance\" (linear RGB) and a float grid \"validity\" (back-face fraction).\n"
@@ -45,9 +45,13 @@ static void usage(void)
            "      --lights on|off      the scene's point, spot and directional lights (on)\n"
            "      --model M            seed: seed 000's ambient fill and falloff; physical:\n"
            "                           neither, only lights, emission, sky and bounces (seed)\n"
-           "      --bounces N          reflections, 1..16: every source's light reaches a probe\n"
+           "      --bounces N|auto     reflections, 1..16: every source's light reaches a probe\n"
            "                           over at most N (physical: lamps, sky and emitters\n"
-           "                           alike; seed: its sky and emitters one fewer) (1)\n"
+           "                           alike; seed: its sky and emitters one fewer); auto:\n"
+           "                           until the next adds under --converge of the light,\n"
+           "                           three traced and the rest carried by the third\n"
+           "                           (physical model: auto; seed: 1, its fill stands in)\n"
+           "      --converge S         auto's share of the light, in (0, 1) (0.002)\n"
            "      --sampling S         fibonacci (one set, as seed 000) or random (a random\n"
            "                           rotation of that set per probe) (fibonacci)\n"
            "      --seed N             seed of random sampling (0)\n"
@@ -84,6 +88,7 @@ enum {
     OPT_TRACE,
     OPT_BASIS,
     OPT_BOUNCES,
+    OPT_CONVERGE,
     OPT_TILE
 };
 
@@ -92,6 +97,7 @@ typedef struct options {
     const char *output;
     vdbgi_place_desc place;
     vdbgi_bake_desc bake;
+    bool bounces_auto; /* --bounces auto: only the physical model bounces until converged */
 } options;
 
 static const char *trace_names[] = {"auto", "single", "packet8", "packet16", "stream"};
@@ -110,6 +116,7 @@ static int parse_args(int argc, char **argv, options *o)
                                           {"trace", required_argument, NULL, OPT_TRACE},
                                           {"basis", required_argument, NULL, OPT_BASIS},
                                           {"bounces", required_argument, NULL, OPT_BOUNCES},
+                                          {"converge", required_argument, NULL, OPT_CONVERGE},
                                           {"tile", required_argument, NULL, OPT_TILE},
                                           CLI_COMMON_LONG_OPTIONS};
     opterr = 0;
@@ -199,9 +206,21 @@ static int parse_args(int argc, char **argv, options *o)
             break;
         }
         case OPT_BOUNCES:
-            if (!cli_parse_int(optarg, &i) || i < 1 || i > 16)
-                return cli_usage_error("--bounces must be an integer in 1..16 (got '%s')", optarg);
-            o->bake.bounces = (int)i;
+            if (strcmp(optarg, "auto") == 0) {
+                o->bake.bounces = 0;
+                o->bounces_auto = true;
+            } else if (!cli_parse_int(optarg, &i) || i < 1 || i > 16) {
+                return cli_usage_error("--bounces must be auto or an integer in 1..16 (got '%s')",
+                                       optarg);
+            } else {
+                o->bake.bounces = (int)i;
+                o->bounces_auto = false;
+            }
+            break;
+        case OPT_CONVERGE:
+            if (!cli_parse_double(optarg, &d) || !(d > 0.0 && d < 1.0))
+                return cli_usage_error("--converge must be a share in (0, 1) (got '%s')", optarg);
+            o->bake.converge = (float)d;
             break;
         default: {
             const int done = cli_common_option(c, argv, usage);
@@ -210,6 +229,12 @@ static int parse_args(int argc, char **argv, options *o)
         }
         }
     }
+    const bool physical = o->bake.model == VDBGI_MODEL_PHYSICAL;
+    if (o->bounces_auto && !physical)
+        return cli_usage_error("--bounces auto is for --model physical: the seed model's fill "
+                               "stands in for further bounces (give --bounces N)");
+    if (o->bake.converge != 0.0f && !(physical && o->bake.bounces == 0))
+        return cli_usage_error("--converge is for --bounces auto, under --model physical");
     const int taken = cli_one_input(argc, argv, "scene", &o->scene);
     if (taken >= 0)
         return taken;
@@ -297,9 +322,14 @@ int main(int argc, char **argv)
             printf(", tile %d of %d (i %d..%d)", pi.tile_index + 1, pi.tile_count, pi.tile_x[0],
                    pi.tile_x[1] - 1);
         printf("\n");
+        if (o.bake.model == VDBGI_MODEL_PHYSICAL && o.bake.bounces == 0)
+            printf("bounces  %d until the next adds under %g %% of the light (the last added %.2f "
+                   "%%): %d traced, the last carrying the rest (%.1f %% of the light)\n",
+                   st.bounces, 100.0 * (o.bake.converge != 0.0f ? o.bake.converge : VDBGI_CONVERGE),
+                   100.0 * st.last_share, st.bounces_traced, 100.0 * st.tail_share);
         printf("rays     %llu primary + %llu %s, %.1f Mrays/s on %d threads\n",
                (unsigned long long)st.primary_ray_count, (unsigned long long)st.shadow_ray_count,
-               o.bake.bounces > 1 ? "shadow and bounce" : "shadow",
+               st.bounces_traced > 1 ? "shadow and bounce" : "shadow",
                st.seconds > 0.0 ? rays / st.seconds * 1e-6 : 0.0, st.threads);
         printf("time     %.2f s: load %.2f, place %.2f, bake %.2f, write %.2f\n", t4 - t0, t1 - t0,
                t2 - t1, t3 - t2, t4 - t3);

@@ -26,8 +26,9 @@ static void usage(void)
            "      --size N             atlas edge in texels (1024); more atlases if needed\n"
            "      --passes N|auto      reflections, 1..16: every source's light reaches a\n"
            "                           texel over at most N, as gi-bake's --bounces; auto:\n"
-           "                           until the last adds under 1 %% of the light (physical\n"
-           "                           model: auto; seed: 2, its fill stands in for the rest)\n"
+           "                           until the next would add under 0.2 %% of the light, at\n"
+           "                           most three swept and the third carrying the rest\n"
+           "                           (physical model: auto; seed: 2, its fill stands in)\n"
            "      --direct             add the direct sun and lights (fully baked); default:\n"
            "                           bounced light only, the lights stay on at runtime\n"
            "      --mode M             lightmap or ao (ambient occlusion, the glTF\n"
@@ -214,10 +215,12 @@ static void print_figures(FILE *f, const run_figures *g, bool json)
                 "  \"charts\": %zu,\n  \"atlases\": %zu,\n  \"atlas_size\": %d,\n"
                 "  \"texels\": %zu,\n  \"utilisation\": %.4f,\n  \"samples\": %zu,\n"
                 "  \"invalid\": %zu,\n  \"layers\": %zu,\n  \"passes\": %d,\n"
-                "  \"last_pass_share\": %.5f,\n  \"pass_seconds\": [",
+                "  \"last_pass_share\": %.5f,\n  \"bounces\": %d,\n  \"tail_share\": %.5f,\n"
+                "  \"pass_seconds\": [",
                 g->o->ao ? "ao" : "lightmap", g->si.triangle_count, st->kept_uv1 ? "true" : "false",
                 st->charts, st->atlases, size, st->texels, st->utilisation, st->samples,
-                st->invalid, st->layers, st->passes, st->last_share);
+                st->invalid, st->layers, st->passes, st->last_share,
+                st->bounces ? st->bounces : st->passes, st->tail_share);
         for (int p = 0; p < st->passes && p < 16; p++)
             fprintf(f, "%s%.4f", p ? ", " : "", st->pass_seconds[p]);
         fprintf(f,
@@ -242,7 +245,12 @@ static void print_figures(FILE *f, const run_figures *g, bool json)
     for (int p = 0; p < st->passes && p < 16; p++)
         fprintf(f, " %.2f s", st->pass_seconds[p]);
     fprintf(f, ", %.1f Mrays/s", mrays);
-    if (!g->o->ao)
+    if (!g->o->ao && st->bounces)
+        fprintf(f,
+                "; the light needs %d (the last adds %.2f %%), the last swept carrying the rest "
+                "(%.1f %% of the light)",
+                st->bounces, 100.0 * st->last_share, 100.0 * st->tail_share);
+    else if (!g->o->ao)
         fprintf(f, "; the last added %.2f %% of the light", 100.0 * st->last_share);
     fputc('\n', f);
     fprintf(f, "time     %.2f s: load %.2f, bake %.2f, write %.2f\n", g->load + g->bake + g->write,

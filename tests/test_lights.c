@@ -6,7 +6,8 @@
  * rho L / 2 (one bounce carries the sky as far as a lamp); a sky map's sun
  * becomes a lamp without changing what a plane receives; in a closed box of
  * albedo rho whose walls emit Le, a probe after N bounces and a texel after
- * N passes both read Le (1 + rho + ... + rho^N). Lamps are read at the true
+ * N passes both read Le (1 + rho + ... + rho^N), and bounces until
+ * converged stop where that series says. Lamps are read at the true
  * hit: a probe over a lit plane is each ray's closed form, and a speck 1 km
  * away or a triangle 1000 km away changes nothing near the origin. Bad lights, skies and
  * settings are refused by name; bounces give the same bits on any thread
@@ -472,34 +473,32 @@ static void the_furnace_sums_the_series_for_probes_and_texels(void)
 }
 
 /*
- * Passes until converged, in the furnace: the P-th pass adds Le rho^P to a
- * map that then holds Le (1 + ... + rho^P), so the bake stops after the
- * first P >= 2 whose share is under the target, and reads that sum.
+ * Passes until converged, in the furnace: the k-th pass adds Le rho^k, so
+ * the light needs the first n passes whose next term is under the share
+ * asked; three are swept and the third's increment carries the rest, so
+ * every texel reads Le (1 + ... + rho^n), as a probe does.
  */
 static void passes_until_converged_stop_where_the_series_says(void)
 {
     vdbgi_context *ctx = test_context();
-    const float rho = FURNACE_RHO, le = FURNACE_LE;
+    const double rho = FURNACE_RHO, le = FURNACE_LE;
     test_mesh box = {0};
     const vdbgi_mesh_desc md = furnace(&box);
     vdbgi_bake_desc bd = lamps_only;
     bd.rays = 64;
     static const float targets[3] = {0.1f, 0.01f, 0.001f};
     for (int t = 0; t < 3; t++) {
-        int want_passes = 0;
-        double sum = 1.0, term = 1.0;
-        for (int p = 1; !want_passes; p++) {
-            term *= rho, sum += term;
-            if (p >= 2 && term / sum < targets[t])
-                want_passes = p;
-        }
+        int n = 1;
+        double sum = 1.0 + rho;
+        while (n < 16 && pow(rho, n + 1) > targets[t] * (sum + pow(rho, n + 1)))
+            sum += pow(rho, ++n);
         vdbgi_scene *s = NULL;
         CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &s), VDBGI_OK);
         const vdbgi_lightmap_params lp = {.passes = 0, .converge = targets[t], .rings = 3};
         baked k;
         if (s && bake_map(ctx, s, &bd, 0.5f, &lp, &k)) {
-            CHECK(k.map.passes == want_passes);
-            CHECK(k.map.last_share < targets[t]);
+            CHECK(k.map.bounces == n && k.map.passes == (n < 3 ? n : 3));
+            CHECK_NEAR(k.map.last_share, pow(rho, n) / sum, 1e-6);
             double worst = 0.0;
             for (size_t i = 0; i < k.map.texel_count; i++)
                 if (k.tx.tri[i] >= 0)
@@ -519,6 +518,75 @@ static void passes_until_converged_stop_where_the_series_says(void)
         CHECK(res == NULL);
         vdbgi_scene_destroy(s);
     }
+    vdbgi_context_destroy(ctx);
+}
+
+/*
+ * Bounces until converged, in the furnace: the k-th bounce adds Le rho^k
+ * (exactly, at every receiver of the pilot), so the count stops at the
+ * first n whose next term is under the share asked, and every probe reads
+ * Le (1 + ... + rho^n) though only three bounces are traced: the third
+ * carries the rest. The stats say so.
+ */
+static void bounces_until_converged_stop_where_the_series_says(void)
+{
+    vdbgi_context *ctx = test_context();
+    const double rho = FURNACE_RHO, le = FURNACE_LE;
+    test_mesh box = {0};
+    const vdbgi_mesh_desc md = furnace(&box);
+    static const float targets[3] = {0.1f, 0.01f, 0.002f};
+    for (int t = 0; t < 3; t++) {
+        int n = 1;
+        double sum = 1.0 + rho;
+        while (n < 16 && pow(rho, n + 1) > targets[t] * (sum + pow(rho, n + 1)))
+            sum += pow(rho, ++n);
+        double rest = 0.0;
+        for (int k = 4; k <= n; k++)
+            rest += pow(rho, k);
+        vdbgi_scene *s = NULL;
+        vdbgi_probes *p = NULL;
+        CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &s), VDBGI_OK);
+        const vdbgi_place_desc pd = {.spacing = 1.0, .margin = 0.9};
+        if (s)
+            CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
+        vdbgi_bake_desc bd = lamps_only;
+        bd.rays = 32;
+        bd.converge = targets[t];
+        vdbgi_bake_stats st = {0};
+        if (p)
+            CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &bd, &st), VDBGI_OK);
+        CHECK(st.bounces == n);
+        CHECK(st.bounces_traced == (n < 3 ? n : 3));
+        CHECK_NEAR(st.last_share, pow(rho, n) / sum, 1e-6);
+        CHECK_NEAR(st.tail_share, rest / sum, 1e-6);
+        double worst = 0.0;
+        size_t inside = 0;
+        for (size_t i = 0; p && i < p->count; i++)
+            if (p->backface[i] == 0.0f) {
+                worst = fmax(worst, fabs(p->rgb[3 * i] - le * sum) / (le * sum));
+                inside++;
+            }
+        CHECK(inside > 20);
+        CHECK(worst < 1e-5);
+        if (worst >= 1e-5)
+            fprintf(stderr, "share %g: %d bounces, worst %g\n", (double)targets[t], n, worst);
+        vdbgi_probes_destroy(p);
+        vdbgi_scene_destroy(s);
+    }
+    /* A share outside (0, 1), or one with a count given, is refused. */
+    vdbgi_scene *s = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &s), VDBGI_OK);
+    const float at[3] = {1, 1, 1};
+    float rgb[3];
+    vdbgi_bake_desc bd = lamps_only;
+    bd.converge = 1.5f;
+    CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &bd, at, 1, rgb, NULL), VDBGI_ERR_INVALID_ARG);
+    CHECK(strstr(vdbgi_context_error(ctx), "converged share must be in (0, 1)") != NULL);
+    bd.converge = 0.05f;
+    bd.bounces = 2;
+    CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &bd, at, 1, rgb, NULL), VDBGI_ERR_INVALID_ARG);
+    CHECK(strstr(vdbgi_context_error(ctx), "for bounces until converged") != NULL);
+    vdbgi_scene_destroy(s);
     vdbgi_context_destroy(ctx);
 }
 
@@ -569,6 +637,18 @@ static void bounces_give_the_same_bits_on_any_thread_count(void)
         for (size_t i = 0; i < p1->count; i++)
             sum += p1->rgb[3 * i];
         CHECK(sum / (double)p1->count > 0.2 * 0.5);
+    }
+    /* Until converged: the pilot sums in its receivers' order, so the count and the bits
+       are the same too. */
+    bd.bounces = 0;
+    bd.threads = 1;
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p1, scene, &bd, &s1), VDBGI_OK);
+    bd.threads = 3;
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p3, scene, &bd, &s3), VDBGI_OK);
+    if (p1 && p3) {
+        CHECK(s1.bounces == s3.bounces && s1.bounces >= 2);
+        CHECK(s1.tail_share == s3.tail_share && s1.last_share == s3.last_share);
+        CHECK(memcmp(p1->rgb, p3->rgb, p1->count * 3 * sizeof(float)) == 0);
     }
     vdbgi_probes_destroy(p1);
     vdbgi_probes_destroy(p3);
@@ -751,6 +831,7 @@ int main(void)
     RUN(a_sky_maps_sun_becomes_a_lamp);
     RUN(the_furnace_sums_the_series_for_probes_and_texels);
     RUN(passes_until_converged_stop_where_the_series_says);
+    RUN(bounces_until_converged_stop_where_the_series_says);
     RUN(bounces_give_the_same_bits_on_any_thread_count);
     RUN(a_gltfs_lights_arrive_with_their_nodes_and_ranges);
     RUN(bad_lights_skies_and_settings_are_refused);

@@ -298,11 +298,14 @@ static void tiles_merge_into_the_whole_bake(void)
     const vdbgi_mesh_desc d = test_mesh_desc(&m, 0.6f, 0);
     vdbgi_scene *scene = NULL;
     CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &d, 1, &scene), VDBGI_OK);
+    /* Bounces until converged: every tile's pilot is the whole scene's (cli/merge_tiles tiles
+       the seed model's one bounce). */
     vdbgi_bake_desc bd = {.rays = 32,
                           .sampling = VDBGI_SAMPLING_RANDOM,
                           .seed = 4,
                           .basis = VDBGI_BASIS_SH2,
-                          .bounces = 2,
+                          .model = VDBGI_MODEL_PHYSICAL,
+                          .sky = {0.4f, 0.5f, 0.7f},
                           .threads = 2};
     vdbgi_place_desc pd = {.spacing = 0.25};
     vdbgi_probes *whole = NULL, *merged = NULL;

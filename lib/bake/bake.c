@@ -108,15 +108,20 @@ static vdbgi_result bake_run(bake_shared *sh, const vdbgi_scene *scene, bool sha
                              vdbgi_bake_stats *stats)
 {
     vdbgi_context *const ctx = sh->ctx;
-    const vdbgi_bake_params *const bp = sh->bp;
     /* Loading a scene builds no BVH: a bake builds its own, outside its timing. */
     vdbgi_tracer *tracer = NULL;
     VDBGI_TRY(vdbgi_tracer_create(ctx, scene->positions, scene->vertex_count, scene->indices,
                                   scene->triangle_count, &tracer));
     const double t0 = vdbgi_now();
+    /* Bounces left to convergence are counted first, on this copy the threads read. */
+    vdbgi_bake_params run = *sh->bp;
+    vdbgi_bounce_plan plan;
+    vdbgi_result r = vdbgi_bounces_converge(ctx, scene, tracer, &run, &plan);
+    const vdbgi_bake_params *const bp = sh->bp = &run;
     float *base_dirs = NULL;
     int set = 0;
-    vdbgi_result r = vdbgi_estimator_directions(ctx, bp, &base_dirs, &set);
+    if (r == VDBGI_OK)
+        r = vdbgi_estimator_directions(ctx, bp, &base_dirs, &set);
     sh->proto = (vdbgi_estimator){.scene = scene,
                                   .tracer = tracer,
                                   .bp = bp,
@@ -160,7 +165,12 @@ static vdbgi_result bake_run(bake_shared *sh, const vdbgi_scene *scene, bool sha
         }
         stats->threads = ran;
         stats->seconds = vdbgi_now() - t0;
+        stats->bounces = plan.bounces;
+        stats->bounces_traced = plan.traced;
+        stats->last_share = plan.last_share;
+        stats->tail_share = plan.tail_share;
     }
+    sh->bp = NULL; /* run is gone with this call */
     for (int t = 0; ths && t < nth; t++)
         vdbgi_estimator_free(ctx, &ths[t].est);
     vdbgi_free(ctx, ths);
@@ -221,7 +231,12 @@ static void record_settings(vdbgi_probes *p, const vdbgi_scene *scene, const vdb
     }
     vdbgi_meta_set_string(&p->meta, "model",
                           bp->model == VDBGI_MODEL_PHYSICAL ? "physical" : "seed");
-    vdbgi_meta_set_int(&p->meta, "bounces", bp->bounces);
+    vdbgi_meta_set_int(&p->meta, "bounces", st->bounces);
+    if (bp->converge > 0.0f) {
+        vdbgi_meta_set_double(&p->meta, "converge", bp->converge);
+        vdbgi_meta_set_int(&p->meta, "bounces_traced", st->bounces_traced);
+        vdbgi_meta_set_double(&p->meta, "bounce_tail_share", st->tail_share);
+    }
     vdbgi_meta_set_int(&p->meta, "scene_lights", bp->scene_lamps);
     if (bp->sky_map) {
         char hash[17];

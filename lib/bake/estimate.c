@@ -21,14 +21,22 @@ typedef struct probe_sums {
     size_t rays, hits, back, shadow;
 } probe_sums;
 
+/* Light l of a path's depth-th increment (see vdbgi_estimator.depth_light), when counted. */
+static void count_depth(vdbgi_estimator *th, int depth, const float l[3])
+{
+    if (th->depth_light)
+        for (int k = 0; k < 3; k++)
+            th->depth_light[3 * depth + k] += l[k];
+}
+
 /*
  * Light from the lamps at the count path hits in th (phit, porg, poff,
- * pnorm, pweight, pray): each lamp is read at the hit itself, and its shadow
- * ray starts at the hit's origin, one offset off the surface; for the open
- * ones radiance[ray[i]] += weight[i] x f x the lamp's colour. Returns the
- * shadow rays traced.
+ * pnorm, pweight, pray), the depth-th hits of their paths: each lamp is read
+ * at the hit itself, and its shadow ray starts at the hit's origin, one
+ * offset off the surface; for the open ones radiance[ray[i]] += weight[i] x
+ * f x the lamp's colour. Returns the shadow rays traced.
  */
-static size_t light_points(vdbgi_estimator *th, size_t count)
+static size_t light_points(vdbgi_estimator *th, size_t count, int depth)
 {
     const vdbgi_bake_params *const bp = th->bp;
     size_t traced = 0;
@@ -54,9 +62,11 @@ static size_t light_points(vdbgi_estimator *th, size_t count)
         traced += m;
         if (th->shade)
             for (size_t s = 0; s < m; s++)
-                if (!th->occluded[s])
+                if (!th->occluded[s]) {
                     for (int k = 0; k < 3; k++)
                         th->radiance[3 * th->shadow_ray[s] + k] += th->sun_weight[3 * s + k];
+                    count_depth(th, depth, &th->sun_weight[3 * s]);
+                }
     }
     return traced;
 }
@@ -173,27 +183,31 @@ static size_t trace_bounces(vdbgi_estimator *th, size_t count, size_t first_ray)
                 float sky[3];
                 vdbgi_miss_radiance(bp, d, sky);
                 for (int k = 0; k < 3; k++)
-                    L[k] += w[k] * sky[k];
+                    L[k] += sky[k] *= w[k];
+                count_depth(th, b - 1, sky);
                 continue;
             }
             const float *const tn = scene->tris[h->prim].normal;
             const bool front = tn[0] * d[0] + tn[1] * d[1] + tn[2] * d[2] <= 0.0f;
             float e[3];
-            if (hit_emission(bp, scene, h, front, e))
+            if (hit_emission(bp, scene, h, front, e)) {
                 for (int k = 0; k < 3; k++)
-                    L[k] += w[k] * e[k];
+                    L[k] += e[k] *= w[k];
+                count_depth(th, b - 1, e);
+            }
             if (!goes_on)
                 continue;
             /* The path goes on from this hit (compacted in place: live <= i). */
             float albedo[3], wa[3];
             vdbgi_scene_albedo(scene, h->prim, h->u, h->v, albedo);
+            const bool final = b == bp->bounces;
             for (int k = 0; k < 3; k++)
-                wa[k] = w[k] * albedo[k];
+                wa[k] = w[k] * albedo[k] * (final ? 1.0f + bp->tail[k] : 1.0f);
             th->pray[live] = th->pray[i];
             set_path_hit(th, live++, h, d, wa);
         }
         if (goes_on)
-            traced += light_points(th, live);
+            traced += light_points(th, live, b);
         count = live;
     }
     return traced;
@@ -249,10 +263,17 @@ static void trace_batch(vdbgi_estimator *th, const float pos[3], const float *di
                 for (int k = 0; k < 3; k++)
                     L[k] += w * e[k];
         }
+        /* The last bounce traced carries the bounces past it (bp->tail). */
+        if (bp->bounces == 1)
+            for (int k = 0; k < 3; k++)
+                albedo_w[k] *= 1.0f + bp->tail[k];
         th->pray[hit_count] = (uint32_t)i;
         set_path_hit(th, hit_count++, h, d, albedo_w);
     }
-    size_t shadow_count = light_points(th, hit_count);
+    if (th->depth_light)
+        for (int i = 0; i < n; i++)
+            count_depth(th, 0, &th->radiance[3 * i]);
+    size_t shadow_count = light_points(th, hit_count, 1);
     if (path_rays(th) > 1)
         shadow_count += trace_bounces(th, hit_count, sums->rays);
     sums->rays += (size_t)n;

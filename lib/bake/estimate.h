@@ -13,6 +13,14 @@
 #define VDBGI_MAX_BOUNCES 16
 
 /*
+ * Bounces traced when the count is left to convergence; the ones past them
+ * ride on the last traced one (vdbgi_bake_params.tail). By the third
+ * bounce the light's shape over a scene has settled, and each later bounce
+ * is close to a fixed share of the one before (docs/lights.md measures it).
+ */
+#define VDBGI_TRACED_BOUNCES 3
+
+/*
  * A light as the estimator uses it: the sun or a scene light, resolved.
  * rgb is in the estimator's units (E / pi): per unit cos(theta) for a
  * directional light, at 1 m for a point or spot light.
@@ -47,7 +55,14 @@ typedef struct vdbgi_bake_params {
     vdbgi_basis basis;
     vdbgi_model model;
     vdbgi_lights lights;
+    /*
+     * Bounces traced, or 0 until vdbgi_bounces_converge has chosen them from
+     * converge (the share of the light below which the next bounce is not
+     * worth it; 0 for a count given). tail: the light of the bounces past
+     * the last traced one, as a multiple of its own, per channel (0: none).
+     */
     int bounces;
+    float converge, tail[3];
     const vdbgi_sky *sky_map;
     /* What lights the hits with a shadow ray each: the sun (when on), the sky map's sun, then
        the scene's lights. */
@@ -59,6 +74,24 @@ typedef struct vdbgi_bake_params {
 /* desc (NULL: the defaults) for scene, whose lights it resolves. */
 vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc *desc,
                                        const vdbgi_scene *scene, vdbgi_bake_params *out);
+
+/* What vdbgi_bounces_converge found. */
+typedef struct vdbgi_bounce_plan {
+    int bounces;       /* until the next would add less than converge of the light */
+    int traced;        /* of them, traced: at most VDBGI_TRACED_BOUNCES */
+    double last_share; /* what the last of the bounces added, a share of the light */
+    double tail_share; /* the share of the light the untraced bounces carry */
+} vdbgi_bounce_plan;
+
+/*
+ * When bp's bounces are left to convergence, a pilot of surface receivers
+ * spread over scene by area, traced VDBGI_MAX_BOUNCES deep, chooses them:
+ * bp->bounces becomes the bounces to trace and bp->tail what the rest add.
+ * Otherwise plan says bp's count. The same for every tile and thread count.
+ */
+vdbgi_result vdbgi_bounces_converge(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                    const vdbgi_tracer *tracer, vdbgi_bake_params *bp,
+                                    vdbgi_bounce_plan *plan);
 
 /*
  * What lamp l brings to a surface point pos of facing unit normal n,
@@ -131,6 +164,13 @@ typedef struct vdbgi_estimator {
     float *phit, *porg, *poff, *pnorm, *pweight;
     uint32_t *pray;
     uint64_t stream; /* the point's, for the bounces' random numbers */
+    /*
+     * When not NULL, VDBGI_MAX_BOUNCES + 1 RGB sums the rays' light is
+     * added to by increment: 0 what the rays see (sky, emitters), k >= 1
+     * what the k-th bounce adds (lamps at the k-th hit, what the ray leaving
+     * it sees).
+     */
+    double *depth_light;
     void *scratch;
 } vdbgi_estimator;
 

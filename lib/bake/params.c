@@ -188,9 +188,22 @@ vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc
     VDBGI_FAIL_IF(ctx, desc->lights != VDBGI_LIGHTS_SCENE && desc->lights != VDBGI_LIGHTS_OFF,
                   VDBGI_ERR_INVALID_ARG, "unknown lights setting %d", (int)desc->lights);
     bp->lights = desc->lights;
-    bp->bounces = desc->bounces ? desc->bounces : 1;
-    VDBGI_FAIL_IF(ctx, bp->bounces < 1 || bp->bounces > VDBGI_MAX_BOUNCES, VDBGI_ERR_INVALID_ARG,
-                  "bounces must be in 1..%d (got %d)", VDBGI_MAX_BOUNCES, desc->bounces);
+    /* The physical model bounces until converged unless told; the seed model's fill stands in
+       for the bounces past its one. */
+    VDBGI_FAIL_IF(ctx, desc->bounces < 0 || desc->bounces > VDBGI_MAX_BOUNCES,
+                  VDBGI_ERR_INVALID_ARG, "bounces must be in 1..%d, or 0 until converged (got %d)",
+                  VDBGI_MAX_BOUNCES, desc->bounces);
+    const bool until = desc->bounces == 0 && bp->model == VDBGI_MODEL_PHYSICAL;
+    VDBGI_FAIL_IF(ctx, desc->converge != 0.0f && !until, VDBGI_ERR_INVALID_ARG,
+                  "a converged share is for bounces until converged, under the physical model "
+                  "(got %g)",
+                  (double)desc->converge);
+    bp->bounces = until ? 0 : desc->bounces ? desc->bounces : 1;
+    bp->converge = !until ? 0.0f : desc->converge == 0.0f ? VDBGI_CONVERGE : desc->converge;
+    VDBGI_FAIL_IF(ctx, until && !(bp->converge > 0.0f && bp->converge < 1.0f),
+                  VDBGI_ERR_INVALID_ARG, "the converged share must be in (0, 1) (got %g)",
+                  (double)desc->converge);
+    bp->tail[0] = bp->tail[1] = bp->tail[2] = 0.0f;
     bp->sky_map = desc->sky_map;
     VDBGI_FAIL_IF(ctx, bp->sky_map && !is_zero3(bp->sky), VDBGI_ERR_INVALID_ARG,
                   "a sky map and a sky colour: give one");

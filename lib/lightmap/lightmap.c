@@ -207,6 +207,11 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
                                  vdbgi_lightmap *out)
 {
     memset(out, 0, sizeof(*out));
+    /* Each pass is one bounce: the passes converge, not the paths. */
+    vdbgi_bake_params one = *bp;
+    if (one.bounces == 0)
+        one.bounces = 1, one.converge = 0.0f;
+    bp = &one;
     VDBGI_FAIL_IF(ctx, lp->passes < 0 || lp->passes > VDBGI_LIGHTMAP_MAX_PASSES,
                   VDBGI_ERR_INVALID_ARG, "passes must be 1..%d, or 0 until converged (got %d)",
                   VDBGI_LIGHTMAP_MAX_PASSES, lp->passes);
@@ -266,9 +271,19 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
                                        .hit_user = &sh};
         r = vdbgi_estimator_init(ctx, &ths[t].est, bp->rays);
     }
-    /* AO bounces nothing; until converged, the texels' own lamps come after the last pass. */
+    /*
+     * AO bounces nothing. Until converged, the probes' pilot says how many passes the light
+     * needs; at most VDBGI_TRACED_BOUNCES are swept and the last one's increment carries the
+     * rest, as a probe's third bounce does. The texels' own lamps come after.
+     */
     const bool until = lp->ao_dist <= 0.0f && lp->passes == 0;
-    const int most = lp->ao_dist > 0.0f ? 1 : until ? VDBGI_LIGHTMAP_MAX_PASSES : lp->passes;
+    vdbgi_bounce_plan plan = {.traced = lp->passes};
+    vdbgi_bake_params pilot = *bp;
+    pilot.bounces = 0;
+    pilot.converge = lp->converge;
+    if (r == VDBGI_OK && until)
+        r = vdbgi_bounces_converge(ctx, scene, tracer, &pilot, &plan);
+    const int most = lp->ao_dist > 0.0f ? 1 : plan.traced;
     double light_before = 0.0;
     for (int pass = 0; r == VDBGI_OK && pass < most; pass++) {
         sh.pass = pass;
@@ -282,8 +297,14 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
         const double light = map_light(out, samples, n);
         out->last_share = light > 0.0 ? (light - light_before) / light : 0.0;
         light_before = light;
-        if (until && pass >= 1 && !(out->last_share >= lp->converge))
-            break;
+    }
+    if (r == VDBGI_OK && until) {
+        /* cur holds the map before the last pass: what that pass added, scaled, is the rest. */
+        for (size_t i = 0; i < 3 * texels; i++)
+            out->rgb[i] += pilot.tail[i % 3] * (out->rgb[i] - cur[i]);
+        out->bounces = plan.bounces;
+        out->last_share = plan.last_share;
+        out->tail_share = plan.tail_share;
     }
     if (r == VDBGI_OK && until && lp->direct) {
         sh.direct_only = true;
@@ -330,6 +351,9 @@ static vdbgi_result bake_hemispheres(const vdbgi_scene *scene, const vdbgi_bake_
     if (r == VDBGI_OK)
         r = vdbgi_tracer_create(ctx, scene->positions, scene->vertex_count, scene->indices,
                                 scene->triangle_count, &tracer);
+    vdbgi_bounce_plan plan;
+    if (r == VDBGI_OK)
+        r = vdbgi_bounces_converge(ctx, scene, tracer, &bp, &plan);
     if (r == VDBGI_OK) {
         e.tracer = tracer;
         vdbgi_hemisphere_directions(bp.rays, dirs);

@@ -11,8 +11,10 @@
 
 typedef struct vdbgi_lightmap_params {
     int passes;     /* reflections: pass k lights the hits with pass k - 1's map; >= 1, or 0:
-                      until a pass adds less than converge of the light (2..16 passes) */
-    float converge; /* with passes 0: the share of the map's light a last pass may add */
+                      until the next would add less than converge of the light
+                      (vdbgi_bounces_converge: at most three passes, the last carrying the
+                      rest) */
+    float converge; /* with passes 0: that share, in (0, 1) */
     bool direct;    /* add the texel's own sun (fully baked lighting); else bounced light only */
     int rings;      /* dilation rings after each pass (gutter + invalid texels) */
     float ao_dist;  /* > 0: ambient occlusion instead (seed 004's AO mode): the fraction of the
@@ -28,7 +30,10 @@ typedef struct vdbgi_lightmap {
     size_t invalid_count; /* samples inside geometry or behind back faces */
     double pass_seconds[16];
     int passes;        /* done */
-    double last_share; /* of the map's light (its valid samples, all channels), the last pass's */
+    double last_share; /* of the map's light (its valid samples, all channels), the last pass's;
+                          until converged, the pilot's for the last of the bounces */
+    int bounces;       /* until converged: the bounces the light needs (0 otherwise) */
+    double tail_share; /* of them, the share the passes not swept carry */
     uint64_t rays;
 } vdbgi_lightmap;
 

@@ -374,6 +374,8 @@ static vdbgi_result bake_maps(vdbgi_context *ctx, vdbgi_lightmap_result *r,
         /* Until converged each layer takes its own count: the most, and its share, stand. */
         m->passes = r->layers[l].passes > m->passes ? r->layers[l].passes : m->passes;
         m->last_share = fmax(m->last_share, r->layers[l].last_share);
+        m->bounces = r->layers[l].bounces > m->bounces ? r->layers[l].bounces : m->bounces;
+        m->tail_share = fmax(m->tail_share, r->layers[l].tail_share);
     }
     return VDBGI_OK;
 }
@@ -393,19 +395,21 @@ static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
     VDBGI_TRY(vdbgi_bake_params_resolve(ctx, &bd, scene, &bp));
     VDBGI_FAIL_IF(ctx, bp.bounces > 1, VDBGI_ERR_INVALID_ARG,
                   "a lightmap bounces by its passes, not by bounces (got %d)", bp.bounces);
+    VDBGI_FAIL_IF(ctx, bd.converge != 0.0f, VDBGI_ERR_INVALID_ARG,
+                  "a lightmap converges by its passes: give the share as its converge");
     VDBGI_FAIL_IF(ctx, d->passes < 0 || d->passes > VDBGI_LIGHTMAP_MAX_PASSES,
                   VDBGI_ERR_INVALID_ARG, "passes must be 1..%d, or 0 until converged (got %d)",
                   VDBGI_LIGHTMAP_MAX_PASSES, d->passes);
-    const float converge = d->converge == 0.0f ? 0.01f : d->converge;
+    const float converge = d->converge == 0.0f ? VDBGI_CONVERGE : d->converge;
     VDBGI_FAIL_IF(ctx, !(converge > 0.0f && converge < 1.0f), VDBGI_ERR_INVALID_ARG,
                   "the converged share must be in (0, 1) (got %g)", (double)d->converge);
     /*
      * By default the physical model bakes until converged; the seed model keeps seed 004's
      * two passes, its fill standing in for the rest (more would count the fill again).
-     * Until converged, the limits count the fewest passes it takes (2).
+     * Until converged, the limits count the most passes it sweeps (3).
      */
     const int asked = d->passes ? d->passes : bp.model == VDBGI_MODEL_PHYSICAL ? 0 : 2;
-    const int passes = asked ? asked : 2;
+    const int passes = asked ? asked : 3;
     VDBGI_FAIL_IF(ctx, d->layers && d->ao_dist > 0.0f, VDBGI_ERR_INVALID_ARG,
                   "layers are for lightmaps, not AO");
     vdbgi_lightmap_result *const r = vdbgi_calloc(ctx, 1, sizeof(*r));
@@ -465,6 +469,8 @@ static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
         stats->utilisation = r->un.chart_texels / (double)r->map.texel_count;
         stats->passes = r->map.passes;
         stats->last_share = r->map.last_share;
+        stats->bounces = r->map.bounces;
+        stats->tail_share = r->map.tail_share;
         memcpy(stats->pass_seconds, r->map.pass_seconds, sizeof(stats->pass_seconds));
         stats->rays = r->map.rays;
         stats->seconds = vdbgi_now() - t0;

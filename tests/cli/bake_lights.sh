@@ -54,6 +54,15 @@ bake lights.gltf -o off.vdb --lights off
 meta off.vdb
 bake lights.gltf -o physical.vdb --model physical --bounces 3 --sky-map sky.hdr --sky-rotation 45
 meta physical.vdb
+# The physical model bounces until converged by default: how many, and what the untraced carry.
+python3 "$DATA/make_scenes.py" --room lit.glb
+bake lit.glb -o auto.vdb --model physical --sky 0.3,0.5,1 --sun-color 0,0,0
+grep '^bounces' out
+vdb_print -m auto.vdb | grep -E '^   (bounces|bounces_traced|converge):' | sort | uniq
+rm lit.glb lit.json auto.vdb
+bake lights.gltf -o x.vdb --bounces auto
+bake lights.gltf -o x.vdb --model physical --bounces 2 --converge 0.05
+bake lights.gltf -o x.vdb --model physical --converge 1
 bake lights.gltf -o given.vdb --sun 0,1,0
 meta given.vdb
 bake lights.gltf -o scene.vdb --sun scene

@@ -28,10 +28,11 @@ mkdir bad && cd bad
 "$BIN/gi-lightmap" missing.obj -o x.glb 2> err.txt; echo "missing scene: exit $?, $(wc -l < err.txt) line"
 "$BIN/gi-lightmap" "$DATA/room.obj" -o x.glb --passes 0 2> err.txt; echo "passes 0: exit $?, $(cat err.txt | head -1)"
 "$BIN/gi-lightmap" "$DATA/room.obj" -o x.glb --passes auto 2> err.txt; echo "passes auto, seed: exit $?, $(cat err.txt | head -1)"
-# Under the physical model the default is auto: passes until the last adds under 1 %.
+# Under the physical model the default is auto: passes until the next would add under 1 %,
+# at most three swept and the third carrying the rest.
 python3 "$DATA/make_scenes.py" --room lit.glb
 "$BIN/gi-lightmap" lit.glb -o auto.glb -q --model physical --sun-color 0,0,0 --sky 0.5,0.6,0.8 --rays 16 --texel 0.5 --stats auto.json
-python3 -c "import json; s=json.load(open('auto.json')); print('physical, default: %d passes, the last added %.2f %%' % (s['passes'], 100 * s['last_pass_share']))"
+python3 -c "import json; s=json.load(open('auto.json')); print('physical, default: %d passes of the %d the light needs, the last adding %.2f %%, the unswept %.1f %%' % (s['passes'], s['bounces'], 100 * s['last_pass_share'], 100 * s['tail_share']))"
 rm -f lit.glb lit.json auto.glb auto.json auto.lightmap*.exr
 "$BIN/gi-lightmap" "$DATA/room.obj" -o x.gltf 2> err.txt; echo "not .glb: exit $?, $(head -1 err.txt)"
 "$BIN/gi-lightmap" "$DATA/room.obj" -o x.glb --mode bake 2> err.txt; echo "mode: exit $?, $(head -1 err.txt)"

@@ -1,13 +1,16 @@
 #!/bin/sh
-# room_vs_cycles.sh BIN OUTDIR [SAMPLES]: gi-bake --model physical against
-# Cycles (Debian's blender), the lamp's part and the sky's part apart, at 1, 2
-# and 4 bounces, at 20 lattice points of make_scenes.py --room. Prints a
-# table (ours / Cycles: the ratio of the sums, and the RMSE over the points
-# relative to Cycles' mean) and writes OUTDIR/room_vs_cycles.csv.
+# room_vs_cycles.sh BIN OUTDIR [SAMPLES] [BOUNCES]: gi-bake --model physical
+# against Cycles (Debian's blender), the lamp's part and the sky's part apart,
+# at each of BOUNCES ("1 2 4 auto" unless given; auto is gi-bake's count until
+# converged against Cycles at 64 bounces), at 20 lattice points of
+# make_scenes.py --room. Prints a table (ours / Cycles: the ratio of the sums,
+# and the RMSE over the points relative to Cycles' mean) and writes
+# OUTDIR/room_vs_cycles.csv.
 set -eu
 BIN=$1
 OUT=$2
 SAMPLES=${3:-512}
+BOUNCES=${4:-1 2 4 auto}
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/../.." && pwd)
 command -v blender > /dev/null || { echo "room_vs_cycles: no blender (apt install blender)" >&2; exit 2; }
@@ -27,17 +30,19 @@ for part in lamp sky; do
     lamp) flags="--sun-color 0,0,0" ;;
     sky) flags="--sun-color 0,0,0 --lights off --sky $SKY" ;;
     esac
-    for n in 1 2 4; do
+    for n in $BOUNCES; do
+        deep=$n
+        [ "$n" = auto ] && deep=64
         # shellcheck disable=SC2086
         "$BIN/gi-bake" "$OUT/room.glb" -o "$OUT/${part}_$n.vdb" -q --model physical --bounces $n \
             --rays 8192 --sampling random --spacing 0.5 $flags
         # The path tracer's sky is black for the lamp's part; its lamps are off for the sky's.
         blender -b --factory-startup -P "$HERE/cycles_probes.py" -- "$OUT/room.json" \
-            "$OUT/points.json" "$OUT/cycles_${part}_$n.json" --bounces $n --part $part \
+            "$OUT/points.json" "$OUT/cycles_${part}_$n.json" --bounces $deep --part $part \
             --sky $SKY --samples "$SAMPLES" --size 128 > "$OUT/cycles_${part}_$n.log" 2>&1
     done
 done
-/usr/bin/python3 - "$OUT" << 'EOF'
+/usr/bin/python3 - "$OUT" $BOUNCES << 'EOF'
 import json, math, sys
 import pyopenvdb as vdb
 out = sys.argv[1]
@@ -46,8 +51,8 @@ rows = ["part,bounces,ratio,rmse_rel"]
 print("| part | bounces | ours / Cycles (sum over 20 points) | RMSE / Cycles' mean |")
 print("|---|---:|---:|---:|")
 for part in ("lamp", "sky"):
-    for n in (1, 2, 4):
-        grid = vdb.read(out + "/%s_%d.vdb" % (part, n), "irradiance")
+    for n in sys.argv[2:]:
+        grid = vdb.read(out + "/%s_%s.vdb" % (part, n), "irradiance")
         acc = grid.getConstAccessor()
         ours = []
         for p in pts:
@@ -57,11 +62,11 @@ for part in ("lamp", "sky"):
             v, on = acc.probeValue(ijk)
             assert on, "no probe at %s" % (p,)
             ours.append(sum(v) / 3.0)
-        cyc = [sum(m) / 3.0 for m in json.load(open(out + "/cycles_%s_%d.json" % (part, n)))["means"]]
+        cyc = [sum(m) / 3.0 for m in json.load(open(out + "/cycles_%s_%s.json" % (part, n)))["means"]]
         mean = sum(cyc) / len(cyc)
         ratio = sum(ours) / sum(cyc)
         rmse = math.sqrt(sum((a - b) ** 2 for a, b in zip(ours, cyc)) / len(cyc)) / mean
-        rows.append("%s,%d,%.4f,%.4f" % (part, n, ratio, rmse))
-        print("| %s | %d | %.4f | %.2f %% |" % (part, n, ratio, 100 * rmse))
+        rows.append("%s,%s,%.4f,%.4f" % (part, n, ratio, rmse))
+        print("| %s | %s | %.4f | %.2f %% |" % (part, n, ratio, 100 * rmse))
 open(out + "/room_vs_cycles.csv", "w").write("\n".join(rows) + "\n")
 EOF

@@ -1,0 +1,167 @@
+/*
+ * converge.c: how many bounces a scene's light needs. A pilot of receivers
+ * spread over the surfaces by area is traced VDBGI_MAX_BOUNCES deep, each
+ * bounce's light summed apart; the count is where the next bounce would add
+ * less than the asked share. Only the first VDBGI_TRACED_BOUNCES are traced
+ * at every probe: past them a bounce's light over a scene keeps its shape
+ * and shrinks by a steady ratio, so the last traced one, scaled by what the
+ * pilot saw of the rest, carries them (the "ambient term" of progressive
+ * radiosity, measured rather than assumed).
+ */
+#include "estimate.h"
+#include "util.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Enough receivers that the sums settle to well under the share asked (docs/lights.md). */
+#define PILOT_RECEIVERS 1024
+#define PILOT_RAYS 32
+#define DEPTHS (VDBGI_MAX_BOUNCES + 1)
+
+typedef struct pilot_job {
+    vdbgi_estimator est;
+    const float *pos, *normal;
+    size_t first, end;
+    double *light; /* DEPTHS x RGB per receiver */
+    uint64_t seed;
+} pilot_job;
+
+static void *run_pilot(void *arg)
+{
+    pilot_job *const j = arg;
+    for (size_t i = j->first; i < j->end; i++) {
+        j->est.depth_light = &j->light[3 * DEPTHS * i];
+        vdbgi_estimate e;
+        vdbgi_estimate_hemisphere(&j->est, &j->pos[3 * i], &j->normal[3 * i],
+                                  vdbgi_point_stream((int32_t)i, -1, 0, j->seed), &e);
+    }
+    return NULL;
+}
+
+/* Receiver i of n: on the triangle where (i + 1/2) / n falls in the area's running sum, at a
+   point its stream picks, lifted off the front face as a texel's sample is. */
+static void place_receivers(const vdbgi_scene *scene, const double *cdf, size_t n, uint64_t seed,
+                            float *pos, float *normal)
+{
+    const size_t tris = scene->triangle_count;
+    for (size_t i = 0; i < n; i++) {
+        const double want = ((double)i + 0.5) / (double)n * cdf[tris - 1];
+        size_t lo = 0, hi = tris - 1;
+        while (lo < hi) {
+            const size_t mid = lo + (hi - lo) / 2;
+            if (cdf[mid] < want)
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
+        uint64_t st = vdbgi_point_stream((int32_t)i, -2, 0, seed);
+        const double r1 = sqrt(vdbgi_uniform01(&st)), r2 = vdbgi_uniform01(&st);
+        const float u = (float)(r1 * (1.0 - r2)), v = (float)(r1 * r2);
+        const float *const nt = scene->tris[lo].normal;
+        const float off = vdbgi_scene_hit_point(scene, (uint32_t)lo, u, v, &pos[3 * i]);
+        for (int k = 0; k < 3; k++) {
+            normal[3 * i + k] = nt[k];
+            pos[3 * i + k] += off * nt[k];
+        }
+    }
+}
+
+/*
+ * The count from the pilot's sums per bounce, B[k] (RGB) for k in
+ * 0..VDBGI_MAX_BOUNCES: decided on the light over the channels, while the
+ * tail is each channel's own (later bounces redden in a red room).
+ */
+static void plan_from(const double B[][3], float converge, vdbgi_bounce_plan *plan, float tail[3])
+{
+    double b[DEPTHS];
+    for (int k = 0; k < DEPTHS; k++)
+        b[k] = B[k][0] + B[k][1] + B[k][2];
+    double light = b[0] + b[1];
+    int n = 1;
+    while (n < VDBGI_MAX_BOUNCES && b[n + 1] > converge * (light + b[n + 1]))
+        light += b[++n];
+    const int traced = n < VDBGI_TRACED_BOUNCES ? n : VDBGI_TRACED_BOUNCES;
+    double rest = 0.0;
+    for (int c = 0; c < 3; c++) {
+        double part = 0.0;
+        for (int k = traced + 1; k <= n; k++)
+            part += B[k][c];
+        tail[c] = B[traced][c] > 0.0 ? (float)(part / B[traced][c]) : 0.0f;
+        rest += part;
+    }
+    plan->bounces = n;
+    plan->traced = traced;
+    plan->last_share = light > 0.0 ? b[n] / light : 0.0;
+    plan->tail_share = light > 0.0 ? rest / light : 0.0;
+}
+
+vdbgi_result vdbgi_bounces_converge(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                    const vdbgi_tracer *tracer, vdbgi_bake_params *bp,
+                                    vdbgi_bounce_plan *plan)
+{
+    memset(plan, 0, sizeof(*plan));
+    if (bp->bounces > 0) {
+        plan->bounces = plan->traced = bp->bounces;
+        return VDBGI_OK;
+    }
+    const size_t tris = scene->triangle_count, n = PILOT_RECEIVERS;
+    int nth = bp->threads < 1 ? 1 : bp->threads > 64 ? 64 : bp->threads;
+    vdbgi_bake_params pilot = *bp;
+    pilot.bounces = VDBGI_MAX_BOUNCES;
+    pilot.rays = PILOT_RAYS;
+    pilot.adaptive = false;
+    pilot.tail[0] = pilot.tail[1] = pilot.tail[2] = 0.0f;
+    double *const cdf = vdbgi_calloc(ctx, tris ? tris : 1, sizeof(double));
+    float *const pos = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+    float *const normal = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+    double *const light = vdbgi_calloc(ctx, n, 3 * DEPTHS * sizeof(double));
+    float *const dirs = vdbgi_calloc(ctx, PILOT_RAYS, 3 * sizeof(float));
+    pilot_job *const jobs = vdbgi_calloc(ctx, (size_t)nth, sizeof(*jobs));
+    vdbgi_result r =
+        cdf && pos && normal && light && dirs && jobs ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
+    double area = 0.0;
+    for (size_t t = 0; r == VDBGI_OK && t < tris; t++)
+        cdf[t] = area += vdbgi_scene_triangle_area(scene, t);
+    if (r == VDBGI_OK && area > 0.0) {
+        vdbgi_hemisphere_directions(PILOT_RAYS, dirs);
+        place_receivers(scene, cdf, n, bp->seed, pos, normal);
+        for (int t = 0; t < nth && r == VDBGI_OK; t++) {
+            jobs[t] = (pilot_job){.est = {.scene = scene,
+                                          .tracer = tracer,
+                                          .bp = &pilot,
+                                          .base_dirs = dirs,
+                                          .shade = true},
+                                  .pos = pos,
+                                  .normal = normal,
+                                  .first = n * (size_t)t / (size_t)nth,
+                                  .end = n * (size_t)(t + 1) / (size_t)nth,
+                                  .light = light,
+                                  .seed = bp->seed};
+            r = vdbgi_estimator_init(ctx, &jobs[t].est, PILOT_RAYS);
+            if (r != VDBGI_OK)
+                nth = t; /* those before it are freed below */
+        }
+        if (r == VDBGI_OK)
+            vdbgi_run_threads(nth, run_pilot, jobs, sizeof(*jobs));
+    }
+    if (r == VDBGI_OK) {
+        /* Summed in receiver order, so the count is the same on any number of threads. */
+        double B[DEPTHS][3] = {{0}};
+        for (size_t i = 0; i < n; i++)
+            for (int k = 0; k < DEPTHS; k++)
+                for (int c = 0; c < 3; c++)
+                    B[k][c] += light[3 * (DEPTHS * i + (size_t)k) + (size_t)c];
+        plan_from(B, bp->converge, plan, bp->tail);
+        bp->bounces = plan->traced;
+    }
+    for (int t = 0; jobs && t < nth; t++)
+        vdbgi_estimator_free(ctx, &jobs[t].est);
+    vdbgi_free(ctx, jobs);
+    vdbgi_free(ctx, dirs);
+    vdbgi_free(ctx, light);
+    vdbgi_free(ctx, normal);
+    vdbgi_free(ctx, pos);
+    vdbgi_free(ctx, cdf);
+    return r;
+}
