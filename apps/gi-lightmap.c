@@ -29,6 +29,7 @@ static void usage(void)
            "                           until the next would add under 0.2 %% of the light, at\n"
            "                           most three swept and the third carrying the rest\n"
            "                           (physical model: auto; seed: 2, its fill stands in)\n"
+           "      --converge S         auto's share of the light, in (0, 1) (0.002)\n"
            "      --direct             add the direct sun and lights (fully baked); default:\n"
            "                           bounced light only, the lights stay on at runtime\n"
            "      --mode M             lightmap or ao (ambient occlusion, the glTF\n"
@@ -81,6 +82,7 @@ enum {
     OPT_TEXEL = 256,
     OPT_SIZE,
     OPT_PASSES,
+    OPT_CONVERGE,
     OPT_DIRECT,
     OPT_MODE,
     OPT_AO_DIST,
@@ -104,6 +106,7 @@ static int parse_args(int argc, char **argv, options *o)
                                           {"texel", required_argument, NULL, OPT_TEXEL},
                                           {"size", required_argument, NULL, OPT_SIZE},
                                           {"passes", required_argument, NULL, OPT_PASSES},
+                                          {"converge", required_argument, NULL, OPT_CONVERGE},
                                           {"direct", no_argument, NULL, OPT_DIRECT},
                                           {"mode", required_argument, NULL, OPT_MODE},
                                           {"ao-dist", required_argument, NULL, OPT_AO_DIST},
@@ -147,6 +150,11 @@ static int parse_args(int argc, char **argv, options *o)
             else
                 o->lm.passes = (int)i;
             break;
+        case OPT_CONVERGE:
+            if (!cli_parse_double(optarg, &d) || !(d > 0.0 && d < 1.0))
+                return cli_usage_error("--converge must be a share in (0, 1) (got '%s')", optarg);
+            o->lm.converge = (float)d;
+            break;
         case OPT_DIRECT: o->lm.direct = 1; break;
         case OPT_MODE:
             if (strcmp(optarg, "lightmap") != 0 && strcmp(optarg, "ao") != 0)
@@ -177,6 +185,8 @@ static int parse_args(int argc, char **argv, options *o)
     if (o->passes_auto && o->lm.bake.model != VDBGI_MODEL_PHYSICAL)
         return cli_usage_error("--passes auto is for --model physical: the seed model's fill "
                                "stands in for further passes (give --passes N)");
+    if (o->lm.converge != 0.0f && !(o->lm.bake.model == VDBGI_MODEL_PHYSICAL && o->lm.passes == 0))
+        return cli_usage_error("--converge is for --passes auto, under --model physical");
     if (o->ao)
         o->lm.ao_dist = (float)ao_dist;
     else if (ao_dist != 1.0)

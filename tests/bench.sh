@@ -5,7 +5,8 @@
 # bare loop over its rays, per pass, and its packing against potpack; then what each method
 # gives a surface against the hemisphere truth (gi-bench truth); then the scene's own light on
 # the interior (gi-bench lights, truth under the physical model, and Cycles where blender is
-# installed: tests/truth/room_vs_cycles.sh); then where the bytes of the
+# installed: tests/truth/room_vs_cycles.sh, and the frame a player sees against
+# Cycles', tests/truth/frame_vs_cycles.sh); then where the bytes of the
 # default volume go on those two and the town (tests/breakdown.py, Debian's
 # python3); then the browser runtime's load and frame times in headless
 # Chromium (tests/web/bench_web.mjs, docs/web.md). Writes build/bench/bench.md.
@@ -54,6 +55,9 @@ mkdir -p "$OUT"
     echo
     if command -v blender > /dev/null; then
         sh tests/truth/room_vs_cycles.sh "$BUILD/bin" "$OUT/cycles"
+        echo
+        echo "### What a player sees: the runtime's frame against Cycles' (docs/frame.md)"
+        sh tests/truth/frame_vs_cycles.sh "$BUILD/bin" "$OUT/frame" 2048
     else
         echo "(no blender: apt install blender to compare with Cycles)"
     fi
@@ -75,6 +79,10 @@ mkdir -p "$OUT"
         "$BUILD/bin/vdb-to-gi" -q "$OUT/world200.vdb" -o "$OUT/world200.seed.gi.gz" --layout seed
         node tests/web/bench_web.mjs data/world.glb "$OUT/world.gi.gz" \
             "200 m, seed=$OUT/world200.seed.gi.gz" "200 m, compact=$OUT/world200.gi.gz"
+        echo
+        echo "What 16 occluders cost a frame (docs/web.md)"
+        echo
+        node tests/web/bench_occluders.mjs data/world.glb "$OUT/world.gi.gz"
         echo
         echo "The viewer, as a user sees it: from the volume's load to its first lit frame"
         echo

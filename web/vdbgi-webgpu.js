@@ -11,16 +11,17 @@
 import { MeshStandardNodeMaterial, MeshLambertNodeMaterial } from 'three/webgpu';
 import {
   uniform, texture3D, textureLoad, ivec2, vec3, vec4, float, floor, exp2, max, min, mod, clamp, dot, mix, select,
-  fwidth, positionWorld, normalView, normalLocal, modelNormalMatrix, cameraViewMatrix, inverseSqrt, Fn, varying,
-  output, diffuseColor, materialEmissive,
+  fwidth, positionWorld, normalView, normalLocal, modelNormalMatrix, cameraWorldMatrix, inverseSqrt, Fn, varying,
+  output, diffuseColor, materialEmissive, materialAO, If, sqrt, acos, atan,
 } from 'three/tsl';
 import * as TSL from 'three/tsl';
 import * as WEBGPU from 'three/webgpu';
-import { GiRuntimeBase, DebugView, LAYOUT_COMPACT, LEVEL_COLOURS } from './vdbgi.js';
+import { GiRuntimeBase, DebugView, LAYOUT_COMPACT, LEVEL_COLOURS, OCCLUDER_REACH2 } from './vdbgi.js';
 import { SH2_RANGE } from './gi-format.js';
 
 export {
   loadGi, GiVolume, DebugView, LEVEL_COLOURS, DEFAULT_KNOBS, ENCODING_RGBM, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT,
+  MAX_OCCLUDERS,
 } from './vdbgi.js';
 
 // A runtime's nodes: its uniforms, the texture nodes of every lookup made (re-pointed
@@ -40,6 +41,11 @@ function giNodes(runtime) {
     basis: uniform(0).onRenderUpdate(() => u.giBasis.value),
     world: uniform(u.world.value),
     character: uniform(u.character.value),
+    // The occluders (see GiRuntimeBase.addOccluder), a uniform each: the runtime's vectors
+    // by reference. (three 0.187's uniformArray of vec4 read NaN here on SwiftShader.)
+    occA: u.giOccA.value.map((v) => uniform(v)),
+    occB: u.giOccB.value.map((v) => uniform(v)),
+    occCount: uniform(0, 'int').onRenderUpdate(() => u.giOccCount.value),
     // Each lookup gets its own texture nodes; a new volume re-points them all.
     texture: (which, at) => {
       const t = which === 'ind' ? textureLoad(u.giColumns.value, at)
@@ -109,6 +115,34 @@ function giNodes(runtime) {
     const levelOut = select(compact, select(empty, float(-1), level), ind.a.sub(1));
     return { irradiance, level: levelOut, inBrick: p.sub(originCell).div(span.mul(4)) };
   };
+  // The occluders' share of the light at p over unit normal nrm, as vdbgiVisibility() in
+  // vdbgi.js: each capsule as the sphere at its segment's point nearest p (the horizon-
+  // clipped form only where the horizon cuts it), each behind an If on the count.
+  n.visibility = Fn(([p, nrm]) => {
+    const v = float(1).toVar();
+    n.occA.forEach((A, i) => If(n.occCount.greaterThan(i), () => {
+      const a = A.xyz, ab = n.occB[i].xyz.sub(a), r = A.w, r2 = r.mul(r);
+      const len2 = dot(ab, ab);
+      const t = select(len2.greaterThan(0), clamp(dot(p.sub(a), ab).div(max(len2, 1e-20)), 0, 1), float(0));
+      const d = a.add(ab.mul(t)).sub(p);
+      const l2 = dot(d, d), dn = dot(nrm, d);
+      // As the GLSL: not from inside, wholly below the horizon, or past 22 radii.
+      If(l2.greaterThan(r2.mul(1.002)).and(dn.greaterThan(r.negate())).and(l2.lessThan(r2.mul(OCCLUDER_REACH2))),
+        () => {
+          const l = sqrt(l2), nl = dn.div(l);
+          const h2 = l2.div(r2), k2 = float(1).sub(h2.mul(nl).mul(nl));
+          const occ = max(nl, 0).div(h2).toVar();
+          If(k2.greaterThan(1e-4), () => {
+            const h1 = max(h2.sub(1), 1e-20);
+            const x = clamp(nl.negate().mul(sqrt(h1.div(max(float(1).sub(nl.mul(nl)), 1e-20)))), -1, 1);
+            occ.assign(nl.mul(acos(x)).sub(sqrt(max(k2.mul(h1), 0))).div(h2).add(atan(sqrt(k2.div(h1))))
+              .div(Math.PI));
+          });
+          v.mulAssign(float(1).sub(clamp(occ, 0, 1)));
+        });
+    }));
+    return v;
+  });
   // The seed's knobs: see vdbgiBounce() in vdbgi.js.
   // Plain node arithmetic: an inline Fn() with a return makes three warn once per material.
   n.bounce = (irradiance, albedo, knobs) => {
@@ -161,31 +195,40 @@ export class GiRuntime extends GiRuntimeBase {
   // indirectLight), looked up per vertex (varying) or per fragment; the debug
   // views replace the output. Any other material is returned as it was, with
   // one warning; a material given twice is returned as it is.
-  apply(material, { set = 'world', perFragment = false } = {}) {
+  apply(material, { set = 'world', perFragment = false, volume = true } = {}) {
     this._set(set);
     if (!material.isNodeMaterial && (material.isMeshStandardMaterial || material.isMeshLambertMaterial))
       material = toNodeMaterial(material);
     const supported = material.isMeshStandardNodeMaterial || material.isMeshLambertNodeMaterial;
     if (!this._admits(material, supported, ' and their node forms')) return material;
-    return applyNodes(material, this._nodes, { set, perFragment });
+    return applyNodes(material, this._nodes, { set, perFragment, volume });
   }
 }
 
 // The fragment's world normal, from its view normal in the fragment stage (flat
 // shading's derivatives included): three 0.175's normalWorld is a varying, made
 // in the vertex stage, where a flat-shaded material's derivatives do not exist.
-const fragmentNormal = () => normalView.transformDirection(cameraViewMatrix);
+// The camera's world matrix turns view directions to world ones (transformDirection
+// multiplies on the left: the view matrix here gave the normal turned the wrong way,
+// which the occluders' test caught).
+const fragmentNormal = () => normalView.transformDirection(cameraWorldMatrix);
 // A vertex's world normal (instancing already in normalLocal), or zero for a mesh
 // without normals (normalLocal would warn there): the lookup then reads L0.
 const vertexNormal = () =>
   Fn((builder) => (builder.geometry?.hasAttribute?.('normal') ? modelNormalMatrix.mul(normalLocal) : vec3(0)))();
 
-function applyNodes(material, n, { set, perFragment }) {
+function applyNodes(material, n, { set, perFragment, volume }) {
   const here = n.lookup(positionWorld, fragmentNormal());
-  const irradiance = perFragment ? here.irradiance : varying(n.lookup(positionWorld, vertexNormal()).irradiance);
+  const irradiance = perFragment || !volume ? here.irradiance
+    : varying(n.lookup(positionWorld, vertexNormal()).irradiance);
   const albedo = material.isMeshStandardNodeMaterial ? standardDiffuse() : diffuseColor.rgb;
-  const bounce = n.bounce(irradiance, albedo, n[set]).mul(n.decode.y);
-  material.emissiveNode = (material.emissiveNode ?? materialEmissive).add(bounce);
+  // The occluders take their share of the volume's bounce (added as emission) and, as
+  // ambient occlusion, of the lighting model's indirect light (a lightmap's among it).
+  const visible = n.visibility(positionWorld, fragmentNormal().normalize());
+  const bounce = n.bounce(irradiance, albedo, n[set]).mul(n.decode.y).mul(visible);
+  if (volume) material.emissiveNode = (material.emissiveNode ?? materialEmissive).add(bounce);
+  const ao = material.aoNode ?? (material.aoMap ? materialAO : null);
+  material.aoNode = ao ? ao.mul(visible) : visible;
   // The debug views as one select chain (no Fn() with a return, which three warns about).
   const levelColour = (() => {
     const l = here.level, c = LEVEL_COLOURS.map((rgb) => vec3(...rgb));

@@ -5,6 +5,8 @@
 //   mesh.material = gi.apply(mesh.material);        // world set, per vertex
 //   hero.material = gi.apply(hero.material, { set: 'character', perFragment: true });
 //   gi.debug = 'level';                             // or DebugView.LEVEL
+//   gi.addOccluder(hero);                           // takes baked light away near it
+//   // every frame, after moving things: gi.updateOccluders();
 //
 // vdbgi-webgpu.js exports a GiRuntime with the same names and options for
 // WebGPURenderer (TSL); everything else here it re-exports.
@@ -36,6 +38,12 @@ export const LEVEL_COLOURS = Object.freeze([[0.25, 0.25, 0.25], [0.1, 0.35, 1.0]
 const glslVec3 = (c) => `vec3(${c.map((v) => v.toFixed(2)).join(', ')})`;
 
 const now = () => (typeof performance !== 'undefined' ? performance.now() : Date.now());
+
+// Most occluder shapes (spheres and capsules, all objects together) a runtime
+// takes: each costs every lit fragment a few dozen operations (docs/web.md).
+export const MAX_OCCLUDERS = 16;
+// (Distance / radius)^2 past which an occluder is skipped: it covers under (1/22)^2, 0.2 %.
+export const OCCLUDER_REACH2 = 484;
 
 // Fetch (a URL) or take (an ArrayBuffer or typed array) a .gi.gz, check it and
 // make its textures. With `renderer`, the textures are uploaded before this
@@ -182,9 +190,78 @@ export class GiRuntimeBase {
       giDebug: { value: DebugView.OFF },
       world: { value: new THREE.Vector3(DEFAULT_KNOBS.intensity, DEFAULT_KNOBS.self, DEFAULT_KNOBS.bleed) },
       character: { value: new THREE.Vector3(DEFAULT_KNOBS.intensity, DEFAULT_KNOBS.self, DEFAULT_KNOBS.bleed) },
+      // Occluders, world space: a capsule's ends (xyz) and, in giOccA's w, its radius
+      // (a sphere: both ends at its centre); the first giOccCount are in use.
+      giOccA: { value: Array.from({ length: MAX_OCCLUDERS }, () => new THREE.Vector4()) },
+      giOccB: { value: Array.from({ length: MAX_OCCLUDERS }, () => new THREE.Vector4()) },
+      giOccCount: { value: 0 },
     };
     this._enabled = true;
     this._applied = new WeakSet();
+    this._occluders = new Map(); // object -> its capsules in its own space, or null: its bounding sphere
+  }
+
+  // Let object (a moving one: a character, a prop) take baked light away from
+  // what is near it, the lightmap's and the volume's alike, on every material
+  // apply() gave: by default as its bounding sphere; with capsules ([{ a, b,
+  // radius }], ends as Vector3 or [x, y, z] in the object's own space: a
+  // character is a few) as those. A receiver inside a shape (the object's own
+  // surface, for its bounding sphere) is not occluded by it. Throws past
+  // MAX_OCCLUDERS shapes in all. Reads the object's world matrix now and at
+  // every updateOccluders().
+  addOccluder(object, { capsules = null } = {}) {
+    const shapes = capsules ? capsules.map((c) => {
+      const v = (p) => (p?.isVector3 ? p.clone() : new THREE.Vector3(...p));
+      if (!(c.radius > 0)) throw new Error(`vdbgi: an occluder's capsule needs a radius > 0 (got ${c.radius})`);
+      return { a: v(c.a), b: v(c.b ?? c.a), radius: c.radius };
+    }) : null;
+    const had = this._occluders.get(object);
+    this._occluders.set(object, shapes);
+    const total = [...this._occluders.values()].reduce((n, c) => n + (c ? c.length : 1), 0);
+    if (total > MAX_OCCLUDERS) {
+      if (had === undefined) this._occluders.delete(object);
+      else this._occluders.set(object, had);
+      throw new Error(`vdbgi: ${total} occluder shapes asked, at most ${MAX_OCCLUDERS} (MAX_OCCLUDERS): ` +
+        'give fewer capsules or remove an occluder');
+    }
+    this.updateOccluders();
+    return object;
+  }
+
+  removeOccluder(object) {
+    this._occluders.delete(object);
+    this.updateOccluders();
+  }
+
+  // Read every occluder's world matrix into the shared uniforms: once a frame,
+  // after the objects moved (object.updateMatrixWorld() first if the renderer
+  // has not yet).
+  updateOccluders() {
+    const a = this.uniforms.giOccA.value, b = this.uniforms.giOccB.value;
+    const p = new THREE.Vector3(), q = new THREE.Vector3(), sphere = new THREE.Sphere();
+    let n = 0;
+    for (const [object, capsules] of this._occluders) {
+      const m = object.matrixWorld;
+      if (!capsules) {
+        if (object.geometry) {
+          if (!object.geometry.boundingSphere) object.geometry.computeBoundingSphere();
+          sphere.copy(object.geometry.boundingSphere).applyMatrix4(m);
+        } else {
+          new THREE.Box3().setFromObject(object).getBoundingSphere(sphere);
+        }
+        a[n].set(sphere.center.x, sphere.center.y, sphere.center.z, sphere.radius);
+        b[n++].set(sphere.center.x, sphere.center.y, sphere.center.z, 0);
+        continue;
+      }
+      const scale = m.getMaxScaleOnAxis();
+      for (const c of capsules) {
+        p.copy(c.a).applyMatrix4(m);
+        q.copy(c.b).applyMatrix4(m);
+        a[n].set(p.x, p.y, p.z, c.radius * scale);
+        b[n++].set(q.x, q.y, q.z, 0);
+      }
+    }
+    this.uniforms.giOccCount.value = n;
   }
 
   // Whether apply() goes on with material: not when this back end does not light
@@ -286,7 +363,9 @@ export class GiRuntime extends GiRuntimeBase {
   // is returned as it was, with one warning; a material given twice is
   // returned as it is (a clone of one with GI has none: three copies neither
   // onBeforeCompile nor this mark).
-  apply(material, { set = 'world', perFragment = false } = {}) {
+  // With volume: false the material takes no light from the volume, only the
+  // occluders' shadow on what it has (a lightmapped static surface).
+  apply(material, { set = 'world', perFragment = false, volume = true } = {}) {
     const knobs = this._set(set);
     if (!this._admits(material, material.isMeshStandardMaterial || material.isMeshLambertMaterial, ''))
       return material;
@@ -295,7 +374,7 @@ export class GiRuntime extends GiRuntimeBase {
     material.onBeforeCompile = (shader, renderer) => {
       previous?.call(material, shader, renderer);
       for (const name of ['giColumns', 'giColumnsDims', 'giAtlas', 'giSh', 'giBasis', 'giBoxMin', 'giBoxSize',
-        'giIndDims', 'giAtlasDims', 'giLayout', 'giDecode', 'giDebug'])
+        'giIndDims', 'giAtlasDims', 'giLayout', 'giDecode', 'giDebug', 'giOccA', 'giOccB', 'giOccCount'])
         shader.uniforms[name] = u[name];
       shader.uniforms.giKnobs = knobs;
       shader.vertexShader = shader.vertexShader
@@ -307,10 +386,12 @@ export class GiRuntime extends GiRuntimeBase {
         .replace('#include <dithering_fragment>', `#include <dithering_fragment>\n${GLSL_DEBUG}`);
     };
     material.defines = { ...material.defines };
-    if (perFragment) delete material.defines.VDBGI_PER_VERTEX;
+    if (perFragment || !volume) delete material.defines.VDBGI_PER_VERTEX;
     else material.defines.VDBGI_PER_VERTEX = '';
+    if (volume) delete material.defines.VDBGI_NO_VOLUME;
+    else material.defines.VDBGI_NO_VOLUME = '';
     const key = material.customProgramCacheKey.bind(material);
-    material.customProgramCacheKey = () => `${key()}|vdbgi${perFragment ? 'f' : 'v'}`;
+    material.customProgramCacheKey = () => `${key()}|vdbgi${!volume ? 'n' : perFragment ? 'f' : 'v'}`;
     material.needsUpdate = true;
     return material;
   }
@@ -430,6 +511,39 @@ varying vec3 vGiWorld;
 varying vec3 vGiIrradiance;
 #endif
 uniform vec3 giKnobs; // intensity, self, bleed
+uniform vec4 giOccA[${MAX_OCCLUDERS}], giOccB[${MAX_OCCLUDERS}];
+uniform int giOccCount;
+// The share of the cosine-weighted hemisphere over unit normal n at p that a
+// sphere (c, r) covers: cos(theta) (r / d)^2 above the horizon, and the exact
+// form where the horizon cuts it (Quilez, "sphere ambient occlusion"; the
+// clipped part after Lagarde and de Rousiers).
+float vdbgiSphereOcclusion(vec3 p, vec3 n, vec3 c, float r) {
+  vec3 d = c - p;
+  float l2 = dot(d, d), dn = dot(n, d);
+  // None from inside it, nor from wholly below the horizon, nor past 22 radii (where
+  // it covers under 0.2 %): most fragments of a scene stop here.
+  if (l2 <= r * r * 1.002 || dn <= -r || l2 >= ${OCCLUDER_REACH2}.0 * r * r) return 0.0;
+  float l = sqrt(l2), nl = dn / l, h2 = l2 / (r * r), k2 = 1.0 - h2 * nl * nl;
+  float res = max(nl, 0.0) / h2;
+  if (k2 > 1e-4) {
+    float x = clamp(-nl * sqrt((h2 - 1.0) / (1.0 - nl * nl)), -1.0, 1.0);
+    res = (nl * acos(x) - sqrt(k2 * (h2 - 1.0))) / h2 + atan(sqrt(k2 / (h2 - 1.0)));
+    res /= PI;
+  }
+  return clamp(res, 0.0, 1.0);
+}
+// What the occluders leave of the light arriving at p over n: each capsule as
+// the sphere at its segment's point nearest p, their shares multiplied.
+float vdbgiVisibility(vec3 p, vec3 n) {
+  float v = 1.0;
+  for (int i = 0; i < ${MAX_OCCLUDERS}; i++) {
+    if (i >= giOccCount) break;
+    vec3 a = giOccA[i].xyz, ab = giOccB[i].xyz - a;
+    float t = dot(ab, ab) > 0.0 ? clamp(dot(p - a, ab) / dot(ab, ab), 0.0, 1.0) : 0.0;
+    v *= 1.0 - vdbgiSphereOcclusion(p, n, a + t * ab, giOccA[i].w);
+  }
+  return v;
+}
 // n: the fragment's world normal (main()'s normal, turned to world space).
 vec3 vdbgiIrradianceHere(vec3 n) {
   #ifdef VDBGI_PER_VERTEX
@@ -457,12 +571,17 @@ vec3 vdbgiBounce(vec3 irradiance, vec3 albedo, vec3 knobs) {
 const STANDARD_DIFFUSE = THREE.ShaderChunk.lights_physical_pars_fragment.includes('diffuseContribution')
   ? 'diffuseContribution' : 'diffuseColor';
 
+// The volume's bounce, then the occluders over all of the indirect diffuse
+// light (a lightmap's, three's probes' and ambient's too).
 const GLSL_SHADE = /* glsl */ `
+#ifndef VDBGI_NO_VOLUME
 #if defined( STANDARD )
 reflectedLight.indirectDiffuse += giDecode.y * vdbgiBounce(vdbgiIrradianceHere(${GLSL_WORLD_NORMAL('normal')}), material.${STANDARD_DIFFUSE}, giKnobs);
 #else
 reflectedLight.indirectDiffuse += giDecode.y * vdbgiBounce(vdbgiIrradianceHere(${GLSL_WORLD_NORMAL('normal')}), material.diffuseColor, giKnobs);
 #endif
+#endif
+if (giOccCount > 0) reflectedLight.indirectDiffuse *= vdbgiVisibility(vGiWorld, normalize(${GLSL_WORLD_NORMAL('normal')}));
 `;
 
 // Debug views replace the final colour; PROBE, POSITION and NORMAL write linear

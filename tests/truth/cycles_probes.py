@@ -24,6 +24,9 @@ import tempfile
 
 import bpy
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cycles_common import add_lamp, add_mesh, intensity_per_watt, render, reset, y_up  # noqa: E402
+
 args = sys.argv[sys.argv.index("--") + 1:]
 scene_path, points_path, out_path = args[:3]
 opts = dict(zip(args[3::2], args[4::2]))
@@ -35,111 +38,13 @@ width = int(opts.get("--size", "128"))
 scratch = tempfile.mkdtemp(prefix="vdbgi-cycles-")
 
 
-def reset():
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    sc = bpy.context.scene
-    sc.render.engine = "CYCLES"
-    cy = sc.cycles
-    cy.device = "CPU"
-    cy.samples = samples
-    cy.use_adaptive_sampling = False
-    cy.use_denoising = False
-    cy.max_bounces = max(bounces - 1, 0)
-    cy.diffuse_bounces = max(bounces - 1, 0)
-    cy.glossy_bounces = cy.transmission_bounces = cy.volume_bounces = 0
-    cy.transparent_max_bounces = 0
-    cy.sample_clamp_direct = cy.sample_clamp_indirect = 0.0
-    cy.light_sampling_threshold = 0.0
-    cy.filter_width = 0.01
-    cy.seed = 1
-    sc.render.film_transparent = False
-    sc.render.image_settings.file_format = "OPEN_EXR"
-    sc.render.image_settings.color_depth = "32"
-    world = bpy.data.worlds.new("sky")
-    world.use_nodes = True
-    bg = world.node_tree.nodes["Background"]
-    bg.inputs["Color"].default_value = (*sky, 1.0)
-    bg.inputs["Strength"].default_value = 1.0
-    sc.world = world
-    return sc
-
-
-def diffuse(name, albedo):
-    m = bpy.data.materials.new(name)
-    m.use_nodes = True
-    nodes = m.node_tree.nodes
-    nodes.clear()
-    bsdf = nodes.new("ShaderNodeBsdfDiffuse")
-    bsdf.inputs["Color"].default_value = (*albedo, 1.0)
-    bsdf.inputs["Roughness"].default_value = 0.0
-    out = nodes.new("ShaderNodeOutputMaterial")
-    m.node_tree.links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
-    return m
-
-
-def y_up(p):
-    """glTF's (x, y, z), y up, as Blender's (x, -z, y), z up."""
-    return (p[0], -p[2], p[1])
-
-
-def add_mesh(sc, name, positions, indices, albedo):
-    me = bpy.data.meshes.new(name)
-    tris = [tuple(indices[i:i + 3]) for i in range(0, len(indices), 3)]
-    me.from_pydata([y_up(p) for p in positions], [], tris)
-    me.materials.append(diffuse(name, albedo))
-    ob = bpy.data.objects.new(name, me)
-    sc.collection.objects.link(ob)
-
-
-def add_lamp(sc, at, watts, color):
-    li = bpy.data.lights.new("lamp", "POINT")
-    li.energy = watts
-    li.shadow_soft_size = 0.0
-    li.color = color
-    ob = bpy.data.objects.new("lamp", li)
-    ob.location = at
-    sc.collection.objects.link(ob)
-
-
-def render(sc, path):
-    sc.render.filepath = path
-    bpy.ops.render.render(write_still=True)
-    img = bpy.data.images.load(path)
-    w, h = img.size
-    px = list(img.pixels)
-    bpy.data.images.remove(img)
-    os.remove(path)
-    return w, h, px
-
-
-def intensity_per_watt():
-    """Cycles' point lamp of 1 W, 2 m over a white plane: I from L = I / (pi h^2)."""
-    sc = reset()
-    sc.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
-    add_mesh(sc, "plane", [(-50, 0, 50), (50, 0, 50), (50, 0, -50), (-50, 0, -50)],
-             [0, 1, 2, 0, 2, 3], (1.0, 1.0, 1.0))
-    add_lamp(sc, (0.0, 0.0, 2.0), 1.0, (1.0, 1.0, 1.0))
-    cam = bpy.data.cameras.new("cam")
-    cam.type = "ORTHO"
-    cam.ortho_scale = 0.01
-    ob = bpy.data.objects.new("cam", cam)
-    ob.location = (0.0, 0.0, 1.0)  # looks down -z
-    sc.collection.objects.link(ob)
-    sc.camera = ob
-    sc.render.resolution_x = sc.render.resolution_y = 4
-    sc.cycles.samples = 16
-    w, h, px = render(sc, os.path.join(scratch, "calibrate.exr"))
-    L = sum(px[4 * i] for i in range(w * h)) / (w * h)
-    return L * math.pi * 2.0 * 2.0
-
-
 def main():
-    per_watt = intensity_per_watt()
+    per_watt = intensity_per_watt(scratch)
     with open(scene_path) as f:
         scene = json.load(f)
     with open(points_path) as f:
         points = json.load(f)["points"]
-    sc = reset()
+    sc = reset(samples, bounces, sky)
     if part == "lamp":
         sc.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
     for m in scene["meshes"]:

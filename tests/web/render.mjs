@@ -4,7 +4,9 @@
 //           positions into float targets; return both for covered pixels;
 //   shot:   draw the scene lit, GI off or on, into the canvas;
 //   frames: time task.frames frames with GI off, per vertex, per fragment;
-//   load:   only load, and report the error a bad file gives.
+//   load:   only load, and report the error a bad file gives;
+//   occlude: a 10 m floor lit only by a flat lightmap or by task.gi, with and
+//           without task.occluders: the world positions and both frames.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { GiRuntime, loadGi, DebugView } from '/web/vdbgi.js';
@@ -184,11 +186,27 @@ async function frames(task) {
     return (performance.now() - t) / task.frames;
   };
   const out = {};
+  // With task.occluders, as many spheres of 0.8 m over the middle of the world, added for
+  // the last two modes (every lit fragment tests them all).
+  const occlude = (on) => {
+    if (!on || ctx.gi._occluders.size) return;
+    for (let i = 0; i < task.occluders; i++) {
+      const o = new THREE.Object3D();
+      o.position.set(-8 + 16 * ((i % 4) + 0.5) / 4, 1.2, -8 + 16 * (Math.floor(i / 4) % 4 + 0.5) / 4);
+      o.updateMatrixWorld();
+      ctx.gi.addOccluder(o, { capsules: [{ a: [0, 0, 0], radius: 0.8 }] });
+    }
+  };
   // The second round is kept: the first also compiles and warms caches.
   for (let round = 0; round < 2; round++) {
     out.off = await time(() => { ctx.mode('vertex'); ctx.gi.enabled = false; });
     out.vertex = await time(() => { ctx.mode('vertex'); ctx.gi.enabled = true; });
     out.fragment = await time(() => { ctx.mode('fragment'); ctx.gi.enabled = true; });
+  }
+  if (task.occluders) {
+    occlude(true); // the same programs: only uniforms change, so one round
+    out.vertexOccluded = await time(() => { ctx.mode('vertex'); ctx.gi.enabled = true; });
+    out.fragmentOccluded = await time(() => { ctx.mode('fragment'); ctx.gi.enabled = true; });
   }
   ctx.renderer.setRenderTarget(null);
   rt.dispose();
@@ -209,8 +227,129 @@ async function load(task) {
   }
 }
 
+// The floor seen from straight above, orthographic, 128 x 128 pixels over 8 x 8 m,
+// lit by the indirect light alone: a flat lightmap (volume: false) or the volume
+// (per fragment). The occluders are hidden meshes: a sphere, or an object with
+// capsules. Frames without and with them, and the positions, as floats.
+async function occlude(task) {
+  const canvas = freshCanvas();
+  const { backend = 'webgl', width = 128, height = 128 } = task;
+  const renderer = await makeRenderer(backend, canvas, width, height);
+  const webgpu = backend === 'webgpu' ? await import('/web/vdbgi-webgpu.js') : null;
+  const gi = webgpu ? new webgpu.GiRuntime() : new GiRuntime();
+  const lightmap = !task.gi;
+  if (!lightmap) gi.setVolume(await loadGi(task.gi, { renderer: backend === 'webgl' ? renderer : null }));
+  const scene = new THREE.Scene();
+  const floor = new THREE.Mesh(new THREE.PlaneGeometry(10, 10).rotateX(-Math.PI / 2),
+    new THREE.MeshLambertMaterial({ color: 0xffffff }));
+  if (lightmap) {
+    const map = new THREE.DataTexture(new Float32Array([1, 1, 1, 1]), 1, 1, THREE.RGBAFormat, THREE.FloatType);
+    map.channel = 0;
+    map.needsUpdate = true;
+    floor.material.lightMap = map;
+  }
+  floor.material = gi.apply(floor.material, { volume: !lightmap, perFragment: true });
+  scene.add(floor);
+  const camera = new THREE.OrthographicCamera(-4, 4, 4, -4, 0.1, 50);
+  camera.position.set(0, 20, 0);
+  camera.up.set(0, 0, -1);
+  camera.lookAt(0, 0, 0);
+  const ctx = { renderer, scene, camera, gi, width, height, backend };
+  const pos = await readFloat(ctx, DebugView.POSITION);
+  const before = await readFloat(ctx);
+  for (const o of task.occluders) {
+    const holder = o.sphere
+      ? new THREE.Mesh(new THREE.SphereGeometry(o.sphere.radius, 48, 24), new THREE.MeshBasicMaterial())
+      : new THREE.Object3D();
+    if (o.sphere) holder.position.set(...o.sphere.center);
+    holder.visible = false;
+    scene.add(holder);
+    holder.updateMatrixWorld(true);
+    gi.addOccluder(holder, o.capsules ? { capsules: o.capsules } : {});
+  }
+  const after = await readFloat(ctx);
+  let refused = null;
+  try {
+    for (let i = 0; i < 17; i++) gi.addOccluder(new THREE.Object3D(), { capsules: [{ a: [0, 0, 0], radius: 1 }] });
+  } catch (e) {
+    refused = e.message;
+  }
+  renderer.dispose();
+  const pick = (a) => Array.from({ length: width * height }, (_, i) => a[4 * i]);
+  return { pos: Array.from(pos), before: pick(before), after: pick(after), refused };
+}
+
+// A player's view, as tests/truth/frame_vs_cycles.sh compares it with Cycles: the
+// statics of task.scene as diffuse (Lambert) surfaces lit by their gi-lightmap maps
+// (task.lightmap: a .glb from gi-lightmap) or by the volume (per vertex or per
+// fragment), task.spheres (the moving objects, not in the bake) lit by the volume
+// per fragment and, with task.occluders, taking baked light away; task.lamps as
+// three's point lights (candela) with shadows, task.sky as the background. Linear
+// radiance and world positions (w 0 where no surface) as floats, rows from the bottom.
+async function frame(task) {
+  const canvas = freshCanvas();
+  const { width, height } = task.camera;
+  const renderer = await makeRenderer('webgl', canvas, width, height);
+  renderer.outputColorSpace = THREE.LinearSRGBColorSpace;
+  renderer.toneMapping = THREE.NoToneMapping;
+  renderer.shadowMap.enabled = true;
+  renderer.shadowMap.type = THREE.PCFShadowMap;
+  const gi = new GiRuntime();
+  if (task.gi) gi.setVolume(await loadGi(task.gi, { renderer }));
+  const gltf = await new GLTFLoader().loadAsync(task.lightmap ?? task.scene);
+  const scene = new THREE.Scene();
+  scene.background = new THREE.Color(...task.sky);
+  const jobs = [];
+  gltf.scene.traverse((o) => {
+    if (!o.isMesh) return;
+    const lm = o.material.userData.vdbgi_lightmap;
+    const m = new THREE.MeshLambertMaterial({ color: o.material.color, map: o.material.map });
+    o.material = m;
+    o.castShadow = o.receiveShadow = true;
+    if (task.lightmap && lm)
+      jobs.push(gltf.parser.getDependency('texture', lm.texture).then((t) => {
+        t.colorSpace = THREE.SRGBColorSpace; // the PNG holds sRGB-encoded E / scale
+        t.channel = lm.texCoord;
+        m.lightMap = t;
+        m.lightMapIntensity = lm.scale;
+      }));
+  });
+  await Promise.all(jobs);
+  gltf.scene.traverse((o) => {
+    if (o.isMesh) o.material = gi.apply(o.material, { volume: !task.lightmap, perFragment: !!task.perFragment });
+  });
+  scene.add(gltf.scene);
+  for (const s of task.spheres ?? []) {
+    const ball = new THREE.Mesh(new THREE.SphereGeometry(s.radius, 96, 48),
+      gi.apply(new THREE.MeshLambertMaterial({ color: new THREE.Color(...s.albedo) }), { set: 'character', perFragment: true }));
+    ball.position.set(...s.center);
+    ball.castShadow = ball.receiveShadow = true;
+    scene.add(ball);
+    ball.updateMatrixWorld();
+    if (task.occluders) gi.addOccluder(ball);
+  }
+  for (const l of task.lamps) {
+    const lamp = new THREE.PointLight(new THREE.Color(...l.color), l.intensity, 0, 2);
+    lamp.position.set(...l.position);
+    lamp.castShadow = true;
+    lamp.shadow.mapSize.set(2048, 2048);
+    lamp.shadow.camera.near = 0.05;
+    lamp.shadow.bias = -0.0005;
+    scene.add(lamp);
+  }
+  const c = task.camera;
+  const camera = new THREE.PerspectiveCamera(c.fov, width / height, 0.01, 100);
+  camera.position.set(...c.position);
+  camera.lookAt(...c.target);
+  const ctx = { renderer, scene, camera, gi, width, height, backend: 'webgl' };
+  const radiance = await readFloat(ctx);
+  const pos = await readFloat(ctx, DebugView.POSITION);
+  renderer.dispose();
+  return { radiance: Array.from(radiance), pos: Array.from(pos) };
+}
+
 window.vdbgiRun = async (task) => {
-  const run = { probe, shot, frames, load }[task.kind];
+  const run = { probe, shot, frames, load, occlude, frame }[task.kind];
   if (!run) throw new Error(`unknown task ${task.kind}`);
   return run(task);
 };
