@@ -45,17 +45,33 @@ export const MAX_OCCLUDERS = 16;
 // (Distance / radius)^2 past which an occluder is skipped: it covers under (1/22)^2, 0.2 %.
 export const OCCLUDER_REACH2 = 484;
 
+// How long a response may give no byte before loadGi gives up on it, by default.
+export const LOAD_TIMEOUT_MS = 30000;
+
 // Fetch (a URL) or take (an ArrayBuffer or typed array) a .gi.gz, check it and
 // make its textures. With `renderer`, the textures are uploaded before this
-// returns, so `timings.upload` is real. Throws, and makes nothing, on a bad file.
-export async function loadGi(source, { renderer = null, signal } = {}) {
+// returns, so `timings.upload` is real. Throws, and makes nothing, on a bad file;
+// for a URL every message begins with it. `timeout` (ms, 0 for none) gives up on
+// a response that sends nothing for that long; `onProgress({ loaded, total })`
+// hears each chunk (total from Content-Length, or null); `signal` aborts as for
+// fetch() (its own error, unwrapped).
+export async function loadGi(source, { renderer = null, signal, timeout = LOAD_TIMEOUT_MS, onProgress } = {}) {
+  const url = typeof source === 'string' || source instanceof URL ? String(source) : null;
+  try {
+    return await load(source, url, { renderer, signal, timeout, onProgress });
+  } catch (e) {
+    if (signal?.aborted && e === signal.reason) throw e;
+    if (!url || e.message.startsWith(`${url}: `)) throw e;
+    throw new Error(`${url}: ${e.message}`, { cause: e });
+  }
+}
+
+async function load(source, url, { renderer, signal, timeout, onProgress }) {
   const timings = {};
   let t = now();
   let bytes;
-  if (typeof source === 'string' || source instanceof URL) {
-    const response = await fetch(source, { signal });
-    if (!response.ok) throw new Error(`${source}: HTTP ${response.status}`);
-    bytes = new Uint8Array(await response.arrayBuffer());
+  if (url) {
+    bytes = await fetchBytes(url, { signal, timeout, onProgress });
   } else if (source instanceof ArrayBuffer) {
     bytes = new Uint8Array(source);
   } else if (ArrayBuffer.isView(source)) {
@@ -79,6 +95,60 @@ export async function loadGi(source, { renderer = null, signal } = {}) {
   timings.upload = renderer ? now() - t : null;
   volume.timings = timings;
   return volume;
+}
+
+// The body at url, chunk by chunk, given up on after `timeout` ms without a byte
+// (the wait for the answer included). Network failures say what happened where.
+async function fetchBytes(url, { signal, timeout, onProgress }) {
+  if (signal?.aborted) throw signal.reason;
+  const stop = new AbortController();
+  let timer = null, timedOut = false;
+  const arm = () => {
+    clearTimeout(timer);
+    if (timeout > 0) timer = setTimeout(() => { timedOut = true; stop.abort(); }, timeout);
+  };
+  const abort = () => stop.abort();
+  signal?.addEventListener('abort', abort);
+  let loaded = 0;
+  // What went wrong while doing `doing`: the caller's abort as it is, else what happened.
+  const failed = (e, doing) => {
+    if (signal?.aborted) return signal.reason;
+    if (timedOut) return new Error(`${doing}: nothing for ${timeout / 1000} s (loadGi's timeout option)`);
+    return new Error(`${doing}: ${e.message}`, { cause: e });
+  };
+  try {
+    arm();
+    let response;
+    try {
+      response = await fetch(url, { signal: stop.signal });
+    } catch (e) {
+      throw failed(e, 'no answer');
+    }
+    if (!response.ok) throw new Error(`HTTP ${response.status}`);
+    const total = Number(response.headers.get('content-length')) || null;
+    const reader = response.body.getReader();
+    const chunks = [];
+    for (;;) {
+      arm();
+      let part;
+      try {
+        part = await reader.read();
+      } catch (e) {
+        throw failed(e, `the body stopped after ${loaded} bytes`);
+      }
+      if (part.done) break;
+      chunks.push(part.value);
+      loaded += part.value.length;
+      onProgress?.({ loaded, total });
+    }
+    const bytes = new Uint8Array(loaded);
+    let at = 0;
+    for (const c of chunks) bytes.set(c, at), at += c.length;
+    return bytes;
+  } finally {
+    clearTimeout(timer);
+    signal?.removeEventListener('abort', abort);
+  }
 }
 
 // One world's textures and figures. Make it with loadGi(). `info` holds the

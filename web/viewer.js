@@ -250,7 +250,8 @@ async function loadVolume(source, name) {
     gi.setVolume(null);
     state.gi = null;
     showFigures(null, name);
-    throw new Error(`${name}: ${e.message}`);
+    // loadGi names a URL itself; a dropped file's bytes get its name here.
+    throw typeof source === 'string' ? e : new Error(`${name}: ${e.message}`);
   } finally {
     loading--;
   }

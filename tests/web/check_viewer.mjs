@@ -101,12 +101,12 @@ try {
       'dropping a .glb and a .gi.gz on the page loads both');
     for (const bad of ['cut.gi.gz', 'world.glb']) {
       const b = await open(browser, url, bad);
-      check(b.error && b.error.startsWith(`${bad}:`) && b.shown === b.error, `${bad}: the page says "${b.error}"`);
+      check(b.error && b.error.startsWith(`/files/${bad}:`) && b.shown === b.error, `${bad}: the page says "${b.error}"`);
       const frame = await grab(b.page);
       await b.page.close();
       check(frame.png === off.png, `${bad}: the scene still renders, without GI`);
     }
-  }, { allow: [/^error: Error: (cut\.gi\.gz|world\.glb): not a whole \.gi\.gz file/] }); // the bad files, on purpose
+  }, { allow: [/^error: Error: \/files\/(cut\.gi\.gz|world\.glb): not a whole \.gi\.gz file/] }); // the bad files, on purpose
 } finally {
   rmSync(dir, { recursive: true, force: true });
 }
