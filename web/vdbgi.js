@@ -39,6 +39,9 @@ const glslVec3 = (c) => `vec3(${c.map((v) => v.toFixed(2)).join(', ')})`;
 
 const now = () => (typeof performance !== 'undefined' ? performance.now() : Date.now());
 
+// updateOccluders()'s temporaries, made once: it runs every frame.
+const occluderScratch = { p: new THREE.Vector3(), q: new THREE.Vector3(), sphere: new THREE.Sphere(), box: new THREE.Box3() };
+
 // Most occluder shapes (spheres and capsules, all objects together) a runtime
 // takes: each costs every lit fragment a few dozen operations (docs/web.md).
 export const MAX_OCCLUDERS = 16;
@@ -308,7 +311,7 @@ export class GiRuntimeBase {
   // has not yet).
   updateOccluders() {
     const a = this.uniforms.giOccA.value, b = this.uniforms.giOccB.value;
-    const p = new THREE.Vector3(), q = new THREE.Vector3(), sphere = new THREE.Sphere();
+    const { p, q, sphere, box } = occluderScratch;
     let n = 0;
     for (const [object, capsules] of this._occluders) {
       const m = object.matrixWorld;
@@ -317,7 +320,7 @@ export class GiRuntimeBase {
           if (!object.geometry.boundingSphere) object.geometry.computeBoundingSphere();
           sphere.copy(object.geometry.boundingSphere).applyMatrix4(m);
         } else {
-          new THREE.Box3().setFromObject(object).getBoundingSphere(sphere);
+          box.setFromObject(object).getBoundingSphere(sphere);
         }
         a[n].set(sphere.center.x, sphere.center.y, sphere.center.z, sphere.radius);
         b[n++].set(sphere.center.x, sphere.center.y, sphere.center.z, 0);

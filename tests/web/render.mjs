@@ -188,8 +188,7 @@ async function frames(task) {
   const out = {};
   // With task.occluders, as many spheres of 0.8 m over the middle of the world, added for
   // the last two modes (every lit fragment tests them all).
-  const occlude = (on) => {
-    if (!on || ctx.gi._occluders.size) return;
+  const occlude = () => {
     for (let i = 0; i < task.occluders; i++) {
       const o = new THREE.Object3D();
       o.position.set(-8 + 16 * ((i % 4) + 0.5) / 4, 1.2, -8 + 16 * (Math.floor(i / 4) % 4 + 0.5) / 4);
@@ -204,7 +203,7 @@ async function frames(task) {
     out.fragment = await time(() => { ctx.mode('fragment'); ctx.gi.enabled = true; });
   }
   if (task.occluders) {
-    occlude(true); // the same programs: only uniforms change, so one round
+    occlude(); // the same programs: only uniforms change, so one round
     out.vertexOccluded = await time(() => { ctx.mode('vertex'); ctx.gi.enabled = true; });
     out.fragmentOccluded = await time(() => { ctx.mode('fragment'); ctx.gi.enabled = true; });
   }
