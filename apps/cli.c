@@ -251,8 +251,10 @@ int cli_one_input(int argc, char **argv, const char *what, const char **out)
 }
 
 size_t cli_memory_limit = 0;
+size_t cli_volume_budget = 0;
 
-int cli_memory_limit_option(const char *arg)
+/* A size from 1M to 1024T: bytes, or with K, M, G or T (powers of 1024); 0 if it is not one. */
+static size_t parse_size(const char *arg)
 {
     char *end = NULL;
     errno = 0;
@@ -269,14 +271,28 @@ int cli_memory_limit_option(const char *arg)
     }
     const double bytes = v * unit;
     if (errno || end == arg || *end || !(bytes >= 1048576.0 && bytes <= 1125899906842624.0))
+        return 0;
+    return (size_t)bytes;
+}
+
+int cli_memory_limit_option(const char *arg)
+{
+    if (!(cli_memory_limit = parse_size(arg)))
         return cli_usage_error("--memory-limit must be a size from 1M to 1024T (got '%s')", arg);
-    cli_memory_limit = (size_t)bytes;
+    return -2;
+}
+
+int cli_volume_budget_option(const char *arg)
+{
+    if (!(cli_volume_budget = parse_size(arg)))
+        return cli_usage_error("--max-bytes must be a size from 1M to 1024T (got '%s')", arg);
     return -2;
 }
 
 vdbgi_context *cli_context(void)
 {
-    const vdbgi_context_desc cd = {.log = cli_log, .memory_limit = cli_memory_limit};
+    const vdbgi_context_desc cd = {
+        .log = cli_log, .memory_limit = cli_memory_limit, .volume_budget = cli_volume_budget};
     vdbgi_context *ctx = NULL;
     if (vdbgi_context_create(&cd, &ctx) != VDBGI_OK)
         cli_error("cannot create a context: out of memory");

@@ -69,6 +69,13 @@ vdbgi_context *cli_context(void);
 enum { CLI_OPT_MEMORY_LIMIT = 998 };
 extern size_t cli_memory_limit;
 int cli_memory_limit_option(const char *arg);
+/*
+ * --max-bytes SIZE (the apps that read a .gi): what a volume may unpack to,
+ * as vdbgi_context_desc.volume_budget (0, the default: VDBGI_VOLUME_BUDGET).
+ * The same sizes as --memory-limit; returns -2 or a usage error's exit code.
+ */
+extern size_t cli_volume_budget;
+int cli_volume_budget_option(const char *arg);
 
 /* Log callback for vdbgi_context_desc: prints by cli_verbosity. */
 void cli_log(void *user, vdbgi_log_level level, const char *message);

@@ -32,6 +32,8 @@ static void usage(void)
            "      --at X,Y,Z    a world position in metres (repeat for more)\n"
            "      --normal N    the receiving surface's normal at every --at (need not be unit)\n"
            "      --textures F  write a .gi's runtime textures to F (replaced on success)\n"
+           "      --max-bytes SIZE  read a .gi that unpacks to more than 32M (its body or\n"
+           "                    its textures; the web loader's maxBytes is the same bound)\n"
            "  -h, --help        print this help and exit\n"
            "      --version     print the version and exit\n"
            "\n"
@@ -43,7 +45,7 @@ static void usage(void)
            "  gi-inspect world.gi.gz --textures world-textures.gi\n");
 }
 
-enum { OPT_AT = 256, OPT_NORMAL, OPT_TEXTURES };
+enum { OPT_AT = 256, OPT_NORMAL, OPT_TEXTURES, OPT_MAX_BYTES };
 
 /*
  * VDB files start with the 64-bit magic 0x56444220 (" BDV" little-endian).
@@ -106,6 +108,10 @@ static int inspect_gi(vdbgi_context *ctx, const char *path, float (*at)[3], int 
 {
     vdbgi_volume *v = NULL;
     const vdbgi_result r = vdbgi_volume_read(ctx, path, &v);
+    if (r == VDBGI_ERR_OUT_OF_MEMORY && strstr(vdbgi_context_error(ctx), "volume budget")) {
+        cli_error("%s: --max-bytes lifts it", vdbgi_context_error(ctx));
+        return CLI_FAILED;
+    }
     if (r != VDBGI_OK)
         return cli_fail(ctx, r);
     vdbgi_volume_info vi;
@@ -164,6 +170,7 @@ int main(int argc, char **argv)
     static const struct option longs[] = {{"at", required_argument, NULL, OPT_AT},
                                           {"normal", required_argument, NULL, OPT_NORMAL},
                                           {"textures", required_argument, NULL, OPT_TEXTURES},
+                                          {"max-bytes", required_argument, NULL, OPT_MAX_BYTES},
                                           {"help", no_argument, NULL, 'h'},
                                           {"version", no_argument, NULL, CLI_OPT_VERSION},
                                           {NULL, 0, NULL, 0}};
@@ -202,6 +209,14 @@ int main(int argc, char **argv)
             break;
         }
         case OPT_TEXTURES: textures = optarg; break;
+        case OPT_MAX_BYTES: {
+            const int rc = cli_volume_budget_option(optarg);
+            if (rc != -2) {
+                free(at);
+                return rc;
+            }
+            break;
+        }
         default: free(at); return cli_common_option(c, argv, usage);
         }
     }

@@ -365,6 +365,22 @@ static vdbgi_result check_outputs(vdbgi_context *ctx, const options *o,
 }
 
 /* The Bevy volume and its files, first: it refuses probes without cubes before the conversion. */
+/* A volume past the readers' default budget: said now, not when a page refuses it. */
+static void warn_budget(const char *path, const vdbgi_volume_info *vi)
+{
+    const double textures = (double)vi->indirection_size +
+                            (double)vi->atlas_size * (vi->basis == VDBGI_BASIS_SH2 ? 7.0 : 1.0);
+    if (textures <= (double)VDBGI_VOLUME_BUDGET)
+        return;
+    char m[256];
+    snprintf(
+        m, sizeof(m),
+        "%s unpacks to %.1f MiB of textures, past the %.0f MiB that loadGi and gi-inspect read "
+        "by default (loadGi's maxBytes, gi-inspect --max-bytes)",
+        path, textures / (1 << 20), (double)VDBGI_VOLUME_BUDGET / (1 << 20));
+    cli_log(NULL, VDBGI_LOG_WARNING, m);
+}
+
 static vdbgi_result write_bevy(vdbgi_context *ctx, vdbgi_probes *probes, options *o,
                                char json[2][4096], vdbgi_bevy **bevy)
 {
@@ -459,6 +475,7 @@ int main(int argc, char **argv)
         code = cli_fail(ctx, r);
     } else if (o.output) {
         code = CLI_OK;
+        warn_budget(o.output, &vi);
         o.memory_peak = vdbgi_context_memory_peak(ctx);
         if (cli_verbosity >= 2)
             print_stats(stdout, &o, &vi, &pi, read_seconds, false);

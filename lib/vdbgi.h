@@ -120,6 +120,10 @@ typedef struct vdbgi_context vdbgi_context;
  *                request) ends with one line instead of being killed.
  *                Counts vdbgi's own allocations and the grids OpenVDB holds
  *                while a .vdb is read or merged; not a scene importer's.
+ *   volume_budget: the most bytes a .gi read with this context may unpack to,
+ *                its body and its runtime textures each (0: VDBGI_VOLUME_BUDGET;
+ *                SIZE_MAX: no bound). A volume past it is refused from its
+ *                header, VDBGI_ERR_OUT_OF_MEMORY, before anything is allocated.
  */
 typedef struct vdbgi_context_desc {
     void *(*alloc)(void *user, size_t size);
@@ -127,6 +131,7 @@ typedef struct vdbgi_context_desc {
     void (*log)(void *user, vdbgi_log_level level, const char *message);
     void *user;
     size_t memory_limit;
+    size_t volume_budget;
 } vdbgi_context_desc;
 
 /*
@@ -837,6 +842,13 @@ typedef struct vdbgi_convert_desc {
 
 /* The RGBM range: colours up to this are encoded, brighter ones clamp. */
 #define VDBGI_RGBM_RANGE 8.0f
+/*
+ * What a .gi may unpack to by default, its body and its textures (indirection,
+ * atlas and, for L2, six term textures of the atlas's size) each: a browser holds
+ * about four times this while it builds and uploads them. The web loader's
+ * MAX_BYTES is the same.
+ */
+#define VDBGI_VOLUME_BUDGET ((size_t)32 << 20)
 /* The largest 3D texture dimension WebGPU guarantees; the atlas stays within it. */
 #define VDBGI_MAX_TEXTURE_DIM 2048
 /* The runtime's indirection is at most this many texels a side (WebGL2's 2D minimum). */

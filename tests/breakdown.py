@@ -32,7 +32,7 @@ def read_gi(path):
         tool = os.path.join(os.environ.get("BIN", "build/release/bin"), "gi-inspect")
         with tempfile.TemporaryDirectory() as tmp:
             out = os.path.join(tmp, "textures.gi")
-            subprocess.run([tool, path, "--textures", out], check=True, stdout=subprocess.DEVNULL)
+            subprocess.run([tool, path, "--textures", out, "--max-bytes", "64G"], check=True, stdout=subprocess.DEVNULL)
             raw = open(out, "rb").read()
     (magic, version, header_size, encoding, rgbm_range) = struct.unpack_from("<8sIIIf", raw, 0)
     assert magic == b"vdbgi.gi" and version in (1, 2), path

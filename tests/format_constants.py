@@ -17,7 +17,7 @@ def text(path):
 
 def number(expr):
     """A C or JS integer or float literal, a shift of two (1 << 24) or a quotient (1.0f / 2)."""
-    expr = expr.strip().strip("()")
+    expr = re.sub(r"\((size_t|uint32_t)\)", "", expr).strip().strip("()")
     m = re.fullmatch(r"(\d+)\s*<<\s*(\d+)", expr)
     if m:
         return int(m.group(1)) << int(m.group(2))
@@ -76,6 +76,7 @@ def js_match(path, pattern):
 GIH, SAMP, API = "lib/format/gifile.h", "lib/format/sampler.h", "lib/vdbgi.h"
 LAT = "lib/core/lattice.h"
 FMT, PACKED, RUNTIME = "web/gi-format.js", "web/gi-packed.js", "web/vdbgi.js"
+STREAM = "web/gi-stream.js"
 PAIRS = [
     ("header bytes", lambda: js_const(FMT, "HEADER_BYTES"), lambda: c_define(GIH, "VDBGI_GI_HEADER_SIZE")),
     ("header bytes, versions 6 and 7", lambda: js_const(FMT, "HEADER_BYTES_V6"),
@@ -90,6 +91,7 @@ PAIRS = [
     ("scalar basis", lambda: js_const(FMT, "BASIS_SCALAR"), lambda: c_enum(API, "VDBGI_BASIS_SCALAR")),
     ("L2 basis", lambda: js_const(FMT, "BASIS_SH2"), lambda: c_enum(API, "VDBGI_BASIS_SH2")),
     ("sparse cells", lambda: js_const(FMT, "SPARSE_CELLS"), lambda: c_define(GIH, "VDBGI_SPARSE_CELLS")),
+    ("volume budget", lambda: js_const(STREAM, "MAX_BYTES"), lambda: c_define(API, "VDBGI_VOLUME_BUDGET")),
     ("compact atlas side", lambda: js_const(FMT, "ATLAS_MAX"), lambda: c_define(GIH, "VDBGI_ATLAS_MAX")),
     ("columns texture row", lambda: js_const(FMT, "COLUMNS_ROW_MAX"), lambda: c_define(API, "VDBGI_COLUMNS_ROW")),
     ("compact brick side (format)", lambda: js_match(FMT, r"LAYOUT_COMPACT \? \{ brick: (\d+)"),

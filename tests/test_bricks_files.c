@@ -310,6 +310,47 @@ static void absurd_header_values_are_refused(void)
     vdbgi_context_destroy(ctx);
 }
 
+/*
+ * The volume budget (vdbgi_context_desc.volume_budget): a file whose textures
+ * pass it is refused from its header, naming both sizes; the same bytes read
+ * under the default (VDBGI_VOLUME_BUDGET) and under a budget just large enough.
+ */
+static void the_volume_budget_refuses_before_allocating(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_probes *p = NULL;
+    vdbgi_volume *v = NULL;
+    size_t raw = 0;
+    uint8_t *const plain = plain_seed_file(ctx, &p, &v, &raw);
+    if (!plain) {
+        vdbgi_context_destroy(ctx);
+        return;
+    }
+    const size_t textures = v->info.indirection_size + v->info.atlas_size;
+    vdbgi_volume *r = NULL;
+    CHECK_RESULT(ctx, vdbgi_volume_read_memory(ctx, plain, raw, "slab", &r), VDBGI_OK);
+    vdbgi_volume_destroy(r);
+    for (int k = 0; k < 2; k++) {
+        /* One byte short of the larger of body and textures, then exactly it. */
+        const size_t need = textures > raw - VDBGI_GI_HEADER_SIZE ? textures : raw;
+        const vdbgi_context_desc cd = {.volume_budget = need - 1 + (size_t)k};
+        vdbgi_context *small = NULL;
+        CHECK(vdbgi_context_create(&cd, &small) == VDBGI_OK);
+        r = NULL;
+        CHECK_RESULT(small, vdbgi_volume_read_memory(small, plain, raw, "slab", &r),
+                     k ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY);
+        CHECK(k || (strstr(vdbgi_context_error(small), "slab: the volume unpacks to") &&
+                    strstr(vdbgi_context_error(small), "volume budget") && !r));
+        CHECK(k || vdbgi_context_memory_peak(small) == 0);
+        vdbgi_volume_destroy(r);
+        vdbgi_context_destroy(small);
+    }
+    free(plain);
+    vdbgi_volume_destroy(v);
+    vdbgi_probes_destroy(p);
+    vdbgi_context_destroy(ctx);
+}
+
 static void bad_parameters_and_probes_are_refused(void)
 {
     vdbgi_context *ctx = test_context();
@@ -514,6 +555,7 @@ int main(void)
     RUN(files_round_trip_and_are_deterministic);
     RUN(damaged_files_are_refused);
     RUN(absurd_header_values_are_refused);
+    RUN(the_volume_budget_refuses_before_allocating);
     RUN(bad_parameters_and_probes_are_refused);
     RUN(levels_png_shows_each_cells_level);
     RUN(failing_allocations_are_reported_without_leaks);

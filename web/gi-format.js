@@ -5,7 +5,10 @@
 // can ever leave the textures. A version 5 file (the compact layout, each
 // probe stored once) has its textures rebuilt by gi-packed.js; versions 6 and 7 add
 // L2 terms, rebuilt there too into six RGBA8 snorm textures (gi.sh).
-import { rebuildPacked } from './gi-packed.js';
+import { rebuildPacked, ATLAS_TEXELS_PER_BRICK } from './gi-packed.js';
+import { GiStreamReader, MAX_BYTES, overBudget } from './gi-stream.js';
+
+export { MAX_BYTES } from './gi-stream.js';
 
 export const ENCODING_RGBM = 0;
 export const ENCODING_RGB9E5 = 1;
@@ -54,64 +57,6 @@ function checkBox(gi) {
     if (Math.abs(extent - want) > 1e-3 * want + 2 ** -20 * corner)
       throw new Error(`the box is ${g(extent)} m on ${'xyz'[k]}, where indDims (${gi.indDims[k]}) x 4 x spacing (${g(s)} m) is ${g(want)} m`);
   }
-}
-
-// CRC-32 (IEEE, as gzip's trailer), table-driven.
-let crcTable = null;
-export function crc32(bytes) {
-  if (!crcTable) {
-    crcTable = new Uint32Array(256);
-    for (let n = 0; n < 256; n++) {
-      let c = n;
-      for (let k = 0; k < 8; k++) c = c & 1 ? 0xedb88320 ^ (c >>> 1) : c >>> 1;
-      crcTable[n] = c >>> 0;
-    }
-  }
-  let c = 0xffffffff;
-  for (let i = 0; i < bytes.length; i++) c = crcTable[(c ^ bytes[i]) & 255] ^ (c >>> 8);
-  return (c ^ 0xffffffff) >>> 0;
-}
-
-// Gunzip with the platform's DecompressionStream (browsers, node >= 18),
-// stopping as soon as the output passes `limit` bytes.
-export async function gunzip(bytes, limit = Infinity) {
-  const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream('gzip'));
-  const reader = stream.getReader();
-  const chunks = [];
-  let length = 0;
-  for (;;) {
-    const { done, value } = await reader.read();
-    if (done) break;
-    chunks.push(value);
-    length += value.length;
-    if (length > limit) {
-      await reader.cancel();
-      throw new Error(`unpacks to more than the ${limit} bytes its gzip trailer says`);
-    }
-  }
-  const out = new Uint8Array(length);
-  let at = 0;
-  for (const c of chunks) {
-    out.set(c, at);
-    at += c.length;
-  }
-  return out;
-}
-
-// The first n bytes a gzip stream unpacks to (fewer if it ends first); the rest is never unpacked.
-async function gunzipPrefix(bytes, n) {
-  const reader = new Blob([bytes]).stream().pipeThrough(new DecompressionStream('gzip')).getReader();
-  const out = new Uint8Array(n);
-  let length = 0;
-  while (length < n) {
-    const { done, value } = await reader.read();
-    if (done) break;
-    const take = Math.min(value.length, n - length);
-    out.set(value.subarray(0, take), length);
-    length += take;
-  }
-  await reader.cancel().catch(() => {});
-  return out.subarray(0, length);
 }
 
 // Parse an uncompressed .gi. The returned textures are views into `buf`.
@@ -201,10 +146,13 @@ function parseHeader(buf) {
   if (packed && cells > SPARSE_CELLS && cells > 4096 * covered)
     throw new Error(`${cells} cells of the indirection for ${covered} under bricks (more than 4096 a ` +
       `brick's cell, and more than ${SPARSE_CELLS}): too sparse a volume`);
+  // The placement table's bound (gi-packed.js), from the header's counts: before the budget.
+  const brickCount = gi.bricks.reduce((a, b) => a + b, 0);
+  if (packed && atlasBytes / 4 > ATLAS_TEXELS_PER_BRICK * (brickCount + 1))
+    throw new Error(`a ${gi.atlasDims.join('x')} atlas for ${brickCount} bricks (at most ${ATLAS_TEXELS_PER_BRICK} texels a brick)`);
   checkBox(gi);
   // Version 5 stores a level byte a cell, 6 bytes a brick (its place) and 4 a
   // stored point, not the textures; versions 6 and 7 24 more a point, the L2 terms.
-  const brickCount = gi.bricks.reduce((a, b) => a + b, 0);
   const pointBytes = terms ? 28 : 4;
   const stored = packed ? indBytes / 4 + 6 * brickCount + pointBytes * gi.storedPoints : indBytes + atlasBytes;
   return { gi, headerSize, stored };
@@ -243,54 +191,61 @@ function parseBody(gi, buf, headerSize) {
   return gi;
 }
 
-// Gunzip and parse a whole .gi.gz; `timings`, if given, gets the
-// milliseconds of each step (gunzip, parse).
-export async function decodeGi(fileBytes, timings = {}) {
+// The bytes a volume's textures take as the reader makes them: the indirection
+// as the header sizes it, the atlas, and for L2 six term textures its size.
+export function textureBytes(gi) {
+  const texels = (d) => d[0] * d[1] * d[2];
+  return 4 * texels(gi.indDims) + 4 * texels(gi.atlasDims) * (gi.basis === BASIS_SH2 ? 7 : 1);
+}
+
+// The stream reader's view of a header: what must follow it and what it unpacks to.
+function judgeHeader(first) {
+  const { gi, headerSize, stored } = parseHeader(first);
+  return { headerSize, stored, textureBytes: textureBytes(gi) };
+}
+
+// A reader for one .gi or .gi.gz arriving in chunks (loadGi's fetch): push() them,
+// end() for the parsed volume, as decodeGi's. Everything gi-stream.js says holds.
+export function giReader({ maxBytes = MAX_BYTES, trailerSize = null } = {}) {
+  return new GiStreamReader({ header: judgeHeader, headerBytes: HEADER_BYTES_V6, maxBytes, trailerSize });
+}
+
+// Check and parse a whole .gi.gz (or .gi) in memory; `timings`, if given, gets
+// the milliseconds of each step (gunzip, parse). `maxBytes` bounds what it may
+// unpack to (gi-stream.js's MAX_BYTES by default): a volume past it is refused
+// from its header, before anything that size is allocated.
+export async function decodeGi(fileBytes, timings = {}, { maxBytes = MAX_BYTES } = {}) {
   const now = () => (typeof performance !== 'undefined' ? performance.now() : Date.now());
-  // Sizes before allocations (docs/format.md): the trailer says how much the
-  // stream unpacks to; deflate expands at most about 1032:1, so more than
-  // 1100 times the file is a lie, refused before anything is unpacked.
-  // A server that sent the file with Content-Encoding: gzip had the browser unpack
-  // it on the way: the body is the .gi itself, read as it is, with every check.
-  if (fileBytes.length >= 8 && new TextDecoder().decode(fileBytes.subarray(0, 8)) === 'vdbgi.gi') {
-    const t0 = now();
-    const gi = parseGi(fileBytes);
-    timings.gunzip = 0;
-    timings.parse = now() - t0;
-    return gi;
-  }
-  if (fileBytes.length < 18) throw new Error('not a whole .gi.gz file (shorter than a gzip stream)');
-  const tail = new DataView(fileBytes.buffer, fileBytes.byteOffset, fileBytes.byteLength);
-  const isize = tail.getUint32(fileBytes.length - 4, true);
-  if (isize < HEADER_BYTES || isize > 1100 * fileBytes.length)
-    throw new Error(`not a whole .gi.gz file (its gzip trailer promises ${isize} bytes, ` +
-      `impossible from ${fileBytes.length})`);
   let t = now();
-  // The header first, from the stream's first bytes, as the C reader does: what
-  // it says must follow it is what the trailer says the stream holds, before
-  // anything larger is unpacked.
-  let head;
-  try {
-    head = await gunzipPrefix(fileBytes, HEADER_BYTES_V6);
-  } catch (e) {
-    throw new Error(`not a gzip'd .gi file, or cut short (${e.message})`);
+  // A .gi as it is (a server's Content-Encoding: gzip had the browser unpack it):
+  // read in place, with every check.
+  if (fileBytes.length >= 8 && new TextDecoder().decode(fileBytes.subarray(0, 8)) === 'vdbgi.gi') {
+    const { gi, headerSize, stored } = parseHeader(fileBytes);
+    const over = overBudget(headerSize + stored, textureBytes(gi), maxBytes);
+    if (over) throw over;
+    const parsed = parseGi(fileBytes);
+    timings.gunzip = 0;
+    timings.parse = now() - t;
+    return parsed;
   }
-  if (head.length < HEADER_BYTES) throw new Error('damaged gzip data, or too short to be a .gi file');
-  const { headerSize, stored } = parseHeader(head);
-  if (headerSize + stored !== isize)
-    throw new Error('cut short or damaged (the gzip trailer disagrees with the header)');
-  let buf;
-  try {
-    buf = await gunzip(fileBytes, isize);
-  } catch (e) {
-    throw new Error(`not a gzip'd .gi file, or cut short (${e.message})`);
+  // Sizes before allocations (docs/format.md): the trailer says how much the
+  // stream unpacks to; deflate expands at most about 1032:1, so more than 1100
+  // times the file is a lie, refused before anything is unpacked. The header,
+  // from the stream's first bytes, must then agree with the trailer.
+  let trailerSize = null;
+  if (fileBytes.length >= 2 && fileBytes[0] === 0x1f && fileBytes[1] === 0x8b) {
+    if (fileBytes.length < 18) throw new Error('not a whole .gi.gz file (shorter than a gzip stream)');
+    const tail = new DataView(fileBytes.buffer, fileBytes.byteOffset, fileBytes.byteLength);
+    trailerSize = tail.getUint32(fileBytes.length - 4, true);
+    if (trailerSize < HEADER_BYTES || trailerSize > 1100 * fileBytes.length)
+      throw new Error(`not a whole .gi.gz file (its gzip trailer promises ${trailerSize} bytes, ` +
+        `impossible from ${fileBytes.length})`);
   }
+  const reader = giReader({ maxBytes, trailerSize });
+  await reader.push(fileBytes);
+  const buf = await reader.end();
   timings.gunzip = now() - t;
   t = now();
-  // DecompressionStream ignores bytes after the stream: the file's last 8 bytes must be the
-  // trailer of what it unpacked, its CRC-32 and length, or something follows the stream.
-  if (isize !== buf.length >>> 0 || tail.getUint32(fileBytes.length - 8, true) !== crc32(buf))
-    throw new Error('bytes after the gzip stream');
   const gi = parseGi(buf);
   timings.parse = now() - t;
   return gi;

@@ -8,7 +8,7 @@ const N = 5, TEXELS = 125, PAD = 2;
 const f = Math.fround;
 
 // A version 5 atlas holds at most this many texels a brick (docs/format.md).
-const ATLAS_TEXELS_PER_BRICK = 500;
+export const ATLAS_TEXELS_PER_BRICK = 500;
 
 // Each brick's first atlas texel from the placement table (u16 x of every
 // brick, then y, then z), checked as lib/format/packed.c checks it: inside the

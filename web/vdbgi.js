@@ -18,10 +18,10 @@
 // knob does. vdbgi-webgpu.js is the same for WebGPURenderer, in TSL.
 import * as THREE from 'three';
 import {
-  decodeGi, indirectionColumns, layoutGeometry, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT, SH2_RANGE,
+  decodeGi, giReader, parseGi, indirectionColumns, layoutGeometry, MAX_BYTES, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT, SH2_RANGE,
 } from './gi-format.js';
 
-export { ENCODING_RGBM, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT } from './gi-format.js';
+export { ENCODING_RGBM, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT, MAX_BYTES } from './gi-format.js';
 
 // Debug views: what a material with GI shows instead of its lit colour. The
 // runtime's `debug` takes one of these or its name in lower case ('level').
@@ -54,14 +54,18 @@ export const LOAD_TIMEOUT_MS = 30000;
 // Fetch (a URL) or take (an ArrayBuffer or typed array) a .gi.gz, check it and
 // make its textures. With `renderer`, the textures are uploaded before this
 // returns, so `timings.upload` is real. Throws, and makes nothing, on a bad file;
-// for a URL every message begins with it. `timeout` (ms, 0 for none) gives up on
-// a response that sends nothing for that long; `onProgress({ loaded, total })`
-// hears each chunk (total from Content-Length, or null); `signal` aborts as for
-// fetch() (its own error, unwrapped).
-export async function loadGi(source, { renderer = null, signal, timeout = LOAD_TIMEOUT_MS, onProgress } = {}) {
+// for a URL every message begins with it. A URL's body is checked as it arrives
+// (gi-stream.js): a file that is not a volume is refused from its first bytes,
+// and reading stops at the first byte past what its header declares.
+// `maxBytes` (MAX_BYTES, 64 MB, by default) refuses from its header a volume
+// that would unpack to more. `timeout` (ms, 0 for none) gives up on a response
+// that sends nothing for that long; `onProgress({ loaded, total })` hears each
+// chunk (total from Content-Length, or null); `signal` aborts as for fetch()
+// (its own error, unwrapped).
+export async function loadGi(source, { renderer = null, signal, timeout = LOAD_TIMEOUT_MS, onProgress, maxBytes = MAX_BYTES } = {}) {
   const url = typeof source === 'string' || source instanceof URL ? String(source) : null;
   try {
-    return await load(source, url, { renderer, signal, timeout, onProgress });
+    return await load(source, url, { renderer, signal, timeout, onProgress, maxBytes });
   } catch (e) {
     if (signal?.aborted && e === signal.reason) throw e;
     if (!url || e.message.startsWith(`${url}: `)) throw e;
@@ -69,23 +73,29 @@ export async function loadGi(source, { renderer = null, signal, timeout = LOAD_T
   }
 }
 
-async function load(source, url, { renderer, signal, timeout, onProgress }) {
+async function load(source, url, { renderer, signal, timeout, onProgress, maxBytes }) {
   const timings = {};
   let t = now();
-  let bytes;
+  let header, fileBytes;
   if (url) {
-    bytes = await fetchBytes(url, { signal, timeout, onProgress });
-  } else if (source instanceof ArrayBuffer) {
-    bytes = new Uint8Array(source);
-  } else if (ArrayBuffer.isView(source)) {
-    bytes = new Uint8Array(source.buffer, source.byteOffset, source.byteLength);
+    const gi = await fetchGi(url, { signal, timeout, onProgress, maxBytes });
+    timings.fetch = now() - t;
+    timings.gunzip = gi.inflateMs;
+    t = now();
+    header = parseGi(gi.bytes);
+    timings.parse = now() - t;
+    fileBytes = gi.loaded;
   } else {
-    throw new Error('loadGi: expected a URL, an ArrayBuffer or a typed array');
+    let bytes;
+    if (source instanceof ArrayBuffer) bytes = new Uint8Array(source);
+    else if (ArrayBuffer.isView(source)) bytes = new Uint8Array(source.buffer, source.byteOffset, source.byteLength);
+    else throw new Error('loadGi: expected a URL, an ArrayBuffer or a typed array');
+    timings.fetch = 0;
+    header = await decodeGi(bytes, timings, { maxBytes });
+    fileBytes = bytes.length;
   }
-  timings.fetch = now() - t;
-  const header = await decodeGi(bytes, timings);
   t = now();
-  const volume = new GiVolume(header, bytes.length);
+  const volume = new GiVolume(header, fileBytes);
   timings.build = now() - t;
   t = now();
   if (renderer) {
@@ -100,10 +110,12 @@ async function load(source, url, { renderer, signal, timeout, onProgress }) {
   return volume;
 }
 
-// The body at url, chunk by chunk, given up on after `timeout` ms without a byte
-// (the wait for the answer included). Network failures say what happened where.
-async function fetchBytes(url, { signal, timeout, onProgress }) {
+// The .gi at url, read chunk by chunk into a giReader (unpacked as it comes,
+// refused at the first byte it cannot be), given up on after `timeout` ms without
+// a byte (the wait for the answer included). Network failures say what happened where.
+async function fetchGi(url, { signal, timeout, onProgress, maxBytes }) {
   if (signal?.aborted) throw signal.reason;
+  const gi = giReader({ maxBytes });
   const stop = new AbortController();
   let timer = null, timedOut = false;
   const arm = () => {
@@ -112,7 +124,7 @@ async function fetchBytes(url, { signal, timeout, onProgress }) {
   };
   const abort = () => stop.abort();
   signal?.addEventListener('abort', abort);
-  let loaded = 0;
+  let loaded = 0, reader = null;
   // What went wrong while doing `doing`: the caller's abort as it is, else what happened.
   const failed = (e, doing) => {
     if (signal?.aborted) return signal.reason;
@@ -129,8 +141,7 @@ async function fetchBytes(url, { signal, timeout, onProgress }) {
     }
     if (!response.ok) throw new Error(`HTTP ${response.status}`);
     const total = Number(response.headers.get('content-length')) || null;
-    const reader = response.body.getReader();
-    const chunks = [];
+    reader = response.body.getReader();
     for (;;) {
       arm();
       let part;
@@ -140,14 +151,20 @@ async function fetchBytes(url, { signal, timeout, onProgress }) {
         throw failed(e, `the body stopped after ${loaded} bytes`);
       }
       if (part.done) break;
-      chunks.push(part.value);
       loaded += part.value.length;
       onProgress?.({ loaded, total });
+      await gi.push(part.value);
+      if (signal?.aborted) throw signal.reason;
     }
-    const bytes = new Uint8Array(loaded);
-    let at = 0;
-    for (const c of chunks) bytes.set(c, at), at += c.length;
-    return bytes;
+    reader = null;
+    const bytes = await gi.end();
+    return { bytes, loaded, inflateMs: gi.inflateMs };
+  } catch (e) {
+    // Nothing more is read: a refused file, a bomb, an abort.
+    gi.cancel(e);
+    reader?.cancel(e).catch(() => {});
+    stop.abort();
+    throw e;
   } finally {
     clearTimeout(timer);
     signal?.removeEventListener('abort', abort);

@@ -229,7 +229,8 @@ async function loadVolume(source, name) {
   const t0 = performance.now();
   loading++;
   try {
-    const volume = await loadGi(source, { renderer: backend === 'webgl' ? renderer : null });
+    // A person chose this file and watches it load: a budget of 1 GiB, not a game's 32 MiB.
+    const volume = await loadGi(source, { renderer: backend === 'webgl' ? renderer : null, maxBytes: 1 << 30 });
     if (token !== volumeToken) { // a later load won
       volume.dispose();
       return;

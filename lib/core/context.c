@@ -61,6 +61,7 @@ vdbgi_result vdbgi_context_create(const vdbgi_context_desc *desc, vdbgi_context 
     ctx->log = desc->log;
     ctx->user = desc->user;
     ctx->memory_limit = desc->memory_limit;
+    ctx->volume_budget = desc->volume_budget ? desc->volume_budget : VDBGI_VOLUME_BUDGET;
     *out = ctx;
     return VDBGI_OK;
 }

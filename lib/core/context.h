@@ -30,6 +30,8 @@ struct vdbgi_context {
     /* Bytes held now and at most, against memory_limit (0: none); updated
        atomically, as workers allocate too. */
     size_t memory_held, memory_peak, memory_limit;
+    /* What a .gi read may unpack to (vdbgi_context_desc.volume_budget, resolved). */
+    size_t volume_budget;
 };
 
 /*

@@ -243,6 +243,14 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
                   "%s: %llu cells of the indirection for %llu under bricks (more than 4096 a "
                   "brick's cell, and more than %d): too sparse a volume",
                   path, (unsigned long long)cells, (unsigned long long)covered, VDBGI_SPARSE_CELLS);
+    /* The placement table's bound, from the header's counts: before the budget weighs the atlas. */
+    VDBGI_FAIL_IF(ctx,
+                  packed && (uint64_t)atlas / 4 >
+                                VDBGI_ATLAS_TEXELS_PER_BRICK * ((uint64_t)info->brick_count + 1),
+                  VDBGI_ERR_FORMAT,
+                  "%s: a %ux%ux%u atlas for %u bricks (at most %d texels a brick)", path,
+                  info->atlas_dims[0], info->atlas_dims[1], info->atlas_dims[2], info->brick_count,
+                  VDBGI_ATLAS_TEXELS_PER_BRICK);
     VDBGI_TRY(check_box(ctx, path, info));
     *stored_size = packed ? ind / 4 + VDBGI_PLACEMENT_BYTES * (uint64_t)info->brick_count +
                                 (4 + (terms ? VDBGI_SH_BYTES : 0)) * (uint64_t)info->stored_points
@@ -341,6 +349,18 @@ vdbgi_result vdbgi_gifile_parse(vdbgi_context *ctx, const char *path, const uint
         r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
                        "%s: cut short or damaged (the gzip trailer disagrees with the header)",
                        path);
+        goto done;
+    }
+    /* The budget: what the body and the textures built from it would take. */
+    const uint64_t textures = (uint64_t)info->indirection_size +
+                              (uint64_t)info->atlas_size * (info->basis == VDBGI_BASIS_SH2 ? 7 : 1);
+    const uint64_t biggest = textures > total ? textures : total;
+    if (biggest > ctx->volume_budget) {
+        r = vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY,
+                       "%s: the volume unpacks to %.1f MiB (%llu bytes of textures), past the "
+                       "%.1f MiB volume budget",
+                       path, (double)biggest / (1 << 20), (unsigned long long)textures,
+                       (double)ctx->volume_budget / (1 << 20));
         goto done;
     }
     if (!(raw = vdbgi_alloc(ctx, (size_t)total))) {

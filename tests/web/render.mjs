@@ -5,11 +5,16 @@
 //   shot:   draw the scene lit, GI off or on, into the canvas;
 //   frames: time task.frames frames with GI off, per vertex, per fragment;
 //   load:   only load, and report the error a bad file gives;
+//   boundsSetup, boundsLoad, boundsDraw: tests/web/check_bounds.mjs's steps;
 //   occlude: a 10 m floor lit only by a flat lightmap or by task.gi, with and
 //           without task.occluders: the world positions and both frames.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { GiRuntime, loadGi, DebugView } from '/web/vdbgi.js';
+
+// The benchmarks load our own big worlds (the town's L2 textures pass loadGi's default
+// budget); only the bounds tasks keep the defaults.
+const OWN_WORLDS = 2 ** 31;
 
 async function makeRenderer(backend, canvas, width, height) {
   if (backend === 'webgpu') {
@@ -56,7 +61,7 @@ async function setup(task) {
   const webgpu = backend === 'webgpu' ? await import('/web/vdbgi-webgpu.js') : null;
   const gi = webgpu ? new webgpu.GiRuntime() : new GiRuntime();
   const t0 = performance.now();
-  const volume = await loadGi(task.gi, { renderer: backend === 'webgl' ? renderer : null });
+  const volume = await loadGi(task.gi, { renderer: backend === 'webgl' ? renderer : null, maxBytes: OWN_WORLDS });
   const loadMs = performance.now() - t0;
   gi.setVolume(volume);
   const meshes = [];
@@ -216,7 +221,7 @@ async function load(task) {
   const canvas = freshCanvas();
   const renderer = await makeRenderer('webgl', canvas, 64, 64);
   try {
-    const v = await loadGi(task.gi, { renderer });
+    const v = await loadGi(task.gi, { renderer, maxBytes: OWN_WORLDS });
     v.dispose();
     return { ok: true, timings: v.timings, vramBytes: v.vramBytes, fileBytes: v.fileBytes };
   } catch (e) {
@@ -237,7 +242,7 @@ async function occlude(task) {
   const webgpu = backend === 'webgpu' ? await import('/web/vdbgi-webgpu.js') : null;
   const gi = webgpu ? new webgpu.GiRuntime() : new GiRuntime();
   const lightmap = !task.gi;
-  if (!lightmap) gi.setVolume(await loadGi(task.gi, { renderer: backend === 'webgl' ? renderer : null }));
+  if (!lightmap) gi.setVolume(await loadGi(task.gi, { renderer: backend === 'webgl' ? renderer : null, maxBytes: OWN_WORLDS }));
   const scene = new THREE.Scene();
   const floor = new THREE.Mesh(new THREE.PlaneGeometry(10, 10).rotateX(-Math.PI / 2),
     new THREE.MeshLambertMaterial({ color: 0xffffff }));
@@ -294,7 +299,7 @@ async function frame(task) {
   renderer.shadowMap.enabled = true;
   renderer.shadowMap.type = THREE.PCFShadowMap;
   const gi = new GiRuntime();
-  if (task.gi) gi.setVolume(await loadGi(task.gi, { renderer }));
+  if (task.gi) gi.setVolume(await loadGi(task.gi, { renderer, maxBytes: OWN_WORLDS }));
   const gltf = await new GLTFLoader().loadAsync(task.lightmap ?? task.scene);
   const scene = new THREE.Scene();
   scene.background = new THREE.Color(...task.sky);
@@ -347,8 +352,61 @@ async function frame(task) {
   return { radiance: Array.from(radiance), pos: Array.from(pos) };
 }
 
+// Bounds (tests/web/check_bounds.mjs), in three steps the test measures apart:
+// boundsSetup makes the renderer (the browser's own cost); boundsLoad loads
+// task.gi with loadGi's defaults, as a game given that URL would (the error, or
+// nothing); boundsDraw lights a floor with what loaded, task.floor (x0, z0, x1,
+// z1, y) or the box's at its middle height, and reads the frame's mean light.
+const bench = {};
+async function boundsSetup(task) {
+  bench.backend = task.backend ?? 'webgl';
+  bench.renderer = await makeRenderer(bench.backend, freshCanvas(), 32, 32);
+  bench.webgpu = bench.backend === 'webgpu' ? await import('/web/vdbgi-webgpu.js') : null;
+  return {};
+}
+
+async function boundsLoad(task) {
+  const t0 = performance.now();
+  try {
+    bench.volume = await loadGi(task.gi, { renderer: bench.webgpu ? null : bench.renderer });
+    return { ok: true, ms: performance.now() - t0 };
+  } catch (e) {
+    return { ok: false, ms: performance.now() - t0, error: e.message };
+  }
+}
+
+async function boundsDraw(task) {
+  const { renderer, webgpu, volume } = bench;
+  const t0 = performance.now();
+  const gi = webgpu ? new webgpu.GiRuntime() : new GiRuntime();
+  gi.setVolume(volume);
+  const { boxMin: lo, boxMax: hi } = volume.info;
+  const [x0, z0, x1, z1, y] = task.floor ?? [lo[0], lo[2], hi[0], hi[2], (lo[1] + hi[1]) / 2];
+  const scene = new THREE.Scene();
+  const floor = new THREE.Mesh(new THREE.PlaneGeometry(x1 - x0, z1 - z0).rotateX(-Math.PI / 2),
+    gi.apply(new THREE.MeshLambertMaterial({ color: 0xffffff }), { perFragment: true }));
+  floor.position.set((x0 + x1) / 2, y, (z0 + z1) / 2);
+  scene.add(floor);
+  const w = (x1 - x0) / 2, d = (z1 - z0) / 2;
+  const camera = new THREE.OrthographicCamera(-w, w, d, -d, 0.1, 1e4);
+  camera.position.set((x0 + x1) / 2, y + 1, (z0 + z1) / 2);
+  camera.lookAt((x0 + x1) / 2, y, (z0 + z1) / 2);
+  const RT = webgpu ? (await import('three/webgpu')).RenderTarget : THREE.WebGLRenderTarget;
+  const rt = new RT(32, 32);
+  renderer.setRenderTarget(rt);
+  renderer.render(scene, camera);
+  let px = new Uint8Array(32 * 32 * 4);
+  if (webgpu) px = await renderer.readRenderTargetPixelsAsync(rt, 0, 0, 32, 32);
+  else renderer.readRenderTargetPixels(rt, 0, 0, 32, 32, px);
+  renderer.setRenderTarget(null);
+  rt.dispose();
+  volume.dispose();
+  renderer.dispose();
+  return { ms: performance.now() - t0, light: px.reduce((a, v, i) => (i % 4 === 3 ? a : a + v), 0) / (32 * 32 * 3) };
+}
+
 window.vdbgiRun = async (task) => {
-  const run = { probe, shot, frames, load, occlude, frame }[task.kind];
+  const run = { probe, shot, frames, load, occlude, frame, boundsSetup, boundsLoad, boundsDraw }[task.kind];
   if (!run) throw new Error(`unknown task ${task.kind}`);
   return run(task);
 };
