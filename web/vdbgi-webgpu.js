@@ -16,7 +16,7 @@ import {
 } from 'three/tsl';
 import * as TSL from 'three/tsl';
 import * as WEBGPU from 'three/webgpu';
-import { GiRuntimeBase, DebugView, LAYOUT_COMPACT, LEVEL_COLOURS, OCCLUDER_REACH2 } from './vdbgi.js';
+import { GiRuntimeBase, DebugView, LAYOUT_COMPACT, LEVEL_COLOURS, OCCLUDER_REACH2, checkThree } from './vdbgi.js';
 import { SH2_RANGE } from './gi-format.js';
 
 export {
@@ -165,6 +165,7 @@ const standardDiffuse = () => TSL.diffuseContribution ?? WEBGPU.TSL?.diffuseCont
 // The WebGPU runtime: apply() builds the lookup in TSL.
 export class GiRuntime extends GiRuntimeBase {
   constructor() {
+    checkThree('webgpu', WEBGPU.REVISION);
     super();
     this._textureNodes = { ind: [], atlas: [], sh0: [], sh1: [], sh2: [], sh3: [], sh4: [], sh5: [] };
     this._nodes = giNodes(this);

@@ -48,6 +48,19 @@ export const MAX_OCCLUDERS = 16;
 // (Distance / radius)^2 past which an occluder is skipped: it covers under (1/22)^2, 0.2 %.
 export const OCCLUDER_REACH2 = 484;
 
+// The oldest three.js each back end draws with (tests/cli/web_three_range.sh draws with
+// both): web/package.json's peer range starts at the first. The WebGPU runtime needs
+// three/tsl as 0.175 has it; before that the import itself fails, before any check runs.
+export const THREE_OLDEST = Object.freeze({ webgl: 165, webgpu: 175 });
+
+// Throw, in one line, if three's REVISION (a string, '187') is older than `backend` needs.
+export function checkThree(backend, revision) {
+  const oldest = THREE_OLDEST[backend];
+  if (!(Number.parseInt(revision, 10) >= oldest))
+    throw new Error(`vdbgi: three r${revision} is older than r${oldest}, the oldest its ` +
+      `${backend === 'webgpu' ? 'WebGPU runtime (vdbgi/webgpu)' : 'WebGL2 runtime'} draws with: npm install three@^0.187`);
+}
+
 // How long a response may give no byte before loadGi gives up on it, by default.
 export const LOAD_TIMEOUT_MS = 30000;
 
@@ -446,6 +459,11 @@ function warnOnce(message) {
 
 // The WebGL2 runtime: apply() patches three's own shader text.
 export class GiRuntime extends GiRuntimeBase {
+  constructor() {
+    checkThree('webgl', THREE.REVISION);
+    super();
+  }
+
   // Add GI to a MeshStandardMaterial, MeshPhysicalMaterial or MeshLambertMaterial,
   // in place: giIrradiance x albedo as indirect diffuse, looked up per vertex
   // (seed 000's default: the rasteriser interpolates it) or per fragment.

@@ -47,3 +47,13 @@ for (const [name, mod] of [['WebGL2', webgl], ['WebGPU', webgpu]]) {
 }
 console.log(`the same methods: ${JSON.stringify(shared[0]) === JSON.stringify(shared[1])} (${shared[0].join(', ')})`);
 console.log(`WebGPU adds: irradianceNode: ${typeof new webgpu.GiRuntime().irradianceNode === 'function'}`);
+// three's version, as each runtime's constructor checks it (with the real REVISION, which passes).
+for (const [backend, revision] of [['webgl', '164'], ['webgl', '165'], ['webgpu', '174'], ['webgpu', '175']]) {
+  let said = 'accepted';
+  try {
+    webgl.checkThree(backend, revision);
+  } catch (e) {
+    said = e.message;
+  }
+  console.log(`${backend} r${revision}: ${said}`);
+}

@@ -1,0 +1,75 @@
+// Types for gi-format.js (the package's 'vdbgi/format'): the .gi.gz reader, no three.js.
+
+export const ENCODING_RGBM: 0;
+export const ENCODING_RGB9E5: 1;
+export const LAYOUT_SEED: 1;
+export const LAYOUT_COMPACT: 2;
+export const BASIS_SCALAR: 0;
+export const BASIS_SH2: 2;
+/** Each L2 term's largest ratio to L0 (docs/format.md, "Version 6"). */
+export const SH2_RANGE: readonly number[];
+/** What a volume may unpack to unless the caller says otherwise: 32 MiB. */
+export const MAX_BYTES: number;
+
+export type Vec3 = [number, number, number];
+
+/** A .gi's header fields (docs/format.md), as every reader gives them. */
+export interface GiInfo {
+  version: number;
+  layout: typeof LAYOUT_SEED | typeof LAYOUT_COMPACT;
+  /** BASIS_SH2 when the file holds L2 terms (versions 6 and 7), else BASIS_SCALAR. */
+  basis: typeof BASIS_SCALAR | typeof BASIS_SH2;
+  encoding: typeof ENCODING_RGBM | typeof ENCODING_RGB9E5;
+  rgbmRange: number;
+  indDims: Vec3;
+  atlasDims: Vec3;
+  boxMin: Vec3;
+  boxMax: Vec3;
+  spacing: number;
+  maxLevel: number;
+  /** Bricks at levels 0..3. */
+  bricks: [number, number, number, number];
+  /** Probe values the file stores (versions 5 to 7; 0 before). */
+  storedPoints: number;
+}
+
+/** A parsed .gi: its header fields and its textures' bytes. */
+export interface GiData extends GiInfo {
+  /** The 3D indirection, RGBA8, indDims texels. */
+  indirection: Uint8Array;
+  /** The atlas, RGBA8 (RGBM) or RGB9E5 words, atlasDims texels. */
+  atlas: Uint8Array;
+  /** L2 terms: six RGBA8 snorm textures the atlas's size (versions 6 and 7). */
+  sh?: Int8Array[];
+}
+
+/** Milliseconds of each step, filled in by decodeGi. */
+export interface GiTimings {
+  fetch?: number;
+  gunzip?: number;
+  parse?: number;
+  build?: number;
+  upload?: number | null;
+  firstFrame?: number;
+}
+
+/** Texels a brick side, the border before its first probe, where a coarse probe stands. */
+export function layoutGeometry(layout: number): { brick: number; pad: number; centre: number };
+/** Parse an uncompressed .gi; the textures are views into `buf`. Throws on any damage. */
+export function parseGi(buf: Uint8Array): GiData;
+/** The bytes a volume's textures take as the reader makes them. */
+export function textureBytes(gi: GiInfo): number;
+/** Check and parse a whole .gi.gz (or .gi) in memory. Throws an Error naming the problem. */
+export function decodeGi(fileBytes: Uint8Array, timings?: GiTimings, options?: { maxBytes?: number }): Promise<GiData>;
+
+/** A .gi or .gi.gz read as its bytes arrive, held to its header and a budget (gi-stream.js). */
+export interface GiStreamReader {
+  push(chunk: Uint8Array): Promise<void>;
+  end(): Promise<Uint8Array>;
+  cancel(reason?: unknown): void;
+  readonly inflateMs: number;
+}
+export function giReader(options?: { maxBytes?: number; trailerSize?: number | null }): GiStreamReader;
+
+/** The runtime's indirection as columns (docs/format.md): one RGBA8 2D texture. */
+export function indirectionColumns(indirection: Uint8Array, indDims: Vec3): { data: Uint8Array; width: number; height: number };
