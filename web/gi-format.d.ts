@@ -57,6 +57,8 @@ export interface GiTimings {
 export function layoutGeometry(layout: number): { brick: number; pad: number; centre: number };
 /** Parse an uncompressed .gi; the textures are views into `buf`. Throws on any damage. */
 export function parseGi(buf: Uint8Array): GiData;
+/** parseGi, giving the page back every 20 ms or so while a packed file's textures are rebuilt. */
+export function parseGiSliced(buf: Uint8Array): Promise<GiData>;
 /** The bytes a volume's textures take as the reader makes them. */
 export function textureBytes(gi: GiInfo): number;
 /** Check and parse a whole .gi.gz (or .gi) in memory. Throws an Error naming the problem. */

@@ -5,7 +5,7 @@
 // can ever leave the textures. A version 5 file (the compact layout, each
 // probe stored once) has its textures rebuilt by gi-packed.js; versions 6 and 7 add
 // L2 terms, rebuilt there too into six RGBA8 snorm textures (gi.sh).
-import { rebuildPacked, ATLAS_TEXELS_PER_BRICK } from './gi-packed.js';
+import { rebuildPacked, rebuildPackedSliced, ATLAS_TEXELS_PER_BRICK } from './gi-packed.js';
 import { GiStreamReader, MAX_BYTES, overBudget } from './gi-stream.js';
 
 export { MAX_BYTES } from './gi-stream.js';
@@ -64,7 +64,16 @@ export function parseGi(buf) {
   const { gi, headerSize, stored } = parseHeader(buf);
   if (buf.length !== headerSize + stored)
     throw new Error(`file holds ${buf.length} bytes, header says ${headerSize + stored}`);
-  return parseBody(gi, buf, headerSize);
+  return parseBody(gi, buf, headerSize, rebuildPacked);
+}
+
+// parseGi, giving the page back every 20 ms or so while a packed file's textures
+// are rebuilt (decodeGi and loadGi use it: no long task while a volume loads).
+export async function parseGiSliced(buf) {
+  const { gi, headerSize, stored } = parseHeader(buf);
+  if (buf.length !== headerSize + stored)
+    throw new Error(`file holds ${buf.length} bytes, header says ${headerSize + stored}`);
+  return parseBody(gi, buf, headerSize, (h, payload) => rebuildPackedSliced(h, payload));
 }
 
 // A .gi's header, every field checked (docs/format.md), from its first bytes:
@@ -158,17 +167,21 @@ function parseHeader(buf) {
   return { gi, headerSize, stored };
 }
 
-// The textures after a checked header: rebuilt (packed) or checked in place.
-function parseBody(gi, buf, headerSize) {
+// The textures after a checked header: rebuilt (packed, by `rebuild`, which may
+// return a promise: then so does this) or checked in place.
+function parseBody(gi, buf, headerSize, rebuild) {
   const { brick } = layoutGeometry(gi.layout);
   const compact = gi.layout === LAYOUT_COMPACT;
   const indBytes = 4 * gi.indDims[0] * gi.indDims[1] * gi.indDims[2];
   if (gi.version >= 5) {
-    const { indirection, atlas, sh } = rebuildPacked(gi, buf.subarray(headerSize));
-    gi.indirection = indirection;
-    gi.atlas = atlas;
-    if (sh) gi.sh = sh;
-    return gi;
+    const take = ({ indirection, atlas, sh }) => {
+      gi.indirection = indirection;
+      gi.atlas = atlas;
+      if (sh) gi.sh = sh;
+      return gi;
+    };
+    const rebuilt = rebuild(gi, buf.subarray(headerSize));
+    return rebuilt instanceof Promise ? rebuilt.then(take) : take(rebuilt);
   }
   gi.indirection = buf.subarray(headerSize, headerSize + indBytes);
   gi.atlas = buf.subarray(headerSize + indBytes);
@@ -223,7 +236,7 @@ export async function decodeGi(fileBytes, timings = {}, { maxBytes = MAX_BYTES }
     const { gi, headerSize, stored } = parseHeader(fileBytes);
     const over = overBudget(headerSize + stored, textureBytes(gi), maxBytes);
     if (over) throw over;
-    const parsed = parseGi(fileBytes);
+    const parsed = await parseGiSliced(fileBytes);
     timings.gunzip = 0;
     timings.parse = now() - t;
     return parsed;
@@ -246,7 +259,7 @@ export async function decodeGi(fileBytes, timings = {}, { maxBytes = MAX_BYTES }
   const buf = await reader.end();
   timings.gunzip = now() - t;
   t = now();
-  const gi = parseGi(buf);
+  const gi = await parseGiSliced(buf);
   timings.parse = now() - t;
   return gi;
 }

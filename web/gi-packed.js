@@ -4,6 +4,8 @@
 // is a float32 one (Math.fround) in the C code's order, and the encoders
 // round as the C ones do, so a test can compare the two byte for byte.
 
+import { now, yieldToPage, SLICE_MS } from './gi-stream.js';
+
 const N = 5, TEXELS = 125, PAD = 2;
 const f = Math.fround;
 
@@ -15,7 +17,7 @@ export const ATLAS_TEXELS_PER_BRICK = 500;
 // atlas, in a layer (y a multiple of 5), sharing texels only with bricks of
 // its level that hold the same lattice points there, and never the block of
 // zeros at the atlas's corner.
-function readPlacement(table, keys, lv, dims) {
+function* readPlacement(table, keys, lv, dims) {
   const count = keys.length;
   if (dims[0] * dims[1] * dims[2] > ATLAS_TEXELS_PER_BRICK * (count + 1))
     throw new Error(`a ${dims.join('x')} atlas for ${count} bricks (at most ${ATLAS_TEXELS_PER_BRICK} texels a brick)`);
@@ -32,8 +34,9 @@ function readPlacement(table, keys, lv, dims) {
   for (let t = 0; t < TEXELS; t++) owner[(Math.floor(t / (N * N)) * dims[1] + Math.floor(t / N) % N) * dims[0] + (t % N)] = ZERO;
   // Layer by layer, in brick order within one, as lib/format/packed.c (the first overlap found is the one named).
   const order = Array.from({ length: count }, (_, b) => b).sort((a, b) => origin[3 * a + 1] - origin[3 * b + 1] || a - b);
-  for (const b of order) {
-    const o = origin.subarray(3 * b, 3 * b + 3);
+  for (let n = 0; n < count; n++) {
+    if (n % STRIDE === 0) yield;
+    const b = order[n], o = origin.subarray(3 * b, 3 * b + 3);
     for (let t = 0; t < TEXELS; t++) {
       const x = o[0] + (t % N), y = o[1] + (Math.floor(t / N) % N), z = o[2] + Math.floor(t / (N * N));
       const i = (z * dims[1] + y) * dims[0] + x;
@@ -141,13 +144,40 @@ function interpolate(s, key, level, p, out) {
 // Rebuild { indirection, atlas, storedPoints } from a version 5, 6 or 7 payload, or
 // throw an Error naming what is inconsistent. `gi` is the parsed header.
 export function rebuildPacked(gi, payload) {
+  const steps = rebuildSteps(gi, payload);
+  for (;;) {
+    const { done, value } = steps.next();
+    if (done) return value;
+  }
+}
+
+// The same, giving the page back every `sliceMs` of work (a 1 MB L2 file is half a
+// second of it), so that no task of the page's runs much longer than that.
+export async function rebuildPackedSliced(gi, payload, sliceMs = SLICE_MS) {
+  const steps = rebuildSteps(gi, payload);
+  let start = now();
+  for (;;) {
+    const { done, value } = steps.next();
+    if (done) return value;
+    if (now() - start > sliceMs) {
+      await yieldToPage();
+      start = now();
+    }
+  }
+}
+
+// Bricks or grid cells between the rebuild's checks of the time.
+const STRIDE = 128;
+
+// The rebuild, as a generator that yields between strides of its work.
+function* rebuildSteps(gi, payload) {
   const d = gi.indDims, cells = d[0] * d[1] * d[2];
   const levels = payload.subarray(0, cells);
   const cellAt = (x, y, z) => (z * d[1] + y) * d[0] + x;
   // The bricks, in scan order: each met at its block's first cell; no more than the header counts.
   const keys = [], lv = [], most = gi.bricks.reduce((a, b) => a + b, 0);
   for (let z = 0; z < d[2]; z++)
-    for (let y = 0; y < d[1]; y++)
+    for (let y = 0; y < d[1]; y++, yield)
       for (let x = 0; x < d[0]; x++) {
         const b = levels[cellAt(x, y, z)];
         if (b === 0) continue;
@@ -182,12 +212,16 @@ export function rebuildPacked(gi, payload) {
       for (let y = lo[1]; y < Math.min(lo[1] + span, d[1]); y++)
         for (let x = lo[0]; x < Math.min(lo[0] + span, d[0]); x++) fn(cellAt(x, y, z));
   };
-  for (let b = 0; b < count; b++) brickCells(b, (c) => { cellBrick[c] = b; });
+  for (let b = 0; b < count; b++) {
+    if (b % STRIDE === 0) yield;
+    brickCells(b, (c) => { cellBrick[c] = b; });
+  }
   const dims = gi.atlasDims;
-  const origin = readPlacement(payload.subarray(cells, cells + 6 * count), keys, lv, dims);
+  const origin = yield* readPlacement(payload.subarray(cells, cells + 6 * count), keys, lv, dims);
   // Indirection: r, g, b the brick's first texel / 4; a its level, and the texel mod 4 per axis.
   const indirection = new Uint8Array(4 * cells);
   for (let b = 0; b < count; b++) {
+    if (b % STRIDE === 0) yield;
     const o = origin.subarray(3 * b, 3 * b + 3);
     const t = [o[0] >> 2, o[1] >> 2, o[2] >> 2, lv[b] | ((o[0] & 3) << 2) | ((o[1] & 3) << 4) | ((o[2] & 3) << 6)];
     brickCells(b, (c) => indirection.set(t, 4 * c));
@@ -219,6 +253,7 @@ export function rebuildPacked(gi, payload) {
   // Which texels take a coarser brick's value: none unless a cell around the block is coarser.
   const stitch = new Uint32Array(4 * count);
   for (let b = 0; b < count; b++) {
+    if (b % STRIDE === 0) yield;
     const span = 1 << lv[b];
     let near = false;
     const key = keys[b];
@@ -254,6 +289,7 @@ export function rebuildPacked(gi, payload) {
   };
   const bitOf = (p) => ((p[2] & 3) * 4 + (p[1] & 3)) * 4 + (p[0] & 3);
   for (let b = 0; b < count; b++) {
+    if (b % STRIDE === 0) yield;
     const span = 1 << lv[b], key = keys[b], any = stitch[4 * b] | stitch[4 * b + 1] | stitch[4 * b + 2] | stitch[4 * b + 3];
     for (let t = 0, qz = 0; qz < N; qz++)
       for (let qy = 0; qy < N; qy++)
@@ -304,21 +340,19 @@ export function rebuildPacked(gi, payload) {
     const lo = Math.min(A, B), hi = Math.max(A, B);
     return C >= hi ? lo : C <= lo ? hi : A + B - C;
   };
-  // Every stored point in storage order: visit(i, x, y, z).
-  const forEachPoint = (visit) => {
-    let i = 0;
-    for (let cz = 0; cz < g[2]; cz++)
-      for (let cy = 0; cy < g[1]; cy++)
-        for (let cx = 0; cx < g[0]; cx++) {
-          const c = (cz * g[1] + cy) * g[0] + cx;
-          if (!lo32[c] && !hi32[c]) continue;
-          for (let bit = 0; bit < 64; bit++) {
-            if (!(((bit < 32 ? lo32[c] : hi32[c]) >>> (bit & 31)) & 1)) continue;
-            visit(i++, cx * 4 + (bit & 3), cy * 4 + ((bit >> 2) & 3), cz * 4 + (bit >> 4));
-          }
-        }
-  };
-  forEachPoint((i, x, y, z) => {
+  // Every stored point in storage order, visit(i, x, y, z), yielding between strides of grid cells.
+  function* forEachPoint(visit) {
+    for (let c = 0; c < gcells; c++) {
+      if (c % (8 * STRIDE) === 0) yield;
+      if (!lo32[c] && !hi32[c]) continue;
+      const cx = c % g[0], cy = Math.floor(c / g[0]) % g[1], cz = Math.floor(c / (g[0] * g[1]));
+      for (let bit = 0, i = offset[c]; bit < 64; bit++) {
+        if (!(((bit < 32 ? lo32[c] : hi32[c]) >>> (bit & 31)) & 1)) continue;
+        visit(i++, cx * 4 + (bit & 3), cy * 4 + ((bit >> 2) & 3), cz * 4 + (bit >> 4));
+      }
+    }
+  }
+  yield* forEachPoint((i, x, y, z) => {
     const a = at3(x - 1, y, z), b = at3(x, y - 1, z), cc = at3(x - 1, y - 1, z), e = at3(x, y, z - 1);
     for (let o = 0; o < 4; o++) {
       const k = order[o];
@@ -343,7 +377,7 @@ export function rebuildPacked(gi, payload) {
     terms = new Uint8Array(24 * points);
     const tplanes = planes.subarray(4 * points);
     const s8 = (v) => (v << 24) >> 24;
-    forEachPoint((i, x, y, z) => {
+    yield* forEachPoint((i, x, y, z) => {
       const a = at3(x - 1, y, z), b = at3(x, y - 1, z), e = at3(x, y, z - 1);
       const c = gi.version >= 7 && a >= 0 && b >= 0 ? at3(x - 1, y - 1, z) : -1;
       const j = a >= 0 ? a : b >= 0 ? b : e;
@@ -371,39 +405,54 @@ export function rebuildPacked(gi, payload) {
     interpolate(fs.subarray(cidx[j] * TEXELS * 3, (cidx[j] + 1) * TEXELS * 3), keys[j], cl, p, tmp);
     out[0] = tmp[0], out[1] = tmp[1], out[2] = tmp[2];
   };
-  const pass = (decode, copy, encode) => {
+  // Each brick texel's stored point (-1: none), or STITCHED: looked up once, for the
+  // one pass of an L1 volume and the nine of an L2 one. A stitched texel's coarser
+  // brick is found again when it is met (stitched() sets point and coarseIndex).
+  const STITCHED = -2;
+  const texelIndex = new Int32Array(count * TEXELS);
+  for (let b = 0; b < count; b++) {
+    if (b % STRIDE === 0) yield;
+    const span = 1 << lv[b], key = keys[b], any = stitch[4 * b] | stitch[4 * b + 1] | stitch[4 * b + 2] | stitch[4 * b + 3];
+    for (let t = 0, qz = 0; qz < N; qz++)
+      for (let qy = 0; qy < N; qy++)
+        for (let qx = 0; qx < N; qx++, t++)
+          texelIndex[b * TEXELS + t] = any && stitched(b, t) ? STITCHED
+            : at3((key[0] * 4 + qx) * span, (key[1] * 4 + qy) * span, (key[2] * 4 + qz) * span);
+  }
+  function* pass(decode, copy, encode) {
     for (let level = gi.maxLevel; level >= 1; level--)
       for (let b = 0; b < count; b++) {
+        if (b % STRIDE === 0) yield;
         if (lv[b] !== level) continue;
         for (let t = 0; t < TEXELS; t++) {
           const s = fs.subarray((cidx[b] * TEXELS + t) * 3, (cidx[b] * TEXELS + t) * 3 + 3);
-          if (stitched(b, t)) interpolateFrom(coarseIndex, coarseLevel, point, s);
-          else {
-            texelPoint(b, t, point);
-            decode(indexOf(point), s);
-          }
+          const idx = texelIndex[b * TEXELS + t];
+          if (idx === STITCHED && stitched(b, t)) interpolateFrom(coarseIndex, coarseLevel, point, s);
+          else decode(idx, s);
         }
       }
     for (let b = 0; b < count; b++) {
+      if (b % STRIDE === 0) yield;
       const bx = origin[3 * b], by = origin[3 * b + 1], bz = origin[3 * b + 2];
-      const span = 1 << lv[b], key = keys[b], any = stitch[4 * b] | stitch[4 * b + 1] | stitch[4 * b + 2] | stitch[4 * b + 3];
       for (let t = 0, qz = 0; qz < N; qz++)
         for (let qy = 0; qy < N; qy++)
           for (let qx = 0; qx < N; qx++, t++) {
             const texel = ((bz + qz) * dims[1] + by + qy) * dims[0] + bx + qx;
-            if (!(any && stitched(b, t))) {
-              const idx = at3((key[0] * 4 + qx) * span, (key[1] * 4 + qy) * span, (key[2] * 4 + qz) * span);
+            const idx = texelIndex[b * TEXELS + t];
+            if (idx !== STITCHED) {
               if (idx >= 0) copy(idx, texel);
               continue;
             }
+            stitched(b, t);
             if (cidx[b] >= 0) rgb.set(fs.subarray((cidx[b] * TEXELS + t) * 3, (cidx[b] * TEXELS + t) * 3 + 3));
             else interpolateFrom(coarseIndex, coarseLevel, point, rgb);
             encode(rgb, texel);
           }
     }
-  };
+  }
+
   const atlas = new Uint8Array(4 * dims[0] * dims[1] * dims[2]);
-  pass((idx, out) => {
+  yield* pass((idx, out) => {
     if (idx < 0) out.fill(0);
     else if (rgbm) rgbmDecode(values, 4 * idx, gi.rgbmRange, out);
     else rgb9e5Decode(values, 4 * idx, out);
@@ -420,15 +469,25 @@ export function rebuildPacked(gi, payload) {
   const texels = dims[0] * dims[1] * dims[2];
   const sh = Array.from({ length: 6 }, () => new Int8Array(4 * texels));
   const signed = (v) => (v > 127 ? Math.max(v - 256, -127) : v);
-  for (let term = 0; term < 8; term++)
-    pass((idx, out) => {
-      for (let k = 0; k < 3; k++) out[k] = idx < 0 ? 0 : signed(terms[24 * idx + 3 * term + k]);
-    }, (idx, texel) => {
-      for (let k = 0; k < 3; k++) {
-        const j = 3 * term + k;
-        sh[j >> 2][4 * texel + (j & 3)] = terms[24 * idx + j];
+  // A stored texel's 24 bytes in one go; the passes per term then only stitch.
+  const [sh0, sh1, sh2, sh3, sh4, sh5] = sh;
+  for (let b = 0; b < count; b++) {
+    if (b % STRIDE === 0) yield;
+    const bx = origin[3 * b], by = origin[3 * b + 1], bz = origin[3 * b + 2];
+    for (let t = 0; t < TEXELS; t++) {
+      const idx = texelIndex[b * TEXELS + t];
+      if (idx < 0) continue;
+      const o = 4 * (((bz + Math.floor(t / 25)) * dims[1] + by + Math.floor(t / 5) % 5) * dims[0] + bx + t % 5), i = 24 * idx;
+      for (let k = 0; k < 4; k++) {
+        sh0[o + k] = terms[i + k], sh1[o + k] = terms[i + 4 + k], sh2[o + k] = terms[i + 8 + k];
+        sh3[o + k] = terms[i + 12 + k], sh4[o + k] = terms[i + 16 + k], sh5[o + k] = terms[i + 20 + k];
       }
-    }, (c, texel) => {
+    }
+  }
+  for (let term = 0; term < 8; term++)
+    yield* pass((idx, out) => {
+      for (let k = 0; k < 3; k++) out[k] = idx < 0 ? 0 : signed(terms[24 * idx + 3 * term + k]);
+    }, () => {}, (c, texel) => {
       for (let k = 0; k < 3; k++) {
         const j = 3 * term + k;
         sh[j >> 2][4 * texel + (j & 3)] = rint(Math.min(Math.max(c[k], -127), 127));

@@ -104,13 +104,19 @@ export class GiStreamReader {
     if (this.kind === 'gi') return this.take(chunk);
     // A slice at a time: a write resolves once its output is queued, and the next
     // waits until the pump has taken all of it (TransformStream's backpressure).
-    const t = now();
+    let start = now();
     for (let i = 0; i < chunk.length && !this.failure; i += SLICE) {
       const slice = chunk.subarray(i, i + SLICE);
       this.keepTail(slice);
       await this.writer.write(slice).catch((e) => this.inflaterFailed(e));
+      // Writes resolve as microtasks: a large chunk would otherwise be one long task.
+      if (now() - start > SLICE_MS) {
+        this.inflateMs += now() - start;
+        await yieldToPage();
+        start = now();
+      }
     }
-    this.inflateMs += now() - t;
+    this.inflateMs += now() - start;
     if (this.failure) throw this.failure;
   }
 
@@ -247,7 +253,12 @@ export class GiStreamReader {
   }
 }
 
-const now = () => (typeof performance !== 'undefined' ? performance.now() : Date.now());
+export const now = () => (typeof performance !== 'undefined' ? performance.now() : Date.now());
+// A new task: the scheduler's yield where there is one, else a timer. The reader and the
+// rebuild give the page back this way every SLICE_MS of work, so no task runs much longer.
+export const yieldToPage = () => (globalThis.scheduler?.yield ? globalThis.scheduler.yield()
+  : new Promise((resolve) => setTimeout(resolve, 0)));
+export const SLICE_MS = 20;
 
 function concat(a, b) {
   if (!a.length) return b;

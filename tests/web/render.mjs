@@ -220,13 +220,23 @@ async function frames(task) {
 async function load(task) {
   const canvas = freshCanvas();
   const renderer = await makeRenderer('webgl', canvas, 64, 64);
+  // The page's long tasks (50 ms or more) while loadGi runs: the longest is what a game stutters by.
+  const tasks = [];
+  const observer = new PerformanceObserver((list) => tasks.push(...list.getEntries().map((e) => e.duration)));
+  observer.observe({ type: 'longtask' });
   try {
+    const t0 = performance.now();
     const v = await loadGi(task.gi, { renderer, maxBytes: OWN_WORLDS });
+    const wall = performance.now() - t0;
+    await new Promise((resolve) => setTimeout(resolve, 0));
+    for (const e of observer.takeRecords()) tasks.push(e.duration);
     v.dispose();
-    return { ok: true, timings: v.timings, vramBytes: v.vramBytes, fileBytes: v.fileBytes };
+    return { ok: true, timings: v.timings, vramBytes: v.vramBytes, fileBytes: v.fileBytes, wall,
+      longestTask: Math.max(0, ...tasks), longTasks: tasks.length };
   } catch (e) {
     return { ok: false, error: e.message };
   } finally {
+    observer.disconnect();
     renderer.dispose();
   }
 }
