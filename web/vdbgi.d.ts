@@ -1,5 +1,5 @@
 // Types for vdbgi.js (the package's 'vdbgi'): the loader and the WebGL2 runtime.
-import type { Data3DTexture, DataTexture, Material, Object3D, Vector3, WebGLRenderer } from 'three';
+import type { Data3DTexture, DataTexture, Material, Object3D, Texture, Vector3, WebGLRenderer } from 'three';
 import type { GiInfo, GiTimings } from './gi-format.js';
 
 export { ENCODING_RGBM, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT, MAX_BYTES } from './gi-format.js';
@@ -96,6 +96,14 @@ export class GiRuntimeBase {
   setVolume(volume: GiVolume | null): void;
   setKnobs(set: KnobSet, knobs: Partial<Knobs>): void;
   getKnobs(set: KnobSet): Knobs;
+  /**
+   * The split in one call, for a GLTFLoader result of a gi-lightmap .glb: meshes with a
+   * lightmap take it and only the occluders' shadow, the others the volume per vertex;
+   * meshes under `moving` take the volume per fragment (character knobs), and each of
+   * those objects becomes an occluder unless `occlude` is false.
+   */
+  lightScene(gltf: { scene: Object3D; parser: { getDependency(type: 'texture', index: number): Promise<Texture> } },
+    options?: { moving?: Object3D[]; occlude?: boolean }): Promise<{ lightmapped: number; volume: number; moving: number }>;
   addOccluder<T extends Object3D>(object: T, options?: OccluderOptions): T;
   removeOccluder(object: Object3D): void;
   /** Once a frame, after the occluders moved. */

@@ -340,6 +340,56 @@ export class GiRuntimeBase {
     return object;
   }
 
+  // The split the README recommends, in one call, for a GLTFLoader result of a
+  // gi-lightmap .glb: a mesh with a lightmap gets it (TEXCOORD_1, at its scale) and
+  // takes no light from the volume, only the occluders' shadow; a mesh without one
+  // is lit by the volume per vertex; every mesh under an object of `moving`
+  // (characters, props: in the scene or not) is lit by the volume per fragment
+  // with the character knobs, and each of those objects becomes an occluder
+  // unless `occlude` is false. Materials shared stay shared. Resolves to how many
+  // meshes each way: { lightmapped, volume, moving }.
+  async lightScene(gltf, { moving = [], occlude = true } = {}) {
+    const movers = new Set();
+    for (const object of moving) object.traverse((o) => { if (o.isMesh) movers.add(o); });
+    const statics = [];
+    gltf.scene.traverse((o) => { if (o.isMesh && !movers.has(o)) statics.push(o); });
+    // Each lightmap texture once, all before any material changes.
+    const maps = new Map();
+    for (const mesh of statics) {
+      const lm = mesh.material.userData?.vdbgi_lightmap;
+      if (lm && !maps.has(lm.texture)) maps.set(lm.texture, gltf.parser.getDependency('texture', lm.texture));
+    }
+    for (const [index, pending] of maps) {
+      const map = await pending;
+      map.colorSpace = THREE.SRGBColorSpace; // the PNGs hold sRGB-encoded E / scale
+      maps.set(index, map);
+    }
+    // What apply() made of each material, per way of lighting it.
+    const made = { lightmap: new Map(), volume: new Map(), moving: new Map() };
+    const use = (mesh, way, options) => {
+      const given = mesh.material;
+      if (!made[way].has(given)) made[way].set(given, this.apply(given, options));
+      mesh.material = made[way].get(given);
+    };
+    let lightmapped = 0;
+    for (const mesh of statics) {
+      const lm = mesh.material.userData?.vdbgi_lightmap;
+      if (!lm) {
+        use(mesh, 'volume', {});
+        continue;
+      }
+      const map = maps.get(lm.texture);
+      map.channel = lm.texCoord ?? 1;
+      mesh.material.lightMap = map;
+      mesh.material.lightMapIntensity = lm.scale;
+      use(mesh, 'lightmap', { volume: false });
+      lightmapped++;
+    }
+    for (const mesh of movers) use(mesh, 'moving', { set: 'character', perFragment: true });
+    if (occlude) for (const object of moving) this.addOccluder(object);
+    return { lightmapped, volume: statics.length - lightmapped, moving: movers.size };
+  }
+
   removeOccluder(object) {
     this._occluders.delete(object);
     this.updateOccluders();

@@ -9,7 +9,7 @@ fi
 mkdir app
 "$BIN/gi-bake" -q "$DATA/world.glb" -o world.vdb --spacing 1 --rays 16 >/dev/null
 "$BIN/vdb-to-gi" -q world.vdb -o app/world.gi.gz
-cp "$DATA/world.glb" app/
+"$BIN/gi-lightmap" -q "$DATA/world.glb" -o app/world-lit.glb
 tarball=$(cd "$ROOT/web" && npm pack --silent --pack-destination "$OLDPWD")
 tar tzf "$tarball" | sed 's|^package/||' | sort | tr '\n' ' '
 echo

@@ -6,6 +6,7 @@
 //   frames: time task.frames frames with GI off, per vertex, per fragment;
 //   load:   only load, and report the error a bad file gives;
 //   boundsSetup, boundsLoad, boundsDraw: tests/web/check_bounds.mjs's steps;
+//   split: GiRuntime.lightScene() against the recipe by hand (tests/web/check_split.mjs);
 //   occlude: a 10 m floor lit only by a flat lightmap or by task.gi, with and
 //           without task.occluders: the world positions and both frames.
 import * as THREE from 'three';
@@ -415,8 +416,54 @@ async function boundsDraw(task) {
   return { ms: performance.now() - t0, light: px.reduce((a, v, i) => (i % 4 === 3 ? a : a + v), 0) / (32 * 32 * 3) };
 }
 
+// split: task.scene (a gi-lightmap .glb) lit by task.gi the split way, with a sphere at
+// task.hero as the moving object: by GiRuntime.lightScene(), and by the recipe
+// docs/lightmap.md writes out (the maps by hand, then apply()); and unlit by either
+// (the sun and ambient alone). The three frames as floats, and lightScene()'s counts.
+async function split(task) {
+  const { backend = 'webgl', width = 160, height = 120 } = task;
+  const renderer = await makeRenderer(backend, freshCanvas(), width, height);
+  const webgpu = backend === 'webgpu' ? await import('/web/vdbgi-webgpu.js') : null;
+  const frame = async (light) => {
+    const gi = webgpu ? new webgpu.GiRuntime() : new GiRuntime();
+    gi.setVolume(await loadGi(task.gi, { renderer: webgpu ? null : renderer, maxBytes: OWN_WORLDS }));
+    const gltf = await new GLTFLoader().loadAsync(task.scene);
+    const { camera } = stage(gltf.scene, width, height);
+    const hero = new THREE.Mesh(new THREE.SphereGeometry(1, 32, 16), new THREE.MeshStandardMaterial({ color: 0xcccccc }));
+    hero.position.set(...task.hero);
+    gltf.scene.add(hero);
+    gltf.scene.updateMatrixWorld();
+    const counts = await light(gi, gltf, hero);
+    const px = await readFloat({ renderer, scene: gltf.scene, camera, gi, width, height, backend });
+    gi.dispose();
+    return { px: Array.from(px), counts };
+  };
+  const byCall = await frame((gi, gltf, hero) => gi.lightScene(gltf, { moving: [hero] }));
+  const byHand = await frame(async (gi, gltf, hero) => {
+    for (const mesh of gltf.scene.getObjectsByProperty('isMesh', true)) {
+      if (mesh === hero) continue;
+      const lm = mesh.material.userData.vdbgi_lightmap;
+      if (!lm) {
+        mesh.material = gi.apply(mesh.material);
+        continue;
+      }
+      const map = await gltf.parser.getDependency('texture', lm.texture);
+      map.colorSpace = THREE.SRGBColorSpace;
+      map.channel = 1;
+      mesh.material.lightMap = map;
+      mesh.material.lightMapIntensity = lm.scale;
+      mesh.material = gi.apply(mesh.material, { volume: false });
+    }
+    hero.material = gi.apply(hero.material, { set: 'character', perFragment: true });
+    gi.addOccluder(hero);
+  });
+  const unlit = await frame(async (gi) => { gi.enabled = false; });
+  renderer.dispose();
+  return { byCall: byCall.px, counts: byCall.counts, byHand: byHand.px, unlit: unlit.px };
+}
+
 window.vdbgiRun = async (task) => {
-  const run = { probe, shot, frames, load, occlude, frame, boundsSetup, boundsLoad, boundsDraw }[task.kind];
+  const run = { probe, shot, frames, load, occlude, frame, boundsSetup, boundsLoad, boundsDraw, split }[task.kind];
   if (!run) throw new Error(`unknown task ${task.kind}`);
   return run(task);
 };
