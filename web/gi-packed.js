@@ -175,7 +175,7 @@ function* rebuildSteps(gi, payload) {
   const levels = payload.subarray(0, cells);
   const cellAt = (x, y, z) => (z * d[1] + y) * d[0] + x;
   // The bricks, in scan order: each met at its block's first cell; no more than the header counts.
-  const keys = [], lv = [], most = gi.bricks.reduce((a, b) => a + b, 0);
+  const keys = [], lv = [], most = gi.bricks.reduce((a, b) => a + b, 0), perLevel = [0, 0, 0, 0];
   for (let z = 0; z < d[2]; z++)
     for (let y = 0; y < d[1]; y++, yield)
       for (let x = 0; x < d[0]; x++) {
@@ -195,15 +195,15 @@ function* rebuildSteps(gi, payload) {
             for (let i = x; i < Math.min(x + span, d[0]); i++)
               if (levels[cellAt(i, j, k)] !== b)
                 throw new Error(`the level-${b - 1} block at cell ${x},${y},${z} has a cell of another level`);
-        if (keys.length === most) throw new Error('the level bytes hold other bricks than the header counts');
+        // Counted past the header's total (for the message), listed only up to it.
+        perLevel[b - 1]++;
+        if (keys.length === most) continue;
         keys.push([x / span, y / span, z / span]);
         lv.push(b - 1);
       }
   const count = keys.length;
-  const perLevel = [0, 0, 0, 0];
-  for (const l of lv) perLevel[l]++;
-  if (perLevel.some((v, k) => v !== gi.bricks[k]))
-    throw new Error('the level bytes hold other bricks than the header counts');
+  for (let l = 0; l < 4; l++)
+    if (perLevel[l] !== gi.bricks[l]) throw new Error(`bricks[${l}] says ${gi.bricks[l]}, the level bytes hold ${perLevel[l]}`);
   // Each cell's brick, for the stitching.
   const cellBrick = new Int32Array(cells).fill(-1);
   const brickCells = (b, fn) => {

@@ -242,7 +242,7 @@ export class GiStreamReader {
     }
     const total = h.headerSize + h.stored;
     if (this.trailerSize !== null && total !== this.trailerSize)
-      throw this.refuse('cut short or damaged (the gzip trailer disagrees with the header)');
+      throw this.refuse(`cut short or damaged (the gzip trailer says ${this.trailerSize} bytes, the header ${total})`);
     const over = overBudget(total, h.textureBytes, this.maxBytes);
     if (over) {
       this.stop(over);

@@ -347,8 +347,8 @@ vdbgi_result vdbgi_gifile_parse(vdbgi_context *ctx, const char *path, const uint
     }
     if (gz && (uint32_t)total != vdbgi_get_u32(file + file_size - 4)) {
         r = vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
-                       "%s: cut short or damaged (the gzip trailer disagrees with the header)",
-                       path);
+                       "%s: cut short or damaged (the gzip trailer says %u bytes, the header %llu)",
+                       path, vdbgi_get_u32(file + file_size - 4), (unsigned long long)total);
         goto done;
     }
     /* The budget: what the body and the textures built from it would take. */

@@ -328,9 +328,10 @@ vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels, const 
     VDBGI_TRY(scan_bricks(ctx, pl->dims, levels, info->max_level, name, pl));
     const size_t count = pl->brick_count;
     /* A reader's header must count these bricks before anything is allocated for them. */
-    VDBGI_FAIL_IF(ctx, expect && memcmp(expect->bricks, pl->per_level, sizeof(pl->per_level)) != 0,
-                  VDBGI_ERR_FORMAT, "%s: the level bytes hold other bricks than the header counts",
-                  name);
+    for (int l = 0; expect && l < 4; l++)
+        VDBGI_FAIL_IF(ctx, expect->bricks[l] != pl->per_level[l], VDBGI_ERR_FORMAT,
+                      "%s: bricks[%d] says %u, the level bytes hold %u", name, l, expect->bricks[l],
+                      pl->per_level[l]);
     pl->key = vdbgi_alloc(ctx, (count ? count : 1) * sizeof(*pl->key));
     pl->level = vdbgi_alloc(ctx, count ? count : 1);
     pl->origin = vdbgi_alloc(ctx, (count ? count : 1) * sizeof(*pl->origin));
