@@ -191,8 +191,9 @@ deps:
 	if [ ! -d web/node_modules/three ] || [ ! -d web/node_modules/puppeteer-core ] || \
 	   [ ! -d web/node_modules/three-0.165 ] || [ ! -d web/node_modules/three-0.175 ] || \
 	   [ ! -d web/node_modules/three-0.183 ] || [ ! -d web/node_modules/esbuild ] || \
-	   [ ! -d web/node_modules/typescript ] || [ ! -d web/node_modules/@types/three ]; then \
-	    echo "deps: npm ci (web: three, the oldest threes we claim, esbuild, typescript and @types/three for the types, and puppeteer-core to drive Debian's chromium)"; \
+	   [ ! -d web/node_modules/typescript ] || [ ! -d web/node_modules/@types/three ] || \
+	   [ ! -d web/node_modules/vite ]; then \
+	    echo "deps: npm ci (web: three, the oldest threes we claim, esbuild and vite for the README's builds, typescript and @types/three for the types, and puppeteer-core to drive Debian's chromium)"; \
 	    (cd web && npm ci --no-audit --no-fund --loglevel=error >/dev/null); \
 	fi
 

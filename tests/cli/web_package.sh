@@ -1,8 +1,10 @@
 # The web package as a three.js developer meets it (web/README.md): npm pack web/,
-# install the tarball and three into a scratch app, take main.js verbatim from the
-# README's example, bundle it with esbuild, and open it in headless Chromium: it
-# draws the scene, and no page says a warning or an error.
-if [ ! -x "${CHROMIUM:-/usr/bin/chromium}" ] || [ ! -x "$ROOT/web/node_modules/.bin/esbuild" ]; then
+# install the tarball and three into a scratch app, take main.js and index.html
+# verbatim from the README, build the site with the README's esbuild commands and
+# again with its Vite commands, as they are, and open each dist/index.html in
+# headless Chromium: each draws the scene, and no page says a warning or an error.
+if [ ! -x "${CHROMIUM:-/usr/bin/chromium}" ] || [ ! -x "$ROOT/web/node_modules/.bin/esbuild" ] ||
+   [ ! -x "$ROOT/web/node_modules/.bin/vite" ]; then
     echo "chromium or web/node_modules missing (make deps installs both)"
     exit 77
 fi
@@ -13,15 +15,27 @@ mkdir app
 tarball=$(cd "$ROOT/web" && npm pack --silent --pack-destination "$OLDPWD")
 tar tzf "$tarball" | sed 's|^package/||' | sort | tr '\n' ' '
 echo
+# A block of the README: the fenced block after <!-- example: NAME -->.
+block() {
+    awk -v name="$1" '$0 ~ "<!-- example: " name { on = 1; next } on && /^```/ && !take { take = 1; next }
+         take && /^```/ { exit } take { print }' node_modules/vdbgi/README.md
+}
 cd app
 printf '{ "name": "scratch", "private": true, "type": "module" }\n' > package.json
+# The bundlers from web/'s own install (offline: linked, as npm links a folder).
 npm install --offline --no-audit --no-fund --loglevel=error "../$tarball" "$ROOT/web/node_modules/three" \
-    >/dev/null || echo "npm install failed"
-awk '/<!-- example: main.js/ { on = 1; next } on && /^```js/ { take = 1; next }
-     take && /^```/ { exit } take { print }' node_modules/vdbgi/README.md > main.js
-echo "main.js: $(wc -l < main.js) lines from node_modules/vdbgi/README.md"
-"$ROOT/web/node_modules/.bin/esbuild" main.js --bundle --format=esm --outfile=dist/main.js --log-level=error ||
-    echo "esbuild failed"
-printf '<!doctype html>\n<link rel="icon" href="data:,">\n<body style="margin:0">\n<script type="module" src="dist/main.js"></script>\n' \
-    > index.html
-node "$ROOT/tests/web/check_package.mjs" "$PWD"
+    "$ROOT/web/node_modules/esbuild" "$ROOT/web/node_modules/vite" >/dev/null || echo "npm install failed"
+block main.js > main.js
+block index.html > index.html
+echo "main.js: $(wc -l < main.js) lines, index.html: $(wc -l < index.html) lines from node_modules/vdbgi/README.md"
+cp -r . ../vite-app 2>/dev/null
+block esbuild > build.sh
+sh -e build.sh >/dev/null 2>build.err || { echo "the esbuild commands failed:"; head -5 build.err; }
+cd ../vite-app
+block vite > build.sh
+sh -e build.sh >/dev/null 2>build.err || { echo "the Vite commands failed:"; head -5 build.err; }
+cd ..
+for site in app vite-app; do
+    printf '%s: ' "$([ $site = app ] && echo esbuild || echo Vite)"
+    node "$ROOT/tests/web/check_package.mjs" "$PWD/$site/dist"
+done
