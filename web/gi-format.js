@@ -218,7 +218,7 @@ function judgeHeader(first) {
 }
 
 // A reader for one .gi or .gi.gz arriving in chunks (loadGi's fetch): push() them,
-// end() for the parsed volume, as decodeGi's. Everything gi-stream.js says holds.
+// end() for the .gi's bytes, whole (parseGi or parseGiSliced them). Everything gi-stream.js says holds.
 export function giReader({ maxBytes = MAX_BYTES, trailerSize = null } = {}) {
   return new GiStreamReader({ header: judgeHeader, headerBytes: HEADER_BYTES_V6, maxBytes, trailerSize });
 }

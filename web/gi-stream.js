@@ -83,10 +83,26 @@ export class GiStreamReader {
     this.closing = false;
     this.cut = null; // what the inflater said when the stream ended early
     this.inflateMs = 0;
+    this.busy = false; // a push() or end() is running
   }
 
-  // Bytes of the file, raw or gzip'd as it was sent.
+  // Bytes of the file, raw or gzip'd as it was sent. Await each push() before the next
+  // (or end()): the inflater takes one slice at a time.
   async push(chunk) {
+    this.enter();
+    try {
+      await this.pushNow(chunk);
+    } finally {
+      this.busy = false;
+    }
+  }
+
+  enter() {
+    if (this.busy) throw new Error('GiStreamReader: push() or end() called while another is pending (await each)');
+    this.busy = true;
+  }
+
+  async pushNow(chunk) {
     if (this.failure) throw this.failure;
     if (!this.kind) {
       // Two bytes tell gzip; anything else must begin with the .gi's magic.
@@ -122,6 +138,15 @@ export class GiStreamReader {
 
   // The .gi's bytes, whole, once the file has ended.
   async end() {
+    this.enter();
+    try {
+      return await this.endNow();
+    } finally {
+      this.busy = false;
+    }
+  }
+
+  async endNow() {
     if (this.failure) throw this.failure;
     if (!this.kind) throw this.refuse(this.sniffed.length ? notGi(this.sniffed) : 'empty: no bytes at all');
     if (this.kind === 'gzip') {
@@ -133,8 +158,8 @@ export class GiStreamReader {
       if (this.cut && this.out && !this.failure)
         throw this.refuse(this.at < this.total
           ? `cut short: the .gi ends at byte ${this.at} of the ${this.total} its header declares ` +
-            `(the gzip stream stops after ${this.packed} bytes)`
-          : `cut short: the gzip stream stops after ${this.packed} bytes, before its trailer`);
+            `(the gzip stream stops after ${this.packed} bytes: ${this.cut.message})`
+          : `cut short: the gzip stream stops after ${this.packed} bytes, before its trailer (${this.cut.message})`);
       if (this.cut) this.inflaterFailed(this.cut);
       this.inflateMs += now() - t;
       if (this.failure) throw this.failure;
@@ -165,10 +190,10 @@ export class GiStreamReader {
   }
 
   startInflate() {
-    this.kind = 'gzip';
     const ds = new DecompressionStream('gzip');
     this.writer = ds.writable.getWriter();
     this.reader = ds.readable.getReader();
+    this.kind = 'gzip';
     // One reader for the whole stream: each unpacked chunk goes straight to take().
     this.pump = (async () => {
       try {
@@ -197,10 +222,9 @@ export class GiStreamReader {
   stop(e) {
     if (this.failure) return;
     this.failure = e;
-    if (this.kind === 'gzip') {
-      this.reader.cancel(e).catch(() => {});
-      this.writer.abort(e).catch(() => {});
-    }
+    // The inflater, if it was made (DecompressionStream may be missing or refuse).
+    this.reader?.cancel(e).catch(() => {});
+    this.writer?.abort(e).catch(() => {});
   }
 
   refuse(message) {
@@ -256,8 +280,19 @@ export class GiStreamReader {
 export const now = () => (typeof performance !== 'undefined' ? performance.now() : Date.now());
 // A new task: the scheduler's yield where there is one, else a timer. The reader and the
 // rebuild give the page back this way every SLICE_MS of work, so no task runs much longer.
-export const yieldToPage = () => (globalThis.scheduler?.yield ? globalThis.scheduler.yield()
-  : new Promise((resolve) => setTimeout(resolve, 0)));
+// A message, not a timer: background tabs hold timers back to a second.
+export const yieldToPage = () => {
+  if (globalThis.scheduler?.yield) return globalThis.scheduler.yield();
+  if (typeof MessageChannel === 'undefined') return new Promise((resolve) => setTimeout(resolve, 0));
+  return new Promise((resolve) => {
+    const channel = new MessageChannel();
+    channel.port1.onmessage = () => {
+      channel.port1.close();
+      resolve();
+    };
+    channel.port2.postMessage(0);
+  });
+};
 export const SLICE_MS = 20;
 
 function concat(a, b) {

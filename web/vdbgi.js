@@ -71,7 +71,7 @@ export const LOAD_TIMEOUT_MS = 30000;
 // for a URL every message begins with it. A URL's body is checked as it arrives
 // (gi-stream.js): a file that is not a volume is refused from its first bytes,
 // and reading stops at the first byte past what its header declares.
-// `maxBytes` (MAX_BYTES, 64 MB, by default) refuses from its header a volume
+// `maxBytes` (MAX_BYTES, 32 MiB, by default) refuses from its header a volume
 // that would unpack to more. `timeout` (ms, 0 for none) gives up on a response
 // that sends nothing for that long; `onProgress({ loaded, total })` hears each
 // chunk (total from Content-Length, or null); `signal` aborts as for fetch()
@@ -97,6 +97,7 @@ async function load(source, url, { renderer, signal, timeout, onProgress, maxByt
     timings.gunzip = gi.inflateMs;
     t = now();
     header = await parseGiSliced(gi.bytes);
+    if (signal?.aborted) throw signal.reason;
     timings.parse = now() - t;
     fileBytes = gi.loaded;
   } else {
@@ -106,6 +107,7 @@ async function load(source, url, { renderer, signal, timeout, onProgress, maxByt
     else throw new Error('loadGi: expected a URL, an ArrayBuffer or a typed array');
     timings.fetch = 0;
     header = await decodeGi(bytes, timings, { maxBytes });
+    if (signal?.aborted) throw signal.reason;
     fileBytes = bytes.length;
   }
   t = now();
@@ -117,6 +119,10 @@ async function load(source, url, { renderer, signal, timeout, onProgress, maxByt
     for (const texture of [volume.columns, volume.atlas, ...(volume.sh ?? [])]) {
       renderer.initTexture(texture);
       await yieldToPage();
+      if (signal?.aborted) {
+        volume.dispose();
+        throw signal.reason;
+      }
     }
     const gl = renderer.getContext?.();
     if (gl && gl.finish) gl.finish();
@@ -169,6 +175,8 @@ async function fetchGi(url, { signal, timeout, onProgress, maxBytes }) {
       if (part.done) break;
       loaded += part.value.length;
       onProgress?.({ loaded, total });
+      // The timeout is for the server's silence, not the page's own work on a chunk.
+      clearTimeout(timer);
       await gi.push(part.value);
       if (signal?.aborted) throw signal.reason;
     }
@@ -359,18 +367,28 @@ export class GiRuntimeBase {
       const lm = mesh.material.userData?.vdbgi_lightmap;
       if (lm && !maps.has(lm.texture)) maps.set(lm.texture, gltf.parser.getDependency('texture', lm.texture));
     }
-    for (const [index, pending] of maps) {
-      const map = await pending;
-      map.colorSpace = THREE.SRGBColorSpace; // the PNGs hold sRGB-encoded E / scale
-      maps.set(index, map);
-    }
-    // What apply() made of each material, per way of lighting it.
+    const loaded = await Promise.all(maps.values());
+    [...maps.keys()].forEach((index, i) => {
+      loaded[i].colorSpace = THREE.SRGBColorSpace; // the PNGs hold sRGB-encoded E / scale
+      maps.set(index, loaded[i]);
+    });
+    // What apply() made of each material, per way of lighting it. A material lit two
+    // ways (a mover sharing one with the world) gets a copy for the second: apply()
+    // patches in place, and a lightmap set on it would reach the mover too.
     const made = { lightmap: new Map(), volume: new Map(), moving: new Map() };
-    const use = (mesh, way, options) => {
+    const first = new Map();
+    const use = (mesh, way, options, prepare = () => {}) => {
       const given = mesh.material;
-      if (!made[way].has(given)) made[way].set(given, this.apply(given, options));
+      if (!made[way].has(given)) {
+        const own = !first.has(given) || first.get(given) === way;
+        if (!first.has(given)) first.set(given, way);
+        const material = own ? given : given.clone();
+        prepare(material);
+        made[way].set(given, this.apply(material, options));
+      }
       mesh.material = made[way].get(given);
     };
+    for (const mesh of movers) use(mesh, 'moving', { set: 'character', perFragment: true });
     let lightmapped = 0;
     for (const mesh of statics) {
       const lm = mesh.material.userData?.vdbgi_lightmap;
@@ -380,12 +398,12 @@ export class GiRuntimeBase {
       }
       const map = maps.get(lm.texture);
       map.channel = lm.texCoord ?? 1;
-      mesh.material.lightMap = map;
-      mesh.material.lightMapIntensity = lm.scale;
-      use(mesh, 'lightmap', { volume: false });
+      use(mesh, 'lightmap', { volume: false }, (material) => {
+        material.lightMap = map;
+        material.lightMapIntensity = lm.scale;
+      });
       lightmapped++;
     }
-    for (const mesh of movers) use(mesh, 'moving', { set: 'character', perFragment: true });
     if (occlude) for (const object of moving) this.addOccluder(object);
     return { lightmapped, volume: statics.length - lightmapped, moving: movers.size };
   }

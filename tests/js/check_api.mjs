@@ -44,6 +44,18 @@ for (const [name, mod] of [['WebGL2', webgl], ['WebGPU', webgpu]]) {
     console.log(`${name}: ${e.message}`);
   }
   console.log(`${name}: setVolume is the runtime's own: ${Object.hasOwn(gi, 'setVolume') === false}`);
+  // lightScene() with a mover that shares its material with a lightmapped static (glTF
+  // exporters share materials): each keeps its own way of lighting, the lightmap stays off the mover.
+  const map = new THREE.Texture();
+  const material = new THREE.MeshStandardMaterial();
+  material.userData.vdbgi_lightmap = { texture: 0, texCoord: 1, scale: 2 };
+  const world = new THREE.Mesh(new THREE.BufferGeometry(), material);
+  const hero = new THREE.Mesh(new THREE.BufferGeometry(), material);
+  const gltf = { scene: new THREE.Group().add(world), parser: { getDependency: async () => map } };
+  const counts = await gi.lightScene(gltf, { moving: [hero], occlude: false });
+  console.log(`${name}: lightScene with a shared material: ${JSON.stringify(counts)}; ` +
+    `the static's lightmap ${world.material.lightMap === map ? 'on' : 'off'} at ${world.material.lightMapIntensity}, ` +
+    `the mover's ${hero.material.lightMap ? 'on' : 'off'}, two materials: ${world.material !== hero.material}`);
 }
 console.log(`the same methods: ${JSON.stringify(shared[0]) === JSON.stringify(shared[1])} (${shared[0].join(', ')})`);
 console.log(`WebGPU adds: irradianceNode: ${typeof new webgpu.GiRuntime().irradianceNode === 'function'}`);
