@@ -154,12 +154,14 @@ export class GiStreamReader {
       this.closing = true;
       await this.writer.close().catch((e) => { this.cut ??= e; });
       await this.pump;
-      // A stream that stops early: said as where, once the header was read.
+      // A stream that stops early: said as where, once the header was read, with the
+      // inflater's own words (the browser's less its DOM preamble).
+      const said = String(this.cut?.message).replace(/^Failed to execute '[^']*' on '[^']*': /, '');
       if (this.cut && this.out && !this.failure)
         throw this.refuse(this.at < this.total
           ? `cut short: the .gi ends at byte ${this.at} of the ${this.total} its header declares ` +
-            `(the gzip stream stops after ${this.packed} bytes: ${this.cut.message})`
-          : `cut short: the gzip stream stops after ${this.packed} bytes, before its trailer (${this.cut.message})`);
+            `(the gzip stream stops after ${this.packed} bytes: ${said})`
+          : `cut short: the gzip stream stops after ${this.packed} bytes, before its trailer (${said})`);
       if (this.cut) this.inflaterFailed(this.cut);
       this.inflateMs += now() - t;
       if (this.failure) throw this.failure;
