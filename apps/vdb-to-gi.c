@@ -368,8 +368,8 @@ static vdbgi_result check_outputs(vdbgi_context *ctx, const options *o,
 /* A volume past the readers' default budget: said now, not when a page refuses it. */
 static void warn_budget(const char *path, const vdbgi_volume_info *vi)
 {
-    const double textures = (double)vi->indirection_size +
-                            (double)vi->atlas_size * (vi->basis == VDBGI_BASIS_SH2 ? 7.0 : 1.0);
+    const double textures =
+        (double)vi->indirection_size + (double)vi->atlas_size + (double)vi->sh_size;
     if (textures <= (double)VDBGI_VOLUME_BUDGET)
         return;
     char m[256];

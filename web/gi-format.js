@@ -6,7 +6,7 @@
 // probe stored once) has its textures rebuilt by gi-packed.js; versions 6 and 7 add
 // L2 terms, rebuilt there too into six RGBA8 snorm textures (gi.sh).
 import { rebuildPacked, rebuildPackedSliced, ATLAS_TEXELS_PER_BRICK } from './gi-packed.js';
-import { GiStreamReader, MAX_BYTES, overBudget } from './gi-stream.js';
+import { GiStreamReader, MAX_BYTES, now, overBudget } from './gi-stream.js';
 
 export { MAX_BYTES } from './gi-stream.js';
 
@@ -228,7 +228,6 @@ export function giReader({ maxBytes = MAX_BYTES, trailerSize = null } = {}) {
 // unpack to (gi-stream.js's MAX_BYTES by default): a volume past it is refused
 // from its header, before anything that size is allocated.
 export async function decodeGi(fileBytes, timings = {}, { maxBytes = MAX_BYTES } = {}) {
-  const now = () => (typeof performance !== 'undefined' ? performance.now() : Date.now());
   let t = now();
   // A .gi as it is (a server's Content-Encoding: gzip had the browser unpack it):
   // read in place, with every check.

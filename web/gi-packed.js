@@ -9,7 +9,8 @@ import { now, yieldToPage, SLICE_MS } from './gi-stream.js';
 const N = 5, TEXELS = 125, PAD = 2;
 const f = Math.fround;
 
-// A version 5 atlas holds at most this many texels a brick (docs/format.md).
+// A version 5 atlas holds at most this many texels a brick (docs/format.md); gi-format.js
+// checks it with the header, before the atlas is weighed against the budget.
 export const ATLAS_TEXELS_PER_BRICK = 500;
 
 // Each brick's first atlas texel from the placement table (u16 x of every
@@ -19,8 +20,6 @@ export const ATLAS_TEXELS_PER_BRICK = 500;
 // zeros at the atlas's corner.
 function* readPlacement(table, keys, lv, dims) {
   const count = keys.length;
-  if (dims[0] * dims[1] * dims[2] > ATLAS_TEXELS_PER_BRICK * (count + 1))
-    throw new Error(`a ${dims.join('x')} atlas for ${count} bricks (at most ${ATLAS_TEXELS_PER_BRICK} texels a brick)`);
   const dv = new DataView(table.buffer, table.byteOffset, table.byteLength);
   const origin = new Uint16Array(3 * count);
   for (let b = 0; b < count; b++) {

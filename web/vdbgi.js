@@ -17,7 +17,7 @@
 // The lookup is seed 000's volumeIrradiance(); docs/web.md says what each
 // knob does. vdbgi-webgpu.js is the same for WebGPURenderer, in TSL.
 import * as THREE from 'three';
-import { yieldToPage } from './gi-stream.js';
+import { now, yieldToPage } from './gi-stream.js';
 import {
   decodeGi, giReader, parseGiSliced, indirectionColumns, layoutGeometry, MAX_BYTES, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT, SH2_RANGE,
 } from './gi-format.js';
@@ -38,7 +38,6 @@ function debugViewId(view) {
 export const LEVEL_COLOURS = Object.freeze([[0.25, 0.25, 0.25], [0.1, 0.35, 1.0], [0.1, 0.85, 0.25], [1.0, 0.85, 0.1], [1.0, 0.2, 0.1]]);
 const glslVec3 = (c) => `vec3(${c.map((v) => v.toFixed(2)).join(', ')})`;
 
-const now = () => (typeof performance !== 'undefined' ? performance.now() : Date.now());
 
 // updateOccluders()'s temporaries, made once: it runs every frame.
 const occluderScratch = { p: new THREE.Vector3(), q: new THREE.Vector3(), sphere: new THREE.Sphere(), box: new THREE.Box3() };

@@ -179,7 +179,7 @@ vdbgi_result vdbgi_pack_place(vdbgi_context *ctx, vdbgi_pack_plan *pl, uint32_t 
                        count, ATLAS_MAX);
         goto done;
     }
-    /* The reader's bound on the atlas (read_placement): never met by this packer, but kept. */
+    /* The reader's bound on the atlas (gifile.c's header checks): never met by this packer, but kept. */
     if ((uint64_t)dims[0] * dims[1] * dims[2] >
         VDBGI_ATLAS_TEXELS_PER_BRICK * ((uint64_t)count + 1)) {
         r = vdbgi_fail(ctx, VDBGI_ERR_BACKEND,

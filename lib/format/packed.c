@@ -153,18 +153,13 @@ static void mark_indirection(vdbgi_volume *v, const vdbgi_pack_plan *pl, size_t 
 /*
  * Each brick's first texel from the file's table (three arrays of u16: x of
  * every brick, then y, then z). A brick lies inside the atlas, in a layer
- * (its y a multiple of 5), and the atlas holds no more texels than
- * VDBGI_ATLAS_TEXELS_PER_BRICK per brick: the bound that keeps a small file
- * from asking for a large atlas.
+ * (its y a multiple of 5). The atlas's own bound, VDBGI_ATLAS_TEXELS_PER_BRICK
+ * texels a brick, is the header's (gifile.c), checked before this is reached.
  */
 static vdbgi_result read_placement(vdbgi_context *ctx, vdbgi_pack_plan *pl, const uint8_t *table,
                                    const uint32_t dims[3], const char *name)
 {
     const size_t n = pl->brick_count;
-    const uint64_t texels = (uint64_t)dims[0] * dims[1] * dims[2];
-    VDBGI_FAIL_IF(ctx, texels > VDBGI_ATLAS_TEXELS_PER_BRICK * ((uint64_t)n + 1), VDBGI_ERR_FORMAT,
-                  "%s: a %ux%ux%u atlas for %zu bricks (at most %d texels a brick)", name, dims[0],
-                  dims[1], dims[2], n, VDBGI_ATLAS_TEXELS_PER_BRICK);
     for (size_t b = 0; b < n; b++) {
         for (int k = 0; k < 3; k++)
             pl->origin[b][k] = (uint16_t)vdbgi_get_u16(table + 2 * (k * n + b));

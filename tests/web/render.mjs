@@ -402,18 +402,11 @@ async function boundsDraw(task) {
   const camera = new THREE.OrthographicCamera(-w, w, d, -d, 0.1, 1e4);
   camera.position.set((x0 + x1) / 2, y + 1, (z0 + z1) / 2);
   camera.lookAt((x0 + x1) / 2, y, (z0 + z1) / 2);
-  const RT = webgpu ? (await import('three/webgpu')).RenderTarget : THREE.WebGLRenderTarget;
-  const rt = new RT(32, 32);
-  renderer.setRenderTarget(rt);
-  renderer.render(scene, camera);
-  let px = new Uint8Array(32 * 32 * 4);
-  if (webgpu) px = await renderer.readRenderTargetPixelsAsync(rt, 0, 0, 32, 32);
-  else renderer.readRenderTargetPixels(rt, 0, 0, 32, 32, px);
-  renderer.setRenderTarget(null);
-  rt.dispose();
+  const px = await readFloat({ renderer, scene, camera, gi, width: 32, height: 32, backend: bench.backend });
   volume.dispose();
   renderer.dispose();
-  return { ms: performance.now() - t0, light: px.reduce((a, v, i) => (i % 4 === 3 ? a : a + v), 0) / (32 * 32 * 3) };
+  // The mean light in 8-bit steps.
+  return { ms: performance.now() - t0, light: (255 * px.reduce((a, v, i) => (i % 4 === 3 ? a : a + v), 0)) / (32 * 32 * 3) };
 }
 
 // split: task.scene (a gi-lightmap .glb) lit by task.gi the split way, with a sphere at
