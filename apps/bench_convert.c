@@ -79,12 +79,13 @@ int bench_convert(const bench_options *o)
     printf("| criterion, eps, encoding | bricks L0 / L1 / L2 / L3 | raw MB | gzip MB | dense/raw "
            "| dense/gzip | RMSE %% | p99 %% | max %% | convert s | convert/read |\n");
     printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-    static const float eps[] = {VDBGI_ZERO, 0.01f, 0.03f, 0.1f, 0.2f, 0.4f};
+    static const float eps[] = {0.0f, 0.01f, 0.03f, 0.1f, 0.2f, 0.4f};
     static const char *const eps_text[] = {"0", "0.01", "0.03", "0.1", "0.2", "0.4"};
     int code = CLI_OK;
     for (int c = VDBGI_CRITERION_RANGE; c <= VDBGI_CRITERION_INTERP && code == CLI_OK; c++)
         for (size_t e = 0; e < sizeof(eps) / sizeof(eps[0]) && code == CLI_OK; e++) {
-            const vdbgi_convert_desc d = {.eps = eps[e], .criterion = (vdbgi_criterion)c};
+            const vdbgi_convert_desc d = {
+                .eps = eps[e], .eps_is_set = 1, .criterion = (vdbgi_criterion)c};
             char label[64];
             snprintf(label, sizeof(label), "%s, %s, rgbm, seed layout",
                      c == VDBGI_CRITERION_RANGE ? "range" : "interp", eps_text[e]);

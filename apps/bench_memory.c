@@ -120,7 +120,7 @@ int bench_memory(const bench_options *o, bool one_spacing)
         for (int b = 0; r == VDBGI_OK && b < 2; b++) {
             vdbgi_volume *exact = NULL;
             const vdbgi_convert_desc ed = {
-                .eps = VDBGI_ZERO, .max_level = VDBGI_ZERO, .scalar_only = !b};
+                .eps_is_set = 1, .max_level_is_set = 1, .scalar_only = !b};
             if ((r = vdbgi_volume_build(ctx, p, &ed, &exact)) == VDBGI_OK) {
                 vdbgi_probes_info pi;
                 vdbgi_volume_info ei;

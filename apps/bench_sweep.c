@@ -49,7 +49,8 @@ static int sweep_rays(sweep *w, const char *dir)
     for (int sampling = 0; r == VDBGI_OK && f && sampling < 3; sampling++) {
         const int runs = sampling < 2 ? (int)(sizeof(rays) / sizeof(rays[0])) : 4;
         for (int k = 0; r == VDBGI_OK && k < runs; k++) {
-            vdbgi_bake_desc d = {.rays = sampling < 2 ? rays[k] : VDBGI_RAYS_AUTO,
+            vdbgi_bake_desc d = {.rays = sampling < 2 ? rays[k] : 0,
+                                 .adaptive = sampling == 2,
                                  .sampling = sampling == 0 ? VDBGI_SAMPLING_FIBONACCI
                                                            : VDBGI_SAMPLING_RANDOM,
                                  .noise = sampling == 2 ? targets[k] : 0.0f};
@@ -91,14 +92,16 @@ static int sweep_size(sweep *w, const char *dir)
                                                    "criterion,eps,max_level,encoding,raw_bytes,"
                                                    "gzip_bytes,dense_bytes,rmse_rel,p99_rel")
                                   : NULL;
-    static const float eps[] = {VDBGI_ZERO, 0.01f, 0.03f, 0.1f, 0.2f, 0.4f, 0.8f, 1.6f};
+    static const float eps[] = {0.0f, 0.01f, 0.03f, 0.1f, 0.2f, 0.4f, 0.8f, 1.6f};
     static const char *const eps_text[] = {"0", "0.01", "0.03", "0.1", "0.2", "0.4", "0.8", "1.6"};
     for (int c = VDBGI_CRITERION_RANGE; f && r == VDBGI_OK && c <= VDBGI_CRITERION_INTERP; c++)
         for (int e = 0; r == VDBGI_OK && e < 2; e++)
             for (int max_level = 0; r == VDBGI_OK && max_level <= 3; max_level += 3)
                 for (size_t i = 0; r == VDBGI_OK && i < sizeof(eps) / sizeof(eps[0]); i++) {
                     const vdbgi_convert_desc d = {.eps = eps[i],
-                                                  .max_level = max_level ? max_level : VDBGI_ZERO,
+                                                  .eps_is_set = 1,
+                                                  .max_level = max_level,
+                                                  .max_level_is_set = 1,
                                                   .criterion = (vdbgi_criterion)c,
                                                   .encoding = (vdbgi_encoding)e};
                     vdbgi_volume *v = NULL;

@@ -155,7 +155,8 @@ int cli_light_option(int c, const char *arg, vdbgi_bake_desc *b)
     case CLI_OPT_AMBIENT:
         if (!cli_parse_double(arg, &d) || !(d >= 0.0) || !isfinite(d))
             return cli_usage_error("--ambient must be a number >= 0 (got '%s')", arg);
-        b->ambient = d == 0.0 ? VDBGI_ZERO : (float)d;
+        b->ambient = (float)d;
+        b->ambient_is_set = 1;
         return -2;
     case CLI_OPT_SUN:
         cli_light.sun_scene = strcmp(arg, "scene") == 0;
@@ -199,8 +200,7 @@ int cli_light_option(int c, const char *arg, vdbgi_bake_desc *b)
         if (!cli_parse_vec3(arg, v) || v[0] < 0.0f || v[1] < 0.0f || v[2] < 0.0f)
             return cli_usage_error("--sun-color must be r,g,b >= 0 (got '%s')", arg);
         memcpy(b->sun_color, v, sizeof(v));
-        if (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f)
-            b->sun_color[0] = b->sun_color[1] = b->sun_color[2] = VDBGI_ZERO;
+        b->sun_color_is_set = 1;
         return -2;
     case CLI_OPT_FALLOFF:
         if (!cli_parse_double(arg, &d) || !(d > 0.0))

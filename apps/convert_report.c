@@ -43,10 +43,10 @@ void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             vi->layout == VDBGI_LAYOUT_COMPACT ? "compact" : "seed",
             vi->basis == VDBGI_BASIS_SH2 ? "sh2" : "scalar", vi->bricks[0], vi->bricks[1],
             vi->bricks[2], vi->bricks[3], vi->brick_count, vi->atlas_dims[0], vi->atlas_dims[1],
-            vi->atlas_dims[2], vi->indirection_dims[0], vi->indirection_dims[1],
-            vi->indirection_dims[2], vi->atlas_size, vi->indirection_size, raw, vi->columns_dims[0],
-            vi->columns_dims[1], vi->columns_size, vi->columns_size + vi->atlas_size + vi->sh_size,
-            vi->file_size, vi->dense_rgba8_size, (double)vi->dense_rgba8_size / raw,
+            vi->atlas_dims[2], vi->ind_dims[0], vi->ind_dims[1], vi->ind_dims[2], vi->atlas_size,
+            vi->indirection_size, raw, vi->columns_dims[0], vi->columns_dims[1], vi->columns_size,
+            vi->columns_size + vi->atlas_size + vi->sh_size, vi->file_size, vi->dense_rgba8_size,
+            (double)vi->dense_rgba8_size / raw,
             (double)vi->dense_rgba8_size / (double)vi->file_size, vi->clamped_count,
             vi->mean_irradiance, vi->rmse, vi->p99, vi->max_error, vi->rmse / mean, vi->p99 / mean,
             vi->max_error / mean, read_seconds, vi->seconds, vi->seconds / read_seconds,
@@ -65,9 +65,8 @@ void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             vi->atlas_dims[2],
             vi->layout == VDBGI_LAYOUT_COMPACT ? " (compact: 5^3 bricks sharing borders)" : "",
             cli_bytes((double)vi->atlas_size, a, sizeof(a)));
-    fprintf(f, "indirection  %ux%ux%u cells, %s\n", vi->indirection_dims[0],
-            vi->indirection_dims[1], vi->indirection_dims[2],
-            cli_bytes((double)vi->indirection_size, b, sizeof(b)));
+    fprintf(f, "indirection  %ux%ux%u cells, %s\n", vi->ind_dims[0], vi->ind_dims[1],
+            vi->ind_dims[2], cli_bytes((double)vi->indirection_size, b, sizeof(b)));
     if (vi->basis == VDBGI_BASIS_SH2)
         fprintf(f,
                 "basis        L2: eight terms a texel beside the atlas (signed ratios to L0, %d "

@@ -139,7 +139,8 @@ static int parse_args(int argc, char **argv, options *o)
         case OPT_MARGIN:
             if (!cli_parse_double(optarg, &d) || !(d >= 0.0) || !isfinite(d))
                 return cli_usage_error("--margin must be a number >= 0 (got '%s')", optarg);
-            o->place.margin = d == 0.0 ? VDBGI_ZERO : d;
+            o->place.margin = d;
+            o->place.margin_is_set = 1;
             break;
         case OPT_MAX_PROBES:
             if (!cli_parse_int(optarg, &i) || i < 1)
@@ -148,13 +149,15 @@ static int parse_args(int argc, char **argv, options *o)
             break;
         case OPT_RAYS:
             if (strcmp(optarg, "auto") == 0) {
-                o->bake.rays = VDBGI_RAYS_AUTO;
+                o->bake.adaptive = 1;
+                o->bake.rays = 0;
                 break;
             }
             if (!cli_parse_int(optarg, &i) || i < 1 || i > 1000000)
                 return cli_usage_error("--rays must be auto or an integer in 1..1000000 (got '%s')",
                                        optarg);
             o->bake.rays = (int)i;
+            o->bake.adaptive = 0;
             break;
         case OPT_NOISE:
             if (!cli_parse_double(optarg, &d) || !(d > 0.0) || !isfinite(d))

@@ -131,8 +131,8 @@ static int inspect_gi(vdbgi_context *ctx, const char *path, float (*at)[3], int 
     printf("box          %g,%g,%g .. %g,%g,%g m, spacing %g m\n", (double)vi.box_min[0],
            (double)vi.box_min[1], (double)vi.box_min[2], (double)vi.box_max[0],
            (double)vi.box_max[1], (double)vi.box_max[2], (double)vi.spacing);
-    printf("indirection  %ux%ux%u cells, %s\n", vi.indirection_dims[0], vi.indirection_dims[1],
-           vi.indirection_dims[2], cli_bytes((double)vi.indirection_size, b, sizeof(b)));
+    printf("indirection  %ux%ux%u cells, %s\n", vi.ind_dims[0], vi.ind_dims[1], vi.ind_dims[2],
+           cli_bytes((double)vi.indirection_size, b, sizeof(b)));
     printf("atlas        %ux%ux%u texels%s, %s\n", vi.atlas_dims[0], vi.atlas_dims[1],
            vi.atlas_dims[2],
            vi.layout == VDBGI_LAYOUT_COMPACT ? " (compact: 5^3 bricks sharing borders)" : "",

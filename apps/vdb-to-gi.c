@@ -155,12 +155,14 @@ static int parse_args(int argc, char **argv, options *o)
         case OPT_EPS:
             if (!cli_parse_double(optarg, &d) || !(d >= 0.0) || !isfinite(d))
                 return cli_usage_error("--eps must be a number >= 0 (got '%s')", optarg);
-            o->convert.eps = d == 0.0 ? VDBGI_ZERO : (float)d;
+            o->convert.eps = (float)d;
+            o->convert.eps_is_set = 1;
             break;
         case OPT_MAX_LEVEL:
             if (!cli_parse_int(optarg, &i) || i < 0 || i > 3)
                 return cli_usage_error("--max-level must be 0, 1, 2 or 3 (got '%s')", optarg);
-            o->convert.max_level = i == 0 ? VDBGI_ZERO : (int)i;
+            o->convert.max_level = (int)i;
+            o->convert.max_level_is_set = 1;
             break;
         case OPT_CRITERION:
             if (strcmp(optarg, "range") == 0)
@@ -185,7 +187,8 @@ static int parse_args(int argc, char **argv, options *o)
             if (!cli_parse_double(optarg, &d) || !(d >= 0.0) || !isfinite(d) || d > 100.0)
                 return cli_usage_error("--noise-sigmas must be a number in 0..100 (got '%s')",
                                        optarg);
-            o->convert.noise_sigmas = d == 0.0 ? VDBGI_ZERO : (float)d;
+            o->convert.noise_sigmas = (float)d;
+            o->convert.noise_sigmas_is_set = 1;
             break;
         case OPT_FILL:
             if (strcmp(optarg, "mean") == 0)

@@ -32,12 +32,12 @@
  * Conventions
  * -----------
  * Names: vdbgi_<object>_<verb>, the object the first argument.
- * Descs: an all-zero desc means the defaults. A field whose zero is also a
- * value one may want (no ambient fill, no margin, no coarsening) takes
- * VDBGI_ZERO to ask for zero; a vector field takes it in every component.
- * A vector whose every value is meaningful (an origin, a box) is used only
- * when its *_is_set flag is. A count may name one mode of its own
- * (VDBGI_RAYS_AUTO).
+ * Descs: an all-zero desc means the defaults, and a field holding zero (every
+ * component zero, for a vector) takes its default. Where zero is itself a
+ * value one may want (no ambient fill, no margin, an origin at the world's
+ * origin), the field has a companion <field>_is_set: set, the field is taken
+ * as given, zero included. A mode is an enum or a flag whose zero is the
+ * default, never a special value of a number.
  * Objects: read-only calls (writers included) take const objects; their
  * side figures come back through optional *_out pointers.
  * Bulk data: vdbgi_*_copy_* fills a caller's buffer; called with a NULL
@@ -61,13 +61,6 @@ extern "C" {
 #else
 #define VDBGI_API
 #endif
-
-/*
- * Asks for a real zero in a desc field whose 0 means "default" (see
- * Conventions): INT32_MIN, exact as an int, a float and a double, and far
- * outside every field's range, so no mistyped value reads as it.
- */
-#define VDBGI_ZERO (-2147483647 - 1)
 
 #define VDBGI_VERSION_MAJOR 0
 #define VDBGI_VERSION_MINOR 1
@@ -348,11 +341,11 @@ typedef struct vdbgi_probes vdbgi_probes;
  *   spacing:     lattice step, metres, > 0. 0 == 0.5.
  *   margin:      a probe exists if its true distance to the nearest triangle
  *                is at most this, metres, >= 0. 0 == 4 * spacing (one
- *                level-0 brick); VDBGI_ZERO for no margin.
- *   origin:      world position of probe (0,0,0). Ignored unless
- *                origin_is_set; the default is half a spacing on every axis,
- *                so floors at whole multiples of the spacing fall between
- *                probes rather than on them.
+ *                level-0 brick); margin_is_set with 0 for no margin.
+ *   origin:      world position of probe (0,0,0). (0,0,0) without
+ *                origin_is_set == half a spacing on every axis, so floors at
+ *                whole multiples of the spacing fall between probes rather
+ *                than on them.
  *   max_probes:  refuse larger lattices. 0 == 50 000 000.
  *   tile_index, tile_count: place only tile tile_index (0-based) of
  *                tile_count (2..4096; 0 or 1: the whole lattice): slabs
@@ -366,6 +359,7 @@ typedef struct vdbgi_probes vdbgi_probes;
 typedef struct vdbgi_place_desc {
     double spacing;
     double margin;
+    int margin_is_set;
     double origin[3];
     int origin_is_set;
     uint64_t max_probes;
@@ -457,21 +451,22 @@ typedef enum vdbgi_trace_method {
 
 /*
  * The irradiance estimator of seed 000. All-zero means the defaults:
- *   rays:        directions per probe, 1..1 000 000. 0 == 128.
- *                VDBGI_RAYS_AUTO: a Fibonacci set of max_rays directions under
- *                a random rotation, traced 32 at a time in bit-reversed order
- *                (each prefix evenly spread) until the probe's standard error
- *                is at most noise x max(its value, 1e-3), or the set runs out.
- *   noise:       the target of VDBGI_RAYS_AUTO, relative, > 0. 0 == 0.02.
- *   max_rays:    the cap of VDBGI_RAYS_AUTO, a power of two, 64..2^20.
- *                0 == 1024.
+ *   rays:        directions per probe, 1..1 000 000. 0 == 128. Must be 0
+ *                when adaptive.
+ *   adaptive:    0: every probe takes `rays` directions. 1: a Fibonacci set
+ *                of max_rays directions under a random rotation, traced 32
+ *                at a time in bit-reversed order (each prefix evenly spread)
+ *                until the probe's standard error is at most
+ *                noise x max(its value, 1e-3), or the set runs out.
+ *   noise:       the target of adaptive, relative, > 0. 0 == 0.02.
+ *   max_rays:    the cap of adaptive, a power of two, 64..2^20. 0 == 1024.
  *   ray_dist:    longest ray, metres, > 0. 0 == 40.
  *   ambient:     fill light added at every hit, 0..1e6. 0 == 0.15;
- *                VDBGI_ZERO for no fill.
+ *                ambient_is_set with 0 for no fill.
  *   sun_dir:     direction towards the sun. (0,0,0) == (0.4, 0.8, 0.3).
  *                Normalised by the bake.
  *   sun_color:   sun radiance, linear RGB in 0..1e6. (0,0,0) == (1,1,1);
- *                VDBGI_ZERO in every component turns the sun off.
+ *                sun_color_is_set with (0,0,0) turns the sun off.
  *   falloff:     distance weight 1 / (1 + (d/falloff)^2), metres, > 0.
  *                0 == 4; INFINITY turns the falloff off.
  *   sky:         what a miss contributes, linear RGB in 0..1e6. (0,0,0) == black.
@@ -507,8 +502,6 @@ typedef enum vdbgi_trace_method {
  *                most about 100 times; a non-zero return stops the bake with
  *                VDBGI_ERR_CANCELLED. May be NULL.
  */
-#define VDBGI_RAYS_AUTO (-1)
-
 /*
  * The share of the light the next bounce (or pass) must add for the count
  * to go on, by default. Past the third the bounces are not traced, so a
@@ -533,12 +526,15 @@ typedef enum vdbgi_model {
 
 typedef struct vdbgi_bake_desc {
     int rays;
+    int adaptive;
     float noise;
     int max_rays;
     float ray_dist;
     float ambient;
+    int ambient_is_set;
     float sun_dir[3];
     float sun_color[3];
+    int sun_color_is_set;
     float falloff;
     float sky[3];
     vdbgi_sampling sampling;
@@ -783,9 +779,10 @@ typedef enum vdbgi_fill {
  *   eps:        tolerance, relative to the mean irradiance of the valid
  *               probes (so one value suits dim and bright scenes): a block's
  *               largest channel difference must be <= eps * mean. >= 0.
- *               0 == 0.1; VDBGI_ZERO for 0 (never coarsen a varying block).
+ *               0 == 0.1; eps_is_set with 0 never coarsens a varying block.
  *   max_level:  largest brick level, 0..3 (a level-L brick spans 4 x 2^L
- *               probes). 0 == 3; VDBGI_ZERO for 0 (level-0 bricks only).
+ *               probes). 0 == 3; max_level_is_set with 0 for level-0 bricks
+ *               only.
  *   criterion:  see vdbgi_criterion.
  *   encoding:   see vdbgi_encoding.
  *   noise_sigmas: sampling-noise allowance, in standard errors (the bake's
@@ -795,7 +792,8 @@ typedef enum vdbgi_fill {
  *               and adaptive bakes (the estimate assumes independent rays and
  *               overstates a rotated Fibonacci set's error 1.9-2.4x:
  *               docs/stability.md) and 0 for the fixed Fibonacci set, whose
- *               error is a shared bias, not noise; VDBGI_ZERO for none.
+ *               error is a shared bias, not noise; noise_sigmas_is_set with 0
+ *               for none.
  *   fill:       see vdbgi_fill.
  *   progress:   as vdbgi_bake_desc's; may be NULL.
  *   threads:    worker threads, 0 == every online core. The bytes do not
@@ -818,8 +816,11 @@ typedef enum vdbgi_fill {
  */
 typedef struct vdbgi_convert_desc {
     float eps;
+    int eps_is_set;
     float noise_sigmas;
+    int noise_sigmas_is_set;
     int max_level;
+    int max_level_is_set;
     vdbgi_criterion criterion;
     vdbgi_encoding encoding;
     vdbgi_fill fill;
@@ -960,13 +961,13 @@ typedef struct vdbgi_volume_info {
     float rgbm_range;
     float spacing;                /* finest probe spacing, metres */
     float box_min[3], box_max[3]; /* world box the indirection covers, metres */
-    uint32_t indirection_dims[3]; /* level-0 cells */
+    uint32_t ind_dims[3];         /* level-0 cells */
     uint32_t atlas_dims[3];       /* texels */
     uint32_t max_level;
     uint32_t bricks[4]; /* kept bricks per level */
     uint32_t brick_count;
     size_t indirection_size, atlas_size; /* bytes, uncompressed */
-    size_t file_size;                    /* bytes of the file read, or written (0 before) */
+    size_t file_size;                    /* bytes of the file read, or that a write writes */
     size_t dense_rgba8_size;             /* a dense RGBA8 grid over the probes' box */
     /* Filled in by vdbgi_volume_build only (0 after vdbgi_volume_read): */
     size_t probe_count, valid_count, filled_count, unreached_count;
@@ -1062,8 +1063,8 @@ typedef enum vdbgi_bevy_format {
  *   resolution:  voxels per axis, each >= 1. (0,0,0) == from voxel_size.
  *   voxel_size:  metres, > 0, used when resolution is 0. 0 == 4 x spacing.
  *   box_min/max: world box the volume covers, inside the baked bounds.
- *                Ignored unless box_is_set; the default is the baked bounds
- *                (the probes' box plus half a spacing on every side).
+ *                Both (0,0,0) without box_is_set == the baked bounds (the
+ *                probes' box plus half a spacing on every side).
  *   fill:        as vdbgi_convert_desc's; one choice of neighbour a probe,
  *                the darkest by the sum over all six sides, for every side.
  *   threads:     worker threads, 0 == every online core (same bytes).
@@ -1166,7 +1167,7 @@ typedef struct vdbgi_lightmap_result vdbgi_lightmap_result;
  *             so a game can dim or switch them and add them at runtime;
  *             they sum to the map. Not with ao_dist.
  *   bake:     the light model and sampling, as for probes (rays 0 == 64;
- *             not VDBGI_RAYS_AUTO). Emissive materials light the scene.
+ *             not adaptive). Emissive materials light the scene.
  * A scene whose every mesh has a second UV set inside [0, 1] with no
  * overlapping triangles keeps it (texel ignored); otherwise a warning says
  * why not, and the scene is unwrapped anew.

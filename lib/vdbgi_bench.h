@@ -26,7 +26,7 @@ VDBGI_API vdbgi_result vdbgi_scene_bake_points_sh2(const vdbgi_scene *scene,
  * For benchmarks: trace exactly the rays the bake would (primary rays, then a
  * shadow ray from each hit whose facing normal sees the sun) with no shading,
  * on desc's threads and trace_method. Fills stats; no probe value changes.
- * An adaptive ray count (VDBGI_RAYS_AUTO) depends on the shading, so it is
+ * An adaptive ray count (desc->adaptive) depends on the shading, so it is
  * refused with VDBGI_ERR_INVALID_ARG.
  */
 VDBGI_API vdbgi_result vdbgi_probes_trace_bare(const vdbgi_probes *probes, const vdbgi_scene *scene,

@@ -85,8 +85,8 @@ static void probe_under_an_emitting_ceiling_matches_the_closed_form(void)
     const float falloffs[2] = {4.0f, INFINITY};
     for (int f = 0; s && f < 2; f++) {
         vdbgi_bake_desc bd = plane_desc(16384, 40.0f, falloffs[f], VDBGI_SAMPLING_FIBONACCI);
-        bd.ambient = VDBGI_ZERO;
-        bd.sun_color[0] = bd.sun_color[1] = bd.sun_color[2] = VDBGI_ZERO;
+        bd.ambient_is_set = 1;   /* with 0: no fill */
+        bd.sun_color_is_set = 1; /* with (0,0,0): no sun */
         const float heights[3] = {0.5f, 2.0f, 8.0f};
         float pts[9], rgb[9];
         for (int i = 0; i < 3; i++)
@@ -107,8 +107,8 @@ static void probe_under_an_emitting_ceiling_matches_the_closed_form(void)
     const float above[3] = {0.2f, 1.0f, 0.1f};
     float rgb[3] = {1, 1, 1};
     vdbgi_bake_desc bd = plane_desc(1024, 40.0f, INFINITY, VDBGI_SAMPLING_FIBONACCI);
-    bd.ambient = VDBGI_ZERO;
-    bd.sun_color[0] = bd.sun_color[1] = bd.sun_color[2] = VDBGI_ZERO;
+    bd.ambient_is_set = 1;   /* with 0: no fill */
+    bd.sun_color_is_set = 1; /* with (0,0,0): no sun */
     CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &bd, above, 1, rgb, NULL), VDBGI_OK);
     CHECK(rgb[0] == 0.0f && rgb[1] == 0.0f && rgb[2] == 0.0f);
     vdbgi_scene_destroy(s);
@@ -200,7 +200,7 @@ static void closed_box_reads_albedo_times_ambient_at_any_scale(void)
             vdbgi_bake_desc d = {
                 .rays = 512, .ray_dist = 4.0f * r, .ambient = (float)ambient, .falloff = INFINITY};
             if (!sun)
-                d.sun_color[0] = d.sun_color[1] = d.sun_color[2] = VDBGI_ZERO;
+                d.sun_color_is_set = 1; /* with (0,0,0): no sun */
             CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &d, pts, 3, rgb, bf), VDBGI_OK);
             for (int i = 0; i < 9; i++)
                 CHECK_NEAR(rgb[i], rho * ambient, 1e-6);
@@ -233,15 +233,22 @@ static void plane_under_slanted_sun_has_no_self_shadow_at_any_scale(void)
     }
 }
 
-static void probes_inside_a_solid_are_invalid(void)
+/* A closed box from -2 to 2 m on every axis, albedo 0.8, its faces outward. */
+static vdbgi_scene *box_scene(vdbgi_context *ctx)
 {
-    vdbgi_context *ctx = test_context();
     test_mesh m = {0};
     const float lo[3] = {-2, -2, -2}, hi[3] = {2, 2, 2};
     test_mesh_box(&m, lo, hi, 0);
     const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.8f, 0);
     vdbgi_scene *s = NULL;
     CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &s), VDBGI_OK);
+    return s;
+}
+
+static void probes_inside_a_solid_are_invalid(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = box_scene(ctx);
     vdbgi_probes *p = NULL;
     const vdbgi_place_desc pd = {.spacing = 0.5};
     CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
@@ -392,6 +399,40 @@ static void trace_methods_agree(void)
     vdbgi_context_destroy(ctx);
 }
 
+/*
+ * The desc convention (vdbgi.h): a field holding zero takes its default; with
+ * its _is_set flag, zero is taken as given; a value given is used with or
+ * without the flag.
+ */
+static void zero_means_default_unless_flagged(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = box_scene(ctx);
+    /* With no margin, only the lattice points on the box's faces: 6 x 9 x 9 less the edges. */
+    const vdbgi_place_desc descs[5] = {{.spacing = 0.5},
+                                       {.spacing = 0.5, .margin_is_set = 1, .origin_is_set = 1},
+                                       {.spacing = 0.5, .origin_is_set = 1},
+                                       {.spacing = 0.5, .origin = {0.1, 0.0, 0.0}},
+                                       {.spacing = 0.5, .margin = 1.0}};
+    vdbgi_probes_info info[5];
+    for (int i = 0; i < 5; i++) {
+        vdbgi_probes *p = NULL;
+        CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &descs[i], &p), VDBGI_OK);
+        if (p)
+            vdbgi_probes_get_info(p, &info[i]);
+        else
+            memset(&info[i], 0, sizeof(info[i]));
+        vdbgi_probes_destroy(p);
+    }
+    CHECK(info[0].margin == 2.0 && info[0].origin[0] == 0.25 && info[0].origin[1] == 0.25);
+    CHECK(info[1].margin == 0.0 && info[1].probe_count == 9 * 9 * 9 - 7 * 7 * 7);
+    CHECK(info[2].origin[0] == 0.0 && info[2].origin[1] == 0.0 && info[2].origin[2] == 0.0);
+    CHECK(info[3].origin[0] == 0.1 && info[3].origin[1] == 0.0 && info[3].origin[2] == 0.0);
+    CHECK(info[4].margin == 1.0 && info[4].probe_count < info[0].probe_count);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
 static void bare_trace_counts_the_same_rays(void)
 {
     vdbgi_context *ctx = test_context();
@@ -430,7 +471,7 @@ static void bad_bake_parameters_are_refused(void)
     bad[9].threads = -2;
     bad[10].invalid_threshold = 1.5f;
     bad[11].trace_method = (vdbgi_trace_method)9;
-    bad[12].ambient = -1.0f; /* a mistyped negative is not the VDBGI_ZERO sentinel */
+    bad[12].ambient = -1.0f; /* a mistyped negative is no default */
     bad[13].basis = (vdbgi_basis)3;
     for (int i = 0; i < 14; i++) {
         CHECK_RESULT(ctx, vdbgi_scene_bake_points(s, &bad[i], pt, 1, rgb, NULL),
@@ -761,8 +802,8 @@ static void adaptive_rays_stop_early_where_light_is_even(void)
     vdbgi_probes *p = NULL;
     const vdbgi_place_desc pd = {.spacing = 1.0, .margin = 8.0};
     CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
-    vdbgi_bake_desc d = {.rays = VDBGI_RAYS_AUTO, .falloff = INFINITY, .threads = 1};
-    d.sun_color[0] = d.sun_color[1] = d.sun_color[2] = VDBGI_ZERO;
+    vdbgi_bake_desc d = {.adaptive = 1, .falloff = INFINITY, .threads = 1};
+    d.sun_color_is_set = 1; /* with (0,0,0): no sun */
     vdbgi_bake_stats st;
     CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &d, &st), VDBGI_OK);
     vdbgi_probes_info info;
@@ -806,12 +847,13 @@ static void adaptive_rays_stop_early_where_light_is_even(void)
         CHECK(ra >= 64 && ra <= 512 && ra % 32 == 0);
     }
     CHECK(same && most == 512 && least == 64);
-    const vdbgi_bake_desc fixed = {.rays = VDBGI_RAYS_AUTO};
+    const vdbgi_bake_desc fixed = {.adaptive = 1};
     CHECK_RESULT(ctx, vdbgi_probes_trace_bare(q[0], s, &fixed, &st), VDBGI_ERR_INVALID_ARG);
-    const vdbgi_bake_desc bad[3] = {{.rays = VDBGI_RAYS_AUTO, .noise = -1.0f},
-                                    {.rays = VDBGI_RAYS_AUTO, .max_rays = 10},
-                                    {.rays = -7}};
-    for (int i = 0; i < 3; i++)
+    const vdbgi_bake_desc bad[4] = {{.adaptive = 1, .noise = -1.0f},
+                                    {.adaptive = 1, .max_rays = 10},
+                                    {.rays = -7},
+                                    {.adaptive = 1, .rays = 64}};
+    for (int i = 0; i < 4; i++)
         CHECK_RESULT(ctx, vdbgi_probes_bake(q[0], s, &bad[i], NULL), VDBGI_ERR_INVALID_ARG);
     vdbgi_probes_destroy(q[0]);
     vdbgi_probes_destroy(q[1]);
@@ -869,6 +911,7 @@ int main(void)
     RUN(random_sampling_differs_by_seed_and_probe);
     RUN(sky_fills_misses_and_falloff_off_is_flat);
     RUN(trace_methods_agree);
+    RUN(zero_means_default_unless_flagged);
     RUN(bare_trace_counts_the_same_rays);
     RUN(bad_bake_parameters_are_refused);
     RUN(progress_is_reported_and_can_cancel);

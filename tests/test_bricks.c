@@ -73,8 +73,8 @@ static void exact_bricks_give_back_every_valid_probe(void)
     vdbgi_probes *p = test_slab(ctx, 20, 9, 13, smooth);
     for (int run = 0; run < 4; run++) {
         const int e = run % 2;
-        const vdbgi_convert_desc d = {.eps = VDBGI_ZERO,
-                                      .max_level = VDBGI_ZERO,
+        const vdbgi_convert_desc d = {.eps_is_set = 1,
+                                      .max_level_is_set = 1,
                                       .encoding = (vdbgi_encoding)e,
                                       .layout = (vdbgi_layout)(1 + run / 2)};
         vdbgi_volume *v = NULL;
@@ -97,7 +97,7 @@ static void aprons_hide_brick_boundaries(void)
     vdbgi_context *ctx = test_context();
     vdbgi_probes *p = test_slab(ctx, 40, 10, 24, smooth);
     const vdbgi_convert_desc d = {
-        .layout = VDBGI_LAYOUT_SEED, .eps = VDBGI_ZERO, .max_level = VDBGI_ZERO};
+        .layout = VDBGI_LAYOUT_SEED, .eps_is_set = 1, .max_level_is_set = 1};
     vdbgi_volume *v = NULL;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
     if (v) {
@@ -128,13 +128,15 @@ static void larger_eps_never_grows_the_atlas(void)
 {
     vdbgi_context *ctx = test_context();
     vdbgi_probes *p = test_slab(ctx, 64, 10, 48, smooth);
-    const float eps[] = {VDBGI_ZERO, 0.01f, 0.03f, 0.1f, 0.3f, 1.0f, 3.0f};
+    const float eps[] = {0.0f, 0.01f, 0.03f, 0.1f, 0.3f, 1.0f, 3.0f};
     for (int c = VDBGI_CRITERION_RANGE; c <= VDBGI_CRITERION_RMSE; c++) {
         size_t last_atlas = SIZE_MAX, last_bricks = SIZE_MAX;
         double last_rmse = 0.0;
         for (size_t i = 0; i < sizeof(eps) / sizeof(eps[0]); i++) {
-            const vdbgi_convert_desc d = {
-                .layout = VDBGI_LAYOUT_SEED, .eps = eps[i], .criterion = (vdbgi_criterion)c};
+            const vdbgi_convert_desc d = {.layout = VDBGI_LAYOUT_SEED,
+                                          .eps = eps[i],
+                                          .eps_is_set = 1,
+                                          .criterion = (vdbgi_criterion)c};
             vdbgi_volume *v = NULL;
             CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
             if (!v)
@@ -165,7 +167,7 @@ static void rmse_criterion_coarsens_at_least_as_much_as_interp(void)
 {
     vdbgi_context *ctx = test_context();
     vdbgi_probes *p = test_slab(ctx, 64, 10, 48, smooth);
-    const float eps[] = {VDBGI_ZERO, 0.01f, 0.03f, 0.1f, 0.3f};
+    const float eps[] = {0.0f, 0.01f, 0.03f, 0.1f, 0.3f};
     bool fewer = false;
     for (size_t i = 0; i < sizeof(eps) / sizeof(eps[0]); i++) {
         vdbgi_volume *v[2] = {NULL, NULL};
@@ -173,6 +175,7 @@ static void rmse_criterion_coarsens_at_least_as_much_as_interp(void)
         for (int c = 0; c < 2; c++) {
             const vdbgi_convert_desc d = {.layout = VDBGI_LAYOUT_SEED,
                                           .eps = eps[i],
+                                          .eps_is_set = 1,
                                           .criterion =
                                               c ? VDBGI_CRITERION_RMSE : VDBGI_CRITERION_INTERP};
             CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v[c]), VDBGI_OK);
@@ -210,7 +213,7 @@ static void at_eps_0_every_layout_returns_every_probe(void)
     vdbgi_context *ctx = test_context();
     vdbgi_probes *p = test_slab(ctx, 40, 10, 24, ramp);
     for (int run = 0; run < 6; run++) {
-        const vdbgi_convert_desc d = {.eps = VDBGI_ZERO,
+        const vdbgi_convert_desc d = {.eps_is_set = 1,
                                       .layout = (vdbgi_layout)(1 + run % 2),
                                       .criterion = (vdbgi_criterion)(1 + run / 2)};
         vdbgi_volume *v = NULL;
@@ -243,7 +246,7 @@ static void compact_bricks_share_only_texels_they_agree_on(void)
         CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
         if (!v)
             continue;
-        const uint32_t *const ad = v->info.atlas_dims, *const id = v->info.indirection_dims;
+        const uint32_t *const ad = v->info.atlas_dims, *const id = v->info.ind_dims;
         const size_t texels = (size_t)ad[0] * ad[1] * ad[2];
         int64_t *const owner = calloc(texels, sizeof(*owner)); /* 0: none, else point id + 1 */
         size_t painted = 0, brick_texels = 0, conflicts = 0, bricks = 0, levels = 0;
@@ -363,7 +366,7 @@ static void invalid_probes_never_leak_their_value(void)
             p->rgb[3 * i] = p->rgb[3 * i + 1] = p->rgb[3 * i + 2] = 100.0f;
         }
     const vdbgi_convert_desc d = {
-        .layout = VDBGI_LAYOUT_SEED, .eps = VDBGI_ZERO, .max_level = VDBGI_ZERO};
+        .layout = VDBGI_LAYOUT_SEED, .eps_is_set = 1, .max_level_is_set = 1};
     vdbgi_volume *v = NULL;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &d, &v), VDBGI_OK);
     if (v) {
@@ -403,8 +406,8 @@ static void cells_with_a_valid_corner_read_the_filled_field(void)
         if (p->ijk[3 * i + 1] < 8) /* the lower half is inside geometry */
             p->backface[i] = 1.0f;
     const vdbgi_convert_desc d = {
-        .eps = VDBGI_ZERO,
-        .max_level = VDBGI_ZERO,
+        .eps_is_set = 1,
+        .max_level_is_set = 1,
         .encoding = VDBGI_ENCODING_RGB9E5, /* decoded before filtering: trilinear exactly */
         .layout = VDBGI_LAYOUT_COMPACT};
     vdbgi_volume *v = NULL;

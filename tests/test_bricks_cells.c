@@ -47,7 +47,7 @@ static vdbgi_probes *boxed_floor(vdbgi_context *ctx, double origin, vdbgi_scene 
 /* Level-0 bricks only, so that no coarse brick covers the cells a test looks at. */
 static vdbgi_volume *level0_volume(vdbgi_context *ctx, const vdbgi_probes *p, int layout)
 {
-    const vdbgi_convert_desc cd = {.max_level = VDBGI_ZERO, .layout = (vdbgi_layout)layout};
+    const vdbgi_convert_desc cd = {.max_level_is_set = 1, .layout = (vdbgi_layout)layout};
     vdbgi_volume *v = NULL;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
     return v;
@@ -67,10 +67,10 @@ static const uint8_t *cell_texel(const vdbgi_volume *v, const float pos[3])
     size_t i = 0;
     for (int k = 2; k >= 0; k--) {
         const float u = (pos[k] - vi->box_min[k]) / (vi->box_max[k] - vi->box_min[k]);
-        const float c = floorf(u * (float)vi->indirection_dims[k]);
-        if (!(c >= 0.0f && c < (float)vi->indirection_dims[k]))
+        const float c = floorf(u * (float)vi->ind_dims[k]);
+        if (!(c >= 0.0f && c < (float)vi->ind_dims[k]))
             return NULL;
-        i = i * vi->indirection_dims[k] + (size_t)c;
+        i = i * vi->ind_dims[k] + (size_t)c;
     }
     return &v->tex.indirection[4 * i];
 }
@@ -169,7 +169,7 @@ static void columns_give_every_cell_its_indirection_texel(void)
         memset(t, 0xA5, size);
         CHECK(vdbgi_volume_copy_columns(v, t, size - 1) == 0 && t[0] == 0xA5);
         CHECK(vdbgi_volume_copy_columns(v, t, size) == size);
-        const uint32_t *const d = vi.indirection_dims;
+        const uint32_t *const d = vi.ind_dims;
         const size_t columns = (size_t)d[0] * d[2];
         size_t wrong = 0, gaps = 0;
         for (uint32_t z = 0; z < d[2]; z++)
@@ -258,7 +258,7 @@ static void coarse_bricks_under_the_first_valid_plane_read_the_filled_field(void
         if (p->ijk[3 * i + 1] < 12)
             p->backface[i] = 1.0f;
     const vdbgi_convert_desc d = {.eps = 0.2f,
-                                  .noise_sigmas = VDBGI_ZERO,
+                                  .noise_sigmas_is_set = 1,
                                   .encoding = VDBGI_ENCODING_RGB9E5,
                                   .layout = VDBGI_LAYOUT_COMPACT};
     vdbgi_volume *v = NULL;

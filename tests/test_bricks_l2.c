@@ -45,7 +45,7 @@ static void l2_bricks_read_each_side_and_round_trip(void)
     CHECK_RESULT(ctx, vdbgi_probes_place(ctx, scene, &pd, &p), VDBGI_OK);
     const vdbgi_bake_desc bd = {.rays = 64, .basis = VDBGI_BASIS_SH2};
     CHECK_RESULT(ctx, vdbgi_probes_bake(p, scene, &bd, NULL), VDBGI_OK);
-    vdbgi_convert_desc cd = {.eps = VDBGI_ZERO, .max_level = VDBGI_ZERO, .threads = 1};
+    vdbgi_convert_desc cd = {.eps_is_set = 1, .max_level_is_set = 1, .threads = 1};
     vdbgi_volume *v = NULL, *v3 = NULL, *v6 = NULL, *scalar = NULL, *back = NULL, *back6 = NULL;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
     cd.threads = 3;
@@ -268,7 +268,7 @@ static void at_eps_0_every_probe_reads_its_own_l2_for_any_normal(void)
     CHECK_RESULT(ctx, vdbgi_probes_place(ctx, scene, &pd, &p), VDBGI_OK);
     const vdbgi_bake_desc bd = {.rays = 64, .basis = VDBGI_BASIS_SH2, .sky = {0.2f, 0.3f, 0.5f}};
     CHECK_RESULT(ctx, vdbgi_probes_bake(p, scene, &bd, NULL), VDBGI_OK);
-    vdbgi_convert_desc cd = {.eps = VDBGI_ZERO, .max_level = VDBGI_ZERO, .term_bits = 8};
+    vdbgi_convert_desc cd = {.eps_is_set = 1, .max_level_is_set = 1, .term_bits = 8};
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
     cd.term_bits = 0;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &coarse), VDBGI_OK);

@@ -202,7 +202,7 @@ static vdbgi_probes *small_bake(vdbgi_context *ctx, vdbgi_scene **s)
     CHECK_RESULT(ctx, vdbgi_probes_place(ctx, *s, &pd, &p), VDBGI_OK);
     /* Adaptive rays: stderr (float) and rays (int32) beside irradiance (vec3s). Cube sides
        are vec3s grids too, left out for time (make fuzz damages a cube bake). */
-    const vdbgi_bake_desc bd = {.rays = VDBGI_RAYS_AUTO, .max_rays = 64, .seed = 3};
+    const vdbgi_bake_desc bd = {.adaptive = 1, .max_rays = 64, .seed = 3};
     CHECK_RESULT(ctx, vdbgi_probes_bake(p, *s, &bd, NULL), VDBGI_OK);
     return p;
 }

@@ -74,7 +74,7 @@ static void passes_add_the_terms_of_the_geometric_series(void)
     const vdbgi_bake_desc bd = {.rays = 64,
                                 .ray_dist = 20.0f,
                                 .ambient = 0.3f,
-                                .sun_color = {VDBGI_ZERO, VDBGI_ZERO, VDBGI_ZERO},
+                                .sun_color_is_set = 1,
                                 .falloff = INFINITY,
                                 .threads = 2};
     for (int passes = 1; passes <= 3; passes++) {
@@ -138,8 +138,8 @@ static void a_floor_under_an_emitting_ceiling_matches_the_closed_form(void)
     memcpy(meshes[1].emissive, le, sizeof(le));
     const vdbgi_bake_desc bd = {.rays = 4096,
                                 .ray_dist = 6.0f,
-                                .ambient = VDBGI_ZERO,
-                                .sun_color = {VDBGI_ZERO, VDBGI_ZERO, VDBGI_ZERO},
+                                .ambient_is_set = 1,
+                                .sun_color_is_set = 1,
                                 .falloff = INFINITY,
                                 .threads = 2};
     const vdbgi_lightmap_params lp = {.passes = 2, .rings = 3};

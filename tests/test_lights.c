@@ -51,10 +51,8 @@ static vdbgi_scene *plane_and_speck(vdbgi_context *ctx, float size, float albedo
 }
 
 /* Only the lamps: no sun, no fill, no falloff. */
-static const vdbgi_bake_desc lamps_only = {.rays = 16,
-                                           .model = VDBGI_MODEL_PHYSICAL,
-                                           .sun_color = {VDBGI_ZERO, VDBGI_ZERO, VDBGI_ZERO},
-                                           .threads = 2};
+static const vdbgi_bake_desc lamps_only = {
+    .rays = 16, .model = VDBGI_MODEL_PHYSICAL, .sun_color_is_set = 1, .threads = 2};
 
 /* The plane test below, with a speck far metres out when far > 0. */
 static void point_light_over_plane(float far)

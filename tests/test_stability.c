@@ -158,8 +158,7 @@ static void noise_allowance_keeps_low_ray_bakes_coarse(void)
         }
         for (int run = 0; run < 2 * neps && p; run++) {
             const int e = run / 2, allow = run % 2;
-            const vdbgi_convert_desc cd = {.eps = eps[e],
-                                           .noise_sigmas = allow ? 0.0f : VDBGI_ZERO};
+            const vdbgi_convert_desc cd = {.eps = eps[e], .noise_sigmas_is_set = !allow};
             vdbgi_volume *v = NULL;
             CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
             if (!v)
@@ -342,8 +341,8 @@ static void leak_case(float t, double origin_x, double out[2][FILL_CASES + 1])
         /* A threshold of 1 counts no probe invalid: the field as if validity did not exist. */
         const vdbgi_bake_desc bd = {.rays = 256, .invalid_threshold = f == FILL_NONE ? 1.0f : 0.0f};
         CHECK_RESULT(ctx, vdbgi_probes_bake(pr, s, &bd, NULL), VDBGI_OK);
-        const vdbgi_convert_desc cd = {.eps = VDBGI_ZERO,
-                                       .max_level = VDBGI_ZERO,
+        const vdbgi_convert_desc cd = {.eps_is_set = 1,
+                                       .max_level_is_set = 1,
                                        .fill = f == FILL_DARKEST ? VDBGI_FILL_DARKEST
                                                                  : VDBGI_FILL_MEAN};
         vdbgi_volume *v = NULL;

@@ -36,7 +36,8 @@ function giNodes(runtime) {
     atlasDims: uniform(u.giAtlasDims.value),
     columnsDims: uniform(u.giColumnsDims.value),
     layout: uniform(u.giLayout.value),
-    decode: uniform(u.giDecode.value),
+    rgbmRange: uniform(0).onRenderUpdate(() => u.giRgbmRange.value),
+    on: uniform(0).onRenderUpdate(() => u.giOn.value),
     debug: uniform(0, 'int').onRenderUpdate(() => u.giDebug.value),
     basis: uniform(0).onRenderUpdate(() => u.giBasis.value),
     world: uniform(u.world.value),
@@ -98,7 +99,7 @@ function giNodes(runtime) {
     const texel = first.add(q);
     const uvw = texel.add(0.5).div(n.atlasDims);
     const s = n.texture('atlas', uvw);
-    const l0 = select(n.decode.x.greaterThan(0), s.rgb.mul(s.a).mul(n.decode.x), s.rgb);
+    const l0 = select(n.rgbmRange.greaterThan(0), s.rgb.mul(s.a).mul(n.rgbmRange), s.rgb);
     // Term byte j = 3 term + channel in texture j / 4, component j mod 4, as q + 128.
     const c = [];
     for (let i = 0; i < 6; i++) {
@@ -226,7 +227,7 @@ function applyNodes(material, n, { set, perFragment, volume }) {
   // The occluders take their share of the volume's bounce (added as emission) and, as
   // ambient occlusion, of the lighting model's indirect light (a lightmap's among it).
   const visible = n.visibility(positionWorld, fragmentNormal().normalize());
-  const bounce = n.bounce(irradiance, albedo, n[set]).mul(n.decode.y).mul(visible);
+  const bounce = n.bounce(irradiance, albedo, n[set]).mul(n.on).mul(visible);
   if (volume) material.emissiveNode = (material.emissiveNode ?? materialEmissive).add(bounce);
   const ao = material.aoNode ?? (material.aoMap ? materialAO : null);
   material.aoNode = ao ? ao.mul(visible) : visible;

@@ -304,8 +304,9 @@ export class GiRuntimeBase {
       // x: texels a brick side, y: border before the first probe, z: coarse probe offset.
       // The layout's number (gi-format.js), the seed apron and where a coarse probe stands.
       giLayout: { value: new THREE.Vector3(LAYOUT_SEED, 1, 0.5) },
-      // x: RGBM range (0 for RGB9E5, whose texels are already linear), y: GI on.
-      giDecode: { value: new THREE.Vector2(0, 0) },
+      // RGBM's range (0 for RGB9E5, whose texels are already linear), and 1 while the light is on.
+      giRgbmRange: { value: 0 },
+      giOn: { value: 0 },
       giDebug: { value: DebugView.OFF },
       world: { value: new THREE.Vector3(DEFAULT_KNOBS.intensity, DEFAULT_KNOBS.self, DEFAULT_KNOBS.bleed) },
       character: { value: new THREE.Vector3(DEFAULT_KNOBS.intensity, DEFAULT_KNOBS.self, DEFAULT_KNOBS.bleed) },
@@ -471,7 +472,8 @@ export class GiRuntimeBase {
       u.giAtlas.value = this._empty.atlas;
       u.giSh.value = Array(6).fill(this._empty.atlas);
       u.giBasis.value = 0;
-      u.giDecode.value.set(0, 0);
+      u.giRgbmRange.value = 0;
+      u.giOn.value = 0;
       return;
     }
     const h = volume.info;
@@ -486,13 +488,14 @@ export class GiRuntimeBase {
     u.giIndDims.value.set(...h.indDims);
     u.giAtlasDims.value.set(...h.atlasDims);
     u.giLayout.value.set(h.layout, geo.pad, geo.centre);
-    u.giDecode.value.set(h.encoding === ENCODING_RGB9E5 ? 0 : h.rgbmRange, this._enabled ? 1 : 0);
+    u.giRgbmRange.value = h.encoding === ENCODING_RGB9E5 ? 0 : h.rgbmRange;
+    u.giOn.value = this._enabled ? 1 : 0;
   }
 
   get enabled() { return this._enabled; }
   set enabled(on) {
     this._enabled = !!on;
-    this.uniforms.giDecode.value.y = this._enabled && this.volume ? 1 : 0;
+    this.uniforms.giOn.value = this._enabled && this.volume ? 1 : 0;
   }
 
   get debug() { return this.uniforms.giDebug.value; }
@@ -558,7 +561,7 @@ export class GiRuntime extends GiRuntimeBase {
     material.onBeforeCompile = (shader, renderer) => {
       previous?.call(material, shader, renderer);
       for (const name of ['giColumns', 'giColumnsDims', 'giAtlas', 'giSh', 'giBasis', 'giBoxMin', 'giBoxSize',
-        'giIndDims', 'giAtlasDims', 'giLayout', 'giDecode', 'giDebug', 'giOccA', 'giOccB', 'giOccCount'])
+        'giIndDims', 'giAtlasDims', 'giLayout', 'giRgbmRange', 'giOn', 'giDebug', 'giOccA', 'giOccB', 'giOccCount'])
         shader.uniforms[name] = u[name];
       shader.uniforms.giKnobs = knobs;
       shader.vertexShader = shader.vertexShader
@@ -590,7 +593,8 @@ uniform highp sampler3D giAtlas;
 uniform highp sampler3D giSh[6];
 uniform int giBasis;
 uniform vec3 giBoxMin, giBoxSize, giIndDims, giAtlasDims, giLayout;
-uniform vec2 giColumnsDims, giDecode;
+uniform vec2 giColumnsDims;
+uniform float giRgbmRange, giOn;
 uniform int giDebug;
 struct GiLookup { vec3 irradiance; float level; vec3 inBrick; };
 // Texel i of the runtime's indirection, as bytes. i, row and column are
@@ -642,7 +646,7 @@ GiLookup vdbgiLookup(vec3 pos, vec3 n) {
   vec3 uvw = (texel + 0.5) / giAtlasDims;
   vec4 s = texture(giAtlas, uvw);
   GiLookup r;
-  r.irradiance = giDecode.x > 0.0 ? s.rgb * s.a * giDecode.x : s.rgb;
+  r.irradiance = giRgbmRange > 0.0 ? s.rgb * s.a * giRgbmRange : s.rgb;
   if (l2) {
     // Term byte j = 3 term + channel in texture j / 4, component j mod 4.
     // (GLSL ES 3.0 indexes a sampler array by constants only: one line a texture.)
@@ -760,9 +764,9 @@ const STANDARD_DIFFUSE = THREE.ShaderChunk.lights_physical_pars_fragment.include
 const GLSL_SHADE = /* glsl */ `
 #ifndef VDBGI_NO_VOLUME
 #if defined( STANDARD )
-reflectedLight.indirectDiffuse += giDecode.y * vdbgiBounce(vdbgiIrradianceHere(${GLSL_WORLD_NORMAL('normal')}), material.${STANDARD_DIFFUSE}, giKnobs);
+reflectedLight.indirectDiffuse += giOn * vdbgiBounce(vdbgiIrradianceHere(${GLSL_WORLD_NORMAL('normal')}), material.${STANDARD_DIFFUSE}, giKnobs);
 #else
-reflectedLight.indirectDiffuse += giDecode.y * vdbgiBounce(vdbgiIrradianceHere(${GLSL_WORLD_NORMAL('normal')}), material.diffuseColor, giKnobs);
+reflectedLight.indirectDiffuse += giOn * vdbgiBounce(vdbgiIrradianceHere(${GLSL_WORLD_NORMAL('normal')}), material.diffuseColor, giKnobs);
 #endif
 #endif
 if (giOccCount > 0) reflectedLight.indirectDiffuse *= vdbgiVisibility(vGiWorld, normalize(${GLSL_WORLD_NORMAL('normal')}));

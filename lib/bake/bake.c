@@ -203,7 +203,7 @@ static void record_settings(vdbgi_probes *p, const vdbgi_scene *scene, const vdb
     vdbgi_meta_set_double(&p->meta, "spacing", p->spacing);
     vdbgi_meta_set_double(&p->meta, "margin", p->margin);
     vdbgi_meta_set_vec3(&p->meta, "origin", origin);
-    vdbgi_meta_set_int(&p->meta, "rays", bp->adaptive ? VDBGI_RAYS_AUTO : bp->rays);
+    vdbgi_meta_set_int(&p->meta, "rays", bp->adaptive ? VDBGI_META_RAYS_ADAPTIVE : bp->rays);
     if (bp->adaptive) {
         vdbgi_meta_set_double(&p->meta, "noise", bp->noise);
         vdbgi_meta_set_int(&p->meta, "max_rays", bp->max_rays);

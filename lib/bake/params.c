@@ -103,8 +103,11 @@ vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc
     if (!desc)
         desc = &none;
     memset(bp, 0, sizeof(*bp));
-    bp->adaptive = desc->rays == VDBGI_RAYS_AUTO;
-    bp->rays = desc->rays == 0 || bp->adaptive ? 128 : desc->rays;
+    bp->adaptive = desc->adaptive != 0;
+    VDBGI_FAIL_IF(ctx, bp->adaptive && desc->rays != 0, VDBGI_ERR_INVALID_ARG,
+                  "an adaptive bake takes no fixed ray count (got %d; max rays caps it)",
+                  desc->rays);
+    bp->rays = desc->rays == 0 ? 128 : desc->rays;
     VDBGI_FAIL_IF(ctx, bp->rays < 1 || bp->rays > 1000000, VDBGI_ERR_INVALID_ARG,
                   "rays per probe must be in 1..1000000 (got %d)", desc->rays);
     bp->noise = desc->noise != 0.0f ? desc->noise : 0.02f;
@@ -119,9 +122,7 @@ vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc
     bp->ray_dist = desc->ray_dist != 0.0f ? desc->ray_dist : 40.0f;
     VDBGI_FAIL_IF(ctx, !(bp->ray_dist > 0.0f) || !isfinite(bp->ray_dist), VDBGI_ERR_INVALID_ARG,
                   "ray distance must be > 0 and finite (got %g)", (double)desc->ray_dist);
-    bp->ambient = desc->ambient == 0.0f         ? 0.15f
-                  : desc->ambient == VDBGI_ZERO ? 0.0f
-                                                : desc->ambient;
+    bp->ambient = desc->ambient == 0.0f && !desc->ambient_is_set ? 0.15f : desc->ambient;
     VDBGI_FAIL_IF(ctx, !(bp->ambient >= 0.0f && bp->ambient <= MAX_LIGHT), VDBGI_ERR_INVALID_ARG,
                   "ambient must be in 0..%g (got %g)", (double)MAX_LIGHT, (double)desc->ambient);
 
@@ -134,12 +135,10 @@ vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc
     for (int k = 0; k < 3; k++)
         bp->sun_dir[k] = sd[k] / len;
 
-    bp->sun_on = !(desc->sun_color[0] == VDBGI_ZERO && desc->sun_color[1] == VDBGI_ZERO &&
-                   desc->sun_color[2] == VDBGI_ZERO);
+    const bool default_sun_color = is_zero3(desc->sun_color) && !desc->sun_color_is_set;
     for (int k = 0; k < 3; k++)
-        bp->sun_color[k] = !bp->sun_on                 ? 0.0f
-                           : is_zero3(desc->sun_color) ? 1.0f
-                                                       : desc->sun_color[k];
+        bp->sun_color[k] = default_sun_color ? 1.0f : desc->sun_color[k];
+    bp->sun_on = !is_zero3(bp->sun_color);
     VDBGI_FAIL_IF(ctx, !in_light_range3(bp->sun_color), VDBGI_ERR_INVALID_ARG,
                   "sun colour must be in 0..%g (got %g,%g,%g)", (double)MAX_LIGHT,
                   (double)desc->sun_color[0], (double)desc->sun_color[1],
@@ -177,9 +176,8 @@ vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc
     bp->model = desc->model;
     if (bp->model == VDBGI_MODEL_PHYSICAL) {
         /* Physical light needs neither stand-in: bounces replace the fill, 1/d^2 is in E. */
-        VDBGI_FAIL_IF(ctx, desc->ambient != 0.0f && desc->ambient != VDBGI_ZERO,
-                      VDBGI_ERR_INVALID_ARG, "the physical model has no ambient fill (got %g)",
-                      (double)desc->ambient);
+        VDBGI_FAIL_IF(ctx, desc->ambient != 0.0f, VDBGI_ERR_INVALID_ARG,
+                      "the physical model has no ambient fill (got %g)", (double)desc->ambient);
         VDBGI_FAIL_IF(ctx, desc->falloff != 0.0f && !isinf(desc->falloff), VDBGI_ERR_INVALID_ARG,
                       "the physical model has no distance falloff (got %g)", (double)desc->falloff);
         bp->ambient = 0.0f;

@@ -121,9 +121,8 @@ vdbgi_result vdbgi_probes_place(vdbgi_context *ctx, const vdbgi_scene *scene,
     const double spacing = desc->spacing == 0.0 ? 0.5 : desc->spacing;
     VDBGI_FAIL_IF(ctx, !(spacing > 0.0) || !isfinite(spacing), VDBGI_ERR_INVALID_ARG,
                   "probe spacing must be > 0 and finite (got %g)", spacing);
-    const double margin = desc->margin == 0.0          ? 4.0 * spacing
-                          : desc->margin == VDBGI_ZERO ? 0.0
-                                                       : desc->margin;
+    const double margin =
+        desc->margin == 0.0 && !desc->margin_is_set ? 4.0 * spacing : desc->margin;
     VDBGI_FAIL_IF(ctx, !(margin >= 0.0) || !isfinite(margin), VDBGI_ERR_INVALID_ARG,
                   "probe margin must be >= 0 and finite (got %g)", desc->margin);
     VDBGI_FAIL_IF(ctx, margin / spacing > 64.0, VDBGI_ERR_INVALID_ARG,
@@ -136,9 +135,11 @@ vdbgi_result vdbgi_probes_place(vdbgi_context *ctx, const vdbgi_scene *scene,
     VDBGI_FAIL_IF(ctx, desc->tile_index < 0 || desc->tile_index >= tiles, VDBGI_ERR_INVALID_ARG,
                   "tile %d of %d does not exist (tiles are 1..%d)", desc->tile_index + 1, tiles,
                   tiles);
+    const bool origin_given = desc->origin_is_set || desc->origin[0] != 0.0 ||
+                              desc->origin[1] != 0.0 || desc->origin[2] != 0.0;
     double origin[3];
     for (int k = 0; k < 3; k++) {
-        origin[k] = desc->origin_is_set ? desc->origin[k] : 0.5 * spacing;
+        origin[k] = origin_given ? desc->origin[k] : 0.5 * spacing;
         VDBGI_FAIL_IF(ctx, !isfinite(origin[k]), VDBGI_ERR_INVALID_ARG,
                       "lattice origin must be finite");
     }

@@ -133,7 +133,7 @@ static vdbgi_result take_read(vdbgi_context *ctx, const char *path, vdbgi_result
                       ? VDBGI_SAMPLING_RANDOM
                       : VDBGI_SAMPLING_FIBONACCI;
     m = vdbgi_meta_find(&p->meta, "rays");
-    p->adaptive = m && m->type == VDBGI_META_INT && m->i == VDBGI_RAYS_AUTO;
+    p->adaptive = m && m->type == VDBGI_META_INT && m->i == VDBGI_META_RAYS_ADAPTIVE;
     if (!vdbgi_meta_find(&p->meta, "sampling"))
         p->sampling = VDBGI_SAMPLING_RANDOM; /* not ours: assume independent noise */
     /* What OpenVDB reads as any float: irradiance is finite and >= 0, validity a fraction. */

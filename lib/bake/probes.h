@@ -5,6 +5,9 @@
 #include "lattice.h"
 #include "meta.h"
 
+/* The .vdb's "rays" of an adaptive bake, whose count varies by probe. */
+#define VDBGI_META_RAYS_ADAPTIVE (-1)
+
 #ifdef __cplusplus
 extern "C" {
 #endif

@@ -115,11 +115,14 @@ static vdbgi_result resolve_grid(vdbgi_context *ctx, const vdbgi_probes *p,
     /* The baked bounds: the probes' box and half a spacing around it. */
     vdbgi_probes_info pi;
     vdbgi_probes_get_info(p, &pi);
+    const bool box_given = desc->box_is_set || desc->box_min[0] != 0.0 || desc->box_min[1] != 0.0 ||
+                           desc->box_min[2] != 0.0 || desc->box_max[0] != 0.0 ||
+                           desc->box_max[1] != 0.0 || desc->box_max[2] != 0.0;
     for (int k = 0; k < 3; k++) {
         const double blo = p->origin[k] + p->spacing * (pi.ijk_min[k] - 0.5);
         const double bhi = p->origin[k] + p->spacing * (pi.ijk_max[k] + 0.5);
-        lo[k] = desc->box_is_set ? desc->box_min[k] : blo;
-        hi[k] = desc->box_is_set ? desc->box_max[k] : bhi;
+        lo[k] = box_given ? desc->box_min[k] : blo;
+        hi[k] = box_given ? desc->box_max[k] : bhi;
         const double slack = 1e-6 * (bhi - blo);
         VDBGI_FAIL_IF(ctx, lo[k] < blo - slack || hi[k] > bhi + slack, VDBGI_ERR_INVALID_ARG,
                       "volume box %g..%g on %c reaches outside the baked bounds %g..%g", lo[k],

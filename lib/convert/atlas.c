@@ -66,7 +66,7 @@ static size_t encode_brick(const vdbgi_volume *v, const float (*s)[3], uint32_t 
 /* Point every level-0 cell a brick covers at that brick's slot and level. */
 static void mark_indirection(const vdbgi_volume *v, const vdbgi_brick *k, uint32_t slot)
 {
-    const uint32_t *const d = v->info.indirection_dims;
+    const uint32_t *const d = v->info.ind_dims;
     const uint32_t n = (uint32_t)vdbgi_slot_texels(v->info.layout);
     const uint32_t sx = v->info.atlas_dims[0] / n, sy = v->info.atlas_dims[1] / n;
     const uint8_t texel[4] = {(uint8_t)(slot % sx), (uint8_t)(slot / sx % sy),

@@ -218,7 +218,7 @@ static int split_bands(const vdbgi_pack_plan *pl, int32_t z0, int32_t z1, int th
 /* One level byte a cell (level + 1, 0 for none) for the bricks, in v's indirection; NULL: out of memory. */
 static uint8_t *level_bytes(const vdbgi_volume *v, const vdbgi_brick *bricks, size_t count)
 {
-    const uint32_t *const d = v->info.indirection_dims;
+    const uint32_t *const d = v->info.ind_dims;
     uint8_t *const levels = vdbgi_calloc(v->ctx, (size_t)d[0] * d[1] * d[2], 1);
     for (size_t b = 0; levels && b < count; b++) {
         const int32_t span = 1 << bricks[b].level;
@@ -331,7 +331,7 @@ vdbgi_result vdbgi_pack_writer_create(vdbgi_volume *v, vdbgi_brick *bricks, size
         vdbgi_free(ctx, w);
         return r;
     }
-    const uint32_t *const d = v->info.indirection_dims;
+    const uint32_t *const d = v->info.ind_dims;
     const size_t cells = (size_t)d[0] * d[1] * d[2], n = w->pl.points;
     const bool with_sh = v->info.basis == VDBGI_BASIS_SH2;
     const size_t point_bytes = 4 + (with_sh ? VDBGI_SH_BYTES : 0);
@@ -354,7 +354,7 @@ vdbgi_result vdbgi_pack_writer_create(vdbgi_volume *v, vdbgi_brick *bricks, size
 static int writer_bands(const vdbgi_pack_writer *w, const vdbgi_field *filled, int32_t z0,
                         int32_t z1, band_job *jobs)
 {
-    const uint32_t *const d = w->v->info.indirection_dims;
+    const uint32_t *const d = w->v->info.ind_dims;
     const size_t cells = (size_t)d[0] * d[1] * d[2];
     const band_job proto = {.v = w->v,
                             .filled = filled,
@@ -393,7 +393,7 @@ vdbgi_result vdbgi_pack_writer_finish(vdbgi_pack_writer *w, uint8_t **payload, s
     vdbgi_volume *const v = w->v;
     vdbgi_context *const ctx = v->ctx;
     const vdbgi_pack_plan *const pl = &w->pl;
-    const uint32_t *const d = v->info.indirection_dims;
+    const uint32_t *const d = v->info.ind_dims;
     const size_t cells = (size_t)d[0] * d[1] * d[2], n = pl->points, count = w->count;
     const size_t point_bytes = 4 + (w->sh ? VDBGI_SH_BYTES : 0);
     memcpy(w->out, w->levels, cells);

@@ -89,8 +89,8 @@ vdbgi_result vdbgi_volume_write_slices(const vdbgi_volume *v, const vdbgi_probes
     const bool flip_v = axis != VDBGI_AXIS_Y;
     const int32_t plane = (int32_t)lround((at - v->lattice_origin[axis]) / probes->spacing);
     const int32_t u0 = v->origin_cell[ua] * VDBGI_BRICK, v0 = v->origin_cell[va] * VDBGI_BRICK;
-    const int w = (int)v->info.indirection_dims[ua] * VDBGI_BRICK;
-    const int h = (int)v->info.indirection_dims[va] * VDBGI_BRICK;
+    const int w = (int)v->info.ind_dims[ua] * VDBGI_BRICK;
+    const int h = (int)v->info.ind_dims[va] * VDBGI_BRICK;
 
     const size_t px = (size_t)w * (size_t)h;
     float *const baked = vdbgi_calloc(ctx, px, 3 * sizeof(float));
@@ -131,7 +131,7 @@ vdbgi_result vdbgi_volume_write_slices(const vdbgi_volume *v, const vdbgi_probes
             size_t cell[3];
             for (int k = 0; k < 3; k++)
                 cell[k] = (size_t)(vdbgi_floor_div(ijk[k], VDBGI_BRICK) - v->origin_cell[k]);
-            const uint32_t *const d = v->info.indirection_dims;
+            const uint32_t *const d = v->info.ind_dims;
             const int level =
                 cell[axis] < d[axis]
                     ? vdbgi_cell_level(

@@ -20,16 +20,14 @@ static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *d
     const vdbgi_convert_desc none = {0};
     if (!desc)
         desc = &none;
-    *eps = desc->eps == 0.0f ? 0.1f : desc->eps == VDBGI_ZERO ? 0.0f : desc->eps;
+    *eps = desc->eps == 0.0f && !desc->eps_is_set ? 0.1f : desc->eps;
     VDBGI_FAIL_IF(ctx, !(*eps >= 0.0f) || !isfinite(*eps), VDBGI_ERR_INVALID_ARG,
                   "eps must be >= 0 and finite (got %g)", (double)desc->eps);
-    *sigmas = desc->noise_sigmas == 0.0f         ? 1.0f
-              : desc->noise_sigmas == VDBGI_ZERO ? 0.0f
-                                                 : desc->noise_sigmas;
+    *sigmas = desc->noise_sigmas == 0.0f && !desc->noise_sigmas_is_set ? 1.0f : desc->noise_sigmas;
     VDBGI_FAIL_IF(ctx, !(*sigmas >= 0.0f) || !isfinite(*sigmas), VDBGI_ERR_INVALID_ARG,
                   "noise allowance must be >= 0 standard errors (got %g)",
                   (double)desc->noise_sigmas);
-    *max_level = desc->max_level == 0 ? 3 : desc->max_level == VDBGI_ZERO ? 0 : desc->max_level;
+    *max_level = desc->max_level == 0 && !desc->max_level_is_set ? 3 : desc->max_level;
     VDBGI_FAIL_IF(ctx, *max_level < 0 || *max_level > 3, VDBGI_ERR_INVALID_ARG,
                   "max level must be in 0..3 (got %d)", desc->max_level);
     VDBGI_FAIL_IF(ctx,
@@ -149,13 +147,12 @@ vdbgi_result vdbgi_build_place_indirection(vdbgi_volume *v, const int32_t *cells
                       "the indirection texture would be %lld cells along %c, above the "
                       "%d-texel limit of 3D textures: raise the probe spacing",
                       (long long)dim, "xyz"[k], VDBGI_MAX_TEXTURE_DIM);
-        info->indirection_dims[k] = (uint32_t)dim;
+        info->ind_dims[k] = (uint32_t)dim;
         info->box_min[k] = (float)(v->lattice_origin[k] +
                                    spacing * ((double)v->origin_cell[k] * VDBGI_BRICK - 0.5));
         info->box_max[k] = (float)(info->box_min[k] + spacing * (double)dim * VDBGI_BRICK);
     }
-    info->indirection_size = 4 * (size_t)info->indirection_dims[0] * info->indirection_dims[1] *
-                             info->indirection_dims[2];
+    info->indirection_size = 4 * (size_t)info->ind_dims[0] * info->ind_dims[1] * info->ind_dims[2];
     return VDBGI_OK;
 }
 
@@ -239,7 +236,7 @@ static vdbgi_result lay_out(vdbgi_volume *v, vdbgi_brick *bricks, size_t brick_c
     VDBGI_TRY(vdbgi_atlas_dims(v->ctx, brick_count + 1, info->layout, info->atlas_dims));
     info->brick_count = (uint32_t)brick_count;
     info->atlas_size = 4 * (size_t)info->atlas_dims[0] * info->atlas_dims[1] * info->atlas_dims[2];
-    VDBGI_TRY(vdbgi_textures_alloc(v->ctx, &v->tex, info->indirection_dims, info->atlas_dims));
+    VDBGI_TRY(vdbgi_textures_alloc(v->ctx, &v->tex, info->ind_dims, info->atlas_dims));
     VDBGI_TRY(vdbgi_atlas_fill(v, bricks, brick_count, threads));
     for (size_t i = 0; i < brick_count; i++)
         info->bricks[bricks[i].level]++;
@@ -388,6 +385,8 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
         goto fail;
     vdbgi_error_figures(info, &e);
     vdbgi_log(ctx, VDBGI_LOG_DEBUG, "error measurement in %.3f s", vdbgi_now() - t);
+    if ((r = vdbgi_volume_seal(v)) != VDBGI_OK)
+        goto fail;
     info->seconds = vdbgi_now() - t0;
     vdbgi_build_report(desc, 1.0f);
 fail:

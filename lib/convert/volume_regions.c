@@ -279,6 +279,8 @@ vdbgi_result vdbgi_volume_build_regions_halo(vdbgi_context *ctx, vdbgi_probe_fil
         goto fail;
     vdbgi_error_figures(&v->info, &e);
     vdbgi_log(ctx, VDBGI_LOG_DEBUG, "error measurement in %.3f s", vdbgi_now() - t);
+    if ((r = vdbgi_volume_seal(v)) != VDBGI_OK)
+        goto fail;
     v->info.seconds = vdbgi_now() - t0;
     vdbgi_build_report(desc, 1.0f);
 fail:

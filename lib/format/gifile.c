@@ -44,7 +44,7 @@ size_t vdbgi_gifile_header(const vdbgi_volume_info *in, uint32_t packed,
     vdbgi_put_u32(h + 16, (uint32_t)in->encoding);
     vdbgi_put_f32(h + 20, in->rgbm_range);
     for (int k = 0; k < 3; k++) {
-        vdbgi_put_u32(h + 24 + 4 * k, in->indirection_dims[k]);
+        vdbgi_put_u32(h + 24 + 4 * k, in->ind_dims[k]);
         vdbgi_put_u32(h + 36 + 4 * k, in->atlas_dims[k]);
         vdbgi_put_f32(h + 48 + 4 * k, in->box_min[k]);
         vdbgi_put_f32(h + 60 + 4 * k, in->box_max[k]);
@@ -141,13 +141,13 @@ static vdbgi_result check_box(vdbgi_context *ctx, const char *path, const vdbgi_
     for (int k = 0; k < 3; k++) {
         const double lo = info->box_min[k], hi = info->box_max[k];
         const double corner = fmax(fabs(lo), fabs(hi)), extent = hi - lo;
-        const double want = 4.0 * info->indirection_dims[k] * s;
+        const double want = 4.0 * info->ind_dims[k] * s;
         VDBGI_FAIL_IF(ctx, corner > VDBGI_MAX_ORIGIN + VDBGI_MAX_INDEX * s, VDBGI_ERR_FORMAT,
                       "%s: box_min/box_max reach %g m, past what a lattice of spacing %g m can",
                       path, corner, s);
         VDBGI_FAIL_IF(ctx, fabs(extent - want) > 1e-3 * want + 0x1p-20 * corner, VDBGI_ERR_FORMAT,
                       "%s: the box is %g m on %c, where ind_dims (%u) x 4 x spacing (%g m) is %g m",
-                      path, extent, "xyz"[k], info -> indirection_dims[k], s, want);
+                      path, extent, "xyz"[k], info -> ind_dims[k], s, want);
     }
     return VDBGI_OK;
 }
@@ -185,13 +185,12 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
         (double)VDBGI_GI_RANGE_MIN, (double)VDBGI_GI_RANGE_MAX);
     size_t ind = 4, atlas = 4;
     for (int k = 0; k < 3; k++) {
-        info->indirection_dims[k] = vdbgi_get_u32(h + 24 + 4 * k);
+        info->ind_dims[k] = vdbgi_get_u32(h + 24 + 4 * k);
         info->atlas_dims[k] = vdbgi_get_u32(h + 36 + 4 * k);
         info->box_min[k] = vdbgi_get_f32(h + 48 + 4 * k);
         info->box_max[k] = vdbgi_get_f32(h + 60 + 4 * k);
-        VDBGI_FAIL_IF(
-            ctx, info->indirection_dims[k] < 1 || info->indirection_dims[k] > VDBGI_MAX_TEXTURE_DIM,
-            VDBGI_ERR_FORMAT, "%s: bad indirection size", path);
+        VDBGI_FAIL_IF(ctx, info->ind_dims[k] < 1 || info->ind_dims[k] > VDBGI_MAX_TEXTURE_DIM,
+                      VDBGI_ERR_FORMAT, "%s: bad indirection size", path);
         VDBGI_FAIL_IF(
             ctx, info->atlas_dims[k] < lo || info->atlas_dims[k] > hi || info->atlas_dims[k] % b,
             VDBGI_ERR_FORMAT, "%s: bad atlas size", path);
@@ -200,7 +199,7 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
                           !(info->box_max[k] > info->box_min[k]),
                       VDBGI_ERR_FORMAT, "%s: box_min/box_max on %c: not finite, or not ordered",
                       path, "xyz"[k]);
-        ind *= info->indirection_dims[k];
+        ind *= info->ind_dims[k];
         atlas *= info->atlas_dims[k];
     }
     info->spacing = vdbgi_get_f32(h + 72);

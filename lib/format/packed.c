@@ -314,7 +314,7 @@ vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels, const 
     memset(pl, 0, sizeof(*pl));
     size_t grid_cells = 1, cells = 1;
     for (int k = 0; k < 3; k++) {
-        pl->dims[k] = info->indirection_dims[k];
+        pl->dims[k] = info->ind_dims[k];
         pl->grid[k] = pl->dims[k] + PAD;
         grid_cells *= pl->grid[k];
         cells *= pl->dims[k];
@@ -362,7 +362,7 @@ vdbgi_result vdbgi_pack_plan_make(vdbgi_volume *v, const uint8_t *levels, const 
                                : vdbgi_pack_place(ctx, pl, info->atlas_dims);
     info->atlas_size = 4 * (size_t)info->atlas_dims[0] * info->atlas_dims[1] * info->atlas_dims[2];
     if (r == VDBGI_OK)
-        r = vdbgi_textures_alloc(ctx, &v->tex, info->indirection_dims, info->atlas_dims);
+        r = vdbgi_textures_alloc(ctx, &v->tex, info->ind_dims, info->atlas_dims);
     if (r == VDBGI_OK && placement)
         r = check_overlaps(ctx, pl, info->atlas_dims, name, threads);
     if (r != VDBGI_OK) {

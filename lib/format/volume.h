@@ -12,7 +12,8 @@ struct vdbgi_volume {
     uint8_t *payload;   /* compact layout: the file's body (level bytes, placement, values) */
     size_t payload_size;
     uint32_t version; /* the file version the payload follows: 5, or 6 or 7 with L2 terms */
-    uint8_t *file;    /* the gzip'd .gi, made by the first write and kept (volume_io.c) */
+    uint8_t *file;    /* the gzip'd .gi a write writes, made once the volume is whole */
+    size_t file_size;
     /* Only from vdbgi_volume_build: */
     struct vdbgi_field *filled; /* convert/field.h; NULL unless built whole */
     double lattice_origin[3];   /* world position of fine index (0,0,0) */
@@ -26,6 +27,13 @@ struct vdbgi_volume {
  * vdbgi_volume_write_slices).
  */
 const float *vdbgi_level_colour(int level);
+
+/*
+ * Makes the gzip'd file a write writes, from the header and the body, once the
+ * volume is whole (built, or read from a plain .gi), so that writers are pure
+ * copies of a volume that no longer changes. Sets info.file_size.
+ */
+vdbgi_result vdbgi_volume_seal(vdbgi_volume *v);
 
 /* The textures and uniforms of a volume, as the sampler takes them. */
 vdbgi_volume_view vdbgi_volume_view_of(const vdbgi_volume *v);

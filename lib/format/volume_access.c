@@ -14,7 +14,7 @@ vdbgi_volume_view vdbgi_volume_view_of(const vdbgi_volume *v)
     for (int k = 0; k < 3; k++) {
         view.box_min[k] = v->info.box_min[k];
         view.box_max[k] = v->info.box_max[k];
-        view.ind_dims[k] = v->info.indirection_dims[k];
+        view.ind_dims[k] = v->info.ind_dims[k];
         view.atlas_dims[k] = v->info.atlas_dims[k];
     }
     view.indirection = v->tex.indirection;
@@ -39,7 +39,7 @@ void vdbgi_volume_sample_normal(const vdbgi_volume *v, const float pos[3], const
 /* Column (x, z)'s run: the cells from its lowest to its highest that are not 0,0,0,0. */
 static uint32_t column_run(const vdbgi_volume *v, uint32_t x, uint32_t z, uint32_t *ymin)
 {
-    const uint32_t *const d = v->info.indirection_dims;
+    const uint32_t *const d = v->info.ind_dims;
     uint32_t lo = d[1], hi = 0;
     for (uint32_t y = 0; y < d[1]; y++) {
         const uint8_t *const t = &v->tex.indirection[4 * (((size_t)z * d[1] + y) * d[0] + x)];
@@ -54,7 +54,7 @@ static uint32_t column_run(const vdbgi_volume *v, uint32_t x, uint32_t z, uint32
 
 size_t vdbgi_volume_columns(const vdbgi_volume *v, uint8_t *out, size_t capacity, uint32_t dims[2])
 {
-    const uint32_t *const d = v->info.indirection_dims;
+    const uint32_t *const d = v->info.ind_dims;
     const size_t n = (size_t)d[0] * d[2];
     size_t total = 2 * n;
     uint32_t ymin;

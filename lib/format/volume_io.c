@@ -64,7 +64,7 @@ static vdbgi_result from_body(vdbgi_context *ctx, const char *name, const vdbgi_
         v->version = version;
         r = vdbgi_pack_read(v, name);
     } else {
-        vdbgi_textures_adopt(&v->tex, body, info->indirection_dims, info->atlas_dims);
+        vdbgi_textures_adopt(&v->tex, body, info->ind_dims, info->atlas_dims);
         r = check_indirection(ctx, name, v);
     }
     if (r != VDBGI_OK) {
@@ -83,7 +83,22 @@ static vdbgi_result read_bytes(vdbgi_context *ctx, const char *name, const uint8
     uint8_t *body = NULL;
     size_t body_size = 0;
     VDBGI_TRY(vdbgi_gifile_parse(ctx, name, bytes, size, &info, &version, &body, &body_size));
-    return from_body(ctx, name, &info, version, body, body_size, out);
+    VDBGI_TRY(from_body(ctx, name, &info, version, body, body_size, out));
+    vdbgi_volume *const v = *out;
+    vdbgi_result r;
+    if (size >= 2 && bytes[0] == 0x1f && bytes[1] == 0x8b) { /* written back as it came */
+        r = (v->file = vdbgi_alloc(ctx, size)) ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
+        if (r == VDBGI_OK)
+            memcpy(v->file, bytes, v->file_size = size);
+    } else {
+        r = vdbgi_volume_seal(v);
+        v->info.file_size = size; /* the file read, as for a gzip'd one */
+    }
+    if (r != VDBGI_OK) {
+        vdbgi_volume_destroy(v);
+        *out = NULL;
+    }
+    return r;
 }
 
 vdbgi_result vdbgi_volume_read(vdbgi_context *ctx, const char *path, vdbgi_volume **out)
@@ -110,39 +125,31 @@ vdbgi_result vdbgi_volume_read_memory(vdbgi_context *ctx, const void *data, size
 
 /* ---- writing ----------------------------------------------------------------------------- */
 
-/*
- * The gzip'd file, made on first use and kept: it follows from the header
- * and the body, which never change, so the volume stays what it was (the
- * const is the caller's promise, and kept).
- */
-static vdbgi_result file_bytes(const vdbgi_volume *v)
+vdbgi_result vdbgi_volume_seal(vdbgi_volume *v)
 {
-    if (v->file)
-        return VDBGI_OK;
     VDBGI_FAIL_IF(v->ctx, !v->payload && !v->tex.indirection, VDBGI_ERR_INVALID_ARG,
                   "volume has nothing to write");
     uint8_t h[VDBGI_GI_HEADER_MAX];
     const size_t header_size = vdbgi_gifile_header(&v->info, v->payload ? v->version : 0, h);
-    vdbgi_volume *const cache = (vdbgi_volume *)(uintptr_t)v;
     const uint8_t *const body = v->payload ? v->payload : v->tex.indirection;
     const size_t body_size =
         v->payload ? v->payload_size : v->info.indirection_size + v->info.atlas_size;
-    return vdbgi_gifile_gzip(v->ctx, h, header_size, body, body_size, &cache->file,
-                             &cache->info.file_size);
+    vdbgi_free(v->ctx, v->file);
+    v->file = NULL;
+    VDBGI_TRY(vdbgi_gifile_gzip(v->ctx, h, header_size, body, body_size, &v->file, &v->file_size));
+    v->info.file_size = v->file_size;
+    return VDBGI_OK;
 }
 
 vdbgi_result vdbgi_volume_write(const vdbgi_volume *v, const char *path)
 {
-    VDBGI_TRY(file_bytes(v));
-    return vdbgi_write_bytes_atomic(v->ctx, path, v->file, v->info.file_size);
+    return vdbgi_write_bytes_atomic(v->ctx, path, v->file, v->file_size);
 }
 
 vdbgi_result vdbgi_volume_write_memory(const vdbgi_volume *v, void *buffer, size_t capacity,
                                        size_t *size)
 {
-    *size = 0;
-    VDBGI_TRY(file_bytes(v));
-    *size = v->info.file_size;
+    *size = v->file_size;
     VDBGI_FAIL_IF(v->ctx, buffer && capacity < *size, VDBGI_ERR_INVALID_ARG,
                   "a buffer of %zu bytes for a %zu-byte file", capacity, *size);
     if (buffer)
