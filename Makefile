@@ -192,8 +192,9 @@ deps:
 	   [ ! -d web/node_modules/three-0.165 ] || [ ! -d web/node_modules/three-0.175 ] || \
 	   [ ! -d web/node_modules/three-0.183 ] || [ ! -d web/node_modules/esbuild ] || \
 	   [ ! -d web/node_modules/typescript ] || [ ! -d web/node_modules/@types/three ] || \
-	   [ ! -d web/node_modules/vite ]; then \
-	    echo "deps: npm ci (web: three, the oldest threes we claim, esbuild and vite for the README's builds, typescript and @types/three for the types, and puppeteer-core to drive Debian's chromium)"; \
+	   [ ! -d web/node_modules/vite ] || [ ! -d web/node_modules/@react-three/fiber ] || \
+	   [ ! -d web/node_modules/react-dom ] || [ ! -d web/node_modules/@types/react ]; then \
+	    echo "deps: npm ci (web: three, the oldest threes we claim, esbuild and vite for the README's builds, typescript and @types/three for the types, React and React Three Fiber for vdbgi/react, and puppeteer-core to drive Debian's chromium)"; \
 	    (cd web && npm ci --no-audit --no-fund --loglevel=error >/dev/null); \
 	fi
 

@@ -15,11 +15,9 @@ mkdir app
 tarball=$(cd "$ROOT/web" && npm pack --silent --pack-destination "$OLDPWD")
 tar tzf "$tarball" | sed 's|^package/||' | sort | tr '\n' ' '
 echo
-# A block of the README: the fenced block after <!-- example: NAME -->.
-block() {
-    awk -v name="$1" '$0 ~ "<!-- example: " name { on = 1; next } on && /^```/ && !take { take = 1; next }
-         take && /^```/ { exit } take { print }' node_modules/vdbgi/README.md
-}
+# A block of the README, as the user's install holds it.
+. "$ROOT/tests/cli/readme.inc"
+block() { readme_block "$PWD/node_modules/vdbgi/README.md" "$1"; }
 cd app
 printf '{ "name": "scratch", "private": true, "type": "module" }\n' > package.json
 # The bundlers from web/'s own install (offline: linked, as npm links a folder).

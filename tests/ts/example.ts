@@ -5,6 +5,8 @@ import { GiRuntime, loadGi, DebugView, MAX_BYTES, LOAD_TIMEOUT_MS, type GiVolume
 import { GiRuntime as GpuRuntime, toNodeMaterial } from 'vdbgi/webgpu';
 import { decodeGi, parseGi, giReader, textureBytes, LAYOUT_COMPACT, BASIS_SH2, type GiData } from 'vdbgi/format';
 import { LayerCompositor } from 'vdbgi/lightmap-layers';
+import { createElement, type ReactElement } from 'react';
+import { GiLight, useGi } from 'vdbgi/react';
 
 export async function lightWorld(renderer: THREE.WebGLRenderer, scene: THREE.Scene, hero: THREE.Mesh): Promise<GiVolume> {
   const gi = new GiRuntime();
@@ -55,4 +57,22 @@ export function layers(renderer: THREE.WebGLRenderer, map: THREE.Texture): THREE
   compositor.setWeight('sun', 0.5);
   console.log(compositor.names().join());
   return lit;
+}
+
+export function LitWorld({ world }: { world: THREE.Object3D }): ReactElement {
+  return createElement(GiLight, {
+    url: 'world.gi.gz',
+    perFragment: true,
+    debug: 'level',
+    position: [0, 1, 0],
+    onLoad: (volume: GiVolume) => console.log(volume.info.indDims),
+    onError: (error: Error) => console.error(error.message),
+    children: createElement('primitive', { object: world }),
+  });
+}
+
+export function Hero({ mesh }: { mesh: THREE.Mesh }): null {
+  const gi = useGi();
+  gi?.addOccluder(mesh);
+  return null;
 }

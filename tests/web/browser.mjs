@@ -71,6 +71,21 @@ export async function withPage(mounts, fn, { width = 800, height = 600, page: pa
   }
 }
 
+// A screenshot's RGBA8 pixels (top row first), decoded by the page itself: the element's,
+// or the whole page's when element is null.
+export async function screenshotPixels(page, element = null) {
+  const png = await (element ?? page).screenshot({ encoding: 'base64' });
+  return page.evaluate(async (data) => {
+    const img = new Image();
+    img.src = `data:image/png;base64,${data}`;
+    await img.decode();
+    const c = Object.assign(document.createElement('canvas'), { width: img.width, height: img.height });
+    const g = c.getContext('2d');
+    g.drawImage(img, 0, 0);
+    return Array.from(g.getImageData(0, 0, c.width, c.height).data);
+  }, png);
+}
+
 // The mean 8-bit value of a frame's RGB channels (an RGBA8 pixel array).
 export const meanLight = (px) => px.reduce((a, v, i) => (i % 4 === 3 ? a : a + v), 0) / (px.length * 0.75);
 
