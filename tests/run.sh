@@ -1,8 +1,8 @@
 #!/bin/sh
 # run.sh: run every unit test program and CLI script, JOBS at a time (default: one more
 # than the cores, as many tests wait on a browser, python or the disk); print each
-# test's verdict as it ends, then each failure's output, the times slowest first, and
-# last "N passed, N failed".
+# test's verdict as it ends, then each failure's output, the times slowest first (wall
+# and CPU), the whole run's, and last "N passed, N failed".
 # Unit tests print "ok - name" / "not ok - name" per test; a CLI script is one test
 # (tests/cli/NAME.sh, with NAME.exit, NAME.stdout and NAME.stderr as expectations, or
 # exit 77 and a line saying why when it cannot run on this machine;
@@ -15,6 +15,7 @@ BUILD=${BUILD:-build/release}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 JOBS=${JOBS:-$(($(nproc 2>/dev/null || echo 1) + 1))}
 RESULTS=$(mktemp -d)
+started=$(date +%s)
 export BUILD ROOT RESULTS
 trap 'rm -rf "$RESULTS"' EXIT
 
@@ -69,8 +70,13 @@ for i in "$ROOT/$BUILD"/tests/test_* "$ROOT"/tests/cli/*.sh; do
         failed_names="$failed_names $names"
     fi
 done
-echo "times (seconds, slowest first, $JOBS at a time):"
-cat "$RESULTS"/*.time | sort -k1,1gr | tee "$RESULTS/all-times" | awk '{ printf "  %6s  %s\n", $1, $2 }'
+echo "times (seconds, slowest first, $JOBS at a time): wall, CPU, test"
+cat "$RESULTS"/*.time | sort -k1,1gr | tee "$RESULTS/all-times" | awk '{ printf "  %6s  %6s  %s\n", $1, $3, $2 }'
+# The whole run's wall time, and its CPU time over the cores: the least wall time any
+# schedule of these tests could reach on this machine.
+awk -v wall="$(($(date +%s) - started))" -v cores="$(nproc 2>/dev/null || echo 1)" \
+    '{ cpu += $3 } END { printf "all: %d s wall; %.0f CPU-s, %.0f s a core on %d cores\n", wall, cpu, cpu / cores, cores }' \
+    "$RESULTS/all-times"
 mkdir -p "$ROOT/build" && cp "$RESULTS/all-times" "$order" 2>/dev/null
 
 [ -n "$failed_names" ] && echo "failed:$failed_names"

@@ -1,7 +1,7 @@
 #!/bin/sh
 # run_one.sh ITEM: run one test for tests/run.sh and leave its verdict in $RESULTS:
 # NAME.out (what run.sh prints for it), NAME.count ("passed failed skipped") and
-# NAME.time (seconds). ITEM is a unit test program or a tests/cli/NAME.sh script.
+# NAME.time ("wall-seconds name CPU-seconds"). ITEM is a unit test program or a tests/cli/NAME.sh script.
 set -u
 item=$1
 ROOT=${ROOT:?}
@@ -68,6 +68,13 @@ case "$item" in
     ;;
 esac
 end=$(date +%s.%N)
-echo "$start $end $name" | awk '{ printf "%.1f %s\n", $2 - $1, $3 }' >"$RESULTS/$key.time"
+# The CPU seconds of the test and all it waited for (a browser its node closed
+# included): the children's user and system time, the second line of times.
+# (Into a file: in a pipe or $(...) times runs in a child, whose children are none.)
+tf=$(mktemp)
+times >"$tf"
+cpu=$(awk 'NR == 2 { for (i = 1; i <= 2; i++) { split($i, t, "m"); c += 60 * t[1] + t[2] } print c }' "$tf")
+rm -f "$tf"
+echo "$start $end $name $cpu" | awk '{ printf "%.1f %s %.1f\n", $2 - $1, $3, $4 }' >"$RESULTS/$key.time"
 # The verdict's first line as the test ends, so a long run shows its progress.
 echo "$(head -n 1 "$RESULTS/$key.out") [$(cut -d' ' -f1 "$RESULTS/$key.time") s]"
