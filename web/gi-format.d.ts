@@ -51,6 +51,8 @@ export interface GiTimings {
   build?: number;
   upload?: number | null;
   firstFrame?: number;
+  /** Which decoded a loadGi: its worker or the page. */
+  decoder?: 'worker' | 'page';
 }
 
 /** Texels a brick side, the border before its first probe, where a coarse probe stands. */

@@ -37,6 +37,13 @@ export interface LoadOptions {
   onProgress?: (progress: { loaded: number; total: number | null }) => void;
   /** The most a volume may unpack to (MAX_BYTES, 32 MiB, by default). */
   maxBytes?: number;
+  /**
+   * Where a URL's file is unpacked and rebuilt: 'auto' (the default: a module
+   * worker, gi-worker.js beside vdbgi.js, unless vdbgi.js is inside a bundle),
+   * false (the page, given back every 20 ms), or gi-worker.js's URL as the app
+   * serves it. A worker that cannot start leaves the work to the page.
+   */
+  worker?: 'auto' | false | string | URL;
 }
 
 /** One world's textures and figures; made by loadGi(). */

@@ -19,8 +19,9 @@
 import * as THREE from 'three';
 import { now, yieldToPage } from './gi-stream.js';
 import {
-  decodeGi, giReader, parseGiSliced, indirectionColumns, layoutGeometry, MAX_BYTES, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT, SH2_RANGE,
+  decodeGi, giReader, parseGiSliced, layoutGeometry, MAX_BYTES, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT, SH2_RANGE,
 } from './gi-format.js';
+import { prepareTextures } from './gi-gpu.js';
 
 export { ENCODING_RGBM, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT, MAX_BYTES } from './gi-format.js';
 
@@ -74,11 +75,17 @@ export const LOAD_TIMEOUT_MS = 30000;
 // that would unpack to more. `timeout` (ms, 0 for none) gives up on a response
 // that sends nothing for that long; `onProgress({ loaded, total })` hears each
 // chunk (total from Content-Length, or null); `signal` aborts as for fetch()
-// (its own error, unwrapped).
-export async function loadGi(source, { renderer = null, signal, timeout = LOAD_TIMEOUT_MS, onProgress, maxBytes = MAX_BYTES } = {}) {
+// (its own error, unwrapped). A URL's file is unpacked and rebuilt in a module
+// worker (gi-worker.js, beside this file) where one can start, else on the page,
+// which it gives back every SLICE_MS: `worker` 'auto' (the worker where this
+// file is not inside a bundler's output, which has no gi-worker.js beside it),
+// false (the page), or the URL of gi-worker.js as the app serves it.
+// timings.decoder says which ran.
+export async function loadGi(source, { renderer = null, signal, timeout = LOAD_TIMEOUT_MS, onProgress, maxBytes = MAX_BYTES,
+  worker = 'auto' } = {}) {
   const url = typeof source === 'string' || source instanceof URL ? String(source) : null;
   try {
-    return await load(source, url, { renderer, signal, timeout, onProgress, maxBytes });
+    return await load(source, url, { renderer, signal, timeout, onProgress, maxBytes, worker });
   } catch (e) {
     if (signal?.aborted && e === signal.reason) throw e;
     if (!url || e.message.startsWith(`${url}: `)) throw e;
@@ -86,18 +93,18 @@ export async function loadGi(source, { renderer = null, signal, timeout = LOAD_T
   }
 }
 
-async function load(source, url, { renderer, signal, timeout, onProgress, maxBytes }) {
+async function load(source, url, { renderer, signal, timeout, onProgress, maxBytes, worker }) {
   const timings = {};
   let t = now();
   let header, fileBytes;
   if (url) {
-    const gi = await fetchGi(url, { signal, timeout, onProgress, maxBytes });
-    timings.fetch = now() - t;
-    timings.gunzip = gi.inflateMs;
-    t = now();
-    header = await parseGiSliced(gi.bytes);
+    const gi = await fetchGi(url, { signal, timeout, onProgress, maxBytes, worker });
     if (signal?.aborted) throw signal.reason;
-    timings.parse = now() - t;
+    timings.fetch = now() - t - gi.parseMs;
+    timings.gunzip = gi.inflateMs;
+    timings.parse = gi.parseMs;
+    timings.decoder = gi.decoder;
+    header = gi.header;
     fileBytes = gi.loaded;
   } else {
     let bytes;
@@ -107,6 +114,7 @@ async function load(source, url, { renderer, signal, timeout, onProgress, maxByt
     timings.fetch = 0;
     header = await decodeGi(bytes, timings, { maxBytes });
     if (signal?.aborted) throw signal.reason;
+    timings.decoder = 'page';
     fileBytes = bytes.length;
   }
   t = now();
@@ -131,12 +139,14 @@ async function load(source, url, { renderer, signal, timeout, onProgress, maxByt
   return volume;
 }
 
-// The .gi at url, read chunk by chunk into a giReader (unpacked as it comes,
-// refused at the first byte it cannot be), given up on after `timeout` ms without
-// a byte (the wait for the answer included). Network failures say what happened where.
-async function fetchGi(url, { signal, timeout, onProgress, maxBytes }) {
+// The .gi at url, read chunk by chunk into a decoder (unpacked as it comes,
+// refused at the first byte it cannot be, then parsed and made ready for the
+// GPU), given up on after `timeout` ms without a byte (the wait for the answer
+// included). Network failures say what happened where.
+async function fetchGi(url, { signal, timeout, onProgress, maxBytes, worker }) {
   if (signal?.aborted) throw signal.reason;
-  const gi = giReader({ maxBytes });
+  const decoding = startDecoder(worker, maxBytes);
+  let gi = null;
   const stop = new AbortController();
   let timer = null, timedOut = false;
   const arm = () => {
@@ -162,6 +172,7 @@ async function fetchGi(url, { signal, timeout, onProgress, maxBytes }) {
     }
     if (!response.ok) throw new Error(`HTTP ${response.status}`);
     const total = Number(response.headers.get('content-length')) || null;
+    gi = await decoding;
     reader = response.body.getReader();
     for (;;) {
       arm();
@@ -180,11 +191,10 @@ async function fetchGi(url, { signal, timeout, onProgress, maxBytes }) {
       if (signal?.aborted) throw signal.reason;
     }
     reader = null;
-    const bytes = await gi.end();
-    return { bytes, loaded, inflateMs: gi.inflateMs };
+    return { ...(await gi.end()), loaded, decoder: gi.kind };
   } catch (e) {
     // Nothing more is read: a refused file, a bomb, an abort.
-    gi.cancel(e);
+    (gi ?? (await decoding)).cancel(e);
     reader?.cancel(e).catch(() => {});
     stop.abort();
     throw e;
@@ -194,18 +204,107 @@ async function fetchGi(url, { signal, timeout, onProgress, maxBytes }) {
   }
 }
 
+// Where loadGi's worker lives when nothing says otherwise: beside this file, when
+// this file is itself and not part of a bundler's output (which has no gi-worker.js
+// beside it: a worker that failed to load would leave a 404 in the console).
+const WORKER_BESIDE = /\/vdbgi\.js$/.test(new URL(import.meta.url).pathname)
+  ? new URL('./gi-worker.js', import.meta.url) : null;
+// How long a worker may take to start before the page decodes instead.
+const WORKER_START_MS = 5000;
+
+// A decoder: push(chunk) each chunk, end() for { header, inflateMs, parseMs }
+// (the header ready for GiVolume), cancel(reason) to stop. This one decodes on
+// the page, giving it back every SLICE_MS.
+function pageDecoder(maxBytes) {
+  const gi = giReader({ maxBytes });
+  return {
+    kind: 'page',
+    push: (chunk) => gi.push(chunk),
+    cancel: (reason) => gi.cancel(reason),
+    async end() {
+      const bytes = await gi.end();
+      const t = now();
+      const header = prepareTextures(await parseGiSliced(bytes));
+      return { header, inflateMs: gi.inflateMs, parseMs: now() - t };
+    },
+  };
+}
+
+// The decoder `worker` asks for ('auto', false, or gi-worker.js's URL): one in a
+// module worker once it says it is ready, else (no Worker, a policy that forbids
+// one, a script that did not load or start within WORKER_START_MS) the page's.
+function startDecoder(worker, maxBytes) {
+  const url = worker === 'auto' ? WORKER_BESIDE : worker || null;
+  if (!url || typeof Worker === 'undefined') return Promise.resolve(pageDecoder(maxBytes));
+  let w;
+  try {
+    w = new Worker(url, { type: 'module' });
+  } catch {
+    return Promise.resolve(pageDecoder(maxBytes));
+  }
+  const pending = new Map();
+  let next = 0, failure = null;
+  const call = (op, message = {}, transfer = []) => new Promise((resolve, reject) => {
+    if (failure) return reject(failure);
+    pending.set(next, { resolve, reject });
+    w.postMessage({ id: next++, op, ...message }, transfer);
+  });
+  const decoder = {
+    kind: 'worker',
+    // The chunk's buffer goes over; one that holds more than the chunk is copied first.
+    push: (chunk) => {
+      const own = chunk.byteOffset === 0 && chunk.byteLength === chunk.buffer.byteLength ? chunk : chunk.slice();
+      return call('push', { chunk: own }, [own.buffer]);
+    },
+    cancel: () => w.terminate(),
+    async end() {
+      try {
+        return await call('end');
+      } finally {
+        w.terminate();
+      }
+    },
+  };
+  return new Promise((resolve) => {
+    const fallBack = () => {
+      clearTimeout(timer);
+      w.terminate();
+      resolve(pageDecoder(maxBytes));
+    };
+    const timer = setTimeout(fallBack, WORKER_START_MS);
+    w.onerror = (e) => {
+      e.preventDefault();
+      // Before it started: the page decodes. After: what was asked of it fails.
+      failure = new Error(`the decoding worker stopped (${e.message || 'no message'})`);
+      for (const p of pending.values()) p.reject(failure);
+      pending.clear();
+      fallBack();
+    };
+    w.onmessage = ({ data }) => {
+      if (data.ready) {
+        clearTimeout(timer);
+        call('start', { maxBytes }).then(() => resolve(decoder), fallBack);
+        return;
+      }
+      const p = pending.get(data.id);
+      pending.delete(data.id);
+      if (data.error !== undefined) p?.reject(new Error(data.error));
+      else p?.resolve(data);
+    };
+  });
+}
+
 // One world's textures and figures. Make it with loadGi(). `info` holds the
 // file's header fields (docs/format.md: version, layout, encoding, rgbmRange,
 // indDims, atlasDims, boxMin, boxMax, spacing, maxLevel, bricks,
 // storedPoints); `columns` and `atlas` are the two textures the GPU gets.
 export class GiVolume {
   constructor(header, fileBytes) {
-    const { indirection, atlas: atlasBytes, sh: shBytes, ...info } = header;
+    // The indirection as columns, the terms as unorm bytes (gi-gpu.js), unless the worker made them.
+    const { columns, atlas: atlasBytes, sh: shBytes, ...info } = header.columns ? header : prepareTextures(header);
     this.info = Object.freeze(info);
     this.fileBytes = fileBytes;
     const [ax, ay, az] = header.atlasDims;
-    // The GPU gets the indirection as columns (docs/format.md): each column's run of cells once.
-    const columns = indirectionColumns(indirection, header.indDims);
     const ind = new THREE.DataTexture(columns.data, columns.width, columns.height);
     ind.format = THREE.RGBAFormat;
     ind.type = THREE.UnsignedByteType;
@@ -225,16 +324,9 @@ export class GiVolume {
       atlas.type = THREE.UnsignedByteType;
     }
     atlas.minFilter = atlas.magFilter = THREE.LinearFilter;
-    // L2 terms (versions 6 and 7): six textures of four signed ratios, uploaded as
-    // unorm bytes q + 128 (filtering is linear either way; WebGL2 and WebGPU
-    // both filter RGBA8), read back as (255 t - 128) / 127 in the shader.
-    // q + 128 is the byte q ^ 0x80: flipped in place, four at a time (the reader's
-    // arrays are the volume's now; a mapping copy took 1.4 s for the bundled world).
-    this.sh = shBytes ? shBytes.map((q) => {
-      const u = new Uint8Array(q.buffer, q.byteOffset, q.byteLength);
-      const words = q.byteOffset % 4 === 0 && q.byteLength % 4 === 0 ? new Uint32Array(q.buffer, q.byteOffset, q.byteLength / 4) : null;
-      if (words) for (let i = 0; i < words.length; i++) words[i] ^= 0x80808080;
-      else for (let i = 0; i < u.length; i++) u[i] ^= 0x80;
+    // L2 terms (versions 6 and 7): six textures of four signed ratios, as unorm
+    // bytes q + 128 (prepareTextures), read back as (255 t - 128) / 127 in the shader.
+    this.sh = shBytes ? shBytes.map((u) => {
       const t = new THREE.Data3DTexture(u, ax, ay, az);
       t.format = THREE.RGBAFormat;
       t.type = THREE.UnsignedByteType;

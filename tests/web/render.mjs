@@ -4,7 +4,10 @@
 //           positions into float targets; return both for covered pixels;
 //   shot:   draw the scene lit, GI off or on, into the canvas;
 //   frames: time task.frames frames with GI off, per vertex, per fragment;
-//   load:   only load, and report the error a bad file gives;
+//   load:   only load (task.worker: loadGi's option), and report the error a bad
+//           file gives, or with task.digest a hash of the textures' bytes; with
+//           task.animate, a game's frames run meanwhile (8 ms of work each) and
+//           `fps` says how many it drew a second;
 //   boundsSetup, boundsLoad, boundsDraw: tests/web/check_bounds.mjs's steps;
 //   split: GiRuntime.lightScene() against the recipe by hand (tests/web/check_split.mjs);
 //   occlude: a 10 m floor lit only by a flat lightmap or by task.gi, with and
@@ -218,6 +221,17 @@ async function frames(task) {
   return out;
 }
 
+// FNV-1a over the bytes the textures upload, with each one's size: equal digests, equal textures.
+function texturesDigest(textures) {
+  let h = 0x811c9dc5;
+  for (const t of textures) {
+    const d = t.image.data, b = new Uint8Array(d.buffer, d.byteOffset, d.byteLength);
+    for (let i = 0; i < b.length; i++) h = Math.imul(h ^ b[i], 0x01000193);
+    h = Math.imul(h ^ b.length, 0x01000193);
+  }
+  return `${textures.length} textures, FNV-1a ${(h >>> 0).toString(16).padStart(8, '0')}`;
+}
+
 async function load(task) {
   const canvas = freshCanvas();
   const renderer = await makeRenderer('webgl', canvas, 64, 64);
@@ -227,13 +241,24 @@ async function load(task) {
   observer.observe({ type: 'longtask' });
   try {
     const t0 = performance.now();
-    const v = await loadGi(task.gi, { renderer, maxBytes: OWN_WORLDS });
+    let frames = 0, animating = !!task.animate;
+    const frame = () => {
+      if (!animating) return;
+      frames++;
+      for (const t = performance.now(); performance.now() - t < 8;); // the game's own work
+      requestAnimationFrame(frame);
+    };
+    if (animating) requestAnimationFrame(frame);
+    const v = await loadGi(task.gi, { renderer, maxBytes: OWN_WORLDS, worker: task.worker ?? 'auto' });
     const wall = performance.now() - t0;
+    animating = false;
     await new Promise((resolve) => setTimeout(resolve, 0));
     for (const e of observer.takeRecords()) tasks.push(e.duration);
+    const digest = task.digest ? texturesDigest([v.columns, v.atlas, ...(v.sh ?? [])]) : undefined;
     v.dispose();
     return { ok: true, timings: v.timings, vramBytes: v.vramBytes, fileBytes: v.fileBytes, wall,
-      longestTask: Math.max(0, ...tasks), longTasks: tasks.length };
+      longestTask: Math.max(0, ...tasks), longTasks: tasks.length, digest,
+      fps: task.animate ? 1000 * frames / wall : undefined };
   } catch (e) {
     return { ok: false, error: e.message };
   } finally {
