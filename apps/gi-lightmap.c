@@ -23,7 +23,8 @@ static void usage(void)
            "Options:\n"
            "  -o, --output FILE        the .glb to write (required; replaced only on success)\n"
            "      --texel M            metres a texel edge (0.25)\n"
-           "      --size N             atlas edge in texels (1024); more atlases if needed\n"
+           "      --size N             atlas edge in texels (the least that holds the charts,\n"
+           "                           a multiple of 32, up to 1024); more atlases if needed\n"
            "      --passes N|auto      reflections, 1..16: every source's light reaches a\n"
            "                           texel over at most N, as gi-bake's --bounces; auto:\n"
            "                           until the next would add under 0.2 %% of the light, at\n"
@@ -213,7 +214,7 @@ typedef struct run_figures {
 static void print_figures(FILE *f, const run_figures *g, bool json)
 {
     const vdbgi_lightmap_stats *const st = &g->st;
-    const int size = g->o->lm.size ? g->o->lm.size : 1024;
+    const int size = st->atlas_size;
     const double mrays = g->bake > 0.0 ? (double)st->rays / g->bake * 1e-6 : 0.0;
     if (json) {
         fputs("{\n  \"scene\": ", f);

@@ -1145,8 +1145,11 @@ typedef struct vdbgi_lightmap_result vdbgi_lightmap_result;
 /*
  * A lightmap bake of a whole scene. All-zero means the defaults.
  *   texel:    metres a texel edge, > 0. 0 == 0.25.
- *   size:     atlas edge in texels, 16..16384. 0 == 1024. More atlases when
- *             the charts do not fit one; a chart larger than one shrinks.
+ *   size:     atlas edge in texels, 16..16384. More atlases when the
+ *             charts do not fit one; a chart larger than one shrinks. 0 ==
+ *             the smallest multiple of 32 texels that holds every chart on
+ *             one atlas, or atlases of 1024 when one of 1024 cannot (a scene
+ *             with its own second UV set: 1024).
  *   passes:   reflections, 1..VDBGI_LIGHTMAP_MAX_PASSES: pass k lights the
  *             hits with pass k-1's map, so every source's light reaches a
  *             texel over at most that many. 0 == the model's default: under
@@ -1195,6 +1198,7 @@ typedef struct vdbgi_lightmap_stats {
     int kept_uv1;  /* the scene's own second UV set was usable and kept */
     size_t layers; /* maps per light (0 without layers) */
     size_t charts, atlases;
+    int atlas_size;     /* each atlas's edge, texels */
     size_t texels;      /* atlas texels, all pages */
     size_t samples;     /* texels that sample a triangle */
     size_t invalid;     /* samples inside geometry or behind back faces (filled in) */

@@ -367,6 +367,51 @@ static void a_box_face_of_16_by_12_texels_samples_17_by_13(void)
     vdbgi_context_destroy(ctx);
 }
 
+/*
+ * By default the atlas is the smallest multiple of 32 texels that holds every
+ * chart at the texel size: one of 32 fewer needs a second page. Past one
+ * atlas of 1024, atlases of 1024.
+ */
+static void the_default_atlas_is_the_least_that_holds_the_charts(void)
+{
+    vdbgi_context *ctx = test_context();
+    float *pos;
+    uint32_t *idx;
+    size_t nv, nt;
+    terrain(159, 0.25f, &pos, &nv, &idx, &nt);
+    vdbgi_scene *terrain_scene = scene_of(ctx, pos, nv, idx, nt);
+    test_mesh m = {0};
+    const float lo[3] = {0, 0, 0}, hi[3] = {4, 3, 2};
+    test_mesh_box(&m, lo, hi, 0);
+    vdbgi_scene *box = scene_of(ctx, m.pos, m.vertex_count, m.idx, m.triangle_count);
+    const struct {
+        vdbgi_scene *s;
+        float texel;
+    } cases[2] = {{box, 0.25f}, {terrain_scene, 0.1f}};
+    for (int i = 0; i < 2; i++) {
+        vdbgi_unwrap u, less;
+        const vdbgi_unwrap_params p = {.texel = cases[i].texel};
+        CHECK_RESULT(ctx, vdbgi_unwrap_build(ctx, cases[i].s, &p, &u), VDBGI_OK);
+        CHECK(u.page_count == 1 && u.size % 32 == 0 && u.size >= 64 && u.size < 1024);
+        check_unwrap(cases[i].s, &u, true);
+        const vdbgi_unwrap_params smaller = {.texel = cases[i].texel, .size = u.size - 32};
+        CHECK_RESULT(ctx, vdbgi_unwrap_build(ctx, cases[i].s, &smaller, &less), VDBGI_OK);
+        CHECK(less.page_count > 1);
+        vdbgi_unwrap_free(&u);
+        vdbgi_unwrap_free(&less);
+    }
+    vdbgi_unwrap big;
+    const vdbgi_unwrap_params fine = {.texel = 0.02f};
+    CHECK_RESULT(ctx, vdbgi_unwrap_build(ctx, terrain_scene, &fine, &big), VDBGI_OK);
+    CHECK(big.size == 1024 && big.page_count > 1);
+    vdbgi_unwrap_free(&big);
+    vdbgi_scene_destroy(box);
+    vdbgi_scene_destroy(terrain_scene);
+    free(pos);
+    free(idx);
+    vdbgi_context_destroy(ctx);
+}
+
 static void bad_parameters_are_refused(void)
 {
     vdbgi_context *ctx = test_context();
@@ -392,6 +437,7 @@ int main(void)
     RUN(a_spiral_ramp_is_split_where_it_folds);
     RUN(every_triangle_gets_samples_on_itself);
     RUN(a_box_face_of_16_by_12_texels_samples_17_by_13);
+    RUN(the_default_atlas_is_the_least_that_holds_the_charts);
     RUN(bad_parameters_are_refused);
     return CHECK_EXIT();
 }

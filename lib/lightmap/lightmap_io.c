@@ -463,6 +463,7 @@ static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
         stats->kept_uv1 = kept;
         stats->layers = r->layer_count;
         stats->atlases = r->un.page_count;
+        stats->atlas_size = r->un.size;
         stats->texels = r->map.texel_count;
         stats->samples = r->tx.sample_count;
         stats->invalid = r->map.invalid_count;

@@ -349,6 +349,36 @@ static vdbgi_result place_charts(vdbgi_unwrap *u, const vdbgi_scene *s, unwrap_w
     }
 }
 
+/*
+ * The smallest atlas edge, a multiple of VDBGI_ATLAS_STEP texels below
+ * u->size, on which every chart fits one page; u->size when none does. The
+ * search starts where the charts' area and widest side allow and packs each
+ * candidate whole (the packer places by skyline, so a fit is not a matter of
+ * area alone).
+ */
+static int smallest_fit(const vdbgi_unwrap *u, unwrap_work *w)
+{
+    const size_t charts = u->chart_count;
+    double area = 0.0;
+    int widest = 0;
+    for (size_t c = 0; c < charts; c++) {
+        area += (double)w->wh[c][0] * w->wh[c][1];
+        widest = w->wh[c][0] > widest ? w->wh[c][0] : widest;
+        widest = w->wh[c][1] > widest ? w->wh[c][1] : widest;
+    }
+    const double least = fmax(sqrt(area), (double)widest);
+    for (int size = VDBGI_ATLAS_STEP * (int)ceil(least / VDBGI_ATLAS_STEP); size < u->size;
+         size += VDBGI_ATLAS_STEP) {
+        stbrp_context pack;
+        stbrp_init_target(&pack, size, size, w->nodes, size);
+        for (size_t c = 0; c < charts; c++)
+            w->rects[c] = (stbrp_rect){.id = (int)c, .w = w->wh[c][0], .h = w->wh[c][1]};
+        if (stbrp_pack_rects(&pack, w->rects, (int)charts))
+            return size;
+    }
+    return u->size;
+}
+
 /* Pages: pack what is left into a fresh atlas until nothing is; each triangle's uv from its chart's place. */
 static vdbgi_result pack_pages(vdbgi_unwrap *u, const vdbgi_scene *s, unwrap_work *w)
 {
@@ -458,6 +488,8 @@ vdbgi_result vdbgi_unwrap_build(vdbgi_context *ctx, const vdbgi_scene *s,
         w.wh[c][1] = (int)ceil((w.box[c][3] - w.box[c][1]) * u->density[c]) + 2 * gutter + 1;
         u->chart_texels += (double)(w.wh[c][0] - 2 * gutter) * (w.wh[c][1] - 2 * gutter);
     }
+    if (p->size == 0) /* by default, an atlas no larger than the charts need */
+        u->size = smallest_fit(u, &w);
     r = pack_pages(u, s, &w);
 done:
     vdbgi_free(ctx, id);

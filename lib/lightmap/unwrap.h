@@ -9,9 +9,13 @@
 
 #include "scene.h"
 
+/* An atlas made to fit its charts is a multiple of this many texels on a side. */
+#define VDBGI_ATLAS_STEP 32
+
 typedef struct vdbgi_unwrap_params {
     float texel;     /* metres a texel edge; 0 = 0.25 */
-    int size;        /* atlas edge in texels; 0 = 1024 */
+    int size;        /* atlas edge in texels; 0: the smallest multiple of VDBGI_ATLAS_STEP
+                        that holds every chart on one atlas, else 1024 */
     float max_angle; /* degrees a chart's triangles may turn from its first; 0 = 15 */
     int gutter;      /* empty texels around each chart's footprint; 0 = 2 */
 } vdbgi_unwrap_params;
