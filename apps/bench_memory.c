@@ -154,6 +154,24 @@ int bench_memory(const bench_options *o, bool one_spacing)
                 vdbgi_volume_destroy(v);
             }
         vdbgi_probes_destroy(p);
+        p = NULL;
+        /* The volume only where what moves reads it (gi-bake --walkable 2.5): the probes up
+           to 2.5 m over walkable surfaces, the default conversion, scalar and L2. */
+        const vdbgi_place_desc wd = {.spacing = spacing, .margin = 2.5, .walkable_height = 2.5};
+        if (r == VDBGI_OK && (r = vdbgi_probes_place(ctx, scene, &wd, &p)) == VDBGI_OK)
+            r = vdbgi_probes_bake(p, scene, &bd, NULL);
+        for (int b = 0; r == VDBGI_OK && b < 2; b++) {
+            const vdbgi_convert_desc d = {.scalar_only = !b};
+            vdbgi_volume *v = NULL;
+            if ((r = vdbgi_volume_build(ctx, p, &d, &v)) == VDBGI_OK) {
+                vdbgi_volume_info vi;
+                bench_info(v, &vi);
+                memory_row(f, spacing, "compact-walkable-2.5m", b ? "L2" : "scalar", "0.1", v,
+                           vi.columns_size + vi.atlas_size + vi.sh_size, vi.file_size, &rv, got);
+            }
+            vdbgi_volume_destroy(v);
+        }
+        vdbgi_probes_destroy(p);
     }
     if (f)
         fclose(f);

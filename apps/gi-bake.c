@@ -25,6 +25,12 @@ static void usage(void)
            "      --spacing M          probe spacing in metres (0.5)\n"
            "      --margin M           keep probes within M metres of a surface (4 x spacing)\n"
            "      --max-probes N       refuse lattices of more than N probes (50000000)\n"
+           "      --walkable H         keep only the probes over walkable surfaces (facing up\n"
+           "                           within 45 degrees) up to H metres: the space what\n"
+           "                           moves uses, when statics take a lightmap\n"
+           "      --keep-box X0,Y0,Z0,X1,Y1,Z1\n"
+           "                           keep the probes in this box too (repeatable; alone,\n"
+           "                           only theirs)\n"
            "      --tile I/N           bake tile I of N only (slabs across x of about as many\n"
            "                           probes each); gi-merge joins the N files into the\n"
            "                           whole bake, probe for probe\n"
@@ -82,6 +88,8 @@ enum {
     OPT_SPACING = 256,
     OPT_MARGIN,
     OPT_MAX_PROBES,
+    OPT_WALKABLE,
+    OPT_KEEP_BOX,
     OPT_RAYS,
     OPT_NOISE,
     OPT_MAX_RAYS,
@@ -96,6 +104,7 @@ typedef struct options {
     const char *scene;
     const char *output;
     vdbgi_place_desc place;
+    double keep_boxes[VDBGI_MAX_KEEP_BOXES][6];
     vdbgi_bake_desc bake;
     bool bounces_auto; /* --bounces auto: only the physical model bounces until converged */
 } options;
@@ -109,6 +118,8 @@ static int parse_args(int argc, char **argv, options *o)
                                           {"spacing", required_argument, NULL, OPT_SPACING},
                                           {"margin", required_argument, NULL, OPT_MARGIN},
                                           {"max-probes", required_argument, NULL, OPT_MAX_PROBES},
+                                          {"walkable", required_argument, NULL, OPT_WALKABLE},
+                                          {"keep-box", required_argument, NULL, OPT_KEEP_BOX},
                                           {"rays", required_argument, NULL, OPT_RAYS},
                                           {"noise", required_argument, NULL, OPT_NOISE},
                                           {"max-rays", required_argument, NULL, OPT_MAX_RAYS},
@@ -142,6 +153,25 @@ static int parse_args(int argc, char **argv, options *o)
             o->place.margin = d;
             o->place.margin_is_set = 1;
             break;
+        case OPT_WALKABLE:
+            if (!cli_parse_double(optarg, &d) || !(d > 0.0 && d <= 1000.0))
+                return cli_usage_error(
+                    "--walkable must be a height in metres, > 0 and <= 1000 (got '%s')", optarg);
+            o->place.walkable_height = d;
+            break;
+        case OPT_KEEP_BOX: {
+            double *const box = o->keep_boxes[o->place.keep_box_count];
+            if (o->place.keep_box_count == VDBGI_MAX_KEEP_BOXES)
+                return cli_usage_error("at most %d --keep-box options", VDBGI_MAX_KEEP_BOXES);
+            if (!cli_parse_doubles(optarg, box, 6) || !(box[0] <= box[3]) || !(box[1] <= box[4]) ||
+                !(box[2] <= box[5]))
+                return cli_usage_error(
+                    "--keep-box must be X0,Y0,Z0,X1,Y1,Z1 with each min <= its max (got '%s')",
+                    optarg);
+            o->place.keep_boxes = (const double(*)[6])o->keep_boxes;
+            o->place.keep_box_count++;
+            break;
+        }
         case OPT_MAX_PROBES:
             if (!cli_parse_int(optarg, &i) || i < 1)
                 return cli_usage_error("--max-probes must be an integer >= 1 (got '%s')", optarg);

@@ -355,6 +355,16 @@ typedef struct vdbgi_probes vdbgi_probes;
  *                its slab alone, from the triangles that can reach it. Every
  *                probe's value depends only on its ijk, so the tiles' bakes
  *                merged (vdbgi_probes_merge) equal the whole bake.
+ *   walkable_height: > 0, metres: keep only the probes the space above
+ *                walkable surfaces reads (when statics take a lightmap and
+ *                the volume serves what moves): those whose ray straight
+ *                down meets, within this height, a triangle facing up within
+ *                45 degrees of +y (either way up when double-sided), and
+ *                those one spacing or less under such a triangle. 0: every
+ *                probe near a surface. At most 1000.
+ *   keep_boxes, keep_box_count: boxes (min x, y, z, max x, y, z, metres)
+ *                whose probes are kept too (with walkable_height 0, only
+ *                theirs); at most VDBGI_MAX_KEEP_BOXES.
  */
 typedef struct vdbgi_place_desc {
     double spacing;
@@ -364,7 +374,13 @@ typedef struct vdbgi_place_desc {
     int origin_is_set;
     uint64_t max_probes;
     int tile_index, tile_count;
+    double walkable_height;
+    const double (*keep_boxes)[6];
+    size_t keep_box_count;
 } vdbgi_place_desc;
+
+/* Most boxes vdbgi_place_desc.keep_boxes names. */
+#define VDBGI_MAX_KEEP_BOXES 64
 
 /* Most tiles a lattice is cut into. */
 #define VDBGI_MAX_TILES 4096

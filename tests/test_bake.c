@@ -9,6 +9,7 @@
 #include "vdbgi_bench.h"
 
 #include <math.h>
+#include <stdbool.h>
 
 static const double rho = 0.5, ambient = 0.15;
 
@@ -429,6 +430,100 @@ static void zero_means_default_unless_flagged(void)
     CHECK(info[2].origin[0] == 0.0 && info[2].origin[1] == 0.0 && info[2].origin[2] == 0.0);
     CHECK(info[3].origin[0] == 0.1 && info[3].origin[1] == 0.0 && info[3].origin[2] == 0.0);
     CHECK(info[4].margin == 1.0 && info[4].probe_count < info[0].probe_count);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+/*
+ * gi-bake --walkable: on a 20 m floor (y = 0) with an 8 m wall standing on it
+ * (x = 0), the probes kept are those the rule keeps, worked out here by hand:
+ * a lattice point stands over the floor when it is within the height above it
+ * or a spacing under it (and over its extent); a probe is kept when it or one
+ * of its 26 neighbours stands so. A keep box adds its probes; tiles keep what
+ * the whole lattice keeps.
+ */
+static bool over_floor(double x, double y, double z, double height, double spacing)
+{
+    return fabs(x) < 10.0 && fabs(z) < 10.0 &&
+           ((y > 0.0 && y <= height) || (y < 0.0 && y >= -spacing));
+}
+
+static void walkable_keeps_the_space_over_floors(void)
+{
+    vdbgi_context *ctx = test_context();
+    static test_mesh floor_, wall;
+    memset(&floor_, 0, sizeof(floor_));
+    memset(&wall, 0, sizeof(wall));
+    test_mesh_plane(&floor_, 20.0f, 0.0f);
+    const float a[3] = {0, 0, -5}, b[3] = {0, 0, 5}, c[3] = {0, 8, 5}, d[3] = {0, 8, -5};
+    test_mesh_quad(&wall, a, b, c, d);
+    const vdbgi_mesh_desc md[2] = {test_mesh_desc(&floor_, 0.5f, 0),
+                                   test_mesh_desc(&wall, 0.5f, 1)};
+    vdbgi_scene *s = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, md, 2, &s), VDBGI_OK);
+    const double spacing = 0.5, height = 2.0;
+    const double box[1][6] = {{0.5, 5.0, -1.0, 1.5, 6.0, 1.0}}; /* up the wall, over no floor */
+    vdbgi_probes *all = NULL, *kept = NULL, *boxed = NULL;
+    const vdbgi_place_desc every = {.spacing = spacing, .margin = 2.0};
+    const vdbgi_place_desc walk = {.spacing = spacing, .margin = 2.0, .walkable_height = height};
+    const vdbgi_place_desc only_box = {
+        .spacing = spacing, .margin = 2.0, .keep_boxes = box, .keep_box_count = 1};
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &every, &all), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &walk, &kept), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &only_box, &boxed), VDBGI_OK);
+    if (all && kept && boxed) {
+        vdbgi_probes_info ia, ik, ib;
+        vdbgi_probes_get_info(all, &ia);
+        vdbgi_probes_get_info(kept, &ik);
+        vdbgi_probes_get_info(boxed, &ib);
+        size_t want = 0, in_box = 0, j = 0, wrong = 0;
+        for (size_t i = 0; i < ia.probe_count; i++) {
+            int32_t ijk[3];
+            vdbgi_probes_get(all, i, ijk, NULL, NULL);
+            double pos[3];
+            for (int k = 0; k < 3; k++)
+                pos[k] = ia.origin[k] + spacing * ijk[k];
+            bool keep = false;
+            for (int n = 0; n < 27; n++)
+                keep |=
+                    over_floor(pos[0] + spacing * (n % 3 - 1), pos[1] + spacing * (n / 3 % 3 - 1),
+                               pos[2] + spacing * (n / 9 - 1), height, spacing);
+            in_box += pos[0] >= box[0][0] && pos[1] >= box[0][1] && pos[2] >= box[0][2] &&
+                      pos[0] <= box[0][3] && pos[1] <= box[0][4] && pos[2] <= box[0][5];
+            if (!keep)
+                continue;
+            want++;
+            /* Both lists keep the placement's order. */
+            int32_t got[3] = {0, 0, 0};
+            if (j < ik.probe_count)
+                vdbgi_probes_get(kept, j++, got, NULL, NULL);
+            wrong += memcmp(got, ijk, sizeof(got)) != 0;
+        }
+        CHECK(want > 1000 && want < ia.probe_count && ik.probe_count == want && wrong == 0);
+        CHECK(in_box > 0 && ib.probe_count == in_box);
+        /* Two tiles of it keep the whole lattice's probes. */
+        size_t tiled = 0;
+        for (int t = 0; t < 2; t++) {
+            vdbgi_probes *tile = NULL;
+            vdbgi_place_desc td = walk;
+            td.tile_index = t;
+            td.tile_count = 2;
+            CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &td, &tile), VDBGI_OK);
+            if (tile) {
+                vdbgi_probes_info it;
+                vdbgi_probes_get_info(tile, &it);
+                tiled += it.probe_count;
+            }
+            vdbgi_probes_destroy(tile);
+        }
+        CHECK(tiled == want);
+    }
+    const vdbgi_place_desc bad = {.spacing = spacing, .walkable_height = -1.0};
+    vdbgi_probes *none = NULL;
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &bad, &none), VDBGI_ERR_INVALID_ARG);
+    vdbgi_probes_destroy(all);
+    vdbgi_probes_destroy(kept);
+    vdbgi_probes_destroy(boxed);
     vdbgi_scene_destroy(s);
     vdbgi_context_destroy(ctx);
 }
@@ -912,6 +1007,7 @@ int main(void)
     RUN(sky_fills_misses_and_falloff_off_is_flat);
     RUN(trace_methods_agree);
     RUN(zero_means_default_unless_flagged);
+    RUN(walkable_keeps_the_space_over_floors);
     RUN(bare_trace_counts_the_same_rays);
     RUN(bad_bake_parameters_are_refused);
     RUN(progress_is_reported_and_can_cancel);

@@ -1,5 +1,6 @@
 /* placement.c: the probe lattice (origin, spacing) and which probes exist near the surfaces. */
 #include "band.h"
+#include "keep.h"
 #include "probes.h"
 #include "scene.h"
 
@@ -143,6 +144,22 @@ vdbgi_result vdbgi_probes_place(vdbgi_context *ctx, const vdbgi_scene *scene,
         VDBGI_FAIL_IF(ctx, !isfinite(origin[k]), VDBGI_ERR_INVALID_ARG,
                       "lattice origin must be finite");
     }
+    VDBGI_FAIL_IF(ctx, !(desc->walkable_height >= 0.0 && desc->walkable_height <= 1000.0),
+                  VDBGI_ERR_INVALID_ARG, "walkable height must be 0..1000 m (got %g)",
+                  desc->walkable_height);
+    VDBGI_FAIL_IF(ctx, desc->keep_box_count > VDBGI_MAX_KEEP_BOXES, VDBGI_ERR_INVALID_ARG,
+                  "at most %d keep boxes (got %zu)", VDBGI_MAX_KEEP_BOXES, desc->keep_box_count);
+    VDBGI_FAIL_IF(ctx, desc->keep_box_count && !desc->keep_boxes, VDBGI_ERR_INVALID_ARG,
+                  "%zu keep boxes counted and none given", desc->keep_box_count);
+    for (size_t b = 0; b < desc->keep_box_count; b++)
+        for (int k = 0; k < 3; k++)
+            VDBGI_FAIL_IF(ctx,
+                          !isfinite(desc->keep_boxes[b][k]) ||
+                              !isfinite(desc->keep_boxes[b][3 + k]) ||
+                              desc->keep_boxes[b][k] > desc->keep_boxes[b][3 + k],
+                          VDBGI_ERR_INVALID_ARG,
+                          "keep box %zu must be finite, its min no greater than its max on %c",
+                          b + 1, "xyz"[k]);
     /* Probe indices stay within VDBGI_MAX_INDEX, as every reader of a .vdb demands. */
     for (int k = 0; k < 3; k++) {
         const double lo = (scene->bounds_min[k] - margin - origin[k]) / spacing;
@@ -193,6 +210,15 @@ vdbgi_result vdbgi_probes_place(vdbgi_context *ctx, const vdbgi_scene *scene,
         r = vdbgi_band_points(ctx, &band, &p->ijk, &p->count);
     }
     vdbgi_free(ctx, subset);
+    const size_t near = p->count;
+    if (r == VDBGI_OK && near)
+        r = vdbgi_probes_keep(ctx, scene, desc, p);
+    if (r == VDBGI_OK && near && p->count == 0)
+        r = vdbgi_fail(ctx, VDBGI_ERR_INVALID_ARG,
+                       "none of the %zu probes near surfaces%s stands %s", near,
+                       tiles > 1 ? " in this tile" : "",
+                       desc->walkable_height > 0.0 ? "over a walkable surface or in a keep box"
+                                                   : "in a keep box");
     if (r == VDBGI_OK && tiles > 1 && p->count == 0)
         r = vdbgi_fail(ctx, VDBGI_ERR_INVALID_ARG,
                        "tile %d of %d (lattice i %d..%d) would hold no probe: use fewer tiles",

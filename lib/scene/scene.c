@@ -385,15 +385,22 @@ void vdbgi_scene_emission(const vdbgi_scene *scene, uint32_t prim, float u, floa
 
 /* ---- receivers ------------------------------------------------------------ */
 
-double vdbgi_scene_triangle_area(const vdbgi_scene *scene, size_t t)
+void vdbgi_scene_triangle_cross(const vdbgi_scene *scene, size_t t, double c[3])
 {
     const float *const p0 = &scene->positions[3 * scene->indices[3 * t]];
     const float *const p1 = &scene->positions[3 * scene->indices[3 * t + 1]];
     const float *const p2 = &scene->positions[3 * scene->indices[3 * t + 2]];
     const double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
     const double e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
-    const double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                         e1[0] * e2[1] - e1[1] * e2[0]};
+    c[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    c[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    c[2] = e1[0] * e2[1] - e1[1] * e2[0];
+}
+
+double vdbgi_scene_triangle_area(const vdbgi_scene *scene, size_t t)
+{
+    double c[3];
+    vdbgi_scene_triangle_cross(scene, t, c);
     return 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
 }
 

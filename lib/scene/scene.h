@@ -92,6 +92,8 @@ float vdbgi_scene_offset(const vdbgi_scene *scene, uint32_t prim);
 float vdbgi_scene_hit_point(const vdbgi_scene *scene, uint32_t prim, float u, float v, float p[3]);
 /* Area of triangle t, square metres. */
 double vdbgi_scene_triangle_area(const vdbgi_scene *scene, size_t t);
+/* (v1 - v0) x (v2 - v0) of triangle t: its front normal, twice its area long. */
+void vdbgi_scene_triangle_cross(const vdbgi_scene *scene, size_t t, double c[3]);
 
 #ifdef __cplusplus
 }

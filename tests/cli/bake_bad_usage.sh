@@ -10,7 +10,9 @@ for args in "--frobnicate" "data.glb" "-o out.vdb" "a.glb b.glb -o out.vdb" \
             "s.glb -o out.vdb --ambient -0.1" "s.glb -o out.vdb --rays" \
             "s.glb -o out.vdb --bounces 0" "s.glb -o out.vdb --bounces 1000" \
             "s.glb -o out.vdb --model pbr" "s.glb -o out.vdb --lights maybe" \
-            "s.glb -o out.vdb --sky-intensity -1" "s.glb -o out.vdb --sky-rotation inf"; do
+            "s.glb -o out.vdb --sky-intensity -1" "s.glb -o out.vdb --sky-rotation inf" \
+            "s.glb -o out.vdb --walkable 0" "s.glb -o out.vdb --keep-box 1,2,3" \
+            "s.glb -o out.vdb --keep-box 0,0,0,1,-1,1"; do
     # shellcheck disable=SC2086
     "$BIN/gi-bake" $args 2>err
     echo "$? $(head -n 1 err)"
