@@ -8,6 +8,8 @@
   make_scenes.py --room OUT.glb       writes a 6 x 4 x 3 m room with a window, a red wall
                                       and a 20 cd lamp, and OUT.json: the same scene for
                                       a path tracer (tests/truth/)
+  make_scenes.py --two-rooms OUT.glb  writes two closed 4 x 3 x 4 m rooms sharing a 10 cm
+                                      wall, a 20 cd lamp in one, none in the other
 
 The outdoor world follows seed 000: orange canyon walls meeting green grass (a
 sharp colour seam), a few buildings with an embedded brick texture, trees
@@ -585,6 +587,26 @@ def write_room_truth(path):
     os.replace(base + ".json.tmp", base + ".json")
 
 
+def write_two_rooms(path):
+    """Two closed rooms, x 0..4 (lit: a 20 cd lamp) and x 4.1..8.1 (dark), 3 m
+    high and 4 m deep, each a shell of inward faces: the 10 cm between them is
+    the wall a probe grid must not see through (issue 46)."""
+    h, d = 3.0, 4.0
+    lit, dark = Mesh(), Mesh()
+    for m, x0, x1 in ((lit, 0.0, 4.0), (dark, 4.1, 8.1)):
+        m.quad((x0, 0, d), (x1, 0, d), (x1, 0, 0), (x0, 0, 0))                               # floor, up
+        m.quad((x0, h, 0), (x1, h, 0), (x1, h, d), (x0, h, d))                               # ceiling
+        wall(m, lambda s, y: (s, y, 0.0), x0, x1, h, None, (0, 0, 1))
+        wall(m, lambda s, y: (s, y, d), x0, x1, h, None, (0, 0, -1))
+        wall(m, lambda s, y, x=x0: (x, y, s), 0.0, d, h, None, (1, 0, 0))
+        wall(m, lambda s, y, x=x1: (x, y, s), 0.0, d, h, None, (-1, 0, 0))
+    w = GlbWriter()
+    w.node("lit room", w.mesh("lit room", lit, w.material("plaster", (0.8, 0.8, 0.8))))
+    w.node("dark room", w.mesh("dark room", dark, w.material("plaster", (0.8, 0.8, 0.8))))
+    w.light("lamp", "point", (1.0, 1.0, 1.0), 20.0, (2.0, 2.2, 2.0))
+    w.write(path)
+
+
 def main(argv):
     if len(argv) == 3 and argv[0] == "--world":
         write_world(argv[2], float(argv[1]), seed=int(float(argv[1])))
@@ -597,6 +619,9 @@ def main(argv):
         return 0
     if len(argv) == 2 and argv[0] == "--room":
         write_room_truth(argv[1])
+        return 0
+    if len(argv) == 2 and argv[0] == "--two-rooms":
+        write_two_rooms(argv[1])
         return 0
     if argv:
         sys.stderr.write(__doc__)
