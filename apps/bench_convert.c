@@ -112,7 +112,7 @@ int bench_convert(const bench_options *o)
         code =
             convert_row(ctx, p, &seed, "default, rgbm, seed layout", read_seconds, o->repeat, NULL);
     /* Probes with L2 terms: the same conversion without them, for what the terms cost. */
-    const vdbgi_convert_desc flat = {.layout = VDBGI_LAYOUT_COMPACT, .scalar_only = 1};
+    const vdbgi_convert_desc flat = {.layout = VDBGI_LAYOUT_COMPACT, .terms = VDBGI_TERMS_DROP};
     if (code == CLI_OK && terms)
         code = convert_row(ctx, p, &flat, "default (compact), rgbm, scalar only", read_seconds,
                            o->repeat, &scalar);

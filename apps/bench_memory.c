@@ -119,8 +119,9 @@ int bench_memory(const bench_options *o, bool one_spacing)
            by default), with the dense grid's bytes (RGBM; L2: 24 more a probe). */
         for (int b = 0; r == VDBGI_OK && b < 2; b++) {
             vdbgi_volume *exact = NULL;
-            const vdbgi_convert_desc ed = {
-                .eps_is_set = 1, .max_level_is_set = 1, .scalar_only = !b};
+            const vdbgi_convert_desc ed = {.eps_is_set = 1,
+                                           .max_level_is_set = 1,
+                                           .terms = b ? VDBGI_TERMS_KEEP : VDBGI_TERMS_DROP};
             if ((r = vdbgi_volume_build(ctx, p, &ed, &exact)) == VDBGI_OK) {
                 vdbgi_probes_info pi;
                 vdbgi_volume_info ei;
@@ -140,7 +141,7 @@ int bench_memory(const bench_options *o, bool one_spacing)
                 const vdbgi_convert_desc d = {.eps = eps[e],
                                               .layout =
                                                   m ? VDBGI_LAYOUT_COMPACT : VDBGI_LAYOUT_SEED,
-                                              .scalar_only = m < 2,
+                                              .terms = m < 2 ? VDBGI_TERMS_DROP : VDBGI_TERMS_KEEP,
                                               .term_bits = m == 3 ? 8 : 0};
                 vdbgi_volume *v = NULL;
                 r = vdbgi_volume_build(ctx, p, &d, &v);
@@ -161,7 +162,7 @@ int bench_memory(const bench_options *o, bool one_spacing)
         if (r == VDBGI_OK && (r = vdbgi_probes_place(ctx, scene, &wd, &p)) == VDBGI_OK)
             r = vdbgi_probes_bake(p, scene, &bd, NULL);
         for (int b = 0; r == VDBGI_OK && b < 2; b++) {
-            const vdbgi_convert_desc d = {.scalar_only = !b};
+            const vdbgi_convert_desc d = {.terms = b ? VDBGI_TERMS_KEEP : VDBGI_TERMS_DROP};
             vdbgi_volume *v = NULL;
             if ((r = vdbgi_volume_build(ctx, p, &d, &v)) == VDBGI_OK) {
                 vdbgi_volume_info vi;

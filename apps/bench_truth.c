@@ -229,7 +229,7 @@ static vdbgi_result truth_at_spacing(vdbgi_context *ctx, const vdbgi_scene *scen
     if (r == VDBGI_OK)
         r = vdbgi_probes_bake(cube, scene, &bd, NULL);
     /* Today's runtime: the scalar in bricks at the converter's defaults. */
-    const vdbgi_convert_desc cd = {.threads = threads, .scalar_only = 1};
+    const vdbgi_convert_desc cd = {.threads = threads, .terms = VDBGI_TERMS_DROP};
     if (r == VDBGI_OK)
         r = vdbgi_volume_build(ctx, p, &cd, &v);
     if (r == VDBGI_OK) {

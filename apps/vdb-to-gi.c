@@ -200,9 +200,9 @@ static int parse_args(int argc, char **argv, options *o)
             break;
         case OPT_BASIS:
             if (strcmp(optarg, "scalar") == 0)
-                o->convert.scalar_only = 1;
+                o->convert.terms = VDBGI_TERMS_DROP;
             else if (strcmp(optarg, "auto") == 0)
-                o->convert.scalar_only = 0;
+                o->convert.terms = VDBGI_TERMS_KEEP;
             else
                 return cli_usage_error("--basis must be auto or scalar (got '%s')", optarg);
             break;

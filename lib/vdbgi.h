@@ -790,6 +790,12 @@ typedef enum vdbgi_fill {
                                measurable cost in the open (docs/stability.md) */
 } vdbgi_fill;
 
+/* What a volume keeps of the probes' L2 terms. */
+typedef enum vdbgi_terms {
+    VDBGI_TERMS_KEEP = 0, /* the terms, where the probes have them (.gi version 7) */
+    VDBGI_TERMS_DROP = 1  /* the scalar alone, as seed 000 (version 5) */
+} vdbgi_terms;
+
 /*
  * How to coarsen and encode. All-zero means the defaults:
  *   eps:        tolerance, relative to the mean irradiance of the valid
@@ -815,11 +821,11 @@ typedef enum vdbgi_fill {
  *   threads:    worker threads, 0 == every online core. The bytes do not
  *               depend on it.
  *   layout:     see vdbgi_layout (0: the compact layout).
- *   scalar_only: 0: a volume of the compact layout carries the probes'
- *               L2 terms when they have them (VDBGI_BASIS_SH2; .gi version
- *               7, read with a normal: vdbgi_volume_sample_normal); 1: the
- *               scalar alone, as seed 000 (version 5). The seed layout holds
- *               the scalar only.
+ *   terms:      see vdbgi_terms: whether a volume of the compact layout
+ *               carries the probes' L2 terms when they have them
+ *               (VDBGI_BASIS_SH2; .gi version 7, read with a normal:
+ *               vdbgi_volume_sample_normal). The seed layout holds the
+ *               scalar only.
  *   gi_version: a volume with L2 terms: 0 or 7, the newest file; 6 for
  *               runtimes from before version 7 (the same textures, a larger
  *               file). Other values, or 6 and 7 for a volume without terms,
@@ -844,7 +850,7 @@ typedef struct vdbgi_convert_desc {
     void *progress_user;
     int threads;
     vdbgi_layout layout;
-    int scalar_only;
+    vdbgi_terms terms;
     int gi_version;
     int term_bits;
 } vdbgi_convert_desc;

@@ -367,6 +367,8 @@ static void bad_parameters_and_probes_are_refused(void)
                                       {.term_bits = 9},
                                       {.gi_version = 5},
                                       {.gi_version = 6}, /* probes without terms */
+                                      {.terms = (vdbgi_terms)2},
+                                      {.eps = -1.0f, .eps_is_set = 1},
                                       {.fill = (vdbgi_fill)3}};
     for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
         CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &bad[i], &v), VDBGI_ERR_INVALID_ARG);

@@ -54,7 +54,7 @@ static void l2_bricks_read_each_side_and_round_trip(void)
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v6), VDBGI_OK);
     cd.gi_version = 5;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &scalar), VDBGI_ERR_INVALID_ARG);
-    cd.scalar_only = 1;
+    cd.terms = VDBGI_TERMS_DROP;
     cd.gi_version = 6; /* a scalar volume has no terms to write as version 6 */
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &scalar), VDBGI_ERR_INVALID_ARG);
     CHECK(strstr(vdbgi_context_error(ctx), "holds L2 terms") != NULL);

@@ -30,6 +30,8 @@ static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *d
     *max_level = desc->max_level == 0 && !desc->max_level_is_set ? 3 : desc->max_level;
     VDBGI_FAIL_IF(ctx, *max_level < 0 || *max_level > 3, VDBGI_ERR_INVALID_ARG,
                   "max level must be in 0..3 (got %d)", desc->max_level);
+    VDBGI_FAIL_IF(ctx, desc->terms != VDBGI_TERMS_KEEP && desc->terms != VDBGI_TERMS_DROP,
+                  VDBGI_ERR_INVALID_ARG, "unknown terms setting %d", (int)desc->terms);
     VDBGI_FAIL_IF(ctx,
                   desc->criterion < VDBGI_CRITERION_AUTO || desc->criterion > VDBGI_CRITERION_RMSE,
                   VDBGI_ERR_INVALID_ARG, "unknown criterion %d", (int)desc->criterion);
@@ -278,7 +280,8 @@ vdbgi_result vdbgi_build_start(vdbgi_context *ctx, const vdbgi_probes *like,
     VDBGI_FAIL_IF(ctx, st->probes == 0, VDBGI_ERR_FORMAT, "the grid holds no probes");
     cp->layout =
         desc && desc->layout == VDBGI_LAYOUT_SEED ? VDBGI_LAYOUT_SEED : VDBGI_LAYOUT_COMPACT;
-    bp->terms = like->sh && cp->layout == VDBGI_LAYOUT_COMPACT && !(desc && desc->scalar_only);
+    bp->terms = like->sh && cp->layout == VDBGI_LAYOUT_COMPACT &&
+                !(desc && desc->terms == VDBGI_TERMS_DROP);
     VDBGI_FAIL_IF(ctx, !bp->terms && desc && desc->gi_version, VDBGI_ERR_INVALID_ARG,
                   ".gi version %d holds L2 terms, and this volume has none (the scalar basis, the "
                   "seed layout or probes baked without sh2)",
