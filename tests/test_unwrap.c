@@ -133,13 +133,19 @@ static vdbgi_scene *scene_of(vdbgi_context *ctx, const float *pos, size_t nv, co
     return s;
 }
 
-static void a_box_is_six_charts_at_the_texel_size(void)
+/* A 4 x 3 x 2 m box, its faces out. */
+static vdbgi_scene *box_scene(vdbgi_context *ctx)
 {
-    vdbgi_context *ctx = test_context();
     test_mesh m = {0};
     const float lo[3] = {0, 0, 0}, hi[3] = {4, 3, 2};
     test_mesh_box(&m, lo, hi, 0);
-    vdbgi_scene *s = scene_of(ctx, m.pos, m.vertex_count, m.idx, m.triangle_count);
+    return scene_of(ctx, m.pos, m.vertex_count, m.idx, m.triangle_count);
+}
+
+static void a_box_is_six_charts_at_the_texel_size(void)
+{
+    vdbgi_context *ctx = test_context();
+    vdbgi_scene *s = box_scene(ctx);
     vdbgi_unwrap u;
     const vdbgi_unwrap_params p = {.texel = 0.25f, .size = 128};
     CHECK_RESULT(ctx, vdbgi_unwrap_build(ctx, s, &p, &u), VDBGI_OK);
@@ -189,14 +195,26 @@ static void terrain(int n, float cell, float **pos, size_t *nv, uint32_t **idx, 
     memcpy(&(*idx)[3 * t], q, sizeof(q));
 }
 
-static void fifty_thousand_triangles_slivers_and_determinism(void)
+/* The terrain as a scene (which copies it), and its triangle count before the scene drops any. */
+static vdbgi_scene *terrain_scene(vdbgi_context *ctx, int n, float cell, size_t *triangles)
 {
-    vdbgi_context *ctx = test_context();
     float *pos;
     uint32_t *idx;
     size_t nv, nt;
-    terrain(159, 0.25f, &pos, &nv, &idx, &nt);
-    vdbgi_scene *s = scene_of(ctx, pos, nv, idx, nt);
+    terrain(n, cell, &pos, &nv, &idx, &nt);
+    vdbgi_scene *const s = scene_of(ctx, pos, nv, idx, nt);
+    free(pos);
+    free(idx);
+    if (triangles)
+        *triangles = nt;
+    return s;
+}
+
+static void fifty_thousand_triangles_slivers_and_determinism(void)
+{
+    vdbgi_context *ctx = test_context();
+    size_t nt;
+    vdbgi_scene *s = terrain_scene(ctx, 159, 0.25f, &nt);
     CHECK(s && s->triangle_count == nt - 1 && nt - 1 >= 50000); /* the degenerate one dropped */
     vdbgi_unwrap a, b;
     const vdbgi_unwrap_params p = {.texel = 0.1f, .size = 256};
@@ -209,8 +227,6 @@ static void fifty_thousand_triangles_slivers_and_determinism(void)
     vdbgi_unwrap_free(&a);
     vdbgi_unwrap_free(&b);
     vdbgi_scene_destroy(s);
-    free(pos);
-    free(idx);
     vdbgi_context_destroy(ctx);
 }
 
@@ -274,11 +290,7 @@ static void a_spiral_ramp_is_split_where_it_folds(void)
 static void every_triangle_gets_samples_on_itself(void)
 {
     vdbgi_context *ctx = test_context();
-    float *pos;
-    uint32_t *idx;
-    size_t nv, nt;
-    terrain(40, 0.5f, &pos, &nv, &idx, &nt);
-    vdbgi_scene *s = scene_of(ctx, pos, nv, idx, nt);
+    vdbgi_scene *s = terrain_scene(ctx, 40, 0.5f, NULL);
     vdbgi_unwrap u;
     vdbgi_texels tx;
     const vdbgi_unwrap_params p = {.texel = 0.2f, .size = 256};
@@ -342,8 +354,6 @@ static void every_triangle_gets_samples_on_itself(void)
     vdbgi_texels_free(&tx);
     vdbgi_unwrap_free(&u);
     vdbgi_scene_destroy(s);
-    free(pos);
-    free(idx);
     vdbgi_context_destroy(ctx);
 }
 
@@ -375,19 +385,11 @@ static void a_box_face_of_16_by_12_texels_samples_17_by_13(void)
 static void the_default_atlas_is_the_least_that_holds_the_charts(void)
 {
     vdbgi_context *ctx = test_context();
-    float *pos;
-    uint32_t *idx;
-    size_t nv, nt;
-    terrain(159, 0.25f, &pos, &nv, &idx, &nt);
-    vdbgi_scene *terrain_scene = scene_of(ctx, pos, nv, idx, nt);
-    test_mesh m = {0};
-    const float lo[3] = {0, 0, 0}, hi[3] = {4, 3, 2};
-    test_mesh_box(&m, lo, hi, 0);
-    vdbgi_scene *box = scene_of(ctx, m.pos, m.vertex_count, m.idx, m.triangle_count);
+    vdbgi_scene *const terrain = terrain_scene(ctx, 159, 0.25f, NULL), *const box = box_scene(ctx);
     const struct {
         vdbgi_scene *s;
         float texel;
-    } cases[2] = {{box, 0.25f}, {terrain_scene, 0.1f}};
+    } cases[2] = {{box, 0.25f}, {terrain, 0.1f}};
     for (int i = 0; i < 2; i++) {
         vdbgi_unwrap u, less;
         const vdbgi_unwrap_params p = {.texel = cases[i].texel};
@@ -402,13 +404,11 @@ static void the_default_atlas_is_the_least_that_holds_the_charts(void)
     }
     vdbgi_unwrap big;
     const vdbgi_unwrap_params fine = {.texel = 0.02f};
-    CHECK_RESULT(ctx, vdbgi_unwrap_build(ctx, terrain_scene, &fine, &big), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_unwrap_build(ctx, terrain, &fine, &big), VDBGI_OK);
     CHECK(big.size == 1024 && big.page_count > 1);
     vdbgi_unwrap_free(&big);
     vdbgi_scene_destroy(box);
-    vdbgi_scene_destroy(terrain_scene);
-    free(pos);
-    free(idx);
+    vdbgi_scene_destroy(terrain);
     vdbgi_context_destroy(ctx);
 }
 
