@@ -3,6 +3,7 @@
 // columns (docs/format.md, "The runtime's indirection"), and the L2 terms as
 // unorm bytes. No three.js: the textures themselves are made on the page.
 import { indirectionColumns } from './gi-format.js';
+import { now } from './gi-stream.js';
 
 // gi (parseGi's result) with `columns` ({ data, width, height }) in place of
 // `indirection`, and its signed term bytes q, as unsigned ones, turned into
@@ -23,4 +24,14 @@ export function prepareTextures(gi) {
     return u;
   });
   return gi;
+}
+
+// A giReader's .gi once every chunk is in: parsed (parseGi in the worker,
+// parseGiSliced on the page, which gives the page back) and prepared, with the
+// milliseconds the inflating and the parse took: { header, inflateMs, parseMs }.
+export async function readTextures(reader, parse) {
+  const bytes = await reader.end();
+  const t = now();
+  const header = prepareTextures(await parse(bytes));
+  return { header, inflateMs: reader.inflateMs, parseMs: now() - t };
 }

@@ -2,12 +2,11 @@
 // from beside itself (or from the script its `worker` option names). The page
 // sends a .gi.gz's chunks as they arrive, each transferred; here they are
 // checked and unpacked as gi-stream.js says (giReader), then parsed, rebuilt
-// and made ready for the GPU (prepareTextures), and the textures' buffers go
+// and made ready for the GPU (readTextures), and the textures' buffers go
 // back transferred, not copied. Every refusal is the page reader's, word for
 // word. One load a worker; the page ends it.
 import { giReader, parseGi } from './gi-format.js';
-import { prepareTextures } from './gi-gpu.js';
-import { now } from './gi-stream.js';
+import { readTextures } from './gi-gpu.js';
 
 let reader = null;
 const reply = (id, body, transfer = []) => self.postMessage({ id, ...body }, transfer);
@@ -20,11 +19,10 @@ self.onmessage = async ({ data }) => {
     } else if (op === 'push') {
       await reader.push(data.chunk);
     } else if (op === 'end') {
-      const bytes = await reader.end();
-      const t = now();
-      const header = prepareTextures(parseGi(bytes));
+      const read = await readTextures(reader, parseGi);
+      const { header } = read;
       const buffers = new Set([header.columns.data, header.atlas, ...(header.sh ?? [])].map((a) => a.buffer));
-      return reply(id, { header, inflateMs: reader.inflateMs, parseMs: now() - t }, [...buffers]);
+      return reply(id, read, [...buffers]);
     }
     return reply(id, {});
   } catch (e) {

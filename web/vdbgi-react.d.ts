@@ -6,9 +6,9 @@ import type { DebugViewName, DebugViewValue, GiRuntimeBase, GiVolume, KnobSet } 
 export interface GiLightProps extends Omit<ThreeElements['group'], 'children' | 'ref'> {
   /** The .gi.gz to load (vdb-to-gi's output); a new url loads and shows the new volume. */
   url: string;
-  /** The knob set the materials under it take ('world' by default). */
+  /** The knob set the materials under it take ('world' by default), when each is first lit. */
   set?: KnobSet;
-  /** Look the volume up per fragment rather than per vertex. */
+  /** Look the volume up per fragment rather than per vertex, for materials not yet lit. */
   perFragment?: boolean;
   /** The volume's light on (the default) or off. */
   enabled?: boolean;

@@ -29,6 +29,7 @@ function lightTree(root, runtime, options) {
 
 // <GiLight url="world.gi.gz" set perFragment enabled debug onLoad onError onProgress
 // maxBytes timeout {...group props}>: a group whose meshes take the volume's light.
+// set and perFragment reach a material when it is first lit (apply() lights one once).
 // A change of url loads the new volume and shows it once loaded; the runtime (and
 // the volume it shows) is disposed with the component. Errors go to onError, or are
 // thrown to the nearest error boundary when there is none.

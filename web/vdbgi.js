@@ -21,7 +21,7 @@ import { now, yieldToPage } from './gi-stream.js';
 import {
   decodeGi, giReader, parseGiSliced, layoutGeometry, MAX_BYTES, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT, SH2_RANGE,
 } from './gi-format.js';
-import { prepareTextures } from './gi-gpu.js';
+import { prepareTextures, readTextures } from './gi-gpu.js';
 
 export { ENCODING_RGBM, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT, MAX_BYTES } from './gi-format.js';
 
@@ -221,12 +221,7 @@ function pageDecoder(maxBytes) {
     kind: 'page',
     push: (chunk) => gi.push(chunk),
     cancel: (reason) => gi.cancel(reason),
-    async end() {
-      const bytes = await gi.end();
-      const t = now();
-      const header = prepareTextures(await parseGiSliced(bytes));
-      return { header, inflateMs: gi.inflateMs, parseMs: now() - t };
-    },
+    end: () => readTextures(gi, parseGiSliced),
   };
 }
 
