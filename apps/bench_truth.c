@@ -266,6 +266,23 @@ static vdbgi_result truth_at_spacing(vdbgi_context *ctx, const vdbgi_scene *scen
         print_row(csv, spacing, "ambient cube, every probe", rv, got);
     if (r == VDBGI_OK && (r = probes_reading(p, rv, true, got)) == VDBGI_OK)
         print_row(csv, spacing, "L2, every probe", rv, got);
+    /* Under the physical truth, the apps' defaults (issue 45): the physical model with its
+       bounces counted until converged, and the seed model's defaults it replaced. */
+    static const struct {
+        const char *name;
+        vdbgi_model model;
+    } apps[2] = {{"scalar, bricks: the apps' default (physical, converged)", VDBGI_MODEL_PHYSICAL},
+                 {"scalar, bricks: the seed model (the default before)", VDBGI_MODEL_SEED}};
+    for (int a = 0; r == VDBGI_OK && light && light->model == VDBGI_MODEL_PHYSICAL && a < 2; a++) {
+        const vdbgi_bake_desc dd = {.rays = rays, .threads = threads, .model = apps[a].model};
+        vdbgi_volume_destroy(v);
+        v = NULL;
+        if ((r = vdbgi_probes_bake(p, scene, &dd, NULL)) == VDBGI_OK &&
+            (r = vdbgi_volume_build(ctx, p, &cd, &v)) == VDBGI_OK) {
+            bench_volume_reading(v, rv, got);
+            print_row(csv, spacing, apps[a].name, rv, got);
+        }
+    }
     vdbgi_volume_destroy(v);
     vdbgi_probes_destroy(cube);
     vdbgi_probes_destroy(p);

@@ -141,6 +141,24 @@ int cli_light_prepare(vdbgi_context *ctx, const vdbgi_scene *scene, vdbgi_bake_d
     return r == VDBGI_OK ? -1 : cli_fail(ctx, r);
 }
 
+void cli_light_defaults(vdbgi_bake_desc *b)
+{
+    b->model = VDBGI_MODEL_PHYSICAL;
+}
+
+int cli_light_check(const vdbgi_bake_desc *b)
+{
+    if (b->model != VDBGI_MODEL_PHYSICAL)
+        return -1;
+    if (b->ambient_is_set)
+        return cli_usage_error("--ambient is the seed model's fill: give --model seed with it "
+                               "(the physical model's bounces stand in for it)");
+    if (b->falloff != 0.0f && !isinf(b->falloff))
+        return cli_usage_error("--falloff is the seed model's: give --model seed with it "
+                               "(physical light falls off as 1/d^2 by itself)");
+    return -1;
+}
+
 int cli_light_option(int c, const char *arg, vdbgi_bake_desc *b)
 {
     double d = 0.0;

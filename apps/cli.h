@@ -124,6 +124,15 @@ enum {
 int cli_light_option(int c, const char *arg, vdbgi_bake_desc *b);
 
 /*
+ * The apps bake as a path tracer counts light unless told (the library's zero
+ * is the seed's model): call before parsing. cli_light_check after parsing
+ * refuses the seed model's stand-ins under the physical model with a hint;
+ * -1 to go on, else the exit code of a usage error.
+ */
+void cli_light_defaults(vdbgi_bake_desc *b);
+int cli_light_check(const vdbgi_bake_desc *b);
+
+/*
  * What the light options leave for later: the sky map to load (path NULL for
  * none) and whether --sun scene asked for the scene's own sun.
  */

@@ -1,4 +1,4 @@
-/* gi-bake: bake one-bounce irradiance into light probes near a scene's surfaces, as .vdb. */
+/* gi-bake: bake bounced irradiance into light probes near a scene's surfaces, as .vdb. */
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 #include "vdbgi.h"
@@ -39,18 +39,21 @@ static void usage(void)
            "      --noise T            auto's target, relative to the probe's value (0.02)\n"
            "      --max-rays N         auto's cap, a power of two (1024)\n"
            "      --ray-dist M         longest ray in metres (40)\n"
-           "      --ambient A          ambient fill received at every hit (0.15)\n"
+           "      --ambient A          seed model: ambient fill received at every hit (0.15)\n"
            "      --sun X,Y,Z|scene    direction towards the sun, or the scene's directional\n"
-           "                           light (the scene's if it has one, else 0.4,0.8,0.3)\n"
+           "                           light (the scene's if it has one, else 0.4,0.8,0.3;\n"
+           "                           physical: none where the scene has lights of its own)\n"
            "      --sun-color R,G,B    sun colour, linear; 0,0,0 turns the sun off (1,1,1)\n"
-           "      --falloff M          distance falloff 1/(1+(d/M)^2) in metres, or inf (4)\n"
+           "      --falloff M          seed model: distance falloff 1/(1+(d/M)^2) in metres,\n"
+           "                           or inf (4)\n"
            "      --sky R,G,B          what a ray that hits nothing adds, linear (0,0,0)\n"
            "      --sky-map FILE       an equirectangular .hdr or .exr sky in place of --sky\n"
            "      --sky-intensity X    the sky map's scale (1)\n"
            "      --sky-rotation DEG   the sky map's turn about +y (0)\n"
            "      --lights on|off      the scene's point, spot and directional lights (on)\n"
            "      --model M            seed: seed 000's ambient fill and falloff; physical:\n"
-           "                           neither, only lights, emission, sky and bounces (seed)\n"
+           "                           neither, only lights, emission, sky and bounces, as a\n"
+           "                           path tracer counts light (physical)\n"
            "      --bounces N|auto     reflections, 1..16: every source's light reaches a probe\n"
            "                           over at most N (physical: lamps, sky and emitters\n"
            "                           alike; seed: its sky and emitters one fewer); auto:\n"
@@ -80,7 +83,8 @@ static void usage(void)
            "  gi-bake data/world.glb -o world.vdb --sampling random --rays 256 --falloff inf\n"
            "  gi-bake data/world.glb -o world.vdb --basis ambient-cube\n"
            "  gi-bake data/world.glb -o world.vdb --basis sh2\n"
-           "  gi-bake interior.glb -o interior.vdb --model physical --bounces 3\n"
+           "  gi-bake interior.glb -o interior.vdb --bounces 3\n"
+           "  gi-bake data/world.glb -o world-seed.vdb --model seed\n"
            "  gi-bake data/world.glb -o tile2.vdb --tile 2/4\n");
 }
 
@@ -130,6 +134,7 @@ static int parse_args(int argc, char **argv, options *o)
                                           {"converge", required_argument, NULL, OPT_CONVERGE},
                                           {"tile", required_argument, NULL, OPT_TILE},
                                           CLI_COMMON_LONG_OPTIONS};
+    cli_light_defaults(&o->bake);
     opterr = 0;
     int c;
     while ((c = getopt_long(argc, argv, ":o:qvh", longs, NULL)) != -1) {
@@ -262,6 +267,9 @@ static int parse_args(int argc, char **argv, options *o)
         }
         }
     }
+    const int light = cli_light_check(&o->bake);
+    if (light >= 0)
+        return light;
     const bool physical = o->bake.model == VDBGI_MODEL_PHYSICAL;
     if (o->bounces_auto && !physical)
         return cli_usage_error("--bounces auto is for --model physical: the seed model's fill "

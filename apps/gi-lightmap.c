@@ -45,19 +45,21 @@ static void usage(void)
            "      --stats FILE         also write the figures -v prints as JSON\n"
            "      --rays N             rays per texel (64)\n"
            "      --ray-dist M         longest ray in metres (40)\n"
-           "      --ambient A          ambient fill received at every hit (0.15)\n"
+           "      --ambient A          seed model: ambient fill received at every hit (0.15)\n"
            "      --sun X,Y,Z|scene    direction towards the sun, or the scene's directional\n"
-           "                           light (the scene's if it has one, else 0.4,0.8,0.3)\n"
+           "                           light (the scene's if it has one, else 0.4,0.8,0.3;\n"
+           "                           physical: none where the scene has lights of its own)\n"
            "      --sun-color R,G,B    sun colour, linear; 0,0,0 turns the sun off (1,1,1)\n"
-           "      --falloff M          distance falloff 1/(1+(d/M)^2) in metres, or inf (4)\n"
+           "      --falloff M          seed model: distance falloff 1/(1+(d/M)^2) in metres,\n"
+           "                           or inf (4)\n"
            "      --sky R,G,B          what a ray that hits nothing adds, linear (0,0,0)\n"
            "      --sky-map FILE       an equirectangular .hdr or .exr sky in place of --sky\n"
            "      --sky-intensity X    the sky map's scale (1)\n"
            "      --sky-rotation DEG   the sky map's turn about +y (0)\n"
            "      --lights on|off      the scene's point, spot and directional lights (on)\n"
            "      --model M            seed: seed 000's ambient fill and falloff; physical:\n"
-           "                           neither: lights, emission, sky; bounces by --passes\n"
-           "                           (seed)\n"
+           "                           neither: lights, emission, sky; bounces by --passes,\n"
+           "                           as a path tracer counts light (physical)\n"
            "      --sampling S         fibonacci or random (fibonacci)\n"
            "      --seed N             seed of random sampling (0)\n"
            "      --threads N          worker threads; results do not depend on it (all cores)\n"
@@ -74,6 +76,7 @@ static void usage(void)
            "  gi-lightmap data/world.glb -o world-baked.glb --direct --passes 3 --texel 0.1\n"
            "  gi-lightmap data/world.glb -o world-lit.glb --slices slices --stats stats.json\n"
            "  gi-lightmap data/world.glb -o world-layers.glb --layers\n"
+           "  gi-lightmap data/world.glb -o world-seed.glb --model seed\n"
            "\n"
            "Emissive materials (glTF emissiveFactor, emissiveTexture,\n"
            "KHR_materials_emissive_strength; OBJ Ke) light the scene.\n");
@@ -117,6 +120,7 @@ static int parse_args(int argc, char **argv, options *o)
                                           {"stats", required_argument, NULL, OPT_STATS},
                                           CLI_LIGHT_LONG_OPTIONS,
                                           CLI_COMMON_LONG_OPTIONS};
+    cli_light_defaults(&o->lm.bake);
     opterr = 0;
     int c;
     double ao_dist = 1.0;
@@ -183,6 +187,9 @@ static int parse_args(int argc, char **argv, options *o)
     }
     if (o->ao && o->lm.layers)
         return cli_usage_error("--layers is for lightmaps, not --mode ao");
+    const int light = cli_light_check(&o->lm.bake);
+    if (light >= 0)
+        return light;
     if (o->passes_auto && o->lm.bake.model != VDBGI_MODEL_PHYSICAL)
         return cli_usage_error("--passes auto is for --model physical: the seed model's fill "
                                "stands in for further passes (give --passes N)");

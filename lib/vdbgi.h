@@ -482,7 +482,9 @@ typedef enum vdbgi_trace_method {
  *   sun_dir:     direction towards the sun. (0,0,0) == (0.4, 0.8, 0.3).
  *                Normalised by the bake.
  *   sun_color:   sun radiance, linear RGB in 0..1e6. (0,0,0) == (1,1,1);
- *                sun_color_is_set with (0,0,0) turns the sun off.
+ *                sun_color_is_set with (0,0,0) turns the sun off. Under the
+ *                physical model a scene whose own lights are used gets no
+ *                default sun: only a sun_dir or sun_color given adds one.
  *   falloff:     distance weight 1 / (1 + (d/falloff)^2), metres, > 0.
  *                0 == 4; INFINITY turns the falloff off.
  *   sky:         what a miss contributes, linear RGB in 0..1e6. (0,0,0) == black.
@@ -496,7 +498,9 @@ typedef enum vdbgi_trace_method {
  *   trace_method: Embree query shape, see vdbgi_trace_method.
  *   lights:      see vdbgi_lights.
  *   model:       see vdbgi_model. VDBGI_MODEL_PHYSICAL refuses an ambient
- *                or a falloff that is given.
+ *                or a falloff that is given. The apps (gi-bake, gi-lightmap)
+ *                default to VDBGI_MODEL_PHYSICAL; zero here stays the seed's,
+ *                whose closed forms this API's users hold their code to.
  *   bounces:     1..16: a hit's outgoing light also carries what arrives
  *                there after bounces - 1 more reflections, traced further
  *                along one cosine-weighted ray per bounce (the ambient fill

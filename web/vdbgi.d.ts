@@ -104,8 +104,16 @@ export class GiRuntimeBase {
   setKnobs(set: KnobSet, knobs: Partial<Knobs>): void;
   getKnobs(set: KnobSet): Knobs;
   /**
+   * Light every mesh under root with the volume: with perFragment 'auto' (the default),
+   * per fragment where a mesh's triangles' mean edge is longer than the probe spacing,
+   * per vertex elsewhere; true or false, every mesh one way. The volume must be set first.
+   */
+  light(root: Object3D, options?: { set?: KnobSet; perFragment?: boolean | 'auto' }):
+    { perVertex: number; perFragment: number };
+  /**
    * The split in one call, for a GLTFLoader result of a gi-lightmap .glb: meshes with a
-   * lightmap take it and only the occluders' shadow, the others the volume per vertex;
+   * lightmap take it and only the occluders' shadow, the others the volume as light()
+   * chooses;
    * meshes under `moving` take the volume per fragment (character knobs), and each of
    * those objects becomes an occluder unless `occlude` is false.
    */

@@ -435,14 +435,38 @@ export class GiRuntimeBase {
     return object;
   }
 
+  // Light every mesh under `root` with the volume. perFragment 'auto' chooses
+  // per mesh: per fragment where its triangles' mean edge is longer than the
+  // volume's probe spacing (its vertices then stand farther apart than the
+  // probes, and light interpolated between them misses what the probes hold in
+  // between: a lamp's pool on a floor of two triangles), per vertex elsewhere,
+  // the cheaper lookup. true or false lights every mesh one way. The volume must
+  // be set first (its spacing decides). Materials shared stay shared within a
+  // way. Returns how many meshes each way: { perVertex, perFragment }.
+  light(root, { set = 'world', perFragment = 'auto' } = {}) {
+    if (perFragment === 'auto' && !this.volume)
+      throw new Error("vdbgi: light(root) with perFragment 'auto' needs the volume first (setVolume): " +
+        'its probe spacing decides');
+    const use = materialUser(this);
+    const counts = { perVertex: 0, perFragment: 0 };
+    root.traverse((o) => {
+      if (!o.isMesh) return;
+      const fragment = perFragment === 'auto' ? largeTriangles(o, this.volume.info.spacing) : !!perFragment;
+      use(o, fragment ? 'fragment' : 'vertex', { set, perFragment: fragment });
+      counts[fragment ? 'perFragment' : 'perVertex']++;
+    });
+    return counts;
+  }
+
   // The split the README recommends, in one call, for a GLTFLoader result of a
   // gi-lightmap .glb: a mesh with a lightmap gets it (TEXCOORD_1, at its scale) and
   // takes no light from the volume, only the occluders' shadow; a mesh without one
-  // is lit by the volume per vertex; every mesh under an object of `moving`
-  // (characters, props: in the scene or not) is lit by the volume per fragment
-  // with the character knobs, and each of those objects becomes an occluder
-  // unless `occlude` is false. Materials shared stay shared. Resolves to how many
-  // meshes each way: { lightmapped, volume, moving }.
+  // is lit by the volume as light() lights it (per fragment where its triangles
+  // are large); every mesh under an object of `moving` (characters, props: in the
+  // scene or not) is lit by the volume per fragment with the character knobs, and
+  // each of those objects becomes an occluder unless `occlude` is false.
+  // Materials shared stay shared. Resolves to how many meshes each way:
+  // { lightmapped, volume, moving }.
   async lightScene(gltf, { moving = [], occlude = true } = {}) {
     const movers = new Set();
     for (const object of moving) object.traverse((o) => { if (o.isMesh) movers.add(o); });
@@ -459,28 +483,14 @@ export class GiRuntimeBase {
       loaded[i].colorSpace = THREE.SRGBColorSpace; // the PNGs hold sRGB-encoded E / scale
       maps.set(index, loaded[i]);
     });
-    // What apply() made of each material, per way of lighting it. A material lit two
-    // ways (a mover sharing one with the world) gets a copy for the second: apply()
-    // patches in place, and a lightmap set on it would reach the mover too.
-    const made = { lightmap: new Map(), volume: new Map(), moving: new Map() };
-    const first = new Map();
-    const use = (mesh, way, options, prepare = () => {}) => {
-      const given = mesh.material;
-      if (!made[way].has(given)) {
-        const own = !first.has(given) || first.get(given) === way;
-        if (!first.has(given)) first.set(given, way);
-        const material = own ? given : given.clone();
-        prepare(material);
-        made[way].set(given, this.apply(material, options));
-      }
-      mesh.material = made[way].get(given);
-    };
+    const use = materialUser(this);
     for (const mesh of movers) use(mesh, 'moving', { set: 'character', perFragment: true });
     let lightmapped = 0;
     for (const mesh of statics) {
       const lm = mesh.material.userData?.vdbgi_lightmap;
       if (!lm) {
-        use(mesh, 'volume', {});
+        const fragment = !!this.volume && largeTriangles(mesh, this.volume.info.spacing);
+        use(mesh, fragment ? 'fragment' : 'vertex', { perFragment: fragment });
         continue;
       }
       const map = maps.get(lm.texture);
@@ -614,6 +624,50 @@ export class GiRuntimeBase {
     this.volume = this._retired = null;
   }
 }
+
+// Sets mesh.material to what runtime.apply() made of it for a way of lighting
+// it, once per (material, way). A material lit two ways (a mover sharing one
+// with the world) gets a copy for the second: apply() patches in place, and
+// the first way's shader (or a lightmap set on it) would reach the second's meshes.
+function materialUser(runtime) {
+  const made = new Map(); // way -> (given material -> applied one)
+  const first = new Map(); // given material -> the way it was first lit
+  return (mesh, way, options, prepare = () => {}) => {
+    if (!made.has(way)) made.set(way, new Map());
+    const byWay = made.get(way);
+    const given = mesh.material;
+    if (!byWay.has(given)) {
+      const own = !first.has(given) || first.get(given) === way;
+      if (!first.has(given)) first.set(given, way);
+      const material = own ? given : given.clone();
+      prepare(material);
+      byWay.set(given, runtime.apply(material, options));
+    }
+    mesh.material = byWay.get(given);
+  };
+}
+
+// Whether a mesh's triangles are large against the probe spacing: their mean
+// edge in world metres (the mesh's largest world scale; at most 4,096
+// triangles read, evenly spread) over `spacing`.
+function largeTriangles(mesh, spacing) {
+  const position = mesh.geometry?.attributes?.position;
+  if (!position) return false;
+  const index = mesh.geometry.index;
+  const triangles = Math.floor((index ? index.count : position.count) / 3);
+  if (triangles === 0) return false;
+  const stride = Math.max(1, Math.floor(triangles / 4096));
+  const v = edgeScratch;
+  const at = (k) => (index ? index.getX(k) : k);
+  let sum = 0, n = 0;
+  for (let t = 0; t < triangles; t += stride, n++) {
+    for (let e = 0; e < 3; e++) v[e].fromBufferAttribute(position, at(3 * t + e));
+    sum += v[0].distanceTo(v[1]) + v[1].distanceTo(v[2]) + v[2].distanceTo(v[0]);
+  }
+  mesh.updateWorldMatrix(true, false);
+  return (sum / (3 * n)) * mesh.matrixWorld.getMaxScaleOnAxis() > spacing;
+}
+const edgeScratch = [new THREE.Vector3(), new THREE.Vector3(), new THREE.Vector3()];
 
 // Warn once per message: a traverse over a scene meets the same material many times.
 const warned = new Set();

@@ -303,6 +303,18 @@ vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
     p->adaptive = bp.adaptive;
     p->invalid_count = (size_t)st.invalid_probe_count;
     record_settings(p, scene, &bp, &st);
+    /* A black bake is almost always a scene without light (a closed room with no lamp under the
+       physical model), not what was wanted: say so rather than write darkness silently. */
+    size_t lit = 0, valid = 0;
+    for (size_t i = 0; i < n && !lit; i++)
+        if (!(p->backface[i] > bp.invalid_threshold)) {
+            valid++;
+            lit = p->rgb[3 * i] > 0.0f || p->rgb[3 * i + 1] > 0.0f || p->rgb[3 * i + 2] > 0.0f;
+        }
+    if (valid && !lit)
+        vdbgi_log(ctx, VDBGI_LOG_WARNING,
+                  "no light reached any probe: no lamp, sun, sky or emitter lights what they see "
+                  "(the seed model's ambient fill would)");
     if (stats)
         *stats = st;
     return VDBGI_OK;

@@ -64,9 +64,13 @@ static void resolve_lamps(const vdbgi_bake_desc *desc, const vdbgi_scene *scene,
     bool scene_sun = false;
     for (size_t i = 0; i < count; i++)
         scene_sun = scene_sun || lights[i].type == VDBGI_LIGHT_DIRECTIONAL;
-    /* The scene's own sun replaces the default one; a sun_dir given replaces the scene's. */
+    /* The scene's own sun replaces the default one; a sun_dir given replaces the scene's.
+       Under the physical model a scene that brings any light of its own is lit by its lights
+       alone: a sun nobody asked for would shine through an interior's windows. */
     const bool given = !is_zero3(desc->sun_dir);
-    if (scene_sun && !given) {
+    const bool asked = given || desc->sun_color_is_set || !is_zero3(desc->sun_color);
+    const bool own_light = count > 0 && bp->model == VDBGI_MODEL_PHYSICAL && !asked;
+    if ((scene_sun && !given) || own_light) {
         bp->sun_on = false;
         memset(bp->sun_color, 0, sizeof(bp->sun_color));
     }

@@ -1,7 +1,9 @@
 # The .vdb opens in pyopenvdb (Debian's system python3): grids, transform, metadata,
 # probe positions at origin + spacing * ijk, and the closed room's inside probes
 # lit by ambient fill alone: at most albedo (<= 1) x ambient, so no sun got in.
-"$BIN/gi-bake" -q "$DATA/room.obj" -o room.vdb --rays 64 --falloff inf >/dev/null
+# room.obj is closed and has no lamp: dark under the default physical model, lit by the
+# seed model's ambient fill.
+"$BIN/gi-bake" -q "$DATA/room.obj" -o room.vdb --rays 64 --model seed --falloff inf >/dev/null
 /usr/bin/python3 - <<'PY'
 import pyopenvdb as vdb
 grids, file_meta = vdb.readAll("room.vdb")

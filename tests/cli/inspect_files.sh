@@ -1,6 +1,8 @@
 # gi-inspect reads a .vdb (metadata, --at) and a .gi.gz; it refuses a cut or damaged
 # .gi.gz with one line and exit 1, never reading past the end.
-"$BIN/gi-bake" -q "$DATA/room.obj" -o room.vdb --rays 16 >/dev/null
+# room.obj is closed and has no lamp: dark under the default physical model, lit by the
+# seed model's ambient fill.
+"$BIN/gi-bake" -q "$DATA/room.obj" -o room.vdb --rays 16 --model seed >/dev/null
 "$BIN/vdb-to-gi" -q room.vdb -o room.gi.gz
 "$BIN/gi-inspect" room.vdb --at 0,1.5,0 | grep -E '^(probes|meta +(scene|rays)=|at )' | sed 's/-> .*/-> rgb/'
 "$BIN/gi-inspect" room.gi.gz --at 0,1.5,0 | grep -E '^(encoding|at )' | sed 's/-> .*/-> rgb/'

@@ -27,8 +27,8 @@ done
 mkdir bad && cd bad
 "$BIN/gi-lightmap" missing.obj -o x.glb 2> err.txt; echo "missing scene: exit $?, $(wc -l < err.txt) line"
 "$BIN/gi-lightmap" "$DATA/room.obj" -o x.glb --passes 0 2> err.txt; echo "passes 0: exit $?, $(cat err.txt | head -1)"
-"$BIN/gi-lightmap" "$DATA/room.obj" -o x.glb --passes auto 2> err.txt; echo "passes auto, seed: exit $?, $(cat err.txt | head -1)"
-"$BIN/gi-lightmap" "$DATA/room.obj" -o x.glb --converge 0.01 2> err.txt; echo "converge, seed: exit $?, $(head -1 err.txt)"
+"$BIN/gi-lightmap" "$DATA/room.obj" -o x.glb --model seed --passes auto 2> err.txt; echo "passes auto, seed: exit $?, $(cat err.txt | head -1)"
+"$BIN/gi-lightmap" "$DATA/room.obj" -o x.glb --model seed --converge 0.01 2> err.txt; echo "converge, seed: exit $?, $(head -1 err.txt)"
 # Under the physical model the default is auto: passes until the next would add under 1 %,
 # at most three swept and the third carrying the rest.
 python3 "$DATA/make_scenes.py" --room lit.glb

@@ -56,6 +56,29 @@ for (const [name, mod] of [['WebGL2', webgl], ['WebGPU', webgpu]]) {
   console.log(`${name}: lightScene with a shared material: ${JSON.stringify(counts)}; ` +
     `the static's lightmap ${world.material.lightMap === map ? 'on' : 'off'} at ${world.material.lightMapIntensity}, ` +
     `the mover's ${hero.material.lightMap ? 'on' : 'off'}, two materials: ${world.material !== hero.material}`);
+  // light(): per fragment where a mesh's triangles are long against the probe spacing (a
+  // room's two-triangle floor; a small quad scaled up), per vertex where they are short; a
+  // material shared by both ways becomes two. Only the volume's spacing is read, so a
+  // stand-in with that one figure serves.
+  try {
+    gi.light(new THREE.Group());
+  } catch (e) {
+    console.log(`${name}: ${e.message}`);
+  }
+  gi.volume = { info: { spacing: 0.5 } };
+  const common = new THREE.MeshStandardMaterial();
+  const floor = new THREE.Mesh(new THREE.PlaneGeometry(4, 4), common);
+  const fine = new THREE.Mesh(new THREE.PlaneGeometry(4, 4, 32, 32), common);
+  const scaled = new THREE.Mesh(new THREE.PlaneGeometry(0.4, 0.4), new THREE.MeshStandardMaterial());
+  scaled.scale.setScalar(10);
+  const room = new THREE.Group().add(floor, fine, new THREE.Group().add(scaled));
+  const ways = gi.light(room);
+  const vertex = (m) => (name === 'WebGL2' ? 'VDBGI_PER_VERTEX' in m.defines : 'in its nodes');
+  console.log(`${name}: light() at 0.5 m: ${JSON.stringify(ways)}; per vertex: floor ${vertex(floor.material)}, ` +
+    `fine ${vertex(fine.material)}, scaled ${vertex(scaled.material)}; the shared material split: ` +
+    `${floor.material !== fine.material}; forced: ${JSON.stringify(gi.light(new THREE.Group().add(
+      new THREE.Mesh(new THREE.PlaneGeometry(4, 4), new THREE.MeshStandardMaterial())), { perFragment: false }))}`);
+  gi.volume = null;
 }
 console.log(`the same methods: ${JSON.stringify(shared[0]) === JSON.stringify(shared[1])} (${shared[0].join(', ')})`);
 console.log(`WebGPU adds: irradianceNode: ${typeof new webgpu.GiRuntime().irradianceNode === 'function'}`);

@@ -355,7 +355,9 @@ async function frame(task) {
       }));
   });
   await Promise.all(jobs);
-  gltf.scene.traverse((o) => {
+  // perFragment 'auto': as light() chooses (per fragment where a mesh's triangles are large).
+  if (task.perFragment === 'auto' && !task.lightmap) gi.light(gltf.scene);
+  else gltf.scene.traverse((o) => {
     if (o.isMesh) o.material = gi.apply(o.material, { volume: !task.lightmap, perFragment: !!task.perFragment });
   });
   scene.add(gltf.scene);
