@@ -6,7 +6,8 @@
 # gives a surface against the hemisphere truth (gi-bench truth); then the scene's own light on
 # the interior (gi-bench lights, truth under the physical model, and Cycles where blender is
 # installed: tests/truth/room_vs_cycles.sh, and the frame a player sees against
-# Cycles', tests/truth/frame_vs_cycles.sh); then where the bytes of the
+# Cycles', tests/truth/frame_vs_cycles.sh, and the bundled world's,
+# tests/truth/world_frame_vs_cycles.sh); then where the bytes of the
 # default volume go on those two and the town (tests/breakdown.py, Debian's
 # python3); then the browser runtime's load and frame times in headless
 # Chromium (tests/web/bench_web.mjs, docs/web.md). Writes build/bench/bench.md.
@@ -61,6 +62,9 @@ mkdir -p "$OUT"
         echo
         echo "### What a player sees: the runtime's frame against Cycles' (docs/frame.md)"
         sh tests/truth/frame_vs_cycles.sh "$BUILD/bin" "$OUT/frame" 2048
+        echo
+        echo "### The bundled world's frame against Cycles' (docs/frame.md)"
+        sh tests/truth/world_frame_vs_cycles.sh "$BUILD/bin" "$OUT/world_frame" 1024
     else
         echo "(no blender: apt install blender to compare with Cycles)"
     fi

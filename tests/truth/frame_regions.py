@@ -1,7 +1,8 @@
 """frame_regions.py OUTDIR NAME...: each frame of ours (OUTDIR/NAME.pfm, its world
 positions NAME.pos.pfm and coverage NAME.mask.pfm, from tests/web/render_frame.mjs)
 against Cycles' (OUTDIR/cycles.pfm), region by region, on the scene and view of
-OUTDIR/frame.json. Prints a markdown table (bias: our light over Cycles' in the
+OUTDIR/frame.json (the room's regions, or for a world without moving spheres the
+sun and its shadow). Prints a markdown table (bias: our light over Cycles' in the
 region; RMSE over its pixels, relative to Cycles' mean there, and over 4 x 4
 blocks wholly in it, where the path tracer's own noise is a quarter), writes
 OUTDIR/frame_vs_cycles.csv and, a picture a frame, OUTDIR/frame_NAME.png (ours,
@@ -25,12 +26,20 @@ def read_pfm(path):
     return data.reshape(h, w, 3 if kind == b"PF" else 1)
 
 
-def regions(scene, pos, mask):
-    """Boolean masks, one a region, from the world position under each pixel."""
+def regions(scene, pos, mask, out, truth):
+    """Boolean masks, one a region, from the world position under each pixel (the room), or
+    from Cycles' direct light rendered apart (OUTDIR/cycles_direct.pfm, a scene without
+    moving spheres: the sun and its shadow)."""
+    surface = mask[..., 0] > 0.5
+    if not scene.get("spheres"):
+        direct = read_pfm(os.path.join(out, "cycles_direct.pfm")).mean(-1)
+        shadow = surface & (direct < 0.02 * truth.mean(-1))
+        # Two pixels off every shadow edge: a shadow map's edge is not a path tracer's.
+        return [("every surface pixel", surface), ("in the sun", erode(surface & ~shadow)),
+                ("in its shadow", erode(shadow))]
     s = scene["spheres"][0]
     c, r = np.array(s["center"]), s["radius"]
     lamp = np.array(scene["lamps"][0]["position"])
-    surface = mask[..., 0] > 0.5
     sphere = surface & (np.linalg.norm(pos - c, axis=-1) < r + 0.01)
     static = surface & ~sphere
     floor = static & (np.abs(pos[..., 1]) < 0.005)
@@ -49,6 +58,16 @@ def regions(scene, pos, mask):
     return [("all static pixels", static), ("open floor", open_floor), ("moving sphere", sphere),
             ("its lamp shadow", shadow), ("its contact (0.35 m)", contact), ("corners", corners),
             ("near the window", window)]
+
+
+def erode(m, r=2):
+    """m where every pixel within r (a square) is in m too."""
+    p = np.pad(m, r, constant_values=False)
+    out = m.copy()
+    for dy in range(2 * r + 1):
+        for dx in range(2 * r + 1):
+            out &= p[dy:dy + m.shape[0], dx:dx + m.shape[1]]
+    return out
 
 
 def blocks(a, k=4):
@@ -91,7 +110,7 @@ def main():
         print("| region | pixels | bias | RMSE | RMSE, 4 x 4 blocks |")
         print("|---|---:|---:|---:|---:|")
         lo, lt = ours.mean(-1), truth.mean(-1)
-        for label, m in regions(scene, pos, mask):
+        for label, m in regions(scene, pos, mask, out, truth):
             n = int(m.sum())
             if n == 0:
                 continue

@@ -343,7 +343,8 @@ async function frame(task) {
   gltf.scene.traverse((o) => {
     if (!o.isMesh) return;
     const lm = o.material.userData.vdbgi_lightmap;
-    const m = new THREE.MeshLambertMaterial({ color: o.material.color, map: o.material.map });
+    const m = new THREE.MeshLambertMaterial({ color: o.material.color, map: o.material.map,
+      vertexColors: o.material.vertexColors, side: o.material.side });
     o.material = m;
     o.castShadow = o.receiveShadow = true;
     if (task.lightmap && lm)
@@ -378,6 +379,17 @@ async function frame(task) {
     lamp.shadow.camera.near = 0.05;
     lamp.shadow.bias = -0.0005;
     scene.add(lamp);
+  }
+  // The bakers' sun (its colour is E / pi, so three's irradiance is pi times it), with a
+  // shadow map over the bundled world's 48 m.
+  if (task.sun) {
+    const sun = new THREE.DirectionalLight(new THREE.Color(...task.sun.color), Math.PI);
+    sun.position.set(...task.sun.direction).normalize().multiplyScalar(60);
+    sun.castShadow = true;
+    sun.shadow.mapSize.set(4096, 4096);
+    Object.assign(sun.shadow.camera, { left: -36, right: 36, top: 36, bottom: -36, near: 1, far: 150 });
+    sun.shadow.bias = -0.0005;
+    scene.add(sun);
   }
   const c = task.camera;
   const camera = new THREE.PerspectiveCamera(c.fov, width / height, 0.01, 100);
