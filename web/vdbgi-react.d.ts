@@ -8,8 +8,9 @@ export interface GiLightProps extends Omit<ThreeElements['group'], 'children' | 
   url: string;
   /** The knob set the materials under it take ('world' by default), when each is first lit. */
   set?: KnobSet;
-  /** Look the volume up per fragment rather than per vertex, for materials not yet lit. */
-  perFragment?: boolean;
+  /** Per fragment or per vertex, for materials not yet lit; 'auto' (the default) chooses per mesh,
+   * per fragment where its triangles are longer than the volume's probe spacing. */
+  perFragment?: boolean | 'auto';
   /** The volume's light on (the default) or off. */
   enabled?: boolean;
   /** A debug view of the volume ('off' by default). */

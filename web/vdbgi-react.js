@@ -16,29 +16,21 @@ export function useGi() {
   return useContext(GiContext);
 }
 
-// Every mesh's material under root (arrays too) through apply(), which returns the
-// material to use: WebGPU gives a node material in place of a standard one.
-function lightTree(root, runtime, options) {
-  root.traverse((o) => {
-    if (!o.isMesh || !o.material) return;
-    o.material = Array.isArray(o.material)
-      ? o.material.map((m) => runtime.apply(m, options))
-      : runtime.apply(o.material, options);
-  });
-}
-
 // <GiLight url="world.gi.gz" set perFragment enabled debug onLoad onError onProgress
 // maxBytes timeout {...group props}>: a group whose meshes take the volume's light.
-// set and perFragment reach a material when it is first lit (apply() lights one once).
+// The meshes are lit as GiRuntime.light() lights them: perFragment 'auto' (the
+// default) waits for the volume, whose probe spacing decides per mesh; set and
+// perFragment reach a material when it is first lit (apply() lights one once).
 // A change of url loads the new volume and shows it once loaded; the runtime (and
 // the volume it shows) is disposed with the component. Errors go to onError, or are
 // thrown to the nearest error boundary when there is none.
-export function GiLight({ url, set = 'world', perFragment = false, enabled = true, debug = 'off',
+export function GiLight({ url, set = 'world', perFragment = 'auto', enabled = true, debug = 'off',
   onLoad, onError, onProgress, maxBytes, timeout, children, ...props }) {
   const gl = useThree((s) => s.gl);
   const invalidate = useThree((s) => s.invalidate);
   const group = useRef(null);
   const [runtime, setRuntime] = useState(null);
+  const [spacing, setSpacing] = useState(null); // the shown volume's, for perFragment 'auto'
   const [error, setError] = useState(null);
   // The callbacks of the latest render, read when a load ends (not reasons to load again).
   const calls = useRef({});
@@ -65,6 +57,7 @@ export function GiLight({ url, set = 'world', perFragment = false, enabled = tru
       .then((volume) => {
         if (abort.signal.aborted) return volume.dispose();
         runtime.setVolume(volume);
+        setSpacing(volume.info.spacing);
         invalidate();
         calls.current.onLoad?.(volume);
       }, (e) => {
@@ -86,20 +79,20 @@ export function GiLight({ url, set = 'world', perFragment = false, enabled = tru
   // childadded on the parent alone, so every object under the group is watched).
   useLayoutEffect(() => {
     const root = group.current;
-    if (!runtime || !root) return undefined;
+    if (!runtime || !root || (perFragment === 'auto' && spacing === null)) return undefined;
     const options = { set, perFragment };
     const watched = new Set();
-    const added = (e) => { lightTree(e.child, runtime, options); watch(e.child); invalidate(); };
+    const added = (e) => { runtime.light(e.child, options); watch(e.child); invalidate(); };
     const watch = (tree) => tree.traverse((o) => {
       if (watched.has(o)) return;
       watched.add(o);
       o.addEventListener('childadded', added);
     });
-    lightTree(root, runtime, options);
+    runtime.light(root, options);
     watch(root);
     invalidate();
     return () => { for (const o of watched) o.removeEventListener('childadded', added); };
-  }, [runtime, set, perFragment, invalidate]);
+  }, [runtime, set, perFragment, spacing, invalidate]);
 
   if (error) throw error;
   return createElement(GiContext.Provider, { value: runtime },

@@ -450,7 +450,7 @@ export class GiRuntimeBase {
     const use = materialUser(this);
     const counts = { perVertex: 0, perFragment: 0 };
     root.traverse((o) => {
-      if (!o.isMesh) return;
+      if (!o.isMesh || !o.material) return;
       const fragment = perFragment === 'auto' ? largeTriangles(o, this.volume.info.spacing) : !!perFragment;
       use(o, fragment ? 'fragment' : 'vertex', { set, perFragment: fragment });
       counts[fragment ? 'perFragment' : 'perVertex']++;
@@ -625,17 +625,16 @@ export class GiRuntimeBase {
   }
 }
 
-// Sets mesh.material to what runtime.apply() made of it for a way of lighting
-// it, once per (material, way). A material lit two ways (a mover sharing one
+// Sets mesh.material (each of an array) to what runtime.apply() made of it for a
+// way of lighting it, once per (material, way). A material lit two ways (a mover sharing one
 // with the world) gets a copy for the second: apply() patches in place, and
 // the first way's shader (or a lightmap set on it) would reach the second's meshes.
 function materialUser(runtime) {
   const made = new Map(); // way -> (given material -> applied one)
   const first = new Map(); // given material -> the way it was first lit
-  return (mesh, way, options, prepare = () => {}) => {
+  const one = (given, way, options, prepare) => {
     if (!made.has(way)) made.set(way, new Map());
     const byWay = made.get(way);
-    const given = mesh.material;
     if (!byWay.has(given)) {
       const own = !first.has(given) || first.get(given) === way;
       if (!first.has(given)) first.set(given, way);
@@ -643,7 +642,12 @@ function materialUser(runtime) {
       prepare(material);
       byWay.set(given, runtime.apply(material, options));
     }
-    mesh.material = byWay.get(given);
+    return byWay.get(given);
+  };
+  return (mesh, way, options, prepare = () => {}) => {
+    mesh.material = Array.isArray(mesh.material)
+      ? mesh.material.map((m) => one(m, way, options, prepare))
+      : one(mesh.material, way, options, prepare);
   };
 }
 

@@ -78,6 +78,11 @@ for (const [name, mod] of [['WebGL2', webgl], ['WebGPU', webgpu]]) {
     `fine ${vertex(fine.material)}, scaled ${vertex(scaled.material)}; the shared material split: ` +
     `${floor.material !== fine.material}; forced: ${JSON.stringify(gi.light(new THREE.Group().add(
       new THREE.Mesh(new THREE.PlaneGeometry(4, 4), new THREE.MeshStandardMaterial())), { perFragment: false }))}`);
+  const multi = new THREE.Mesh(new THREE.PlaneGeometry(4, 4),
+    [new THREE.MeshStandardMaterial(), new THREE.MeshLambertMaterial()]);
+  gi.light(multi);
+  console.log(`${name}: light() on a mesh of two materials: ${multi.material.map((m) => m.type).join(', ')}, ` +
+    `per vertex: ${multi.material.map(vertex).join(', ')}`);
   gi.volume = null;
 }
 console.log(`the same methods: ${JSON.stringify(shared[0]) === JSON.stringify(shared[1])} (${shared[0].join(', ')})`);

@@ -1,4 +1,5 @@
-// plain.js: the frame as a three.js page draws it with the package's README recipe.
+// plain.js: the frame as a three.js page draws it with the volume alone (docs/web.md:
+// gi.light(), per fragment where a mesh's triangles are large).
 import * as THREE from 'three';
 import { WebGPURenderer } from 'three/webgpu';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
@@ -19,6 +20,6 @@ const gi = WEBGPU ? new GpuRuntime() : new GlRuntime();
 const [gltf, volume] = await Promise.all([new GLTFLoader().loadAsync('world.glb'),
   loadGi('world.gi.gz', { renderer })]);
 gi.setVolume(volume);
-gltf.scene.traverse((o) => { if (o.material) o.material = gi.apply(o.material); });
+gi.light(gltf.scene);
 scene.add(gltf.scene);
 window.frame = () => renderer.render(scene, camera);
