@@ -48,7 +48,7 @@ static void usage(void)
            "      --ambient A          seed model: ambient fill received at every hit (0.15)\n"
            "      --sun X,Y,Z|scene    direction towards the sun, or the scene's directional\n"
            "                           light (the scene's if it has one, else 0.4,0.8,0.3;\n"
-           "                           physical: none where the scene has lights of its own)\n"
+           "                           physical: none where the scene's own lamps are used)\n"
            "      --sun-color R,G,B    sun colour, linear; 0,0,0 turns the sun off (1,1,1)\n"
            "      --falloff M          seed model: distance falloff 1/(1+(d/M)^2) in metres,\n"
            "                           or inf (4)\n"

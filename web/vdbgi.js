@@ -405,6 +405,9 @@ export class GiRuntimeBase {
     };
     this._enabled = true;
     this._applied = new WeakSet();
+    // light() and lightScene()'s materials, across calls: a material given (or made) ->
+    // { original, ways: way of lighting -> the material apply() made of it }.
+    this._lit = new WeakMap();
     this._occluders = new Map(); // object -> its capsules in its own space, or null: its bounding sphere
   }
 
@@ -626,23 +629,24 @@ export class GiRuntimeBase {
 }
 
 // Sets mesh.material (each of an array) to what runtime.apply() made of it for a
-// way of lighting it, once per (material, way). A material lit two ways (a mover sharing one
-// with the world) gets a copy for the second: apply() patches in place, and
-// the first way's shader (or a lightmap set on it) would reach the second's meshes.
+// way of lighting it, once per (material, way), remembered by the runtime across
+// calls. A material lit two ways (a mover sharing one with the world, a coarse
+// and a fine mesh) gets a copy of the original for the second: apply() patches
+// in place, and the first way's shader (or a lightmap set on it) would reach the
+// second's meshes.
 function materialUser(runtime) {
-  const made = new Map(); // way -> (given material -> applied one)
-  const first = new Map(); // given material -> the way it was first lit
+  const lit = runtime._lit;
   const one = (given, way, options, prepare) => {
-    if (!made.has(way)) made.set(way, new Map());
-    const byWay = made.get(way);
-    if (!byWay.has(given)) {
-      const own = !first.has(given) || first.get(given) === way;
-      if (!first.has(given)) first.set(given, way);
-      const material = own ? given : given.clone();
+    let entry = lit.get(given);
+    if (!entry) lit.set(given, (entry = { original: given, ways: new Map() }));
+    if (!entry.ways.has(way)) {
+      const material = entry.ways.size === 0 ? entry.original : entry.original.clone();
       prepare(material);
-      byWay.set(given, runtime.apply(material, options));
+      const made = runtime.apply(material, options);
+      entry.ways.set(way, made);
+      lit.set(made, entry);
     }
-    return byWay.get(given);
+    return entry.ways.get(way);
   };
   return (mesh, way, options, prepare = () => {}) => {
     mesh.material = Array.isArray(mesh.material)
@@ -652,8 +656,9 @@ function materialUser(runtime) {
 }
 
 // Whether a mesh's triangles are large against the probe spacing: their mean
-// edge in world metres (the mesh's largest world scale; at most 4,096
-// triangles read, evenly spread) over `spacing`.
+// edge in world metres (the mesh's largest world scale, times an instanced
+// mesh's largest instance scale; at most 4,096 triangles read, evenly spread)
+// over `spacing`.
 function largeTriangles(mesh, spacing) {
   const position = mesh.geometry?.attributes?.position;
   if (!position) return false;
@@ -669,9 +674,19 @@ function largeTriangles(mesh, spacing) {
     sum += v[0].distanceTo(v[1]) + v[1].distanceTo(v[2]) + v[2].distanceTo(v[0]);
   }
   mesh.updateWorldMatrix(true, false);
-  return (sum / (3 * n)) * mesh.matrixWorld.getMaxScaleOnAxis() > spacing;
+  let scale = mesh.matrixWorld.getMaxScaleOnAxis();
+  if (mesh.isInstancedMesh) {
+    let most = 0;
+    for (let i = 0; i < mesh.count; i++) {
+      mesh.getMatrixAt(i, instanceScratch);
+      most = Math.max(most, instanceScratch.getMaxScaleOnAxis());
+    }
+    scale *= most;
+  }
+  return (sum / (3 * n)) * scale > spacing;
 }
 const edgeScratch = [new THREE.Vector3(), new THREE.Vector3(), new THREE.Vector3()];
+const instanceScratch = new THREE.Matrix4();
 
 // Warn once per message: a traverse over a scene meets the same material many times.
 const warned = new Set();

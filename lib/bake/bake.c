@@ -313,8 +313,9 @@ vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
         }
     if (valid && !lit)
         vdbgi_log(ctx, VDBGI_LOG_WARNING,
-                  "no light reached any probe: no lamp, sun, sky or emitter lights what they see "
-                  "(the seed model's ambient fill would)");
+                  "no light reached any probe: no lamp, sun, sky or emitter lights what they "
+                  "see%s",
+                  bp.model == VDBGI_MODEL_PHYSICAL ? " (the seed model's ambient fill would)" : "");
     if (stats)
         *stats = st;
     return VDBGI_OK;

@@ -61,15 +61,18 @@ static void resolve_lamps(const vdbgi_bake_desc *desc, const vdbgi_scene *scene,
     const vdbgi_light *lights = NULL;
     const size_t count =
         scene && bp->lights == VDBGI_LIGHTS_SCENE ? vdbgi_scene_get_lights(scene, &lights) : 0;
-    bool scene_sun = false;
-    for (size_t i = 0; i < count; i++)
+    bool scene_sun = false, scene_lit = false;
+    for (size_t i = 0; i < count; i++) {
         scene_sun = scene_sun || lights[i].type == VDBGI_LIGHT_DIRECTIONAL;
+        scene_lit = scene_lit || !is_zero3(lights[i].color);
+    }
     /* The scene's own sun replaces the default one; a sun_dir given replaces the scene's.
-       Under the physical model a scene that brings any light of its own is lit by its lights
-       alone: a sun nobody asked for would shine through an interior's windows. */
+       Under the physical model a scene whose own lamps light it (punctual lights of non-zero
+       intensity; emitters do not count) is lit by them alone: a sun nobody put in the scene
+       would light an interior's outer walls and come in at its windows. */
     const bool given = !is_zero3(desc->sun_dir);
     const bool asked = given || desc->sun_color_is_set || !is_zero3(desc->sun_color);
-    const bool own_light = count > 0 && bp->model == VDBGI_MODEL_PHYSICAL && !asked;
+    const bool own_light = scene_lit && bp->model == VDBGI_MODEL_PHYSICAL && !asked;
     if ((scene_sun && !given) || own_light) {
         bp->sun_on = false;
         memset(bp->sun_color, 0, sizeof(bp->sun_color));

@@ -453,16 +453,20 @@ static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
         asked, converge, d->direct != 0, 2 * (int)r->un.gutter + 2, d->ao_dist, bare};
     if (res == VDBGI_OK)
         res = bake_maps(ctx, r, &bp, &lp, d->layers != 0);
-    /* A black map is almost always a scene without light (a closed room with no lamp under the
-       physical model): say so rather than write darkness silently. */
+    /* A black map is a scene without light (a closed room with no lamp under the physical model)
+       or, bounced light only, one with nothing lit in view of its surfaces (a lone plane under
+       the sun): say so rather than write darkness silently. */
     size_t lit = 0;
     const bool ao = d->ao_dist > 0.0f;
     for (size_t i = 0; res == VDBGI_OK && !ao && i < 3 * r->map.texel_count && !lit; i++)
         lit = r->map.rgb[i] > 0.0f;
     if (res == VDBGI_OK && !ao && r->map.texel_count && !lit)
-        vdbgi_log(ctx, VDBGI_LOG_WARNING,
-                  "no light reached any texel: no lamp, sun, sky or emitter lights the surfaces "
-                  "(the seed model's ambient fill would)");
+        vdbgi_log(ctx, VDBGI_LOG_WARNING, "the lightmap is black: no %slight reached any texel%s%s",
+                  d->direct ? "" : "bounced ",
+                  d->direct ? "" : " (its direct light is left to the runtime)",
+                  bp.model == VDBGI_MODEL_PHYSICAL
+                      ? "; the seed model's ambient fill would light it"
+                      : "");
     if (res != VDBGI_OK) {
         vdbgi_lightmap_result_destroy(r);
         return res;

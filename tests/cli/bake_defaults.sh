@@ -32,16 +32,29 @@ for scene in room.glb "$DATA/world.glb"; do
     [ "$d" = "$(grid physical.vdb)" ] && echo "$n: the default's grids are --model physical's, bit for bit"
     [ "$d" = "$(grid nosun.vdb)" ] && echo "$n: no default sun" || echo "$n: the default sun shines"
     [ "$d" != "$(grid seed.vdb)" ] && echo "$n: --model seed's grids differ"
-    # gi-lightmap alike: its .glb (no timings in it) byte for byte.
-    lightmap() { "$BIN/gi-lightmap" -q "$scene" --texel 0.5 --rays 16 "$@"; }
+    # gi-lightmap alike: its .glb (no timings in it) byte for byte, and the lights it bakes
+    # by their --layers maps (the sun's only where the sun is on).
+    lightmap() { "$BIN/gi-lightmap" -q "$scene" --texel 0.5 --rays 16 --layers "$@"; }
     lightmap -o default.glb
     lightmap -o physical.glb --model physical
-    lightmap -o nosun.glb --model physical --sun-color 0,0,0
     lightmap -o seed.glb --model seed
     cmp -s default.glb physical.glb && echo "$n: gi-lightmap's default is --model physical, byte for byte"
-    cmp -s default.glb nosun.glb && echo "$n: gi-lightmap: no default sun" || echo "$n: gi-lightmap: the default sun shines"
+    echo "$n: gi-lightmap's layers: $(ls default.*.lightmap0.exr | sed 's/^default\.//; s/\.lightmap0\.exr$//' | tr '\n' ' ')"
+    echo "$n: gi-lightmap --model seed's: $(ls seed.*.lightmap0.exr | sed 's/^seed\.//; s/\.lightmap0\.exr$//' | tr '\n' ' ')"
     cmp -s default.glb seed.glb || echo "$n: gi-lightmap --model seed differs"
+    rm -f default.* physical.* seed.* nosun.*
 done
+# A lit scene bakes without a warning; a lone plane under the sun has no bounced light, and
+# gi-lightmap says its map is black unless --direct bakes the sun in.
+"$BIN/gi-bake" "$DATA/world.glb" -o lit.vdb --spacing 1 --rays 16 2>err >/dev/null
+echo "gi-bake world.glb: exit $?, $(grep -c warning err) warnings"
+"$BIN/gi-lightmap" "$DATA/world.glb" -o lit.glb --texel 0.5 --rays 16 2>err >/dev/null
+echo "gi-lightmap world.glb: exit $?, $(grep -c warning err) warnings"
+printf 'v -4 0 -4\nv 4 0 -4\nv 4 0 4\nv -4 0 4\nf 1 3 2\nf 1 4 3\n' > plane.obj
+"$BIN/gi-lightmap" plane.obj -o plane.glb --texel 0.5 --rays 16 2>err >/dev/null
+echo "gi-lightmap plane.obj: exit $? $(grep warning err)"
+"$BIN/gi-lightmap" plane.obj -o plane.glb --texel 0.5 --rays 16 --direct 2>err >/dev/null
+echo "gi-lightmap plane.obj --direct: exit $?, $(grep -c warning err) warnings"
 # The seed model's stand-ins, asked for without it: a usage error naming the way out, no output.
 for app in "gi-bake --spacing 1 -o out.vdb" "gi-lightmap --texel 0.5 -o out.glb"; do
     for opt in "--ambient 0.2" "--falloff 3"; do

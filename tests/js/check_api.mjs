@@ -78,6 +78,18 @@ for (const [name, mod] of [['WebGL2', webgl], ['WebGPU', webgpu]]) {
     `fine ${vertex(fine.material)}, scaled ${vertex(scaled.material)}; the shared material split: ` +
     `${floor.material !== fine.material}; forced: ${JSON.stringify(gi.light(new THREE.Group().add(
       new THREE.Mesh(new THREE.PlaneGeometry(4, 4), new THREE.MeshStandardMaterial())), { perFragment: false }))}`);
+  // Across calls: a coarse floor lit after a fine one sharing its material gets its own
+  // per-fragment copy; an instanced 0.2 m quad at 50 times its size reads per fragment.
+  const sharedLater = new THREE.MeshStandardMaterial();
+  const fineFirst = new THREE.Mesh(new THREE.PlaneGeometry(4, 4, 32, 32), sharedLater);
+  const coarseLater = new THREE.Mesh(new THREE.PlaneGeometry(4, 4), sharedLater);
+  gi.light(fineFirst);
+  const later = gi.light(coarseLater);
+  const instanced = new THREE.InstancedMesh(new THREE.PlaneGeometry(0.2, 0.2), new THREE.MeshStandardMaterial(), 2);
+  instanced.setMatrixAt(1, new THREE.Matrix4().makeScale(50, 50, 50));
+  console.log(`${name}: light() in two calls: ${JSON.stringify(later)}, its own material: ` +
+    `${coarseLater.material !== fineFirst.material}, per vertex: fine ${vertex(fineFirst.material)}, ` +
+    `coarse ${vertex(coarseLater.material)}; an instanced quad scaled 50 times: ${JSON.stringify(gi.light(instanced))}`);
   const multi = new THREE.Mesh(new THREE.PlaneGeometry(4, 4),
     [new THREE.MeshStandardMaterial(), new THREE.MeshLambertMaterial()]);
   gi.light(multi);
