@@ -7,8 +7,10 @@ light threshold, no denoising, a fixed seed.
 """
 import math
 import os
+import struct
 
 import bpy
+from mathutils import Vector
 
 
 def reset(samples, bounces, sky):
@@ -86,6 +88,36 @@ def render(sc, path):
     bpy.data.images.remove(img)
     os.remove(path)
     return w, h, px
+
+
+def render_view(sc, c, out_path, clip_end=None):
+    """Render sc seen from camera c ({"position", "target", "fov" (vertical, degrees),
+    "width", "height"}, glTF's y-up metres, as three.js takes them) into out_path (32-bit
+    EXR), and the same pixels as a .pfm beside it (Blender's rows run from the bottom, as
+    PFM's), for readers without an EXR library. clip_end: the camera's far limit, metres
+    (None: Blender's own)."""
+    cam = bpy.data.cameras.new("view")
+    cam.sensor_fit = "VERTICAL"
+    cam.angle_y = math.radians(c["fov"])
+    cam.clip_start = 0.01
+    if clip_end is not None:
+        cam.clip_end = clip_end
+    ob = bpy.data.objects.new("view", cam)
+    ob.location = y_up(c["position"])
+    look = Vector(y_up(c["target"])) - Vector(ob.location)
+    ob.rotation_euler = look.to_track_quat("-Z", "Y").to_euler()
+    sc.collection.objects.link(ob)
+    sc.camera = ob
+    sc.render.resolution_x, sc.render.resolution_y = c["width"], c["height"]
+    sc.render.resolution_percentage = 100
+    sc.render.filepath = out_path
+    bpy.ops.render.render(write_still=True)
+    img = bpy.data.images.load(out_path)
+    w, h = img.size
+    px = img.pixels[:]
+    with open(os.path.splitext(out_path)[0] + ".pfm", "wb") as f:
+        f.write(b"PF\n%d %d\n-1.0\n" % (w, h))
+        f.write(struct.pack("<%df" % (3 * w * h), *(px[4 * i + k] for i in range(w * h) for k in range(3))))
 
 
 def intensity_per_watt(scratch):

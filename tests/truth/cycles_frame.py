@@ -14,15 +14,13 @@ reflections, as the bakers count them.
 import json
 import math
 import os
-import struct
 import sys
 import tempfile
 
 import bpy
-from mathutils import Vector
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from cycles_common import add_lamp, add_mesh, intensity_per_watt, reset, y_up  # noqa: E402
+from cycles_common import add_lamp, add_mesh, intensity_per_watt, render_view, reset, y_up  # noqa: E402
 
 args = sys.argv[sys.argv.index("--") + 1:]
 scene_path, out_path = args[:2]
@@ -65,29 +63,7 @@ def main():
         bpy.ops.object.select_all(action="DESELECT")
     for lamp in scene["lamps"]:
         add_lamp(sc, y_up(lamp["position"]), lamp["intensity"] / per_watt, lamp["color"])
-    c = scene["camera"]
-    cam = bpy.data.cameras.new("view")
-    cam.sensor_fit = "VERTICAL"
-    cam.angle_y = math.radians(c["fov"])
-    cam.clip_start = 0.01
-    ob = bpy.data.objects.new("view", cam)
-    ob.location = y_up(c["position"])
-    look = Vector(y_up(c["target"])) - Vector(ob.location)
-    ob.rotation_euler = look.to_track_quat("-Z", "Y").to_euler()
-    sc.collection.objects.link(ob)
-    sc.camera = ob
-    sc.render.resolution_x, sc.render.resolution_y = c["width"], c["height"]
-    sc.render.resolution_percentage = 100
-    sc.render.filepath = out_path
-    bpy.ops.render.render(write_still=True)
-    # The same pixels as a .pfm beside it (Blender's rows run from the bottom, as PFM's),
-    # for readers without an EXR library.
-    img = bpy.data.images.load(out_path)
-    w, h = img.size
-    px = img.pixels[:]
-    with open(os.path.splitext(out_path)[0] + ".pfm", "wb") as f:
-        f.write(b"PF\n%d %d\n-1.0\n" % (w, h))
-        f.write(struct.pack("<%df" % (3 * w * h), *(px[4 * i + k] for i in range(w * h) for k in range(3))))
+    render_view(sc, scene["camera"], out_path)
     print("cycles_frame: %s, %d bounces, %d samples" % (out_path, bounces, samples), flush=True)
 
 

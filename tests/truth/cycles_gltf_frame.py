@@ -16,7 +16,6 @@ OUT.pfm the same.
 import json
 import math
 import os
-import struct
 import sys
 
 import addon_utils
@@ -25,7 +24,7 @@ import numpy as np
 from mathutils import Vector
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from cycles_common import diffuse, reset, y_up  # noqa: E402
+from cycles_common import diffuse, render_view, reset, y_up  # noqa: E402
 
 args = sys.argv[sys.argv.index("--") + 1:]
 scene_path, view_path, out_path = args[:3]
@@ -77,28 +76,7 @@ def main():
     ob.rotation_euler = Vector(y_up(sun)).normalized().to_track_quat("Z", "Y").to_euler()
     sc.collection.objects.link(ob)
     with open(view_path) as f:
-        c = json.load(f)["camera"]
-    cam = bpy.data.cameras.new("view")
-    cam.sensor_fit = "VERTICAL"
-    cam.angle_y = math.radians(c["fov"])
-    cam.clip_start = 0.01
-    cam.clip_end = 1000.0
-    view = bpy.data.objects.new("view", cam)
-    view.location = y_up(c["position"])
-    look = Vector(y_up(c["target"])) - Vector(view.location)
-    view.rotation_euler = look.to_track_quat("-Z", "Y").to_euler()
-    sc.collection.objects.link(view)
-    sc.camera = view
-    sc.render.resolution_x, sc.render.resolution_y = c["width"], c["height"]
-    sc.render.resolution_percentage = 100
-    sc.render.filepath = out_path
-    bpy.ops.render.render(write_still=True)
-    img = bpy.data.images.load(out_path)
-    w, h = img.size
-    px = img.pixels[:]
-    with open(os.path.splitext(out_path)[0] + ".pfm", "wb") as f:
-        f.write(b"PF\n%d %d\n-1.0\n" % (w, h))
-        f.write(struct.pack("<%df" % (3 * w * h), *(px[4 * i + k] for i in range(w * h) for k in range(3))))
+        render_view(sc, json.load(f)["camera"], out_path, clip_end=1000.0)
     print("cycles_gltf_frame: %s, %d bounces, %d samples" % (out_path, bounces, samples), flush=True)
 
 
