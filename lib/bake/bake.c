@@ -305,10 +305,10 @@ vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
     record_settings(p, scene, &bp, &st);
     /* A black bake is almost always a scene without light (a closed room with no lamp under the
        physical model), not what was wanted: say so rather than write darkness silently. */
-    size_t lit = 0, valid = 0;
+    bool lit = false, valid = false;
     for (size_t i = 0; i < n && !lit; i++)
         if (!(p->backface[i] > bp.invalid_threshold)) {
-            valid++;
+            valid = true;
             lit = p->rgb[3 * i] > 0.0f || p->rgb[3 * i + 1] > 0.0f || p->rgb[3 * i + 2] > 0.0f;
         }
     if (valid && !lit)

@@ -456,7 +456,7 @@ static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
     /* A black map is a scene without light (a closed room with no lamp under the physical model)
        or, bounced light only, one with nothing lit in view of its surfaces (a lone plane under
        the sun): say so rather than write darkness silently. */
-    size_t lit = 0;
+    bool lit = false;
     const bool ao = d->ao_dist > 0.0f;
     for (size_t i = 0; res == VDBGI_OK && !ao && i < 3 * r->map.texel_count && !lit; i++)
         lit = r->map.rgb[i] > 0.0f;
