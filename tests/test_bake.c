@@ -33,6 +33,15 @@ static vdbgi_scene *plane_scene(vdbgi_context *ctx, float size)
     return s;
 }
 
+/* m's triangles (albedo rho), as a scene. */
+static vdbgi_scene *mesh_scene(vdbgi_context *ctx, const test_mesh *m)
+{
+    const vdbgi_mesh_desc d = test_mesh_desc(m, (float)rho, 0);
+    vdbgi_scene *s = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &d, 1, &s), VDBGI_OK);
+    return s;
+}
+
 static vdbgi_bake_desc plane_desc(int rays, float ray_dist, float falloff, vdbgi_sampling sampling)
 {
     const vdbgi_bake_desc d = {.rays = rays,
@@ -718,9 +727,7 @@ static void ambient_cube_in_uniform_surroundings_agrees_and_keeps_the_scalar(voi
     test_mesh m = {0};
     const float lo[3] = {-2, -2, -2}, hi[3] = {2, 2, 2};
     test_mesh_box(&m, lo, hi, 1);
-    const vdbgi_mesh_desc md = test_mesh_desc(&m, (float)rho, 0);
-    vdbgi_scene *s = NULL;
-    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &s), VDBGI_OK);
+    vdbgi_scene *const s = mesh_scene(ctx, &m);
     vdbgi_probes *p = NULL;
     const vdbgi_place_desc pd = {.spacing = 0.5};
     CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
@@ -817,6 +824,67 @@ static void sh2_above_a_plane_reads_each_side(void)
     }
     CHECK(checked == 4 * 2);
     CHECK(scalar_worst > 0.4);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
+/*
+ * Probes hold their L2 terms as half-float ratios to L0 (probes.h): each term
+ * reads within a half's rounding of the same estimate in floats at the same
+ * point (2^-11 of itself, and the float division and product, or where the
+ * ratio is below the halves' normal range 2^-25 of L0), channel by channel
+ * under coloured light (a term scaled by another channel's L0 would be off
+ * by the colours' ratio). Terms held exactly would prove nothing: most must
+ * differ.
+ */
+static void sh2_probes_hold_each_term_to_half_precision(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    test_mesh_plane(&m, 8.0f, 0.0f);
+    const float lo[3] = {-1, 0, -1}, hi[3] = {0.5f, 1.5f, 1};
+    test_mesh_box(&m, lo, hi, 0);
+    vdbgi_scene *const s = mesh_scene(ctx, &m);
+    vdbgi_probes *p = NULL;
+    const vdbgi_place_desc pd = {.spacing = 0.5};
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p), VDBGI_OK);
+    const vdbgi_bake_desc bd = {.rays = 64,
+                                .sun_dir = {0.3f, 1.0f, 0.2f},
+                                .sun_color = {3.0f, 1.0f, 0.25f},
+                                .sky = {0.02f, 0.05f, 0.2f},
+                                .basis = VDBGI_BASIS_SH2};
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, s, &bd, NULL), VDBGI_OK);
+    vdbgi_probes_info info;
+    vdbgi_probes_get_info(p, &info);
+    float *const at = calloc(info.probe_count, 3 * sizeof(float));
+    float *const want = calloc(info.probe_count, 27 * sizeof(float));
+    CHECK(at && want);
+    for (size_t i = 0; at && i < info.probe_count; i++) {
+        int32_t ijk[3];
+        vdbgi_probes_get(p, i, ijk, NULL, NULL);
+        for (int k = 0; k < 3; k++) /* as the bake places it */
+            at[3 * i + k] = (float)(info.origin[k] + info.spacing * ijk[k]);
+    }
+    CHECK_RESULT(ctx, vdbgi_scene_bake_points_sh2(s, &bd, at, info.probe_count, want), VDBGI_OK);
+    size_t worse = 0, differ = 0, terms = 0;
+    for (size_t i = 0; want && i < info.probe_count; i++) {
+        float sh[VDBGI_SH2_TERMS][3];
+        vdbgi_probes_get_sh2(p, i, sh);
+        for (int t = 0; t < VDBGI_SH2_TERMS; t++)
+            for (int k = 0; k < 3; k++) {
+                const float w = want[27 * i + 3 * t + k];
+                const float c0 = want[27 * i + k];
+                worse += !(fabsf(sh[t][k] - w) <=
+                           ldexpf(fabsf(w), -11) * (1.0f + ldexpf(1.0f, -21)) + ldexpf(c0, -25));
+                differ += sh[t][k] != w;
+                terms += t > 0 && w != 0.0f;
+            }
+    }
+    CHECK(worse == 0);
+    CHECK(terms > 1000 && differ > terms / 2);
+    free(at);
+    free(want);
     vdbgi_probes_destroy(p);
     vdbgi_scene_destroy(s);
     vdbgi_context_destroy(ctx);
@@ -1016,6 +1084,7 @@ int main(void)
     RUN(ambient_cube_in_uniform_surroundings_agrees_and_keeps_the_scalar);
     RUN(sh2_above_a_plane_reads_each_side);
     RUN(sh2_in_uniform_surroundings_is_flat_and_thread_independent);
+    RUN(sh2_probes_hold_each_term_to_half_precision);
     RUN(adaptive_rays_stop_early_where_light_is_even);
     RUN(standard_error_tracks_the_actual_error);
     return CHECK_EXIT();

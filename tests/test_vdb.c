@@ -528,7 +528,7 @@ static void regions_match_on_a_floor(float floor_size)
             same = same && seen < whole->count &&
                    memcmp(&r->ijk[3 * i], &whole->ijk[3 * seen], 12) == 0 &&
                    memcmp(&r->rgb[3 * i], &whole->rgb[3 * seen], 12) == 0 &&
-                   memcmp(&r->sh[24 * i], &whole->sh[24 * seen], 96) == 0 &&
+                   memcmp(&r->sh[24 * i], &whole->sh[24 * seen], 24 * sizeof(*r->sh)) == 0 &&
                    r->backface[i] == whole->backface[seen];
             seen++;
         }

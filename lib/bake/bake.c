@@ -4,6 +4,7 @@
  */
 #include "estimate.h"
 #include "probes.h"
+#include "util.h"
 
 #include <math.h>
 #include <stdatomic.h>
@@ -23,10 +24,11 @@ typedef struct bake_shared {
     double origin[3], spacing;
     size_t count;
     float *rgb, *backface;
-    float *stderr_; /* per probe, or NULL */
-    uint32_t *rays; /* per probe, or NULL */
-    float *cube;    /* 18 per probe, or NULL */
-    float *sh;      /* 24 per probe (L2 terms c1..c8), or NULL */
+    float *stderr_;  /* per probe, or NULL */
+    uint32_t *rays;  /* per probe, or NULL */
+    float *cube;     /* 18 per probe, or NULL */
+    float *sh;       /* 24 per point (L2 terms c1..c8), or NULL */
+    uint16_t *terms; /* 24 per probe, as vdbgi_probes holds them (vdbgi_term_encode), or NULL */
     int (*progress)(void *user, float done);
     void *progress_user;
     /* Work distribution. */
@@ -74,6 +76,8 @@ static void bake_point(bake_thread *th, size_t index)
         memcpy(&sh->cube[18 * index], e.cube, sizeof(e.cube));
     if (sh->sh)
         memcpy(&sh->sh[24 * index], e.sh, sizeof(e.sh));
+    for (int k = 0; sh->terms && k < 24; k++)
+        sh->terms[24 * index + k] = vdbgi_term_encode(e.sh[k], e.rgb[k % 3]);
 }
 
 /* Take chunks until none are left; returns after the last one or on cancel. */
@@ -128,7 +132,7 @@ static vdbgi_result bake_run(bake_shared *sh, const vdbgi_scene *scene, bool sha
                                   .base_dirs = base_dirs,
                                   .shade = shade,
                                   .cube = sh->cube,
-                                  .sh2 = sh->sh != NULL};
+                                  .sh2 = sh->sh || sh->terms};
     atomic_init(&sh->next, 0);
     atomic_init(&sh->done, 0);
     atomic_init(&sh->cancel, 0);
@@ -254,18 +258,20 @@ vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
     VDBGI_TRY(vdbgi_bake_params_resolve(ctx, desc, scene, &bp));
     const size_t n = p->count ? p->count : 1;
     /* The new values, kept apart until complete: old ones are replaced only then. */
-    float *next[5] = {
+    float *next[4] = {
         vdbgi_calloc(ctx, n, 3 * sizeof(float)), vdbgi_calloc(ctx, n, sizeof(float)),
         vdbgi_calloc(ctx, n, sizeof(float)),
-        bp.basis == VDBGI_BASIS_AMBIENT_CUBE ? vdbgi_calloc(ctx, n, 18 * sizeof(float)) : NULL,
-        bp.basis == VDBGI_BASIS_SH2 ? vdbgi_calloc(ctx, n, 24 * sizeof(float)) : NULL};
+        bp.basis == VDBGI_BASIS_AMBIENT_CUBE ? vdbgi_calloc(ctx, n, 18 * sizeof(float)) : NULL};
+    uint16_t *terms =
+        bp.basis == VDBGI_BASIS_SH2 ? vdbgi_calloc(ctx, n, 24 * sizeof(uint16_t)) : NULL;
     uint32_t *rays = bp.adaptive ? vdbgi_calloc(ctx, n, sizeof(uint32_t)) : NULL;
     float *const rgb = next[0], *const backface = next[1], *const stderr_ = next[2];
-    float *const cube = next[3], *const shc = next[4];
+    float *const cube = next[3];
     if (!rgb || !backface || !stderr_ || (bp.basis == VDBGI_BASIS_AMBIENT_CUBE && !cube) ||
-        (bp.basis == VDBGI_BASIS_SH2 && !shc) || (bp.adaptive && !rays)) {
-        for (int a = 0; a < 5; a++)
+        (bp.basis == VDBGI_BASIS_SH2 && !terms) || (bp.adaptive && !rays)) {
+        for (int a = 0; a < 4; a++)
             vdbgi_free(ctx, next[a]);
+        vdbgi_free(ctx, terms);
         vdbgi_free(ctx, rays);
         return VDBGI_ERR_OUT_OF_MEMORY;
     }
@@ -279,23 +285,26 @@ vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
                       .stderr_ = stderr_,
                       .rays = rays,
                       .cube = cube,
-                      .sh = shc,
+                      .terms = terms,
                       .progress = desc ? desc->progress : NULL,
                       .progress_user = desc ? desc->progress_user : NULL};
     memcpy(sh.origin, p->origin, sizeof(sh.origin));
     vdbgi_bake_stats st;
     const vdbgi_result r = bake_run(&sh, scene, true, &st);
     if (r != VDBGI_OK) {
-        for (int a = 0; a < 5; a++)
+        for (int a = 0; a < 4; a++)
             vdbgi_free(ctx, next[a]);
+        vdbgi_free(ctx, terms);
         vdbgi_free(ctx, rays);
         return r;
     }
-    float **const cur[5] = {&p->rgb, &p->backface, &p->stderr_, &p->cube, &p->sh};
-    for (int a = 0; a < 5; a++) {
+    float **const cur[4] = {&p->rgb, &p->backface, &p->stderr_, &p->cube};
+    for (int a = 0; a < 4; a++) {
         vdbgi_free(ctx, *cur[a]);
         *cur[a] = next[a];
     }
+    vdbgi_free(ctx, p->sh);
+    p->sh = terms;
     vdbgi_free(ctx, p->rays);
     p->rays = rays;
     p->invalid_threshold = bp.invalid_threshold;

@@ -2,6 +2,7 @@
 #include "probes.h"
 #include "estimate.h"
 #include "map.h"
+#include "util.h"
 #include "vdb_shim.h"
 
 #include <errno.h>
@@ -92,7 +93,7 @@ static vdbgi_result make_probes(vdbgi_vdb_arrays *sink, size_t count, bool with_
     if ((with_stderr && !(p->stderr_ = vdbgi_calloc(t->ctx, n, sizeof(float)))) ||
         (with_rays && !(p->rays = vdbgi_calloc(t->ctx, n, sizeof(uint32_t)))) ||
         (with_cube && !(p->cube = vdbgi_calloc(t->ctx, n, 18 * sizeof(float)))) ||
-        (with_sh && !(p->sh = vdbgi_calloc(t->ctx, n, 24 * sizeof(float)))))
+        (with_sh && !(p->sh = vdbgi_calloc(t->ctx, n, 24 * sizeof(uint16_t)))))
         return VDBGI_ERR_OUT_OF_MEMORY;
     sink->ijk = p->ijk, sink->rgb = p->rgb, sink->backface = p->backface;
     sink->stderr_ = p->stderr_, sink->rays = p->rays, sink->cube = p->cube, sink->sh = p->sh;
@@ -145,13 +146,21 @@ static vdbgi_result take_read(vdbgi_context *ctx, const char *path, vdbgi_result
             ok = ok && q[k] >= 0.0f && isfinite(q[k]);
         for (int k = 0; k < 3; k++)
             ok = ok && c[k] >= 0.0f && isfinite(c[k]);
-        int bad_term = 0; /* the L2 terms are signed: any finite value */
-        for (int k = 0; p->sh && k < 24 && !bad_term; k++)
-            bad_term = isfinite(p->sh[24 * i + k]) ? 0 : 1 + k / 3;
+        /* The L2 terms are signed, but no light that is nowhere negative gives one beyond
+           twice its L0 (vdbgi_term_encode held the ratio, or told what it could not hold). */
+        int bad_term = 0;
+        bool nan_term = false;
+        for (int k = 0; p->sh && k < 24 && !bad_term; k++) {
+            const float ratio = vdbgi_term_decode(p->sh[24 * i + k], 1.0f);
+            bad_term = isfinite(ratio) ? 0 : 1 + k / 3;
+            nan_term = isnan(ratio);
+        }
         const int32_t *const ijk = &p->ijk[3 * i];
         if (bad_term) {
-            vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: probe %d,%d,%d: L2 term %d is not finite", path,
-                       ijk[0], ijk[1], ijk[2], bad_term);
+            vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: probe %d,%d,%d: L2 term %d is %s", path, ijk[0],
+                       ijk[1], ijk[2], bad_term,
+                       nan_term ? "not finite"
+                                : "more than 4 times its L0, which no non-negative light gives");
             vdbgi_probes_destroy(p);
             return VDBGI_ERR_FORMAT;
         }
@@ -361,7 +370,8 @@ vdbgi_result vdbgi_probes_get_sh2(const vdbgi_probes *p, size_t index, float sh[
     VDBGI_FAIL_IF(p->ctx, !p->sh, VDBGI_ERR_INVALID_ARG,
                   "probes have no L2 terms: bake with the sh2 basis");
     memcpy(sh[0], &p->rgb[3 * index], 3 * sizeof(float));
-    memcpy(sh[1], &p->sh[24 * index], 24 * sizeof(float));
+    for (int k = 0; k < 24; k++)
+        sh[1 + k / 3][k % 3] = vdbgi_term_decode(p->sh[24 * index + k], p->rgb[3 * index + k % 3]);
     return VDBGI_OK;
 }
 
@@ -397,7 +407,8 @@ static int gather_terms(const vdbgi_probes *p, size_t i, float *out)
         return 21;
     }
     if (p->sh) {
-        memcpy(&out[3], &p->sh[24 * i], 24 * sizeof(float));
+        for (int k = 0; k < 24; k++)
+            out[3 + k] = vdbgi_term_decode(p->sh[24 * i + k], p->rgb[3 * i + k % 3]);
         return 27;
     }
     return 3;

@@ -20,7 +20,8 @@ struct vdbgi_probes {
     float *rgb;      /* 3 per probe, NULL until baked or read */
     float *backface; /* per probe */
     float *cube;     /* 18 per probe (6 sides x RGB, vdbgi_side order), or NULL */
-    float *sh;       /* 24 per probe (L2 terms c1..c8 x RGB, VDBGI_SH2_TERMS), or NULL */
+    uint16_t *sh;    /* 24 per probe (L2 terms c1..c8 x RGB, VDBGI_SH2_TERMS) as ratios to rgb
+                        in half floats (vdbgi_term_encode), or NULL */
     float *stderr_;  /* per probe: standard error of the value, or NULL (not baked) */
     uint32_t *rays;  /* per probe: rays traced, or NULL (every probe had desc->rays) */
     float invalid_threshold;

@@ -1,6 +1,7 @@
 /* util.c: random numbers, little-endian bytes, JSON text and quantiles for the rest of lib/. */
 #include "util.h"
 
+#include <math.h>
 #include <string.h>
 
 uint64_t vdbgi_splitmix64(uint64_t *state)
@@ -48,6 +49,36 @@ uint16_t vdbgi_get_u16(const uint8_t *p)
 uint32_t vdbgi_get_u32(const uint8_t *p)
 {
     return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+/* GCC's and Clang's _Float16 converts with IEEE rounding (libgcc's routines without F16C). */
+static uint16_t half_bits(float f)
+{
+    const _Float16 h = (_Float16)f;
+    uint16_t bits;
+    memcpy(&bits, &h, sizeof(bits));
+    return bits;
+}
+
+uint16_t vdbgi_term_encode(float c, float c0)
+{
+    enum { HALF_NAN = 0x7E00, HALF_INF = 0x7C00, HALF_SIGN = 0x8000 };
+    const float bound = 4.0f;
+    if (!isfinite(c) || !isfinite(c0))
+        return HALF_NAN;
+    if (!(c0 >= 1e-30f)) /* no light to speak of, or none at all */
+        return fabsf(c) <= bound * fabsf(c0) ? 0 : c < 0.0f ? HALF_SIGN | HALF_INF : HALF_INF;
+    const float r = c / c0;
+    if (fabsf(r) > bound)
+        return r < 0.0f ? HALF_SIGN | HALF_INF : HALF_INF;
+    return half_bits(r);
+}
+
+float vdbgi_term_decode(uint16_t bits, float c0)
+{
+    _Float16 h;
+    memcpy(&h, &bits, sizeof(h));
+    return (float)h * c0;
 }
 
 float vdbgi_get_f32(const uint8_t *p)

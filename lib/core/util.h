@@ -6,10 +6,27 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* SplitMix64: the next number of the stream *state (Steele, Lea and Flood 2014). */
 uint64_t vdbgi_splitmix64(uint64_t *state);
 /* A double in [0, 1) from the top 53 bits of the next splitmix64. */
 double vdbgi_uniform01(uint64_t *state);
+
+/*
+ * The probes' L2 terms as they are held (probes.h): each term's channel c as
+ * its ratio to L0's channel c0, in an IEEE 754 half float (11 bits, rounded
+ * to nearest even). Light that is nowhere negative keeps every ratio within
+ * +-2 (docs/format.md's ranges), and the bake's noise is far above 2^-11, so
+ * a probe's 24 terms take 48 bytes instead of 96. L0 under 1e-30 keeps no
+ * terms (0). What no such light gives encodes for a reader to refuse: a
+ * ratio beyond +-4 as +-infinity, a term that is not finite as NaN.
+ */
+uint16_t vdbgi_term_encode(float c, float c0);
+/* The term back: the ratio times c0 (an infinite or NaN ratio stays so). */
+float vdbgi_term_decode(uint16_t h, float c0);
 
 /* Little-endian stores and loads (file formats are little-endian whatever the host). */
 void vdbgi_put_u16(uint8_t *p, uint16_t v);
@@ -25,5 +42,9 @@ void vdbgi_json_string(FILE *f, const char *s);
 
 /* The q-quantile (0..1) of a[0..n-1], n >= 1, as the element at floor(q (n - 1)); reorders a. */
 double vdbgi_quantile(double *a, size_t n, double q);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* VDBGI_UTIL_H */

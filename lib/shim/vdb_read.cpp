@@ -3,6 +3,7 @@
  * first, and the lattice checked against what the rest of vdbgi can take.
  */
 #include "shim.h"
+#include "util.h"
 #include "vdb_layout.h"
 #include "vdb_shim.h"
 
@@ -122,14 +123,19 @@ void copy_extras(vdbgi_vdb_arrays *p, size_t n, const openvdb::FloatGrid::Ptr &s
                 p->rays[i] = uint32_t(std::max(0, ra.getValue(c)));
         }
     }
-    float *const values = vec_count == 6 ? p->cube : p->sh;
+    // Cube sides as they are; L2 terms as the probes hold them, ratios to L0 (probes.h).
     for (int e = 0; e < vec_count; e++) {
         const auto a = vec_grids[e]->getConstAccessor();
         for (size_t i = 0; i < n; i++) {
             const openvdb::Vec3s v =
                 a.getValue(openvdb::Coord(p->ijk[3 * i], p->ijk[3 * i + 1], p->ijk[3 * i + 2]));
-            float *const c = &values[3 * vec_count * i + 3 * e];
-            c[0] = v.x(), c[1] = v.y(), c[2] = v.z();
+            for (int k = 0; k < 3; k++) {
+                if (vec_count == 6)
+                    p->cube[18 * i + 3 * size_t(e) + size_t(k)] = v[k];
+                else
+                    p->sh[24 * i + 3 * size_t(e) + size_t(k)] =
+                        vdbgi_term_encode(v[k], p->rgb[3 * i + size_t(k)]);
+            }
         }
     }
 }

@@ -1,6 +1,7 @@
 /* vdb_shim.cpp: OpenVDB behind a C interface: sets of lattice points, and writing grids. */
 #include "vdb_shim.h"
 #include "shim.h"
+#include "util.h"
 
 #include <openvdb/io/GridDescriptor.h>
 #include <openvdb/openvdb.h>
@@ -13,6 +14,8 @@
 #include <cstring>
 #include <fstream>
 #include <memory>
+#include <string>
+#include <utility>
 #include <vector>
 
 extern "C" const char *vdbgi_side_grid_name(int side)
@@ -148,32 +151,92 @@ extern "C" vdbgi_result vdbgi_vdb_mask_points(vdbgi_context *ctx, const vdbgi_vd
 namespace
 {
 
-/* io::File::write's archive (seekable, so readers can find each grid), on a given stream. */
-struct CheckedWriter : openvdb::io::Archive {
-    void write_to(std::ostream &os, const openvdb::GridPtrVec &grids) const
+/*
+ * io::File::write's archive (seekable, so readers can find each grid), on a
+ * stream of ours that is checked: io::File::write never looks at its stream
+ * again, and a full disk left a truncated file behind a success. Grids go
+ * out one at a time, as Archive::write lays them out (header, no file
+ * metadata, the count, then each grid under its own name), so a caller can
+ * build each just before it is written and free it just after: a bake's
+ * grids need not all be in memory at once.
+ */
+class GridWriter : openvdb::io::Archive
+{
+  public:
+    GridWriter(const char *path, int32_t count)
+        : os_(path, std::ios_base::out | std::ios_base::binary | std::ios_base::trunc)
     {
-        write(os, grids, /*seekable=*/true);
+        if (!os_)
+            return;
+        openvdb::io::setDataCompression(os_, compression());
+        openvdb::io::setWriteGridStatsMetadata(os_, isGridStatsMetadataEnabled());
+        writeHeader(os_, /*seekable=*/true);
+        openvdb::MetaMap().writeMeta(os_);
+        os_.write(reinterpret_cast<const char *>(&count), sizeof(count));
     }
+
+    bool opened() const
+    {
+        return bool(os_);
+    }
+
+    /* Grid names must be unique and not empty, as this writer's are. */
+    void write(const openvdb::GridBase::ConstPtr &grid)
+    {
+        openvdb::io::GridDescriptor gd(grid->getName(), grid->type(), grid->saveFloatAsHalf());
+        writeGrid(gd, grid, os_, /*seekable=*/true);
+        openvdb::io::setDataCompression(os_, compression()); // mask compression is per grid
+    }
+
+    /* Flush and close; false (errno says why, where it does) if any write failed. */
+    bool close()
+    {
+        errno = 0;
+        os_.flush();
+        err_ = errno;
+        os_.close();
+        return bool(os_);
+    }
+
+    int error() const
+    {
+        return err_;
+    }
+
+  private:
+    std::ofstream os_;
+    int err_ = 0;
 };
 
-/* Write grids to path through CheckedWriter; messages say name. */
-vdbgi_result write_grids(vdbgi_context *ctx, const char *path, const char *name,
-                         const openvdb::GridPtrVec &grids)
+vdbgi_result write_failed(vdbgi_context *ctx, const char *name, int err)
 {
-    // io::File::write never looks at its stream again: a full disk left a truncated file
-    // behind a success. The same archive, written to a stream of ours that is checked.
-    std::ofstream os(path, std::ios_base::out | std::ios_base::binary | std::ios_base::trunc);
-    if (!os)
-        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write: %s", name, std::strerror(errno));
-    errno = 0;
-    CheckedWriter().write_to(os, grids);
-    os.flush();
-    const int err = errno;
-    os.close();
-    if (!os)
-        return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write: %s", name,
-                          err ? std::strerror(err) : "write failed");
-    return VDBGI_OK;
+    return vdbgi_fail(ctx, VDBGI_ERR_IO, "%s: cannot write: %s", name,
+                      err ? std::strerror(err) : "write failed");
+}
+
+/*
+ * A grid of the probes' lattice, its value at probe n from value(n); the
+ * light's grids (not stderr and rays, which never said) say their class.
+ */
+template <class G, class F>
+typename G::Ptr probe_grid(const vdbgi_vdb_arrays *p, const char *name,
+                           const openvdb::math::Transform &xf, const vdbgi_meta_store *meta,
+                           bool light, F value)
+{
+    auto g = G::create(typename G::ValueType(0));
+    g->setName(name);
+    g->setTransform(xf.copy());
+    if (light)
+        g->setGridClass(openvdb::GRID_UNKNOWN);
+    {
+        auto a = g->getAccessor();
+        for (size_t n = 0; n < p->count; n++)
+            a.setValue(openvdb::Coord(p->ijk[3 * n], p->ijk[3 * n + 1], p->ijk[3 * n + 2]),
+                       value(n));
+    }
+    for (size_t m = 0; m < meta->count; m++)
+        add_meta(*g, meta->items[m]);
+    return g;
 }
 
 } // namespace
@@ -184,70 +247,45 @@ extern "C" vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, co
     VDBGI_SHIM_BEGIN
     openvdb::initialize();
     const auto xf = lattice_transform(p->origin, p->spacing);
-    auto irr = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
-    auto val = openvdb::FloatGrid::create(0.0f);
-    irr->setName("irradiance");
-    val->setName("validity");
-    irr->setTransform(xf);
-    val->setTransform(xf->copy());
-    irr->setGridClass(openvdb::GRID_UNKNOWN);
-    val->setGridClass(openvdb::GRID_UNKNOWN);
-    // A colour is not a direction: it must not turn with the transform.
-    irr->setVectorType(openvdb::VEC_INVARIANT);
-    {
-        auto ia = irr->getAccessor();
-        auto va = val->getAccessor();
-        for (size_t n = 0; n < p->count; n++) {
-            const openvdb::Coord c(p->ijk[3 * n], p->ijk[3 * n + 1], p->ijk[3 * n + 2]);
-            ia.setValue(c, openvdb::Vec3s(p->rgb[3 * n], p->rgb[3 * n + 1], p->rgb[3 * n + 2]));
-            va.setValue(c, p->backface[n]);
-        }
-    }
-    openvdb::GridPtrVec grids{irr, val};
-    if (p->stderr_ || p->rays) {
-        // Sampling noise per probe, and the rays an adaptive bake spent on it.
-        auto se = openvdb::FloatGrid::create(0.0f);
-        auto rays = openvdb::Int32Grid::create(0);
-        se->setName("stderr");
-        rays->setName("rays");
-        se->setTransform(xf->copy());
-        rays->setTransform(xf->copy());
-        auto sa = se->getAccessor();
-        auto ra = rays->getAccessor();
-        for (size_t n = 0; n < p->count; n++) {
-            const openvdb::Coord c(p->ijk[3 * n], p->ijk[3 * n + 1], p->ijk[3 * n + 2]);
-            if (p->stderr_)
-                sa.setValue(c, p->stderr_[n]);
-            if (p->rays)
-                ra.setValue(c, int32_t(p->rays[n]));
-        }
-        if (p->stderr_)
-            grids.push_back(se);
-        if (p->rays)
-            grids.push_back(rays);
-    }
-    // Ambient-cube sides or L2 terms: one Vec3s grid each, sharing the topology.
     const int extra = p->cube ? 6 : p->sh ? 8 : 0;
-    for (int e = 0; e < extra; e++) {
-        const float *const values = p->cube ? p->cube : p->sh;
-        const int stride = p->cube ? 18 : 24;
-        auto g = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
-        g->setName(p->cube ? vdbgi_side_grid_name(e) : vdbgi_sh_grid_name(e + 1));
-        g->setTransform(xf->copy());
-        g->setGridClass(openvdb::GRID_UNKNOWN);
-        g->setVectorType(openvdb::VEC_INVARIANT);
-        auto a = g->getAccessor();
-        for (size_t n = 0; n < p->count; n++) {
-            const float *const c = &values[stride * n + 3 * e];
-            a.setValue(openvdb::Coord(p->ijk[3 * n], p->ijk[3 * n + 1], p->ijk[3 * n + 2]),
-                       openvdb::Vec3s(c[0], c[1], c[2]));
-        }
-        grids.push_back(g);
+    GridWriter out(path, int32_t(2 + (p->stderr_ != nullptr) + (p->rays != nullptr) + extra));
+    if (!out.opened())
+        return write_failed(ctx, name, errno);
+    const auto rgb = [](const float *c) { return openvdb::Vec3s(c[0], c[1], c[2]); };
+    {
+        auto irr = probe_grid<openvdb::Vec3SGrid>(p, "irradiance", *xf, meta, true,
+                                                  [&](size_t n) { return rgb(&p->rgb[3 * n]); });
+        // A colour is not a direction: it must not turn with the transform.
+        irr->setVectorType(openvdb::VEC_INVARIANT);
+        out.write(irr);
     }
-    for (auto &g : grids)
-        for (size_t m = 0; m < meta->count; m++)
-            add_meta(*g, meta->items[m]);
-    return write_grids(ctx, path, name, grids);
+    out.write(probe_grid<openvdb::FloatGrid>(p, "validity", *xf, meta, true,
+                                             [&](size_t n) { return p->backface[n]; }));
+    // Sampling noise per probe, and the rays an adaptive bake spent on it.
+    if (p->stderr_)
+        out.write(probe_grid<openvdb::FloatGrid>(p, "stderr", *xf, meta, false,
+                                                 [&](size_t n) { return p->stderr_[n]; }));
+    if (p->rays)
+        out.write(probe_grid<openvdb::Int32Grid>(p, "rays", *xf, meta, false,
+                                                 [&](size_t n) { return int32_t(p->rays[n]); }));
+    // Ambient-cube sides or L2 terms: one Vec3s grid each, built as it is written. The
+    // terms are held as ratios to L0 (vdbgi_term_encode); the file has the terms themselves.
+    for (int e = 0; e < extra; e++) {
+        const auto term = [&](size_t n) {
+            float c[3];
+            for (size_t k = 0; k < 3; k++)
+                c[k] = vdbgi_term_decode(p->sh[24 * n + 3 * size_t(e) + k], p->rgb[3 * n + k]);
+            return rgb(c);
+        };
+        auto g = p->cube ? probe_grid<openvdb::Vec3SGrid>(
+                               p, vdbgi_side_grid_name(e), *xf, meta, true,
+                               [&](size_t n) { return rgb(&p->cube[18 * n + 3 * size_t(e)]); })
+                         : probe_grid<openvdb::Vec3SGrid>(p, vdbgi_sh_grid_name(e + 1), *xf, meta,
+                                                          true, term);
+        g->setVectorType(openvdb::VEC_INVARIANT);
+        out.write(g);
+    }
+    return out.close() ? VDBGI_OK : write_failed(ctx, name, out.error());
     VDBGI_SHIM_END(ctx, "openvdb")
 }
 
@@ -265,8 +303,26 @@ template <class G> bool merge_as(const openvdb::GridBase::Ptr &a, const openvdb:
     return true;
 }
 
+/* The grids' names and types a tile holds, in its order, read without their trees. */
+std::vector<std::pair<std::string, std::string>> tile_grids(const char *path)
+{
+    openvdb::io::File file(path);
+    file.open(false);
+    const openvdb::GridPtrVecPtr grids = file.readAllGridMetadata();
+    file.close();
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const auto &g : *grids)
+        out.emplace_back(g->getName(), g->type());
+    return out;
+}
+
 } // namespace
 
+/*
+ * One grid at a time: each is read from every tile, merged, written and
+ * freed before the next, so the merge holds one grid of the whole lattice
+ * (and the tiles' copies of it), not every grid of every tile.
+ */
 extern "C" vdbgi_result vdbgi_vdb_merge(vdbgi_context *ctx, const char *path, const char *name,
                                         const char *const *tiles, size_t count,
                                         const char *const *drop, size_t drop_count,
@@ -274,41 +330,45 @@ extern "C" vdbgi_result vdbgi_vdb_merge(vdbgi_context *ctx, const char *path, co
 {
     VDBGI_SHIM_BEGIN
     openvdb::initialize();
-    openvdb::GridPtrVec whole;
-    VdbgiMemoryCharge held(ctx); // the tiles read so far: the merge moves their leaves
-    for (size_t t = 0; t < count; t++) {
-        openvdb::io::File file(tiles[t]);
-        file.open(false); // read it all now: the file is closed before the next one
-        const openvdb::GridPtrVecPtr grids = file.getGrids();
-        file.close();
-        if (!held.hold(held.bytes + vdbgi_grids_bytes(*grids)))
-            return vdbgi_fail_about(ctx, VDBGI_ERR_OUT_OF_MEMORY, tiles[t]);
-        if (t == 0) {
-            whole = *grids;
-            continue;
-        }
-        if (grids->size() != whole.size())
+    const auto names = tile_grids(tiles[0]);
+    for (size_t t = 1; t < count; t++) {
+        const auto other = tile_grids(tiles[t]);
+        if (other.size() != names.size())
             return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %zu grids, where %s has %zu", tiles[t],
-                              grids->size(), tiles[0], whole.size());
-        for (const auto &g : *grids) {
-            const auto into = std::find_if(whole.begin(), whole.end(), [&](const auto &w) {
-                return w->getName() == g->getName();
-            });
-            if (into == whole.end())
+                              other.size(), tiles[0], names.size());
+        for (const auto &g : other)
+            if (std::none_of(names.begin(), names.end(),
+                             [&](const auto &w) { return w.first == g.first; }))
                 return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid '%s' is not in %s", tiles[t],
-                                  g->getName().c_str(), tiles[0]);
-            if (!merge_as<openvdb::Vec3SGrid>(*into, g) &&
-                !merge_as<openvdb::FloatGrid>(*into, g) && !merge_as<openvdb::Int32Grid>(*into, g))
+                                  g.first.c_str(), tiles[0]);
+    }
+    GridWriter out(path, int32_t(names.size()));
+    if (!out.opened())
+        return write_failed(ctx, name, errno);
+    for (const auto &n : names) {
+        VdbgiMemoryCharge held(ctx); // this grid's tiles read so far: the merge moves their leaves
+        openvdb::GridBase::Ptr whole;
+        for (size_t t = 0; t < count; t++) {
+            openvdb::io::File file(tiles[t]);
+            file.open(false); // read it now: the file is closed before the next one
+            const openvdb::GridBase::Ptr g = file.readGrid(n.first);
+            file.close();
+            if (!held.hold(held.bytes + vdbgi_grids_bytes(openvdb::GridPtrVec{g})))
+                return vdbgi_fail_about(ctx, VDBGI_ERR_OUT_OF_MEMORY, tiles[t]);
+            if (t == 0)
+                whole = g;
+            else if (!merge_as<openvdb::Vec3SGrid>(whole, g) &&
+                     !merge_as<openvdb::FloatGrid>(whole, g) &&
+                     !merge_as<openvdb::Int32Grid>(whole, g))
                 return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid '%s' (%s) is not one of ours",
                                   tiles[t], g->getName().c_str(), g->type().c_str());
         }
-    }
-    for (auto &g : whole) {
         for (size_t d = 0; d < drop_count; d++)
-            g->removeMeta(drop[d]);
+            whole->removeMeta(drop[d]);
         for (size_t m = 0; m < set->count; m++)
-            add_meta(*g, set->items[m]);
+            add_meta(*whole, set->items[m]);
+        out.write(whole);
     }
-    return write_grids(ctx, path, name, whole);
+    return out.close() ? VDBGI_OK : write_failed(ctx, name, out.error());
     VDBGI_SHIM_END(ctx, "openvdb")
 }

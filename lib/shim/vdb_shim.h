@@ -65,7 +65,7 @@ typedef struct vdbgi_vdb_arrays {
     float *stderr_;  /* per probe, or NULL */
     uint32_t *rays;  /* per probe, or NULL */
     float *cube;     /* 18 per probe, or NULL */
-    float *sh;       /* 24 per probe, or NULL */
+    uint16_t *sh;    /* 24 per probe, as vdbgi_probes holds them (vdbgi_term_encode), or NULL */
     vdbgi_meta_store *meta;
 } vdbgi_vdb_arrays;
 

@@ -27,6 +27,25 @@ run other1.vdb tile2.vdb tile3.vdb tile4.vdb
 run tile1.vdb tile2.vdb three1.vdb tile4.vdb
 run whole.vdb
 run tile1.vdb missing.vdb
+# Tiles of the same bake whose grids differ (edited in pyopenvdb): one short, one renamed,
+# one of another type; the merge reads them a grid at a time and refuses each by name.
+/usr/bin/python3 - <<'PY'
+import pyopenvdb as vdb
+grids, meta = vdb.readAll("tile2.vdb")
+vdb.write("short2.vdb", grids=[g for g in grids if g.name != "stderr"], metadata=meta)
+for g in grids:
+    if g.name == "stderr":
+        g.name = "noise"
+vdb.write("renamed2.vdb", grids=grids, metadata=meta)
+grids, meta = vdb.readAll("tile2.vdb")
+vec = vdb.Vec3SGrid()
+vec.name, vec.transform = "stderr", grids[0].transform
+vec.getAccessor().setValueOn((0, 0, 0), (1, 1, 1))
+vdb.write("typed2.vdb", grids=[vec if g.name == "stderr" else g for g in grids], metadata=meta)
+PY
+run tile1.vdb short2.vdb tile3.vdb tile4.vdb
+run tile1.vdb renamed2.vdb tile3.vdb tile4.vdb
+run tile1.vdb typed2.vdb tile3.vdb tile4.vdb
 # The grids held past a stated memory limit: stopped, naming the tile, nothing written.
 run tile1.vdb tile2.vdb tile3.vdb tile4.vdb --memory-limit 1M
 "$BIN/gi-merge" tile1.vdb tile2.vdb tile3.vdb tile4.vdb -q -o out.vdb --memory-limit 1G && echo "merged under 1G"
