@@ -17,8 +17,11 @@ typedef struct bench_options {
     bench_light light;
 } bench_options;
 
-/* Wall seconds of running argv to completion, or -1 if it failed. */
-double bench_time_process(char *const argv[]);
+/*
+ * Wall seconds of running argv to completion, or -1 if it failed; with
+ * peak_mb not NULL, the child's peak resident memory (MB) too.
+ */
+double bench_time_process(char *const argv[], double *peak_mb);
 /* A built volume's figures with its file's size: its file made (gzip happens on write). */
 void bench_info(const vdbgi_volume *v, vdbgi_volume_info *vi);
 /* dir/name opened for writing with its header line, or NULL (said on stderr). */

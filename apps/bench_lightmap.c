@@ -126,7 +126,7 @@ int bench_lightmap(const bench_options *o, const char *argv0)
                              threads, NULL};
     double process = -1.0;
     for (int rep = 0; rep < o->repeat; rep++) {
-        const double t = bench_time_process(lm_argv);
+        const double t = bench_time_process(lm_argv, NULL);
         if (t < 0.0) {
             cli_error("%s failed on %s", tool, o->scene);
             unlink(glb);

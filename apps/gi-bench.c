@@ -1,6 +1,6 @@
 /* gi-bench: measure vdbgi: the bake against a bare Embree loop over the same rays, the
    conversion, speed against accuracy, memory, lightmaps, the truth, lights (one file each). */
-#define _DEFAULT_SOURCE /* posix_spawn, waitpid */
+#define _DEFAULT_SOURCE /* posix_spawn, wait4 */
 #include "bench.h"
 #include "bench_lights.h"
 #include "cli.h"
@@ -13,6 +13,7 @@
 #include <spawn.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <zlib.h>
 
@@ -197,7 +198,7 @@ static int parse_args(int argc, char **argv, bench_options *o)
 }
 
 /* Wall seconds of running argv to completion, or -1 if it failed. */
-double bench_time_process(char *const argv[])
+double bench_time_process(char *const argv[], double *peak_mb)
 {
     posix_spawn_file_actions_t fa;
     posix_spawn_file_actions_init(&fa);
@@ -209,8 +210,11 @@ double bench_time_process(char *const argv[])
     if (spawned != 0)
         return -1.0;
     int status = 0;
-    if (waitpid(pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    struct rusage ru;
+    if (wait4(pid, &status, 0, &ru) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
         return -1.0;
+    if (peak_mb)
+        *peak_mb = (double)ru.ru_maxrss / 1024.0; /* Linux counts it in kB */
     return cli_now() - t0;
 }
 
