@@ -164,8 +164,9 @@ class GridWriter : openvdb::io::Archive
 {
   public:
     GridWriter(const char *path, int32_t count)
-        : os_(path, std::ios_base::out | std::ios_base::binary | std::ios_base::trunc)
     {
+        errno = 0;
+        os_.open(path, std::ios_base::out | std::ios_base::binary | std::ios_base::trunc);
         if (!os_)
             return;
         openvdb::io::setDataCompression(os_, compression());
@@ -173,6 +174,7 @@ class GridWriter : openvdb::io::Archive
         writeHeader(os_, /*seekable=*/true);
         openvdb::MetaMap().writeMeta(os_);
         os_.write(reinterpret_cast<const char *>(&count), sizeof(count));
+        note_failure();
     }
 
     bool opened() const
@@ -183,17 +185,19 @@ class GridWriter : openvdb::io::Archive
     /* Grid names must be unique and not empty, as this writer's are. */
     void write(const openvdb::GridBase::ConstPtr &grid)
     {
+        errno = 0;
         openvdb::io::GridDescriptor gd(grid->getName(), grid->type(), grid->saveFloatAsHalf());
         writeGrid(gd, grid, os_, /*seekable=*/true);
         openvdb::io::setDataCompression(os_, compression()); // mask compression is per grid
+        note_failure();
     }
 
-    /* Flush and close; false (errno says why, where it does) if any write failed. */
+    /* Flush and close; false (error() says why, where errno did) if any write failed. */
     bool close()
     {
         errno = 0;
         os_.flush();
-        err_ = errno;
+        note_failure();
         os_.close();
         return bool(os_);
     }
@@ -204,6 +208,13 @@ class GridWriter : openvdb::io::Archive
     }
 
   private:
+    /* The errno of the first write that failed (a full disk), before later calls touch it. */
+    void note_failure()
+    {
+        if (!os_ && !err_)
+            err_ = errno;
+    }
+
     std::ofstream os_;
     int err_ = 0;
 };
