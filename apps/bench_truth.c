@@ -266,6 +266,30 @@ static vdbgi_result truth_at_spacing(vdbgi_context *ctx, const vdbgi_scene *scen
         print_row(csv, spacing, "ambient cube, every probe", rv, got);
     if (r == VDBGI_OK && (r = probes_reading(p, rv, true, got)) == VDBGI_OK)
         print_row(csv, spacing, "L2, every probe", rv, got);
+    /* The directions (issue 41): the same bricks from each probe's own random rotation of
+       the set, and from half the rays, against the one Fibonacci set every probe shares. */
+    static const struct {
+        vdbgi_sampling sampling;
+        int halve;
+        const char *name;
+    } sets[3] = {
+        {VDBGI_SAMPLING_RANDOM, 0, "L2, bricks, a random rotation a probe"},
+        {VDBGI_SAMPLING_FIBONACCI, 1, "L2, bricks, half the rays"},
+        {VDBGI_SAMPLING_RANDOM, 1, "L2, bricks, half the rays, a random rotation a probe"}};
+    for (int d = 0; r == VDBGI_OK && d < 3; d++) {
+        vdbgi_bake_desc dd = bd;
+        dd.basis = VDBGI_BASIS_SH2;
+        dd.sampling = sets[d].sampling;
+        dd.rays = rays > 1 ? rays >> sets[d].halve : rays;
+        vdbgi_volume_destroy(v);
+        v = NULL;
+        if ((r = vdbgi_probes_bake(p, scene, &dd, NULL)) == VDBGI_OK &&
+            (r = vdbgi_volume_build(ctx, p, &(vdbgi_convert_desc){.threads = threads}, &v)) ==
+                VDBGI_OK) {
+            bench_volume_reading(v, rv, got);
+            print_row(csv, spacing, sets[d].name, rv, got);
+        }
+    }
     /* Under the physical truth, the apps' defaults (issue 45): the physical model with its
        bounces counted until converged, and the seed model's defaults it replaced. */
     static const struct {
