@@ -19,7 +19,7 @@ typedef struct bench_options {
 
 /*
  * Wall seconds of running argv to completion, or -1 if it failed; with
- * peak_mb not NULL, the child's peak resident memory (MB) too.
+ * peak_mb not NULL, the child's peak resident memory (MiB) too.
  */
 double bench_time_process(char *const argv[], double *peak_mb);
 /* A built volume's figures with its file's size: its file made (gzip happens on write). */

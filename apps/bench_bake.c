@@ -174,7 +174,7 @@ int bench_bake(const bench_options *o, const char *argv0)
            process_sh2, nrays / process_sh2 * 1e-6, (double)pi.probe_count / process_sh2,
            bare[best] / process_sh2);
     printf("The whole gi-bake process with L2 terms takes %.2fx the scalar's time and %.2fx its "
-           "peak memory (%.0f MB against %.0f MB, the largest of %d runs each).\n\n",
+           "peak memory (%.0f MiB against %.0f MiB, the largest of %d runs each).\n\n",
            process_sh2 / process, peak_sh2 / peak, peak_sh2, peak, o->repeat);
     struct stat fs;
     printf("Fastest bare loop: %s. Ambient cubes cost %.1f%%, L2 terms %.1f%% of the scalar "

@@ -216,7 +216,7 @@ double bench_time_process(char *const argv[], double *peak_mb)
     if (wait4(pid, &status, 0, &ru) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
         return -1.0;
     if (peak_mb)
-        *peak_mb = (double)ru.ru_maxrss / 1024.0; /* Linux counts it in kB */
+        *peak_mb = (double)ru.ru_maxrss / 1024.0; /* Linux counts it in KiB */
     return cli_now() - t0;
 }
 

@@ -146,8 +146,19 @@ static vdbgi_result take_read(vdbgi_context *ctx, const char *path, vdbgi_result
             ok = ok && q[k] >= 0.0f && isfinite(q[k]);
         for (int k = 0; k < 3; k++)
             ok = ok && c[k] >= 0.0f && isfinite(c[k]);
+        const int32_t *const ijk = &p->ijk[3 * i];
+        if (!ok) {
+            vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
+                       "%s: probe %d,%d,%d holds a negative or non-finite value (%g,%g,%g, "
+                       "validity %g)",
+                       path, ijk[0], ijk[1], ijk[2], (double)c[0], (double)c[1], (double)c[2],
+                       (double)p->backface[i]);
+            vdbgi_probes_destroy(p);
+            return VDBGI_ERR_FORMAT;
+        }
         /* The L2 terms are signed, but no light that is nowhere negative gives one beyond
-           twice its L0 (vdbgi_term_encode held the ratio, or told what it could not hold). */
+           twice its L0 (vdbgi_term_encode held the ratio, or told what it could not hold;
+           L0 is checked first, as the ratios are to it). */
         int bad_term = 0;
         bool nan_term = false;
         for (int k = 0; p->sh && k < 24 && !bad_term; k++) {
@@ -155,21 +166,11 @@ static vdbgi_result take_read(vdbgi_context *ctx, const char *path, vdbgi_result
             bad_term = isfinite(ratio) ? 0 : 1 + k / 3;
             nan_term = isnan(ratio);
         }
-        const int32_t *const ijk = &p->ijk[3 * i];
         if (bad_term) {
             vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: probe %d,%d,%d: L2 term %d is %s", path, ijk[0],
                        ijk[1], ijk[2], bad_term,
                        nan_term ? "not finite"
                                 : "more than 4 times its L0, which no non-negative light gives");
-            vdbgi_probes_destroy(p);
-            return VDBGI_ERR_FORMAT;
-        }
-        if (!ok) {
-            vdbgi_fail(ctx, VDBGI_ERR_FORMAT,
-                       "%s: probe %d,%d,%d holds a negative or non-finite value (%g,%g,%g, "
-                       "validity %g)",
-                       path, ijk[0], ijk[1], ijk[2], (double)c[0], (double)c[1], (double)c[2],
-                       (double)p->backface[i]);
             vdbgi_probes_destroy(p);
             return VDBGI_ERR_FORMAT;
         }

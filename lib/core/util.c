@@ -51,7 +51,10 @@ uint32_t vdbgi_get_u32(const uint8_t *p)
     return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
 }
 
-/* GCC's and Clang's _Float16 converts with IEEE rounding (libgcc's routines without F16C). */
+/*
+ * _Float16 (GCC 12 and later, Clang 15 and later, on x86-64 and AArch64) converts with
+ * IEEE rounding (libgcc's routines without F16C).
+ */
 static uint16_t half_bits(float f)
 {
     const _Float16 h = (_Float16)f;
@@ -66,8 +69,10 @@ uint16_t vdbgi_term_encode(float c, float c0)
     const float bound = 4.0f;
     if (!isfinite(c) || !isfinite(c0))
         return HALF_NAN;
-    if (!(c0 >= 1e-30f)) /* no light to speak of, or none at all */
-        return fabsf(c) <= bound * fabsf(c0) ? 0 : c < 0.0f ? HALF_SIGN | HALF_INF : HALF_INF;
+    if (c0 >= 0.0f && c0 < 1e-30f) /* no light to speak of (or floats that underflowed) */
+        return 0;
+    if (c0 < 0.0f) /* no light gives it: the reader refuses the L0 first */
+        return HALF_NAN;
     const float r = c / c0;
     if (fabsf(r) > bound)
         return r < 0.0f ? HALF_SIGN | HALF_INF : HALF_INF;

@@ -22,10 +22,11 @@ double vdbgi_uniform01(uint64_t *state);
  * +-2 (docs/format.md's ranges), and the bake's noise is far above 2^-11, so
  * a probe's 24 terms take 48 bytes instead of 96. L0 under 1e-30 keeps no
  * terms (0). What no such light gives encodes for a reader to refuse: a
- * ratio beyond +-4 as +-infinity, a term that is not finite as NaN.
+ * ratio beyond +-4 as +-infinity, a term that is not finite (or a negative
+ * L0) as NaN.
  */
 uint16_t vdbgi_term_encode(float c, float c0);
-/* The term back: the ratio times c0 (an infinite or NaN ratio stays so). */
+/* The term back: the ratio times c0 (a NaN ratio stays NaN; decode with c0 = 1 to test). */
 float vdbgi_term_decode(uint16_t h, float c0);
 
 /* Little-endian stores and loads (file formats are little-endian whatever the host). */

@@ -167,8 +167,10 @@ class GridWriter : openvdb::io::Archive
     {
         errno = 0;
         os_.open(path, std::ios_base::out | std::ios_base::binary | std::ios_base::trunc);
-        if (!os_)
+        if (!os_) {
+            err_ = errno;
             return;
+        }
         openvdb::io::setDataCompression(os_, compression());
         openvdb::io::setWriteGridStatsMetadata(os_, isGridStatsMetadataEnabled());
         writeHeader(os_, /*seekable=*/true);
@@ -177,14 +179,17 @@ class GridWriter : openvdb::io::Archive
         note_failure();
     }
 
-    bool opened() const
+    /* False once a write failed: what follows would go nowhere. */
+    bool good() const
     {
         return bool(os_);
     }
 
     /* Grid names must be unique and not empty, as this writer's are. */
-    void write(const openvdb::GridBase::ConstPtr &grid)
+    void write_grid(const openvdb::GridBase::ConstPtr &grid)
     {
+        if (!os_)
+            return;
         errno = 0;
         openvdb::io::GridDescriptor gd(grid->getName(), grid->type(), grid->saveFloatAsHalf());
         writeGrid(gd, grid, os_, /*seekable=*/true);
@@ -199,6 +204,7 @@ class GridWriter : openvdb::io::Archive
         os_.flush();
         note_failure();
         os_.close();
+        note_failure();
         return bool(os_);
     }
 
@@ -260,28 +266,28 @@ extern "C" vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, co
     const auto xf = lattice_transform(p->origin, p->spacing);
     const int extra = p->cube ? 6 : p->sh ? 8 : 0;
     GridWriter out(path, int32_t(2 + (p->stderr_ != nullptr) + (p->rays != nullptr) + extra));
-    if (!out.opened())
-        return write_failed(ctx, name, errno);
+    if (!out.good())
+        return write_failed(ctx, name, out.error());
     const auto rgb = [](const float *c) { return openvdb::Vec3s(c[0], c[1], c[2]); };
     {
         auto irr = probe_grid<openvdb::Vec3SGrid>(p, "irradiance", *xf, meta, true,
                                                   [&](size_t n) { return rgb(&p->rgb[3 * n]); });
         // A colour is not a direction: it must not turn with the transform.
         irr->setVectorType(openvdb::VEC_INVARIANT);
-        out.write(irr);
+        out.write_grid(irr);
     }
-    out.write(probe_grid<openvdb::FloatGrid>(p, "validity", *xf, meta, true,
-                                             [&](size_t n) { return p->backface[n]; }));
+    out.write_grid(probe_grid<openvdb::FloatGrid>(p, "validity", *xf, meta, true,
+                                                  [&](size_t n) { return p->backface[n]; }));
     // Sampling noise per probe, and the rays an adaptive bake spent on it.
     if (p->stderr_)
-        out.write(probe_grid<openvdb::FloatGrid>(p, "stderr", *xf, meta, false,
-                                                 [&](size_t n) { return p->stderr_[n]; }));
+        out.write_grid(probe_grid<openvdb::FloatGrid>(p, "stderr", *xf, meta, false,
+                                                      [&](size_t n) { return p->stderr_[n]; }));
     if (p->rays)
-        out.write(probe_grid<openvdb::Int32Grid>(p, "rays", *xf, meta, false,
-                                                 [&](size_t n) { return int32_t(p->rays[n]); }));
+        out.write_grid(probe_grid<openvdb::Int32Grid>(
+            p, "rays", *xf, meta, false, [&](size_t n) { return int32_t(p->rays[n]); }));
     // Ambient-cube sides or L2 terms: one Vec3s grid each, built as it is written. The
     // terms are held as ratios to L0 (vdbgi_term_encode); the file has the terms themselves.
-    for (int e = 0; e < extra; e++) {
+    for (int e = 0; e < extra && out.good(); e++) {
         const auto term = [&](size_t n) {
             float c[3];
             for (size_t k = 0; k < 3; k++)
@@ -294,7 +300,7 @@ extern "C" vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, co
                          : probe_grid<openvdb::Vec3SGrid>(p, vdbgi_sh_grid_name(e + 1), *xf, meta,
                                                           true, term);
         g->setVectorType(openvdb::VEC_INVARIANT);
-        out.write(g);
+        out.write_grid(g);
     }
     return out.close() ? VDBGI_OK : write_failed(ctx, name, out.error());
     VDBGI_SHIM_END(ctx, "openvdb")
@@ -354,9 +360,11 @@ extern "C" vdbgi_result vdbgi_vdb_merge(vdbgi_context *ctx, const char *path, co
                                   g.first.c_str(), tiles[0]);
     }
     GridWriter out(path, int32_t(names.size()));
-    if (!out.opened())
-        return write_failed(ctx, name, errno);
+    if (!out.good())
+        return write_failed(ctx, name, out.error());
     for (const auto &n : names) {
+        if (!out.good()) // a full disk: the rest would go nowhere
+            break;
         VdbgiMemoryCharge held(ctx); // this grid's tiles read so far: the merge moves their leaves
         openvdb::GridBase::Ptr whole;
         for (size_t t = 0; t < count; t++) {
@@ -378,7 +386,7 @@ extern "C" vdbgi_result vdbgi_vdb_merge(vdbgi_context *ctx, const char *path, co
             whole->removeMeta(drop[d]);
         for (size_t m = 0; m < set->count; m++)
             add_meta(*whole, set->items[m]);
-        out.write(whole);
+        out.write_grid(whole);
     }
     return out.close() ? VDBGI_OK : write_failed(ctx, name, out.error());
     VDBGI_SHIM_END(ctx, "openvdb")

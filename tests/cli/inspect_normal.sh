@@ -42,14 +42,22 @@ by["irradiance_sh3"].getAccessor().setValueOn(item.min, (0.0, math.nan, 0.0))
 vdb.write("nan.vdb", grids=grids, metadata=meta)
 # A term five times its L0: no light that is nowhere negative gives it (the probes hold
 # the terms as ratios to L0, which cannot pass +-4).
+# (A lit probe: where L0 is under 1e-30 no terms are kept at all.)
 by["irradiance_sh3"].getAccessor().setValueOn(item.min, (0.0, 0.0, 0.0))
-by["irradiance_sh2"].getAccessor().setValueOn(item.min, tuple(5 * c + 1 for c in item.value))
+lit = next(i for i in by["irradiance"].citerOnValues() if min(i.value) > 0.01)
+by["irradiance_sh2"].getAccessor().setValueOn(lit.min, tuple(5 * c for c in lit.value))
 vdb.write("beyond.vdb", grids=grids, metadata=meta)
+by["irradiance_sh2"].getAccessor().setValueOn(lit.min, (0.0, 0.0, 0.0))
+# A NaN L0 under sound terms: named as the L0 it is, not as the terms held relative to it.
+by["irradiance_sh2"].getAccessor().setValueOn(item.min, (0.0, 0.0, 0.0))
+by["irradiance"].getAccessor().setValueOn(item.min, (math.nan, 0.0, 0.0))
+vdb.write("nanl0.vdb", grids=grids, metadata=meta)
 PY
 "$BIN/gi-inspect" seven.vdb --at 0,0.1,0 --normal 0,1,0 | sed -n 's/^at .*-> \([^ ]*\) \([^ ]*\) .*/\1 \2/p' > seven
 [ "$(cat seven)" = "$(first scalar.vdb --at 0,0.1,0)" ] && echo "seven terms of eight: read as scalar"
 "$BIN/gi-inspect" nan.vdb >/dev/null 2>err; echo "exit $? $(sed 's/probe [-0-9,]*/probe I,J,K/' err)"
 "$BIN/gi-inspect" beyond.vdb >/dev/null 2>err; echo "exit $? $(sed 's/probe [-0-9,]*/probe I,J,K/' err)"
+"$BIN/gi-inspect" nanl0.vdb >/dev/null 2>err; echo "exit $? $(sed 's/probe [-0-9,]*/probe I,J,K/; s/ (.*//' err)"
 # The terms' rounding (--term-bits) and file version (--gi-version): every bit kept
 # makes a larger file than the default 6 bits, which reads within half its step (2/127
 # of each term's range R_k, times |p_k(n)|, times L0) of it; version 6 is larger still
