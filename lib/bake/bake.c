@@ -76,8 +76,8 @@ static void bake_point(bake_thread *th, size_t index)
         memcpy(&sh->cube[18 * index], e.cube, sizeof(e.cube));
     if (sh->sh)
         memcpy(&sh->sh[24 * index], e.sh, sizeof(e.sh));
-    for (int k = 0; sh->terms && k < 24; k++)
-        sh->terms[24 * index + k] = vdbgi_term_encode(e.sh[k], e.rgb[k % 3]);
+    if (sh->terms)
+        vdbgi_terms_encode(e.sh, e.rgb, &sh->terms[24 * index]);
 }
 
 /* Take chunks until none are left; returns after the last one or on cancel. */

@@ -371,8 +371,7 @@ vdbgi_result vdbgi_probes_get_sh2(const vdbgi_probes *p, size_t index, float sh[
     VDBGI_FAIL_IF(p->ctx, !p->sh, VDBGI_ERR_INVALID_ARG,
                   "probes have no L2 terms: bake with the sh2 basis");
     memcpy(sh[0], &p->rgb[3 * index], 3 * sizeof(float));
-    for (int k = 0; k < 24; k++)
-        sh[1 + k / 3][k % 3] = vdbgi_term_decode(p->sh[24 * index + k], p->rgb[3 * index + k % 3]);
+    vdbgi_terms_decode(&p->sh[24 * index], &p->rgb[3 * index], sh[1]);
     return VDBGI_OK;
 }
 
@@ -408,8 +407,7 @@ static int gather_terms(const vdbgi_probes *p, size_t i, float *out)
         return 21;
     }
     if (p->sh) {
-        for (int k = 0; k < 24; k++)
-            out[3 + k] = vdbgi_term_decode(p->sh[24 * i + k], p->rgb[3 * i + k % 3]);
+        vdbgi_terms_decode(&p->sh[24 * i], &p->rgb[3 * i], &out[3]);
         return 27;
     }
     return 3;

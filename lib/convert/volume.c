@@ -316,9 +316,7 @@ vdbgi_result vdbgi_build_fill(vdbgi_context *ctx, const vdbgi_probes *p, const v
             return VDBGI_ERR_OUT_OF_MEMORY;
         for (size_t i = 0; i < p->count; i++) {
             memcpy(&joined[27 * i], &p->rgb[3 * i], 3 * sizeof(float));
-            for (int k = 0; k < 24; k++)
-                joined[27 * i + 3 + k] =
-                    vdbgi_term_decode(p->sh[24 * i + k], p->rgb[3 * i + k % 3]);
+            vdbgi_terms_decode(&p->sh[24 * i], &p->rgb[3 * i], &joined[27 * i + 3]);
         }
     }
     const vdbgi_fill_input in = {.count = p->count,

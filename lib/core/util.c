@@ -86,6 +86,18 @@ float vdbgi_term_decode(uint16_t bits, float c0)
     return (float)h * c0;
 }
 
+void vdbgi_terms_encode(const float c[24], const float c0[3], uint16_t out[24])
+{
+    for (int k = 0; k < 24; k++)
+        out[k] = vdbgi_term_encode(c[k], c0[k % 3]);
+}
+
+void vdbgi_terms_decode(const uint16_t h[24], const float c0[3], float out[24])
+{
+    for (int k = 0; k < 24; k++)
+        out[k] = vdbgi_term_decode(h[k], c0[k % 3]);
+}
+
 float vdbgi_get_f32(const uint8_t *p)
 {
     const uint32_t v = vdbgi_get_u32(p);

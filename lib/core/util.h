@@ -28,6 +28,9 @@ double vdbgi_uniform01(uint64_t *state);
 uint16_t vdbgi_term_encode(float c, float c0);
 /* The term back: the ratio times c0 (a NaN ratio stays NaN; decode with c0 = 1 to test). */
 float vdbgi_term_decode(uint16_t h, float c0);
+/* A probe's 24 terms (c1..c8 x RGB) against its L0 c0[3], each as above. */
+void vdbgi_terms_encode(const float c[24], const float c0[3], uint16_t out[24]);
+void vdbgi_terms_decode(const uint16_t h[24], const float c0[3], float out[24]);
 
 /* Little-endian stores and loads (file formats are little-endian whatever the host). */
 void vdbgi_put_u16(uint8_t *p, uint16_t v);

@@ -129,13 +129,12 @@ void copy_extras(vdbgi_vdb_arrays *p, size_t n, const openvdb::FloatGrid::Ptr &s
         for (size_t i = 0; i < n; i++) {
             const openvdb::Vec3s v =
                 a.getValue(openvdb::Coord(p->ijk[3 * i], p->ijk[3 * i + 1], p->ijk[3 * i + 2]));
-            for (int k = 0; k < 3; k++) {
-                if (vec_count == 6)
-                    p->cube[18 * i + 3 * size_t(e) + size_t(k)] = v[k];
+            const size_t at = 3 * (size_t(vec_count) * i + size_t(e));
+            for (int k = 0; k < 3; k++)
+                if (p->sh)
+                    p->sh[at + k] = vdbgi_term_encode(v[k], p->rgb[3 * i + size_t(k)]);
                 else
-                    p->sh[24 * i + 3 * size_t(e) + size_t(k)] =
-                        vdbgi_term_encode(v[k], p->rgb[3 * i + size_t(k)]);
-            }
+                    p->cube[at + k] = v[k];
         }
     }
 }

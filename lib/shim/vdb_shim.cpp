@@ -15,7 +15,6 @@
 #include <fstream>
 #include <memory>
 #include <string>
-#include <utility>
 #include <vector>
 
 extern "C" const char *vdbgi_side_grid_name(int side)
@@ -320,16 +319,16 @@ template <class G> bool merge_as(const openvdb::GridBase::Ptr &a, const openvdb:
     return true;
 }
 
-/* The grids' names and types a tile holds, in its order, read without their trees. */
-std::vector<std::pair<std::string, std::string>> tile_grids(const char *path)
+/* The names of the grids a tile holds, in its order, read without their trees. */
+std::vector<std::string> tile_grids(const char *path)
 {
     openvdb::io::File file(path);
     file.open(false);
     const openvdb::GridPtrVecPtr grids = file.readAllGridMetadata();
     file.close();
-    std::vector<std::pair<std::string, std::string>> out;
+    std::vector<std::string> out;
     for (const auto &g : *grids)
-        out.emplace_back(g->getName(), g->type());
+        out.push_back(g->getName());
     return out;
 }
 
@@ -354,10 +353,9 @@ extern "C" vdbgi_result vdbgi_vdb_merge(vdbgi_context *ctx, const char *path, co
             return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %zu grids, where %s has %zu", tiles[t],
                               other.size(), tiles[0], names.size());
         for (const auto &g : other)
-            if (std::none_of(names.begin(), names.end(),
-                             [&](const auto &w) { return w.first == g.first; }))
+            if (std::find(names.begin(), names.end(), g) == names.end())
                 return vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: grid '%s' is not in %s", tiles[t],
-                                  g.first.c_str(), tiles[0]);
+                                  g.c_str(), tiles[0]);
     }
     GridWriter out(path, int32_t(names.size()));
     if (!out.good())
@@ -370,7 +368,7 @@ extern "C" vdbgi_result vdbgi_vdb_merge(vdbgi_context *ctx, const char *path, co
         for (size_t t = 0; t < count; t++) {
             openvdb::io::File file(tiles[t]);
             file.open(false); // read it now: the file is closed before the next one
-            const openvdb::GridBase::Ptr g = file.readGrid(n.first);
+            const openvdb::GridBase::Ptr g = file.readGrid(n);
             file.close();
             if (!held.hold(held.bytes + vdbgi_grids_bytes(openvdb::GridPtrVec{g})))
                 return vdbgi_fail_about(ctx, VDBGI_ERR_OUT_OF_MEMORY, tiles[t]);
