@@ -96,6 +96,13 @@ mkdir -p "$OUT"
         echo
         node tests/web/bench_viewer.mjs "bundled=data/world.glb,$OUT/world.gi.gz" \
             "200 m=$OUT/world200.glb,$OUT/world200.gi.gz"
+        echo
+        echo "Our bake through three's own light probe grid (makeProbeGrid), against our runtime (docs/web.md)"
+        echo
+        "$BUILD/bin/gi-bake" -q "$OUT/interior.glb" -o "$OUT/interior_sh2.vdb" --basis sh2 >/dev/null
+        "$BUILD/bin/vdb-to-gi" -q "$OUT/interior_sh2.vdb" -o "$OUT/interior_sh2.gi.gz"
+        node tests/web/bench_probe_grid.mjs "interior=$OUT/interior.glb,$OUT/interior_sh2.gi.gz" \
+            "world=data/world.glb,$OUT/world_sh2.gi.gz"
     else
         echo "(skipped: chromium or web/node_modules missing; make deps installs both)"
     fi

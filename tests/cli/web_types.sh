@@ -1,6 +1,6 @@
 # The package's types (issue 40, item 4): tests/ts/example.ts, which uses every entry point
-# ('vdbgi', 'vdbgi/webgpu', 'vdbgi/format', 'vdbgi/lightmap-layers', 'vdbgi/react') as an
-# app would, compiles under tsc --strict against web/*.d.ts, resolved through
+# ('vdbgi', 'vdbgi/webgpu', 'vdbgi/format', 'vdbgi/lightmap-layers', 'vdbgi/react',
+# 'vdbgi/probe-grid') as an app would, compiles under tsc --strict against web/*.d.ts, resolved through
 # web/package.json's exports as a user's node_modules would hold the package, with
 # @types/three, React's types and React Three Fiber's; and an
 # example with a wrong option, a misspelt export and a wrong argument fails as it should.

@@ -8,7 +8,7 @@ const require = createRequire(new URL('../../web/', import.meta.url));
 const ts = require('typescript');
 const web = new URL('../../web/', import.meta.url).pathname;
 const entries = { '.': 'vdbgi', './webgpu': 'vdbgi-webgpu', './format': 'gi-format', './lightmap-layers': 'lightmap-layers',
-  './react': 'vdbgi-react' };
+  './react': 'vdbgi-react', './probe-grid': 'gi-probe-grid' };
 
 const program = ts.createProgram(Object.values(entries).map((f) => `${web}${f}.d.ts`),
   { strict: true, noEmit: true, module: ts.ModuleKind.ESNext, moduleResolution: ts.ModuleResolutionKind.Bundler,

@@ -7,6 +7,8 @@ import { decodeGi, parseGi, giReader, textureBytes, LAYOUT_COMPACT, BASIS_SH2, t
 import { LayerCompositor } from 'vdbgi/lightmap-layers';
 import { createElement, type ReactElement } from 'react';
 import { GiLight, useGi } from 'vdbgi/react';
+import { makeProbeGrid, occupiedBox, MAX_GRID_SIDE } from 'vdbgi/probe-grid';
+import { LightProbeGridWebGL } from 'three/addons/lighting/LightProbeGridWebGL.js';
 
 export async function lightWorld(renderer: THREE.WebGLRenderer, scene: THREE.Scene, hero: THREE.Mesh): Promise<GiVolume> {
   const gi = new GiRuntime();
@@ -75,4 +77,11 @@ export function Hero({ mesh }: { mesh: THREE.Mesh }): null {
   const gi = useGi();
   gi?.addOccluder(mesh);
   return null;
+}
+
+export function throughThreesGrid(scene: THREE.Scene, volume: GiVolume): number {
+  const box = occupiedBox(volume);
+  const grid: LightProbeGridWebGL = makeProbeGrid(volume, LightProbeGridWebGL, { box, spacing: 2 * volume.info.spacing });
+  scene.add(grid);
+  return grid.resolution.z * 7 <= MAX_GRID_SIDE ? grid.boundingBox.max.x : 0;
 }

@@ -11,7 +11,10 @@
 //   boundsSetup, boundsLoad, boundsDraw: tests/web/check_bounds.mjs's steps;
 //   split: GiRuntime.lightScene() against the recipe by hand (tests/web/check_split.mjs);
 //   occlude: a 10 m floor lit only by a flat lightmap or by task.gi, with and
-//           without task.occluders: the world positions and both frames.
+//           without task.occluders: the world positions and both frames;
+//   grid:   task.scene lit only by task.gi, through our runtime per fragment and
+//           through three's own light probe grid filled from it (makeProbeGrid);
+//           with task.frames, the median frame of each and of neither instead.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { GiRuntime, loadGi, DebugView } from '/web/vdbgi.js';
@@ -494,8 +497,60 @@ async function split(task) {
   return { byCall: byCall.px, counts: byCall.counts, byHand: byHand.px, unlit: unlit.px };
 }
 
+// No light but the bounce, so that the two frames differ only in how they read it:
+// our runtime per fragment (GiRuntime.apply) and three's grid with the scene's
+// materials untouched. Both frames and the grid's figures.
+async function grid(task) {
+  const { backend = 'webgl', width = 192, height = 144, camera: cam } = task;
+  const renderer = await makeRenderer(backend, freshCanvas(), width, height);
+  const webgpu = backend === 'webgpu' ? await import('/web/vdbgi-webgpu.js') : null;
+  const { makeProbeGrid } = await import('/web/gi-probe-grid.js');
+  const Grid = backend === 'webgpu' ? (await import('three/addons/lighting/LightProbeGrid.js')).LightProbeGrid
+                                    : (await import('three/addons/lighting/LightProbeGridWebGL.js')).LightProbeGridWebGL;
+  const camera = new THREE.PerspectiveCamera(cam.fov, width / height, 0.05, 100);
+  camera.position.set(...cam.position);
+  camera.lookAt(...cam.target);
+  const volume = await loadGi(task.gi, { renderer: webgpu ? null : renderer, maxBytes: OWN_WORLDS });
+  const draw = async (light) => {
+    const gi = webgpu ? new webgpu.GiRuntime() : new GiRuntime();
+    gi.setVolume(volume);
+    const scene = (await new GLTFLoader().loadAsync(task.scene)).scene;
+    const figures = await light(gi, scene);
+    scene.updateMatrixWorld();
+    const px = await readFloat({ renderer, scene, camera, gi, width, height, backend });
+    // With task.frames: that many frames into the canvas, each waited for by reading
+    // one pixel back; the median milliseconds, after a first frame that compiles.
+    const ms = [];
+    for (let i = 0; i <= (task.frames ?? 0); i++) {
+      const t0 = performance.now();
+      renderer.render(scene, camera);
+      if (webgpu) await renderer.backend.device.queue.onSubmittedWorkDone();
+      else renderer.getContext().readPixels(0, 0, 1, 1, renderer.getContext().RGBA, renderer.getContext().UNSIGNED_BYTE, new Uint8Array(4));
+      if (i) ms.push(performance.now() - t0);
+    }
+    ms.sort((a, b) => a - b);
+    return { px: task.frames ? [] : Array.from(px), frameMs: ms.length ? ms[ms.length >> 1] : null, ...figures };
+  };
+  const ours = await draw((gi, scene) => {
+    scene.traverse((o) => { if (o.isMesh) o.material = gi.apply(o.material, { perFragment: true }); });
+  });
+  const none = task.frames ? await draw(() => ({})) : null;
+  const three = await draw((gi, scene) => {
+    const t0 = performance.now();
+    const g = makeProbeGrid(volume, Grid);
+    const fillMs = performance.now() - t0;
+    scene.add(g);
+    const { data } = g.texture.image;
+    return { fillMs, gridBytes: data.byteLength, resolution: g.resolution.toArray(), volumeBytes: volume.vramBytes };
+  });
+  renderer.dispose();
+  return { ours: ours.px, three: three.px, fillMs: three.fillMs, gridBytes: three.gridBytes,
+    resolution: three.resolution, volumeBytes: three.volumeBytes,
+    frameMs: { none: none?.frameMs, ours: ours.frameMs, three: three.frameMs } };
+}
+
 window.vdbgiRun = async (task) => {
-  const run = { probe, shot, frames, load, occlude, frame, boundsSetup, boundsLoad, boundsDraw, split }[task.kind];
+  const run = { probe, shot, frames, load, occlude, frame, boundsSetup, boundsLoad, boundsDraw, split, grid }[task.kind];
   if (!run) throw new Error(`unknown task ${task.kind}`);
   return run(task);
 };
