@@ -11,7 +11,7 @@
 import { MeshStandardNodeMaterial, MeshLambertNodeMaterial } from 'three/webgpu';
 import {
   uniform, texture3D, textureLoad, ivec2, vec3, vec4, float, floor, exp2, max, min, mod, clamp, dot, mix, select,
-  fwidth, positionWorld, normalView, normalLocal, modelNormalMatrix, cameraWorldMatrix, inverseSqrt, Fn, varying,
+  fwidth, step, positionWorld, normalView, normalLocal, modelNormalMatrix, cameraWorldMatrix, inverseSqrt, Fn, varying,
   output, diffuseColor, materialEmissive, materialAO, If, sqrt, acos, atan,
 } from 'three/tsl';
 import * as TSL from 'three/tsl';
@@ -60,19 +60,24 @@ function giNodes(runtime) {
   // terms, read half a spacing off the surface along its world normal nrm,
   // and evaluated for it (docs/format.md, "Version 6").
   n.lookup = (pos0, nrm0) => {
-    // A zero normal (a mesh without normals, per vertex) reads L0 alone.
+    // Every choice below is arithmetic on 0/1 factors (step, mix), not select(): three's
+    // select() becomes an if/else, and a node first built inside one branch is built
+    // again in every other, which repeated the whole lookup, texture reads and all,
+    // about seven times a fragment (77 reads where it needs 10).
     const nn = dot(nrm0, nrm0);
-    const l2 = n.basis.greaterThan(0).and(nn.greaterThan(0.25));
-    const nrm = select(l2, nrm0.mul(inverseSqrt(max(nn, 0.25))), vec3(0));
+    // A zero normal (a mesh without normals, per vertex) reads L0 alone: l2 = basis > 0 and |n|^2 > 0.25.
+    const l2 = float(1).sub(step(n.basis, 0)).mul(float(1).sub(step(nn, 0.25)));
+    const nrm = nrm0.mul(inverseSqrt(max(nn, 0.25))).mul(l2);
     const pos = pos0.add(nrm.mul(n.boxSize.x.div(n.indDims.x.mul(4)).mul(0.5)));
     const p = pos.sub(n.boxMin).div(n.boxSize).mul(n.indDims.mul(4)).sub(0.5);
     const baseBrick0 = floor(p.div(4));
-    // The cell's indirection texel from its column's run, as the GLSL (docs/format.md).
+    // The cell's indirection texel from its column's run, as the GLSL (docs/format.md):
+    // a row's edge a division may miss steps back, by step(w, col) + step(0, col) - 1.
     const columnsTexel = (i) => {
       const w = n.columnsDims.x;
       const first = floor(i.add(0.5).div(w));
       const col = i.sub(first.mul(w));
-      const row = first.add(select(col.lessThan(0), float(-1), select(col.greaterThanEqual(w), float(1), float(0))));
+      const row = first.add(step(w, col)).add(step(0, col)).sub(1);
       return floor(n.texture('ind', ivec2(i.sub(row.mul(w)), row)).mul(255).add(0.5));
     };
     const cell = clamp(baseBrick0, vec3(0), n.indDims.sub(1));
@@ -80,40 +85,42 @@ function giNodes(runtime) {
     const run = columnsTexel(column.mul(2)), at = columnsTexel(column.mul(2).add(1));
     const ymin = run.r.add(run.g.mul(256)), count = run.b.add(run.a.mul(256));
     // Compact: below the run, its lowest brick at its bottom plane (the lift).
-    const compact = n.layout.x.sub(LAYOUT_COMPACT).abs().lessThan(0.5);
-    const lift = compact.and(count.greaterThan(0));
-    const baseBrick = vec3(baseBrick0.x, select(lift, max(baseBrick0.y, ymin), baseBrick0.y), baseBrick0.z);
-    const k = select(lift, max(cell.y.sub(ymin), 0), cell.y.sub(ymin));
+    const compact = float(1).sub(step(0.5, n.layout.x.sub(LAYOUT_COMPACT).abs()));
+    const lift = compact.mul(step(0.5, count));
+    const baseBrick = vec3(baseBrick0.x, mix(baseBrick0.y, max(baseBrick0.y, ymin), lift), baseBrick0.z);
+    const k = mix(cell.y.sub(ymin), max(cell.y.sub(ymin), 0), lift);
     const entry = n.indDims.x.mul(n.indDims.z).mul(2).add(at.r).add(at.g.mul(256)).add(at.b.mul(65536)).add(max(k, 0));
-    const inRun = k.greaterThanEqual(0).and(k.lessThan(count));
-    const ind = select(inRun, columnsTexel(min(entry, n.columnsDims.x.mul(n.columnsDims.y).sub(1))), vec4(0));
+    // In the run: 0 <= k < count (whole numbers).
+    const inRun = step(0, k).mul(float(1).sub(step(count, k)));
+    const ind = columnsTexel(min(entry, n.columnsDims.x.mul(n.columnsDims.y).sub(1))).mul(inRun);
     // Seed: rgb the slot, a the level + 1. Compact: a holds the level in bits
     // 0-1 and the first texel mod 4 per axis above; rgb its texel / 4.
-    const level = select(compact, mod(ind.a, 4), max(ind.a.sub(1), 0));
+    const level = mix(max(ind.a.sub(1), 0), mod(ind.a, 4), compact);
     const span = exp2(level);
     const originCell = floor(baseBrick.div(span)).mul(span).mul(4);
     const q0 = p.sub(originCell).add(n.layout.z).div(span).sub(n.layout.z);
-    const q = vec3(q0.x, select(compact, max(q0.y, 0), q0.y), q0.z);
+    const q = vec3(q0.x, mix(q0.y, max(q0.y, 0), compact), q0.z);
     const low = mod(floor(vec3(ind.a).div(vec3(4, 16, 64))), 4);
-    const first = select(compact, ind.rgb.mul(4).add(low), ind.rgb.mul(6).add(n.layout.y));
+    const first = mix(ind.rgb.mul(6).add(n.layout.y), ind.rgb.mul(4).add(low), compact);
     const texel = first.add(q);
     const uvw = texel.add(0.5).div(n.atlasDims);
     const s = n.texture('atlas', uvw);
-    const l0 = select(n.rgbmRange.greaterThan(0), s.rgb.mul(s.a).mul(n.rgbmRange), s.rgb);
+    const l0 = mix(s.rgb, s.rgb.mul(s.a).mul(n.rgbmRange), step(1e-30, n.rgbmRange));
     // Term byte j = 3 term + channel in texture j / 4, component j mod 4, as q + 128.
     const c = [];
     for (let i = 0; i < 6; i++) {
-      const q = max(n.texture(`sh${i}`, uvw).mul(255).sub(128).div(127), -1);
-      c.push(q.x, q.y, q.z, q.w);
+      const t = max(n.texture(`sh${i}`, uvw).mul(255).sub(128).div(127), -1);
+      c.push(t.x, t.y, t.z, t.w);
     }
     const poly = [nrm.x, nrm.y, nrm.z, nrm.x.mul(nrm.y), nrm.y.mul(nrm.z), nrm.z.mul(nrm.z).mul(3).sub(1),
       nrm.x.mul(nrm.z), nrm.x.mul(nrm.x).sub(nrm.y.mul(nrm.y))];
     let sum = vec3(1);
-    for (let k = 0; k < 8; k++)
-      sum = sum.add(vec3(c[3 * k], c[3 * k + 1], c[3 * k + 2]).mul(SH2_RANGE[k]).mul(poly[k]));
-    const irradiance = select(l2, max(l0.mul(sum), 0), l0);
-    const empty = ind.r.add(ind.g).add(ind.b).add(ind.a).equal(0);
-    const levelOut = select(compact, select(empty, float(-1), level), ind.a.sub(1));
+    for (let j = 0; j < 8; j++)
+      sum = sum.add(vec3(c[3 * j], c[3 * j + 1], c[3 * j + 2]).mul(SH2_RANGE[j]).mul(poly[j]));
+    // mix(a, b, 0) is a exactly: L0 alone where there are no terms to read.
+    const irradiance = mix(l0, max(l0.mul(sum), 0), l2);
+    const empty = float(1).sub(step(0.5, ind.r.add(ind.g).add(ind.b).add(ind.a)));
+    const levelOut = mix(ind.a.sub(1), mix(level, float(-1), empty), compact);
     return { irradiance, level: levelOut, inBrick: p.sub(originCell).div(span.mul(4)) };
   };
   // The occluders' share of the light at p over unit normal nrm, as vdbgiVisibility() in

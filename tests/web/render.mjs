@@ -549,8 +549,32 @@ async function grid(task) {
     frameMs: { none: none?.frameMs, ours: ours.frameMs, three: three.frameMs } };
 }
 
+// The WGSL three made for a plain standard material on a quad, and with the volume
+// per fragment: how many texture reads each fragment shader holds. (Read from the
+// renderer's program cache, three 0.187's private _pipelines: a test's view only.)
+async function reads(task) {
+  const renderer = await makeRenderer('webgpu', freshCanvas(), 16, 16);
+  const { GiRuntime: GpuRuntime } = await import('/web/vdbgi-webgpu.js');
+  const gi = new GpuRuntime();
+  gi.setVolume(await loadGi(task.gi, { maxBytes: OWN_WORLDS }));
+  const camera = new THREE.PerspectiveCamera(50, 1, 0.1, 10);
+  camera.position.set(0, 0, 2);
+  const count = async (material) => {
+    const scene = new THREE.Scene();
+    scene.add(new THREE.Mesh(new THREE.PlaneGeometry(1, 1), material));
+    const before = new Set(renderer._pipelines.programs.fragment.values());
+    renderer.render(scene, camera);
+    const made = [...renderer._pipelines.programs.fragment.values()].filter((p) => !before.has(p));
+    return made.map((p) => (p.code.match(/\btexture(Sample|Load)[A-Za-z]*\s*\(/g) ?? []).length);
+  };
+  const plain = await count(new THREE.MeshStandardMaterial());
+  const lit = await count(gi.apply(new THREE.MeshStandardMaterial(), { perFragment: true }));
+  renderer.dispose();
+  return { plain, lit };
+}
+
 window.vdbgiRun = async (task) => {
-  const run = { probe, shot, frames, load, occlude, frame, boundsSetup, boundsLoad, boundsDraw, split, grid }[task.kind];
+  const run = { probe, shot, frames, load, occlude, frame, boundsSetup, boundsLoad, boundsDraw, split, grid, reads }[task.kind];
   if (!run) throw new Error(`unknown task ${task.kind}`);
   return run(task);
 };
