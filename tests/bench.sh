@@ -10,7 +10,10 @@
 # tests/truth/world_frame_vs_cycles.sh); then where the bytes of the
 # default volume go on those two and the town (tests/breakdown.py, Debian's
 # python3); then the browser runtime's load and frame times in headless
-# Chromium (tests/web/bench_web.mjs, docs/web.md). Writes build/bench/bench.md.
+# Chromium (tests/web/bench_web.mjs, docs/web.md), and three.js's own probe grid
+# beside ours (tests/web/bench_probe_grid.mjs, tests/truth/thin_wall_frames.sh;
+# the room's frame with it against Cycles' is frame_vs_cycles.sh's). Writes
+# build/bench/bench.md.
 set -eu
 BUILD=${BUILD:-build/release}
 OUT=build/bench
@@ -103,6 +106,10 @@ mkdir -p "$OUT"
         "$BUILD/bin/vdb-to-gi" -q "$OUT/interior_sh2.vdb" -o "$OUT/interior_sh2.gi.gz"
         node tests/web/bench_probe_grid.mjs "interior=$OUT/interior.glb,$OUT/interior_sh2.gi.gz" \
             "world=data/world.glb,$OUT/world_sh2.gi.gz"
+        echo
+        echo "Light through a thin wall in frames: three's own probe grid against our L2 volume (docs/frame.md)"
+        echo
+        sh tests/truth/thin_wall_frames.sh "$BUILD/bin" "$OUT/thin_wall"
     else
         echo "(skipped: chromium or web/node_modules missing; make deps installs both)"
     fi

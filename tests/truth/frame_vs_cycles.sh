@@ -48,15 +48,18 @@ fi
 "$BIN/vdb-to-gi" "$OUT/l2.vdb" -o "$OUT/l2.gi.gz" -q
 "$BIN/gi-bake" "$OUT/room.glb" -o "$OUT/seed.vdb" -q --model seed --sky "$SKY"
 "$BIN/vdb-to-gi" "$OUT/seed.vdb" -o "$OUT/seed.gi.gz" -q
-# task NAME LIGHTMAP GI PERFRAGMENT OCCLUDERS: a frame of ours.
+# task NAME LIGHTMAP GI PERFRAGMENT OCCLUDERS [GRID]: a frame of ours; GRID (JSON) lights it
+# through three's own LightProbeGridWebGL instead (tests/web/render.mjs, the frame task).
 task() {
-    python3 - "$OUT/frame.json" "$OUT/$1.task.json" "$OUT/room.glb" "$2" "$3" "$4" "$5" << 'PY'
+    python3 - "$OUT/frame.json" "$OUT/$1.task.json" "$OUT/room.glb" "$2" "$3" "$4" "$5" "${6:-}" << 'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
 t = {"scene": sys.argv[3], "lightmap": sys.argv[4] or None, "gi": sys.argv[5] or None,
      "perFragment": {"1": True, "0": False}.get(sys.argv[6], sys.argv[6]), "occluders": sys.argv[7] == "1",
      "spheres": s["spheres"], "camera": s["camera"], "sky": s["sky"],
      "lamps": [{"position": l["position"], "color": l["color"], "intensity": l["intensity"]} for l in s["lamps"]]}
+if sys.argv[8]:
+    t["grid"] = json.loads(sys.argv[8])
 json.dump(t, open(sys.argv[2], "w"))
 PY
     node "$ROOT/tests/web/render_frame.mjs" "$OUT/$1.task.json" "$OUT/$1" 2> "$OUT/$1.log"
@@ -67,5 +70,17 @@ task split "$OUT/lit.glb" "$OUT/l2.gi.gz" 1 1
 task split_256_rays "$OUT/lit256.glb" "$OUT/l2.gi.gz" 1 1
 task split_no_occluders "$OUT/lit256.glb" "$OUT/l2.gi.gz" 1 0
 task seed_defaults "" "$OUT/seed.gi.gz" 0 0
+# Three.js's own probe grid (three 0.187, issue 46) over the room at the L2 volume's 0.25 m:
+# baked in the page as three's docs do, with 2 extra passes (3 bounces) and with 12; and
+# filled from our L2 volume (makeProbeGrid), beside that volume read by our runtime.
+ROOM_BOX='"box": {"min": [0, 0, 0], "max": [6, 3, 4]}, "spacing": 0.25'
+task three_grid_3_passes "" "" 0 0 "{$ROOM_BOX, \"bounces\": 2}"
+task three_grid_13_passes "" "" 0 0 "{$ROOM_BOX, \"bounces\": 12}"
+task l2_volume "" "$OUT/l2.gi.gz" 1 0
+task l2_through_three_grid "" "$OUT/l2.gi.gz" 1 0 "{$ROOM_BOX, \"fromVolume\": true}"
 /usr/bin/python3 "$HERE/frame_regions.py" "$OUT" defaults defaults_volume split split_256_rays \
-    split_no_occluders seed_defaults
+    split_no_occluders seed_defaults three_grid_3_passes three_grid_13_passes l2_volume l2_through_three_grid
+# The time to a first lit frame: the volume's load, or the grid's bake or fill.
+for f in defaults l2_volume three_grid_3_passes three_grid_13_passes l2_through_three_grid; do
+    echo "$f: $(cat "$OUT/$f.json")"
+done

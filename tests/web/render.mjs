@@ -338,7 +338,12 @@ async function frame(task) {
   renderer.shadowMap.enabled = true;
   renderer.shadowMap.type = THREE.PCFShadowMap;
   const gi = new GiRuntime();
-  if (task.gi) gi.setVolume(await loadGi(task.gi, { renderer, maxBytes: OWN_WORLDS }));
+  const figures = {};
+  if (task.gi) {
+    const t0 = performance.now();
+    gi.setVolume(await loadGi(task.gi, { renderer, maxBytes: OWN_WORLDS }));
+    figures.loadMs = performance.now() - t0;
+  }
   const gltf = await new GLTFLoader().loadAsync(task.lightmap ?? task.scene);
   const scene = new THREE.Scene();
   scene.background = new THREE.Color(...task.sky);
@@ -359,6 +364,11 @@ async function frame(task) {
       }));
   });
   await Promise.all(jobs);
+  // The task's lamps (below, with shadow maps) are the scene's lights: a glTF's own
+  // (KHR_lights_punctual, which make_scenes.py --room writes) would light it twice.
+  const gltfLights = [];
+  gltf.scene.traverse((o) => { if (o.isLight) gltfLights.push(o); });
+  for (const l of gltfLights) l.removeFromParent();
   // perFragment 'auto': as light() chooses (per fragment where a mesh's triangles are large).
   if (task.perFragment === 'auto' && !task.lightmap) gi.light(gltf.scene);
   else gltf.scene.traverse((o) => {
@@ -394,6 +404,34 @@ async function frame(task) {
     sun.shadow.bias = -0.0005;
     scene.add(sun);
   }
+  // Three's own light probe grid over task.grid.box at task.grid.spacing: baked in the
+  // page with task.grid.bounces extra passes (the moving spheres hidden: they are not
+  // in a bake), or with task.grid.fromVolume filled from task.gi (makeProbeGrid).
+  if (task.grid) {
+    const { LightProbeGridWebGL } = await import('three/addons/lighting/LightProbeGridWebGL.js');
+    const { min, max } = task.grid.box, s = task.grid.spacing;
+    const res = min.map((v, k) => Math.max(1, Math.round((max[k] - v) / s)));
+    let grid;
+    const t0 = performance.now();
+    if (task.grid.fromVolume) {
+      const { makeProbeGrid } = await import('/web/gi-probe-grid.js');
+      grid = makeProbeGrid(gi.volume, LightProbeGridWebGL, { box: task.grid.box, spacing: s });
+    } else {
+      grid = new LightProbeGridWebGL(...max.map((v, k) => v - min[k]), ...res);
+      grid.position.set(...min.map((v, k) => (v + max[k]) / 2));
+      scene.add(grid);
+      const balls = scene.children.filter((o) => o.isMesh);
+      balls.forEach((b) => { b.visible = false; });
+      scene.updateMatrixWorld(true);
+      grid.bake(renderer, scene, { bounces: task.grid.bounces ?? 0, cubemapSize: task.grid.cubemapSize ?? 8 });
+      balls.forEach((b) => { b.visible = true; });
+      renderer.getContext().finish();
+    }
+    figures.gridMs = performance.now() - t0;
+    gi.enabled = false; // the grid's light alone (the debug views still read positions)
+    figures.gridProbes = grid.resolution.x * grid.resolution.y * grid.resolution.z;
+    if (!grid.parent) scene.add(grid);
+  }
   const c = task.camera;
   const camera = new THREE.PerspectiveCamera(c.fov, width / height, 0.01, 100);
   camera.position.set(...c.position);
@@ -402,7 +440,7 @@ async function frame(task) {
   const radiance = await readFloat(ctx);
   const pos = await readFloat(ctx, DebugView.POSITION);
   renderer.dispose();
-  return { radiance: Array.from(radiance), pos: Array.from(pos) };
+  return { radiance: Array.from(radiance), pos: Array.from(pos), ...figures };
 }
 
 // Bounds (tests/web/check_bounds.mjs), in three steps the test measures apart:

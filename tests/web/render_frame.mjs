@@ -2,7 +2,8 @@
 // tests/web/render.html's frame task; the files TASK.json names (scene,
 // lightmap, gi) are served from their folders. Writes OUT.pfm (linear
 // radiance), OUT.pos.pfm (world positions) and OUT.mask.pfm (1 where a
-// surface was drawn), rows from the bottom as PFM stores them.
+// surface was drawn), rows from the bottom as PFM stores them, and OUT.json
+// (the volume's load and a probe grid's making, in ms).
 import { readFileSync, writeFileSync } from 'node:fs';
 import { basename, dirname, resolve } from 'node:path';
 import { withPage } from './browser.mjs';
@@ -29,3 +30,5 @@ const { width: w, height: h } = task.camera;
 pfm(`${out}.pfm`, r.radiance, w, h, (a, i, k) => a[4 * i + k]);
 pfm(`${out}.pos.pfm`, r.pos, w, h, (a, i, k) => a[4 * i + k]);
 pfm(`${out}.mask.pfm`, r.pos, w, h, (a, i) => a[4 * i + 3]);
+// The milliseconds the volume took to load, and a probe grid's (task.grid) to make, and its probes.
+writeFileSync(`${out}.json`, JSON.stringify({ loadMs: r.loadMs, gridMs: r.gridMs, gridProbes: r.gridProbes }));
