@@ -104,7 +104,10 @@ mkdir -p "$OUT"
         echo
         "$BUILD/bin/gi-bake" -q "$OUT/interior.glb" -o "$OUT/interior_sh2.vdb" --basis sh2 >/dev/null
         "$BUILD/bin/vdb-to-gi" -q "$OUT/interior_sh2.vdb" -o "$OUT/interior_sh2.gi.gz"
+        "$BUILD/bin/vdb-to-gi" -q "$OUT/interior_sh2.vdb" -o "$OUT/interior_l0.gi.gz" --basis scalar
+        # The same probes without their terms: what the L2 terms cost a frame, beside L0's lookup.
         node tests/web/bench_probe_grid.mjs "interior=$OUT/interior.glb,$OUT/interior_sh2.gi.gz" \
+            "interior, L0 only=$OUT/interior.glb,$OUT/interior_l0.gi.gz" \
             "world=data/world.glb,$OUT/world_sh2.gi.gz"
         echo
         echo "Light through a thin wall in frames: three's own probe grid against our L2 volume (docs/frame.md)"

@@ -4,6 +4,7 @@
 // alone at 960 x 540: the grid's probes and bytes beside the volume's, the time
 // to fill it, the median of 8 frames with no bounce light, with ours per fragment
 // and with three's grid, and how far the grid's frame is from ours. A markdown table.
+// NAME picks the camera by its first word (interior, or the demo world's).
 import { copyFileSync, mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
@@ -20,7 +21,7 @@ const scenes = process.argv.slice(2).map((arg, i) => {
   const [glb, gi] = files.split(',');
   copyFileSync(glb, join(dir, `s${i}.glb`));
   copyFileSync(gi, join(dir, `s${i}.gi.gz`));
-  return { name, scene: `/files/s${i}.glb`, gi: `/files/s${i}.gi.gz`, camera: CAMERAS[name] ?? CAMERAS.world };
+  return { name, scene: `/files/s${i}.glb`, gi: `/files/s${i}.gi.gz`, camera: CAMERAS[name.split(',')[0]] ?? CAMERAS.world };
 });
 const mb = (b) => (b / 1e6).toFixed(2);
 console.log('| scene | back end | three\'s grid: probes, MB | our volume, MB | fill, ms | frame: no bounce / ours / three\'s grid, ms | grid/ours: mean, RMSE |');
