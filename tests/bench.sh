@@ -108,7 +108,7 @@ mkdir -p "$OUT"
         # The same probes without their terms: what the L2 terms cost a frame, beside L0's lookup.
         node tests/web/bench_probe_grid.mjs "interior=$OUT/interior.glb,$OUT/interior_sh2.gi.gz" \
             "interior, L0 only=$OUT/interior.glb,$OUT/interior_l0.gi.gz" \
-            "world=data/world.glb,$OUT/world_sh2.gi.gz"
+            "world=data/world.glb,$OUT/world_sh2.gi.gz" "200 m world=-,$OUT/world200_sh2.gi.gz"
         echo
         echo "Light through a thin wall in frames: three's own probe grid against our L2 volume (docs/frame.md)"
         echo

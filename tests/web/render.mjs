@@ -579,11 +579,12 @@ async function grid(task) {
     const fillMs = performance.now() - t0;
     scene.add(g);
     const { data } = g.texture.image;
-    return { fillMs, gridBytes: data.byteLength, resolution: g.resolution.toArray(), volumeBytes: volume.vramBytes };
+    return { fillMs, gridBytes: data.byteLength, resolution: g.resolution.toArray(), volumeBytes: volume.vramBytes,
+      spacing: volume.info.spacing };
   });
   renderer.dispose();
   return { ours: ours.px, three: three.px, fillMs: three.fillMs, gridBytes: three.gridBytes,
-    resolution: three.resolution, volumeBytes: three.volumeBytes,
+    resolution: three.resolution, volumeBytes: three.volumeBytes, spacing: three.spacing,
     frameMs: { none: none?.frameMs, ours: ours.frameMs, three: three.frameMs } };
 }
 
@@ -611,8 +612,29 @@ async function reads(task) {
   return { plain, lit };
 }
 
+// Where three's WebGL probe grid stops: its bake renders into a 9 x N float target
+// (LightProbeGridWebGL's _ensureBatchTarget), N its probe count. Make that target for
+// each task.probes as the bake would and report WebGL's error, beside the largest
+// texture side.
+async function gridLimit(task) {
+  const renderer = await makeRenderer('webgl', freshCanvas(), 16, 16);
+  const gl = renderer.getContext();
+  const out = { maxTextureSize: renderer.capabilities.maxTextureSize, errors: [] };
+  for (const n of task.probes) {
+    const rt = new THREE.WebGLRenderTarget(9, n, { type: THREE.FloatType, minFilter: THREE.NearestFilter,
+      magFilter: THREE.NearestFilter, generateMipmaps: false, depthBuffer: false });
+    while (gl.getError() !== gl.NO_ERROR);
+    renderer.initRenderTarget(rt);
+    out.errors.push(gl.getError());
+    rt.dispose();
+  }
+  renderer.dispose();
+  return out;
+}
+
 window.vdbgiRun = async (task) => {
-  const run = { probe, shot, frames, load, occlude, frame, boundsSetup, boundsLoad, boundsDraw, split, grid, reads }[task.kind];
+  const run = { probe, shot, frames, load, occlude, frame, boundsSetup, boundsLoad, boundsDraw, split, grid, reads,
+    gridLimit }[task.kind];
   if (!run) throw new Error(`unknown task ${task.kind}`);
   return run(task);
 };
