@@ -12,11 +12,11 @@ import { MeshStandardNodeMaterial, MeshLambertNodeMaterial } from 'three/webgpu'
 import {
   uniform, texture3D, textureLoad, ivec2, vec3, vec4, float, floor, exp2, max, min, mod, clamp, dot, mix, select,
   fwidth, step, positionWorld, normalView, normalLocal, modelNormalMatrix, cameraWorldMatrix, inverseSqrt, Fn, varying,
-  output, diffuseColor, materialEmissive, materialAO, If, sqrt, acos, atan,
+  output, diffuseColor, materialEmissive, materialAO, If, Loop, Break, sqrt, acos, atan,
 } from 'three/tsl';
 import * as TSL from 'three/tsl';
 import * as WEBGPU from 'three/webgpu';
-import { GiRuntimeBase, DebugView, LAYOUT_COMPACT, LEVEL_COLOURS, OCCLUDER_REACH2, checkThree } from './vdbgi.js';
+import { GiRuntimeBase, DebugView, LAYOUT_COMPACT, LEVEL_COLOURS, OCCLUDER_REACH2, MAX_OCCLUDERS, checkThree } from './vdbgi.js';
 import { SH2_RANGE } from './gi-format.js';
 
 export {
@@ -125,13 +125,24 @@ function giNodes(runtime) {
   };
   // The occluders' share of the light at p over unit normal nrm, as vdbgiVisibility() in
   // vdbgi.js: each capsule as the sphere at its segment's point nearest p (the horizon-
-  // clipped form only where the horizon cuts it), each behind an If on the count.
+  // clipped form only where the horizon cuts it). A loop that stops at the count, as the
+  // GLSL's does: sixteen If blocks on it cost a SwiftShader frame more than the volume's
+  // lookup, every branch run for every fragment whatever the count (docs/web.md). Shape i's
+  // uniforms are picked by (i == j) factors: a uniform a shape, as three's uniformArray of
+  // vec4 read NaN here on SwiftShader.
   n.visibility = Fn(([p, nrm]) => {
     const v = float(1).toVar();
-    n.occA.forEach((A, i) => If(n.occCount.greaterThan(i), () => {
-      const a = A.xyz, ab = n.occB[i].xyz.sub(a), r = A.w, r2 = r.mul(r);
+    Loop({ start: 0, end: MAX_OCCLUDERS, type: 'int', condition: '<' }, ({ i }) => {
+      If(i.greaterThanEqual(n.occCount), () => { Break(); });
+      let A = vec4(0), B = vec4(0);
+      n.occA.forEach((u, j) => {
+        const is = i.equal(j).toFloat();
+        A = A.add(u.mul(is));
+        B = B.add(n.occB[j].mul(is));
+      });
+      const a = A.xyz, ab = B.xyz.sub(a), r = A.w, r2 = r.mul(r);
       const len2 = dot(ab, ab);
-      const t = select(len2.greaterThan(0), clamp(dot(p.sub(a), ab).div(max(len2, 1e-20)), 0, 1), float(0));
+      const t = clamp(dot(p.sub(a), ab).div(max(len2, 1e-20)), 0, 1).mul(step(1e-30, len2));
       const d = a.add(ab.mul(t)).sub(p);
       const l2 = dot(d, d), dn = dot(nrm, d);
       // As the GLSL: not from inside, wholly below the horizon, or past 22 radii.
@@ -148,7 +159,7 @@ function giNodes(runtime) {
           });
           v.mulAssign(float(1).sub(clamp(occ, 0, 1)));
         });
-    }));
+    });
     return v;
   });
   // The seed's knobs: see vdbgiBounce() in vdbgi.js.
@@ -210,7 +221,22 @@ export class GiRuntime extends GiRuntimeBase {
       material = toNodeMaterial(material);
     const supported = material.isMeshStandardNodeMaterial || material.isMeshLambertNodeMaterial;
     if (!this._admits(material, supported, ' and their node forms')) return material;
-    return applyNodes(material, this._nodes, { set, perFragment, volume });
+    return applyNodes(material, this._nodes, { set, perFragment, volume, debugOn: this.debug !== DebugView.OFF });
+  }
+
+  // The debug views' output in each material apply() gave while one is shown, its own
+  // output otherwise; the material is rebuilt.
+  _debugChanged() {
+    const on = this.debug !== DebugView.OFF;
+    for (const ref of this._appliedRefs) {
+      const m = ref.deref();
+      if (!m) {
+        this._appliedRefs.delete(ref);
+        continue;
+      }
+      if (m.vdbgiOutput) m.outputNode = on ? m.vdbgiOutput.debug : m.vdbgiOutput.plain;
+      m.needsUpdate = true;
+    }
   }
 }
 
@@ -226,7 +252,7 @@ const fragmentNormal = () => normalView.transformDirection(cameraWorldMatrix);
 const vertexNormal = () =>
   Fn((builder) => (builder.geometry?.hasAttribute?.('normal') ? modelNormalMatrix.mul(normalLocal) : vec3(0)))();
 
-function applyNodes(material, n, { set, perFragment, volume }) {
+function applyNodes(material, n, { set, perFragment, volume, debugOn }) {
   const here = n.lookup(positionWorld, fragmentNormal());
   const irradiance = perFragment || !volume ? here.irradiance
     : varying(n.lookup(positionWorld, vertexNormal()).irradiance);
@@ -257,11 +283,15 @@ function applyNodes(material, n, { set, perFragment, volume }) {
     return mix(here.irradiance, vec3(0), edge);
   })();
   const view = (id) => n.debug.equal(id);
-  material.outputNode = select(view(DebugView.PROBE), vec4(irradiance, 1),
-    select(view(DebugView.LEVEL), vec4(levelColour, 1),
-      select(view(DebugView.BRICKS), vec4(boundaries, 1),
-        select(view(DebugView.POSITION), vec4(positionWorld, 1),
-          select(view(DebugView.NORMAL), vec4(fragmentNormal().normalize(), 1), output)))));
+  // In the material only while a view is shown (GiRuntime._debugChanged): the chain's
+  // branches ran for every fragment on SwiftShader.
+  material.vdbgiOutput = { plain: material.outputNode ?? null,
+    debug: select(view(DebugView.PROBE), vec4(irradiance, 1),
+      select(view(DebugView.LEVEL), vec4(levelColour, 1),
+        select(view(DebugView.BRICKS), vec4(boundaries, 1),
+          select(view(DebugView.POSITION), vec4(positionWorld, 1),
+            select(view(DebugView.NORMAL), vec4(fragmentNormal().normalize(), 1), output))))) };
+  material.outputNode = debugOn ? material.vdbgiOutput.debug : material.vdbgiOutput.plain;
   material.needsUpdate = true;
   return material;
 }

@@ -97,6 +97,7 @@ export class GiRuntimeBase {
   /** The uniforms every material with GI reads. */
   readonly uniforms: Record<string, { value: unknown }>;
   enabled: boolean;
+  /** A debug view (0: off); showing one, or going back to off, recompiles each material apply() gave. */
   get debug(): DebugViewValue;
   set debug(view: DebugViewValue | DebugViewName | Uppercase<DebugViewName>);
   /** Show a volume (null: none); the one shown before is disposed one call later. */

@@ -405,6 +405,8 @@ export class GiRuntimeBase {
     };
     this._enabled = true;
     this._applied = new WeakSet();
+    // The same materials, to recompile when the debug views come or go (WebGL2).
+    this._appliedRefs = new Set();
     // light() and lightScene()'s materials, across calls: a material given (or made) ->
     // { original, ways: way of lighting -> the material apply() made of it }.
     this._lit = new WeakMap();
@@ -555,6 +557,7 @@ export class GiRuntimeBase {
     }
     if (this._applied.has(material)) return false;
     this._applied.add(material);
+    this._appliedRefs.add(new WeakRef(material));
     return true;
   }
 
@@ -599,7 +602,23 @@ export class GiRuntimeBase {
   }
 
   get debug() { return this.uniforms.giDebug.value; }
-  set debug(view) { this.uniforms.giDebug.value = debugViewId(view); }
+  set debug(view) {
+    const id = debugViewId(view), was = this.uniforms.giDebug.value;
+    this.uniforms.giDebug.value = id;
+    if ((was === DebugView.OFF) !== (id === DebugView.OFF)) this._debugChanged();
+  }
+
+  // WebGL2 compiles the debug views into a material only while one is shown: a
+  // rasteriser that runs both sides of a branch for every fragment (SwiftShader) paid
+  // the views' second lookup in every frame (docs/web.md). Showing one, or going
+  // back to none, recompiles each material apply() gave (three keeps both programs).
+  _debugChanged() {
+    for (const ref of this._appliedRefs) {
+      const m = ref.deref();
+      if (m) m.needsUpdate = true;
+      else this._appliedRefs.delete(ref);
+    }
+  }
 
   // set: 'world' or 'character'; knobs: any of { intensity, self, bleed }.
   setKnobs(set, knobs) {
@@ -730,7 +749,8 @@ export class GiRuntime extends GiRuntimeBase {
       shader.fragmentShader = shader.fragmentShader
         .replace('#include <common>', `#include <common>\n${GLSL_LOOKUP}\n${GLSL_FRAGMENT_PARS}`)
         .replace('#include <lights_fragment_end>', `#include <lights_fragment_end>\n${GLSL_SHADE}`)
-        .replace('#include <dithering_fragment>', `#include <dithering_fragment>\n${GLSL_DEBUG}`);
+        .replace('#include <dithering_fragment>',
+          `#include <dithering_fragment>\n${u.giDebug.value !== DebugView.OFF ? GLSL_DEBUG : ''}`);
     };
     material.defines = { ...material.defines };
     if (perFragment || !volume) delete material.defines.VDBGI_PER_VERTEX;
@@ -738,7 +758,8 @@ export class GiRuntime extends GiRuntimeBase {
     if (volume) delete material.defines.VDBGI_NO_VOLUME;
     else material.defines.VDBGI_NO_VOLUME = '';
     const key = material.customProgramCacheKey.bind(material);
-    material.customProgramCacheKey = () => `${key()}|vdbgi${!volume ? 'n' : perFragment ? 'f' : 'v'}`;
+    material.customProgramCacheKey = () =>
+      `${key()}|vdbgi${!volume ? 'n' : perFragment ? 'f' : 'v'}${u.giDebug.value !== DebugView.OFF ? 'd' : ''}`;
     material.needsUpdate = true;
     return material;
   }
