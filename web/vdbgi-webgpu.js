@@ -42,10 +42,12 @@ function giNodes(runtime) {
     basis: uniform(0).onRenderUpdate(() => u.giBasis.value),
     world: uniform(u.world.value),
     character: uniform(u.character.value),
-    // The occluders (see GiRuntimeBase.addOccluder), a uniform each: the runtime's vectors
-    // by reference. (three 0.187's uniformArray of vec4 read NaN here on SwiftShader.)
-    occA: u.giOccA.value.map((v) => uniform(v)),
-    occB: u.giOccB.value.map((v) => uniform(v)),
+    // The occluders (see GiRuntimeBase.addOccluder): the runtime's vectors copied into a
+    // float texture by updateOccluders(), shape i's ends at (i, 0) and (i, 1), so that the
+    // loop reads shape i by index. (three 0.187's uniformArray of vec4 read NaN here on
+    // SwiftShader; a uniform a shape, picked by sixteen (i == j) factors, cost most of a
+    // frame with sixteen shapes.)
+    occ: runtime._occTexture,
     occCount: uniform(0, 'int').onRenderUpdate(() => u.giOccCount.value),
     // Each lookup gets its own texture nodes; a new volume re-points them all.
     texture: (which, at) => {
@@ -127,19 +129,12 @@ function giNodes(runtime) {
   // vdbgi.js: each capsule as the sphere at its segment's point nearest p (the horizon-
   // clipped form only where the horizon cuts it). A loop that stops at the count, as the
   // GLSL's does: sixteen If blocks on it cost a SwiftShader frame more than the volume's
-  // lookup, every branch run for every fragment whatever the count (docs/web.md). Shape i's
-  // uniforms are picked by (i == j) factors: a uniform a shape, as three's uniformArray of
-  // vec4 read NaN here on SwiftShader.
+  // lookup, every branch run for every fragment whatever the count (docs/web.md).
   n.visibility = Fn(([p, nrm]) => {
     const v = float(1).toVar();
     Loop({ start: 0, end: MAX_OCCLUDERS, type: 'int', condition: '<' }, ({ i }) => {
       If(i.greaterThanEqual(n.occCount), () => { Break(); });
-      let A = vec4(0), B = vec4(0);
-      n.occA.forEach((u, j) => {
-        const is = i.equal(j).toFloat();
-        A = A.add(u.mul(is));
-        B = B.add(n.occB[j].mul(is));
-      });
+      const A = textureLoad(n.occ, ivec2(i, 0)), B = textureLoad(n.occ, ivec2(i, 1));
       const a = A.xyz, ab = B.xyz.sub(a), r = A.w, r2 = r.mul(r);
       const len2 = dot(ab, ab);
       const t = clamp(dot(p.sub(a), ab).div(max(len2, 1e-20)), 0, 1).mul(step(1e-30, len2));
@@ -187,7 +182,27 @@ export class GiRuntime extends GiRuntimeBase {
     checkThree('webgpu', WEBGPU.REVISION);
     super();
     this._textureNodes = { ind: [], atlas: [], sh0: [], sh1: [], sh2: [], sh3: [], sh4: [], sh5: [] };
+    const occ = new WEBGPU.DataTexture(new Float32Array(4 * MAX_OCCLUDERS * 2), MAX_OCCLUDERS, 2,
+      WEBGPU.RGBAFormat, WEBGPU.FloatType);
+    occ.minFilter = occ.magFilter = WEBGPU.NearestFilter;
+    occ.needsUpdate = true;
+    this._occTexture = occ;
     this._nodes = giNodes(this);
+  }
+
+  dispose() {
+    super.dispose();
+    this._occTexture.dispose();
+  }
+
+  updateOccluders() {
+    super.updateOccluders();
+    const u = this.uniforms, data = this._occTexture.image.data;
+    for (let i = 0; i < u.giOccCount.value; i++) {
+      u.giOccA.value[i].toArray(data, 4 * i);
+      u.giOccB.value[i].toArray(data, 4 * (MAX_OCCLUDERS + i));
+    }
+    this._occTexture.needsUpdate = true;
   }
 
   setVolume(volume) {
