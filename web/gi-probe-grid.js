@@ -5,14 +5,18 @@
 // seven sub-volumes along z, each nz + 2 slices (a copy of its first and last
 // data slice on either side), coefficient floats 4t..4t+3 of
 // (c0.rgb, c1.rgb, .. c8.rgb, 0) in sub-volume t. makeProbeGrid fills it on the
-// CPU from the volume's own textures, read as the runtime reads them, instead
-// of the grid's in-page bake; docs/web.md says when to pick which.
+// CPU from the volume's own textures, read as the C sampler reads them (the
+// shaders agree but for a term byte of -128, which the converter never writes),
+// instead of the grid's in-page bake; docs/web.md says when to pick which.
 import * as THREE from 'three';
 import { ENCODING_RGB9E5, LAYOUT_COMPACT, layoutGeometry, SH2_RANGE } from './gi-format.js';
 
 // WebGL2's guaranteed 3D texture side is 256; 2048 is what desktops and
 // SwiftShader give, and the atlas's depth is 7 (nz + 2) slices.
 export const MAX_GRID_SIDE = 2048;
+
+// The largest finite half float.
+const HALF_MAX = 65504;
 
 // three's L2 irradiance (lightprobes_pars_fragment, getShIrradianceAt), for unit
 // normal (x, y, z), is E = c0 A0 + A1 (c1 y + c2 z + c3 x) + A2 (c4 xy + c5 yz +
@@ -112,7 +116,8 @@ function volumeArrays(volume) {
 // position, width, height, depth and resolution) from `volume`: each probe takes
 // the volume's light at the probe, turned into three's nine coefficients, in a
 // half-float atlas (8 bytes a texel, 56 a probe: three's WebGL bake keeps 112).
-// The grid's own texture is replaced; its dispose() frees this one too.
+// The grid's own texture is replaced (filling it again reuses ours); its
+// dispose() frees ours too.
 export function fillProbeGrid(grid, volume) {
   const { x: nx, y: ny, z: nz } = grid.resolution;
   const slices = nz + 2, depth = 7 * slices;
@@ -120,10 +125,10 @@ export function fillProbeGrid(grid, volume) {
     throw new Error(`a probe grid of ${nx} x ${ny} x ${nz} needs a ${nx} x ${ny} x ${depth} texture, past ${MAX_GRID_SIDE} a side: ` +
                     'give makeProbeGrid a smaller box or a larger spacing');
   const v = volumeArrays(volume);
-  const data = new Uint16Array(4 * nx * ny * depth);
-  const half = THREE.DataUtils.toHalfFloat;
+  const floats = new Float32Array(4 * nx * ny * depth);
   const out = new Float64Array(27), coef = new Float64Array(28);
   const at = new THREE.Vector3();
+  let largest = 0;
   for (let iz = 0; iz < nz; iz++)
     for (let iy = 0; iy < ny; iy++)
       for (let ix = 0; ix < nx; ix++) {
@@ -132,34 +137,52 @@ export function fillProbeGrid(grid, volume) {
           for (let c = 0; c < 3; c++) {
             const ours = TERM[j] < 0 ? out[c] : out[c] * out[3 + 3 * TERM[j] + c];
             coef[3 * j + c] = Math.PI * ours / SCALE[j];
+            largest = Math.max(largest, Math.abs(coef[3 * j + c]));
           }
         // Sub-volume t's texel at data slice iz, and at its padding slice at either end.
         for (let t = 0; t < 7; t++) {
           const put = (slice) => {
             const o = 4 * ((slice * ny + iy) * nx + ix);
-            for (let c = 0; c < 4; c++) data[o + c] = half(coef[4 * t + c]);
+            for (let c = 0; c < 4; c++) floats[o + c] = coef[4 * t + c];
           };
           put(t * slices + 1 + iz);
           if (iz === 0) put(t * slices);
           if (iz === nz - 1) put(t * slices + nz + 1);
         }
       }
-  const texture = new THREE.Data3DTexture(data, nx, ny, depth);
-  texture.format = THREE.RGBAFormat;
-  texture.type = THREE.HalfFloatType;
-  texture.minFilter = texture.magFilter = THREE.LinearFilter;
-  texture.wrapS = texture.wrapT = texture.wrapR = THREE.ClampToEdgeWrapping;
-  texture.generateMipmaps = false;
-  texture.colorSpace = THREE.NoColorSpace;
-  texture.needsUpdate = true;
+  // Half floats unless a coefficient passes their largest, 65504 (an L0 above about
+  // 10,000: RGBM's range allows it); then float32, as three's own WebGL bake keeps.
+  const wide = largest > HALF_MAX;
+  const data = wide ? floats : new Uint16Array(floats.length);
+  if (!wide) for (let i = 0; i < floats.length; i++) data[i] = THREE.DataUtils.toHalfFloat(floats[i]);
+  const type = wide ? THREE.FloatType : THREE.HalfFloatType;
+  // A grid filled before keeps its texture, so that WebGPU's node, which took it when
+  // the grid was first drawn, sees the new light (a new size or type, float32 against
+  // half, needs a new texture: in WebGPU, a new grid).
   const old = grid.texture;
-  if (old?.isData3DTexture) old.dispose();
+  let texture;
+  if (old?.vdbgiFilled && old.type === type && old.image.width === nx && old.image.height === ny &&
+      old.image.depth === depth) {
+    texture = old;
+    texture.image.data = data;
+  } else {
+    if (old?.vdbgiFilled) old.dispose();
+    texture = new THREE.Data3DTexture(data, nx, ny, depth);
+    texture.format = THREE.RGBAFormat;
+    texture.type = type;
+    texture.minFilter = texture.magFilter = THREE.LinearFilter;
+    texture.wrapS = texture.wrapT = texture.wrapR = THREE.ClampToEdgeWrapping;
+    texture.generateMipmaps = false;
+    texture.colorSpace = THREE.NoColorSpace;
+    texture.vdbgiFilled = true;
+  }
+  texture.needsUpdate = true;
   grid.texture = texture;
   grid.updateBoundingBox();
   if (!grid.vdbgiDispose) {
     const dispose = grid.dispose.bind(grid);
     grid.vdbgiDispose = () => {
-      if (grid.texture?.isData3DTexture) grid.texture.dispose();
+      if (grid.texture?.vdbgiFilled) grid.texture.dispose();
       grid.texture = null;
       dispose();
     };

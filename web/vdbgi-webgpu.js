@@ -62,14 +62,17 @@ function giNodes(runtime) {
   // terms, read half a spacing off the surface along its world normal nrm,
   // and evaluated for it (docs/format.md, "Version 6").
   n.lookup = (pos0, nrm0) => {
-    // Every choice below is arithmetic on 0/1 factors (step, mix), not select(): three's
+    // Every choice below but the normal's is arithmetic on 0/1 factors (step, mix): three's
     // select() becomes an if/else, and a node first built inside one branch is built
     // again in every other, which repeated the whole lookup, texture reads and all,
-    // about seven times a fragment (77 reads where it needs 10).
+    // about seven times a fragment (76 reads where it needs 10).
     const nn = dot(nrm0, nrm0);
-    // A zero normal (a mesh without normals, per vertex) reads L0 alone: l2 = basis > 0 and |n|^2 > 0.25.
-    const l2 = float(1).sub(step(n.basis, 0)).mul(float(1).sub(step(nn, 0.25)));
-    const nrm = nrm0.mul(inverseSqrt(max(nn, 0.25))).mul(l2);
+    // A zero normal (a mesh without normals, per vertex) reads L0 alone, as does a NaN
+    // one (a zero normal normalised): l2 = basis > 0 and |n|^2 > 0.25, the float after
+    // 0.25 the least |n|^2 that passes (a NaN passes no step). The normal is a select(),
+    // the one here: a NaN times 0 would stay NaN, and nothing built later is in it.
+    const l2 = float(1).sub(step(n.basis, 0)).mul(step(0.25000003, nn));
+    const nrm = select(l2.greaterThan(0.5), nrm0.mul(inverseSqrt(max(nn, 0.25))), vec3(0));
     const pos = pos0.add(nrm.mul(n.boxSize.x.div(n.indDims.x.mul(4)).mul(0.5)));
     const p = pos.sub(n.boxMin).div(n.boxSize).mul(n.indDims.mul(4)).sub(0.5);
     const baseBrick0 = floor(p.div(4));
@@ -249,7 +252,11 @@ export class GiRuntime extends GiRuntimeBase {
         this._appliedRefs.delete(ref);
         continue;
       }
-      if (m.vdbgiOutput) m.outputNode = on ? m.vdbgiOutput.debug : m.vdbgiOutput.plain;
+      if (m.vdbgiOutput) {
+        // An output node set since apply() is the one to go back to.
+        if (on && m.outputNode !== m.vdbgiOutput.debug) m.vdbgiOutput.plain = m.outputNode ?? null;
+        m.outputNode = on ? m.vdbgiOutput.debug : m.vdbgiOutput.plain;
+      }
       m.needsUpdate = true;
     }
   }

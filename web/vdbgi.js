@@ -405,8 +405,10 @@ export class GiRuntimeBase {
     };
     this._enabled = true;
     this._applied = new WeakSet();
-    // The same materials, to recompile when the debug views come or go (WebGL2).
+    // The same materials, to recompile when the debug views come or go; the dead ones
+    // dropped whenever the set has doubled since.
     this._appliedRefs = new Set();
+    this._refsKept = 64;
     // light() and lightScene()'s materials, across calls: a material given (or made) ->
     // { original, ways: way of lighting -> the material apply() made of it }.
     this._lit = new WeakMap();
@@ -558,6 +560,10 @@ export class GiRuntimeBase {
     if (this._applied.has(material)) return false;
     this._applied.add(material);
     this._appliedRefs.add(new WeakRef(material));
+    if (this._appliedRefs.size > 2 * this._refsKept) {
+      for (const ref of this._appliedRefs) if (!ref.deref()) this._appliedRefs.delete(ref);
+      this._refsKept = Math.max(64, this._appliedRefs.size);
+    }
     return true;
   }
 

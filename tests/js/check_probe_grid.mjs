@@ -4,13 +4,14 @@
 // shader computes from the grid's nine half-float coefficients (its constants,
 // lightprobes_pars_fragment) must be what our lookup reads there, within 0.4 %
 // of L0 (half floats keep 11 bits); a grid's padding slices copy its first and
-// last data slices; the grid covers every probe the volume holds; a grid past
-// three's texture side is refused.
+// last data slices; the grid covers every probe the volume holds; a volume too
+// bright for half floats keeps float32; filled again, a grid keeps its texture; a
+// grid past three's texture side is refused.
 import { readFileSync } from 'node:fs';
 import * as THREE from '../../web/node_modules/three/build/three.module.js';
 import { LightProbeGridWebGL } from '../../web/node_modules/three/examples/jsm/lighting/LightProbeGridWebGL.js';
 import { decodeGi } from '../../web/gi-format.js';
-import { makeProbeGrid, occupiedBox } from '../../web/gi-probe-grid.js';
+import { fillProbeGrid, makeProbeGrid, occupiedBox } from '../../web/gi-probe-grid.js';
 import { GiVolume } from '../../web/vdbgi.js';
 import { sampleGi } from './gi_loader.mjs';
 
@@ -53,7 +54,9 @@ for (const file of process.argv.slice(2)) {
     for (let ch = 0; ch < 3; ch++) {
       if (!(l0[ch] > 0)) continue;
       lit++;
-      worst = Math.max(worst, Math.abs(threeIrradiance(c, n, ch) / Math.PI - ours[ch]) / l0[ch]);
+      // Relative to L0, but for a floor of 1e-4: a half float keeps 11 bits down to 6e-5,
+      // and a probe lit at 1e-12 rounds to 0 (no light a frame can show).
+      worst = Math.max(worst, Math.abs(threeIrradiance(c, n, ch) / Math.PI - ours[ch]) / Math.max(l0[ch], 1e-4));
     }
     const t = Math.floor(rnd() * 7);
     if (iz === 0 && texel(t, t * slices, ix, iy).join() !== texel(t, t * slices + 1, ix, iy).join()) padding = false;
@@ -66,6 +69,45 @@ for (const file of process.argv.slice(2)) {
   const occ = occupiedBox(volume), g = grid.boundingBox;
   check([0, 1, 2].every((k) => g.min.getComponent(k) <= occ.min[k] + 1e-9 && g.max.getComponent(k) >= occ.max[k] - 1e-9),
     `${label}: the grid's box holds every cell with a brick`);
+}
+// Past a half float's 65504: every RGB9E5 texel of a file given its largest exponent
+// (L0 up to 65408), in both readings; the grid must keep float32 and still be ours.
+for (const file of process.argv.slice(2)) {
+  const bytes = new Uint8Array(readFileSync(file));
+  const gi = await decodeGi(bytes.slice());
+  if (gi.encoding !== 1) continue;
+  for (let i = 3; i < gi.atlas.length; i += 4) gi.atlas[i] |= 0xf8;
+  const volume = new GiVolume(await decodeGi(bytes.slice()));
+  const words = volume.atlas.image.data;
+  for (let i = 0; i < words.length; i++) words[i] = (words[i] | 0xf8000000) >>> 0;
+  const grid = makeProbeGrid(volume, LightProbeGridWebGL);
+  const texture = grid.texture;
+  const { x: nx, y: ny, z: nz } = grid.resolution;
+  let worst = 0, n = 0;
+  const at = new THREE.Vector3();
+  for (let s = 0; s < 500; s++) {
+    const ix = Math.floor(rnd() * nx), iy = Math.floor(rnd() * ny), iz = Math.floor(rnd() * nz);
+    const pos = grid.getProbePosition(ix, iy, iz, at).toArray();
+    const l0 = sampleGi(gi, pos);
+    const o = 4 * ((1 + iz) * ny * nx + iy * nx + ix);
+    for (let ch = 0; ch < 3; ch++) {
+      if (!(l0[ch] > 0)) continue;
+      n++;
+      worst = Math.max(worst, Math.abs(texture.image.data[o + ch] * 0.886227 / Math.PI - l0[ch]) / l0[ch]);
+    }
+  }
+  check(texture.type === THREE.FloatType && n > 100 && worst < 1e-5,
+    `${file.split('/').pop()} made ${n > 100 ? 'bright' : 'dark'} (L0 up to 65408): the grid keeps float32 ` +
+    `(${texture.type === THREE.FloatType ? 'FloatType' : 'not FloatType'}), its L0 ours within ${worst < 1e-5 ? '1e-5' : worst.toExponential(1)}`);
+  // Filled again, the grid keeps its texture (WebGPU's node holds it) with the new light.
+  const version = texture.version;
+  for (let i = 0; i < words.length; i++) words[i] = (words[i] & 0x07ffffff) >>> 0;
+  fillProbeGrid(grid, volume);
+  check(grid.texture !== texture && grid.texture.type === THREE.HalfFloatType && texture.version === version,
+    'filled again with light half floats hold, the grid takes a new half-float texture');
+  const again = grid.texture, v2 = again.version;
+  fillProbeGrid(grid, volume);
+  check(grid.texture === again && again.version > v2, 'filled again alike, the grid keeps its texture and uploads it anew');
 }
 {
   const volume = new GiVolume(await decodeGi(new Uint8Array(readFileSync(process.argv[2]))));

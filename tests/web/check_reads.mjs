@@ -5,7 +5,7 @@
 // shape's ends): 12, for either basis (one node graph for both, so that setVolume()
 // never rebuilds a material). TSL's
 // select() is an if/else whose branches each rebuild what they use, and the lookup
-// written with it held 77 (issue 46, item 3).
+// written with it held 76 (issue 46, item 3).
 import { copyFileSync, mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
