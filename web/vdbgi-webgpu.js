@@ -242,23 +242,12 @@ export class GiRuntime extends GiRuntimeBase {
     return applyNodes(material, this._nodes, { set, perFragment, volume, debugOn: this.debug !== DebugView.OFF });
   }
 
-  // The debug views' output in each material apply() gave while one is shown, its own
-  // output otherwise; the material is rebuilt.
-  _debugChanged() {
-    const on = this.debug !== DebugView.OFF;
-    for (const ref of this._appliedRefs) {
-      const m = ref.deref();
-      if (!m) {
-        this._appliedRefs.delete(ref);
-        continue;
-      }
-      if (m.vdbgiOutput) {
-        // An output node set since apply() is the one to go back to.
-        if (on && m.outputNode !== m.vdbgiOutput.debug) m.vdbgiOutput.plain = m.outputNode ?? null;
-        m.outputNode = on ? m.vdbgiOutput.debug : m.vdbgiOutput.plain;
-      }
-      m.needsUpdate = true;
-    }
+  // The debug views' output while one is shown, the material's own otherwise (an
+  // output node set since apply() is the one to go back to).
+  _showDebug(m, shown) {
+    if (!m.vdbgiOutput) return;
+    if (shown && m.outputNode !== m.vdbgiOutput.debug) m.vdbgiOutput.plain = m.outputNode ?? null;
+    m.outputNode = shown ? m.vdbgiOutput.debug : m.vdbgiOutput.plain;
   }
 }
 

@@ -561,10 +561,19 @@ export class GiRuntimeBase {
     this._applied.add(material);
     this._appliedRefs.add(new WeakRef(material));
     if (this._appliedRefs.size > 2 * this._refsKept) {
-      for (const ref of this._appliedRefs) if (!ref.deref()) this._appliedRefs.delete(ref);
+      [...this._liveMaterials()]; // the walk drops the dead
       this._refsKept = Math.max(64, this._appliedRefs.size);
     }
     return true;
+  }
+
+  // The materials apply() gave that are still alive; the dead ones' refs dropped.
+  * _liveMaterials() {
+    for (const ref of this._appliedRefs) {
+      const m = ref.deref();
+      if (m) yield m;
+      else this._appliedRefs.delete(ref);
+    }
   }
 
   // Show `volume` (or nothing, with null). The volume shown before is disposed
@@ -614,17 +623,21 @@ export class GiRuntimeBase {
     if ((was === DebugView.OFF) !== (id === DebugView.OFF)) this._debugChanged();
   }
 
-  // WebGL2 compiles the debug views into a material only while one is shown: a
+  // Both back ends build the debug views into a material only while one is shown: a
   // rasteriser that runs both sides of a branch for every fragment (SwiftShader) paid
   // the views' second lookup in every frame (docs/web.md). Showing one, or going
   // back to none, recompiles each material apply() gave (three keeps both programs).
   _debugChanged() {
-    for (const ref of this._appliedRefs) {
-      const m = ref.deref();
-      if (m) m.needsUpdate = true;
-      else this._appliedRefs.delete(ref);
+    const shown = this.debug !== DebugView.OFF;
+    for (const m of this._liveMaterials()) {
+      this._showDebug(m, shown);
+      m.needsUpdate = true;
     }
   }
+
+  // What a back end changes in a material as the debug views come or go, beyond the
+  // recompile (WebGL2: nothing; its onBeforeCompile reads the state).
+  _showDebug() {}
 
   // set: 'world' or 'character'; knobs: any of { intensity, self, bleed }.
   setKnobs(set, knobs) {
@@ -756,7 +769,7 @@ export class GiRuntime extends GiRuntimeBase {
         .replace('#include <common>', `#include <common>\n${GLSL_LOOKUP}\n${GLSL_FRAGMENT_PARS}`)
         .replace('#include <lights_fragment_end>', `#include <lights_fragment_end>\n${GLSL_SHADE}`)
         .replace('#include <dithering_fragment>',
-          `#include <dithering_fragment>\n${u.giDebug.value !== DebugView.OFF ? GLSL_DEBUG : ''}`);
+          `#include <dithering_fragment>\n${this.debug !== DebugView.OFF ? GLSL_DEBUG : ''}`);
     };
     material.defines = { ...material.defines };
     if (perFragment || !volume) delete material.defines.VDBGI_PER_VERTEX;
@@ -765,7 +778,7 @@ export class GiRuntime extends GiRuntimeBase {
     else material.defines.VDBGI_NO_VOLUME = '';
     const key = material.customProgramCacheKey.bind(material);
     material.customProgramCacheKey = () =>
-      `${key()}|vdbgi${!volume ? 'n' : perFragment ? 'f' : 'v'}${u.giDebug.value !== DebugView.OFF ? 'd' : ''}`;
+      `${key()}|vdbgi${!volume ? 'n' : perFragment ? 'f' : 'v'}${this.debug !== DebugView.OFF ? 'd' : ''}`;
     material.needsUpdate = true;
     return material;
   }

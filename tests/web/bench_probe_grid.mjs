@@ -11,6 +11,7 @@ import { join } from 'node:path';
 import { decodeGi } from '../../web/gi-format.js';
 import { occupiedBox } from '../../web/gi-probe-grid.js';
 import { GiVolume } from '../../web/vdbgi.js';
+import { agreement } from './agreement.mjs';
 import { withPage } from './browser.mjs';
 
 // Inside the interior's room A; the demo world's camera (tests/web/render.mjs, stage()).
@@ -44,17 +45,7 @@ try {
         const r = await run(task);
         const t = await run({ ...task, frames: 8 });
         await page.close();
-        let so = 0, se = 0, n = 0;
-        for (let i = 0; i < r.ours.length; i += 4) {
-          if (!r.ours[i + 3]) continue;
-          for (let k = 0; k < 3; k++) {
-            so += r.ours[i + k];
-            se += (r.three[i + k] - r.ours[i + k]) ** 2;
-            n++;
-          }
-        }
-        let st = 0;
-        for (let i = 0; i < r.three.length; i += 4) if (r.ours[i + 3]) st += r.three[i] + r.three[i + 1] + r.three[i + 2];
+        const { mean, rmse } = agreement(r.ours, r.three);
         const f = t.frameMs;
         if (backend === 'webgl') {
           const [x, y, z] = r.resolution, sp = r.spacing;
@@ -63,7 +54,7 @@ try {
         }
         console.log(`| ${s.name} | ${backend === 'webgl' ? 'WebGL2' : 'WebGPU'} | ${r.resolution.join(' x ')}, ${mb(r.gridBytes)} | ` +
           `${mb(r.volumeBytes)} | ${r.fillMs.toFixed(0)} | ${f.none.toFixed(0)} / ${f.ours.toFixed(0)} / ${f.three.toFixed(0)} | ` +
-          `${(st / so).toFixed(4)}, ${(100 * Math.sqrt(se / n) / (so / n)).toFixed(2)} % |`);
+          `${mean.toFixed(4)}, ${(100 * rmse).toFixed(2)} % |`);
       }
   });
   // Where three's own WebGL bake cannot run: each scene's dense grid at its volume's

@@ -8,6 +8,7 @@
 import { copyFileSync, mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
+import { agreement } from './agreement.mjs';
 import { withPage } from './browser.mjs';
 
 const [scene, gi] = process.argv.slice(2);
@@ -34,17 +35,7 @@ try {
         const r = await run({ kind: 'grid', backend, scene: '/files/scene.glb', gi: '/files/scene.gi.gz', camera: view.camera });
         await page.close();
         const label = `${backend === 'webgl' ? 'WebGL2' : 'WebGPU'}, ${view.name}`;
-        let n = 0, so = 0, st = 0, se = 0;
-        for (let i = 0; i < r.ours.length; i += 4) {
-          if (!r.ours[i + 3]) continue;
-          for (let k = 0; k < 3; k++) {
-            so += r.ours[i + k];
-            st += r.three[i + k];
-            se += (r.three[i + k] - r.ours[i + k]) ** 2;
-            n++;
-          }
-        }
-        const mean = st / so, rmse = Math.sqrt(se / n) / (so / n);
+        const { channels: n, light: so, mean, rmse } = agreement(r.ours, r.three);
         check(n > 0.5 * 3 * r.ours.length / 4 && so > 0, `${label}: the scene covers the frame and the bounce lights it`);
         check(Math.abs(mean - 1) <= 0.02 && rmse <= 0.02,
           `${label}: three's grid of ${r.resolution.join(' x ')} probes (${(r.gridBytes / 1e6).toFixed(2)} MB; the volume ` +
