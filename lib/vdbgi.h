@@ -1247,6 +1247,18 @@ VDBGI_API vdbgi_result vdbgi_lightmap_bake_scene(vdbgi_context *ctx, const vdbgi
 VDBGI_API void vdbgi_lightmap_result_destroy(vdbgi_lightmap_result *result);
 
 /*
+ * The atlases desc's unwrap takes, without a texel baked: into stats, the
+ * charts, atlases, atlas_size, texels (atlas texels, all pages),
+ * utilisation and kept_uv1 of vdbgi_lightmap_bake_scene with the same desc
+ * (the rest 0), in the time of the unwrap alone. For choosing a texel size
+ * (gi-lightmap --budget). The limits on atlases and texels are the bake's:
+ * past them, VDBGI_ERR_OUT_OF_MEMORY with the bake's message.
+ */
+VDBGI_API vdbgi_result vdbgi_lightmap_plan(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                           const vdbgi_lightmap_desc *desc,
+                                           vdbgi_lightmap_stats *stats);
+
+/*
  * Write the bake: the scene as a binary glTF at path (its second UV set,
  * and per material the 8-bit map on TEXCOORD_1: an AO map as the core
  * occlusionTexture, a lightmap in the material's extras, docs/lightmap.md),

@@ -3,7 +3,8 @@
  * floor: the probes' plane form transposed to a texel. A closed box of
  * uniform albedo and fill: pass N holds the Nth partial sum of the
  * geometric series. A floor under an emitting ceiling. Layers that add up
- * to the map. And the same bytes on one thread and on two.
+ * to the map. The same bytes on one thread and on two. And a plan that
+ * tells a bake's atlases before it.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "test_baked.h"
@@ -97,14 +98,20 @@ static void passes_add_the_terms_of_the_geometric_series(void)
     vdbgi_context_destroy(ctx);
 }
 
+/* A 2 m box on an 8 m floor, albedo 0.7: the charts of several faces and sizes. */
+static vdbgi_mesh_desc box_on_floor(test_mesh *m)
+{
+    test_mesh_plane(m, 8.0f, 0.0f);
+    const float lo[3] = {-1, 0, -1}, hi[3] = {1, 2, 1};
+    test_mesh_box(m, lo, hi, 0);
+    return test_mesh_desc(m, 0.7f, 0);
+}
+
 static void the_same_bytes_on_one_thread_and_two(void)
 {
     vdbgi_context *ctx = test_context();
     test_mesh m = {0};
-    test_mesh_plane(&m, 8.0f, 0.0f);
-    const float lo[3] = {-1, 0, -1}, hi[3] = {1, 2, 1};
-    test_mesh_box(&m, lo, hi, 0);
-    const vdbgi_mesh_desc mesh = test_mesh_desc(&m, 0.7f, 0);
+    const vdbgi_mesh_desc mesh = box_on_floor(&m);
     baked k[2];
     for (int t = 0; t < 2; t++) {
         const vdbgi_bake_desc bd = {
@@ -234,8 +241,46 @@ static void layers_add_up_to_the_whole_map(void)
     vdbgi_context_destroy(ctx);
 }
 
+/*
+ * vdbgi_lightmap_plan unwraps as the bake does: the same charts, atlases,
+ * edge and texels at each texel size, default and fixed atlas sizes, one
+ * atlas or several (the box's faces at 0.02 m overflow 64 texels).
+ */
+static void a_plan_tells_the_bake_atlases(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    const vdbgi_mesh_desc mesh = box_on_floor(&m);
+    vdbgi_scene *scene = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &mesh, 1, &scene), VDBGI_OK);
+    static const struct {
+        float texel;
+        int size;
+    } cases[] = {{0.5f, 0}, {0.25f, 0}, {0.1f, 0}, {0.25f, 64}, {0.02f, 64}};
+    size_t several = 0;
+    for (size_t c = 0; scene && c < sizeof(cases) / sizeof(cases[0]); c++) {
+        const vdbgi_lightmap_desc d = {.texel = cases[c].texel,
+                                       .size = cases[c].size,
+                                       .passes = 1,
+                                       .bake = {.rays = 4, .model = VDBGI_MODEL_SEED}};
+        vdbgi_lightmap_stats plan, got;
+        vdbgi_lightmap_result *res = NULL;
+        CHECK_RESULT(ctx, vdbgi_lightmap_plan(ctx, scene, &d, &plan), VDBGI_OK);
+        CHECK_RESULT(ctx, vdbgi_lightmap_bake_scene(ctx, scene, &d, &res, &got), VDBGI_OK);
+        CHECK(plan.charts == got.charts && plan.atlases == got.atlases &&
+              plan.atlas_size == got.atlas_size && plan.texels == got.texels &&
+              fabs(plan.utilisation - got.utilisation) < 1e-12 && plan.samples == 0);
+        several += plan.atlases > 1;
+        vdbgi_lightmap_result_destroy(res);
+    }
+    CHECK(several > 0);
+    vdbgi_scene_destroy(scene);
+    vdbgi_context_destroy(ctx);
+}
+
 int main(void)
 {
+    RUN(a_plan_tells_the_bake_atlases);
     RUN(a_floor_under_an_emitting_ceiling_matches_the_closed_form);
     RUN(layers_add_up_to_the_whole_map);
     RUN(a_wall_over_a_lit_floor_matches_the_closed_form);

@@ -380,6 +380,35 @@ static vdbgi_result bake_maps(vdbgi_context *ctx, vdbgi_lightmap_result *r,
     return VDBGI_OK;
 }
 
+/*
+ * The unwrap d asks for: the scene's own second UV set where it is usable,
+ * else a new one (saying why, when say); refused past the atlas limits,
+ * before the texels' memory (about 60 bytes each: 1 GB) is spent.
+ */
+static vdbgi_result unwrap_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                 const vdbgi_lightmap_desc *d, bool say, vdbgi_unwrap *un,
+                                 bool *kept)
+{
+    const vdbgi_unwrap_params up = {
+        .texel = d->texel, .size = d->size, .max_angle = d->chart_angle};
+    const char *why = NULL;
+    vdbgi_result res = vdbgi_unwrap_from_uv1(ctx, scene, &up, un, kept, &why);
+    if (res == VDBGI_OK && *kept && say)
+        vdbgi_log(ctx, VDBGI_LOG_INFO, "keeping the scene's second UV set");
+    else if (res == VDBGI_OK && scene->uv1_count && say)
+        vdbgi_log(ctx, VDBGI_LOG_WARNING,
+                  "the scene's second UV set is not usable (%s): unwrapping anew", why);
+    if (res == VDBGI_OK && !*kept)
+        res = vdbgi_unwrap_build(ctx, scene, &up, un);
+    const double texels = (double)un->size * un->size * (double)un->page_count;
+    if (res == VDBGI_OK && (un->page_count > 64 || texels > (double)VDBGI_LIGHTMAP_MAX_TEXELS))
+        res = vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY,
+                         "the charts take %zu atlases of %d texels (%.1f M texels; at most 64 "
+                         "atlases and %.1f M texels): raise --texel or lower --size",
+                         un->page_count, un->size, texels * 1e-6, VDBGI_LIGHTMAP_MAX_TEXELS * 1e-6);
+    return res;
+}
+
 static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
                                const vdbgi_lightmap_desc *desc, bool bare,
                                vdbgi_lightmap_result **out, vdbgi_lightmap_stats *stats)
@@ -418,29 +447,11 @@ static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
     r->ctx = ctx;
     r->scene = scene;
     r->ao = d->ao_dist > 0.0f;
-    const vdbgi_unwrap_params up = {
-        .texel = d->texel, .size = d->size, .max_angle = d->chart_angle};
-    /* The scene's own second UV set where it is usable; else a new unwrap, and why. */
     bool kept = false;
-    const char *why = NULL;
-    vdbgi_result res = vdbgi_unwrap_from_uv1(ctx, scene, &up, &r->un, &kept, &why);
-    if (res == VDBGI_OK && kept)
-        vdbgi_log(ctx, VDBGI_LOG_INFO, "keeping the scene's second UV set");
-    else if (res == VDBGI_OK && scene->uv1_count)
-        vdbgi_log(ctx, VDBGI_LOG_WARNING,
-                  "the scene's second UV set is not usable (%s): unwrapping anew", why);
-    if (res == VDBGI_OK && !kept)
-        res = vdbgi_unwrap_build(ctx, scene, &up, &r->un);
-    /* Limits before the texels' memory (about 60 bytes each: 1 GB) and their rays are spent. */
+    vdbgi_result res = unwrap_scene(ctx, scene, d, true, &r->un, &kept);
     const double texels = (double)r->un.size * r->un.size * (double)r->un.page_count;
     const double work = texels * (d->ao_dist > 0.0f ? 1 : passes) * bp.rays;
-    if (res == VDBGI_OK && (r->un.page_count > 64 || texels > (double)VDBGI_LIGHTMAP_MAX_TEXELS))
-        res = vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY,
-                         "the charts take %zu atlases of %d texels (%.1f M texels; at most 64 "
-                         "atlases and %.1f M texels): raise --texel or lower --size",
-                         r->un.page_count, r->un.size, texels * 1e-6,
-                         VDBGI_LIGHTMAP_MAX_TEXELS * 1e-6);
-    else if (res == VDBGI_OK && work > VDBGI_LIGHTMAP_MAX_RAYS)
+    if (res == VDBGI_OK && work > VDBGI_LIGHTMAP_MAX_RAYS)
         res = vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY,
                          "%.1f M texels x %d rays x %d passes is %.1f G rays (at most %.1f G, "
                          "minutes at tens of M rays/s): raise --texel or lower --rays or --passes",
@@ -499,6 +510,27 @@ vdbgi_result vdbgi_lightmap_bake_scene(vdbgi_context *ctx, const vdbgi_scene *sc
                                        vdbgi_lightmap_stats *stats)
 {
     return bake_scene(ctx, scene, desc, false, out, stats);
+}
+
+vdbgi_result vdbgi_lightmap_plan(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                 const vdbgi_lightmap_desc *desc, vdbgi_lightmap_stats *stats)
+{
+    VDBGI_FAIL_IF(ctx, !scene || !stats, VDBGI_ERR_INVALID_ARG, "no scene or no stats");
+    memset(stats, 0, sizeof(*stats));
+    const vdbgi_lightmap_desc none = {0};
+    vdbgi_unwrap un = {0};
+    bool kept = false;
+    const vdbgi_result res = unwrap_scene(ctx, scene, desc ? desc : &none, false, &un, &kept);
+    if (res == VDBGI_OK) {
+        stats->kept_uv1 = kept;
+        stats->charts = un.chart_count;
+        stats->atlases = un.page_count;
+        stats->atlas_size = un.size;
+        stats->texels = (size_t)un.size * (size_t)un.size * un.page_count;
+        stats->utilisation = stats->texels ? un.chart_texels / (double)stats->texels : 0.0;
+    }
+    vdbgi_unwrap_free(&un);
+    return res;
 }
 
 vdbgi_result vdbgi_lightmap_trace_bare(vdbgi_context *ctx, const vdbgi_scene *scene,
