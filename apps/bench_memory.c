@@ -87,7 +87,7 @@ int bench_memory(const bench_options *o, bool one_spacing)
     float *got = NULL;
     vdbgi_result r = vdbgi_scene_load(ctx, o->scene, &scene);
     if (r == VDBGI_OK)
-        r = bench_receivers_make(scene, NULL, &rv);
+        r = bench_receivers_make(scene, &o->light, &rv);
     if (r == VDBGI_OK && !(got = calloc(3 * rv.count + 3, sizeof(float))))
         r = VDBGI_ERR_OUT_OF_MEMORY;
     FILE *const f =
@@ -110,7 +110,8 @@ int bench_memory(const bench_options *o, bool one_spacing)
            4 spacings, is 1 m at 0.25 m). One L2 bake gives both bases: its L0 is
            the scalar bake, bit for bit. */
         const vdbgi_place_desc pd = {.spacing = spacing, .margin = 2.5};
-        const vdbgi_bake_desc bd = {.rays = o->rays, .basis = VDBGI_BASIS_SH2};
+        const vdbgi_bake_desc bd =
+            bench_lit((vdbgi_bake_desc){.rays = o->rays, .basis = VDBGI_BASIS_SH2}, &o->light);
         vdbgi_probes *p = NULL;
         r = vdbgi_probes_place(ctx, scene, &pd, &p);
         if (r == VDBGI_OK)

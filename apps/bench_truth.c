@@ -37,8 +37,7 @@ void bench_receivers_free(bench_receivers *r)
  * six normals. Receivers whose rays mostly meet back faces (inside solids)
  * are dropped.
  */
-/* desc under light's model and bounces (NULL: the defaults). */
-static vdbgi_bake_desc lit(vdbgi_bake_desc d, const bench_light *light)
+vdbgi_bake_desc bench_lit(vdbgi_bake_desc d, const bench_light *light)
 {
     if (light) {
         d.model = light->model;
@@ -66,8 +65,8 @@ vdbgi_result bench_receivers_make(const vdbgi_scene *scene, const bench_light *l
         free(bf);
         return VDBGI_ERR_OUT_OF_MEMORY;
     }
-    const vdbgi_bake_desc truth =
-        lit((vdbgi_bake_desc){.rays = 2048, .sampling = VDBGI_SAMPLING_RANDOM, .seed = 5}, light);
+    const vdbgi_bake_desc truth = bench_lit(
+        (vdbgi_bake_desc){.rays = 2048, .sampling = VDBGI_SAMPLING_RANDOM, .seed = 5}, light);
     vdbgi_result r = vdbgi_scene_sample_triangles(scene, n, 7, rv->prim, rv->uv);
     if (r == VDBGI_OK) /* the same points, on the surface and 10 cm off it: the normal */
         r = vdbgi_scene_sample_surface(scene, n, 0.0f, 7, rv->pos);
@@ -221,8 +220,8 @@ static vdbgi_result truth_at_spacing(vdbgi_context *ctx, const vdbgi_scene *scen
     vdbgi_result r = vdbgi_probes_place(ctx, scene, &pd, &p);
     if (r == VDBGI_OK)
         r = vdbgi_probes_place(ctx, scene, &pd, &cube);
-    vdbgi_bake_desc bd =
-        lit((vdbgi_bake_desc){.rays = rays, .threads = threads, .basis = VDBGI_BASIS_SH2}, light);
+    vdbgi_bake_desc bd = bench_lit(
+        (vdbgi_bake_desc){.rays = rays, .threads = threads, .basis = VDBGI_BASIS_SH2}, light);
     if (r == VDBGI_OK)
         r = vdbgi_probes_bake(p, scene, &bd, NULL);
     bd.basis = VDBGI_BASIS_AMBIENT_CUBE;
@@ -328,8 +327,8 @@ static vdbgi_result truth_of_perfect_probes(const vdbgi_scene *scene, const benc
         for (int k = 0; k < 3; k++)
             at[3 * i + k] =
                 rv->pos[3 * i + k] + (i < rv->surface ? off * rv->normal[3 * i + k] : 0.0f);
-    const vdbgi_bake_desc bd =
-        lit((vdbgi_bake_desc){.rays = rays, .threads = threads, .basis = VDBGI_BASIS_SH2}, light);
+    const vdbgi_bake_desc bd = bench_lit(
+        (vdbgi_bake_desc){.rays = rays, .threads = threads, .basis = VDBGI_BASIS_SH2}, light);
     if (r == VDBGI_OK)
         r = vdbgi_scene_bake_points_sh2(scene, &bd, at, rv->count, sh);
     for (size_t i = 0; r == VDBGI_OK && i < rv->count; i++) {
@@ -354,7 +353,7 @@ static vdbgi_result truth_of_lightmap(vdbgi_context *ctx, const vdbgi_scene *sce
 {
     vdbgi_lightmap_result *res = NULL;
     const int passes = light && light->bounces > 1 ? light->bounces : 1;
-    vdbgi_bake_desc bake = lit((vdbgi_bake_desc){.threads = threads}, light);
+    vdbgi_bake_desc bake = bench_lit((vdbgi_bake_desc){.threads = threads}, light);
     bake.bounces = 0; /* a lightmap bounces by its passes */
     const vdbgi_lightmap_desc d = {.texel = 0.25f, .passes = passes, .bake = bake};
     const vdbgi_result r = vdbgi_lightmap_bake_scene(ctx, scene, &d, &res, NULL);

@@ -28,6 +28,9 @@ typedef struct bench_light {
  * ones, each read by six normals (up, the four horizontal, down); those whose
  * rays mostly meet back faces (inside solids) dropped.
  */
+/* d under light's model and bounces, counted (never auto); NULL: d as it is. */
+vdbgi_bake_desc bench_lit(vdbgi_bake_desc d, const bench_light *light);
+
 vdbgi_result bench_receivers_make(const vdbgi_scene *scene, const bench_light *light,
                                   bench_receivers *rv);
 void bench_receivers_free(bench_receivers *rv);

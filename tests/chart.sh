@@ -5,7 +5,8 @@
 # then memory against the error a player sees (gi-bench memory) on the bundled
 # world, and with ALL=1 on the 200 m world and the town too (about 40 minutes
 # on 2 cores), into docs/data/memory_*.csv and docs/img/chart_memory_*.png; and
-# lightmap against probe volume at surface receivers (gi-bench lightmap); and the interior's
+# lightmap against probe volume at surface receivers (gi-bench lightmap), on the bundled world
+# and the interior (with ALL=1 the 200 m world and the town too); and the interior's
 # error against rays and bounces (gi-bench lights).
 set -eu
 BUILD=${BUILD:-build/release}
@@ -30,9 +31,15 @@ cp "$OUT/memory.csv" docs/data/memory_world.csv
 # Lightmap against probe volume at the same surface receivers (docs/lightmap.md).
 "$BUILD/bin/gi-bench" lightmap data/world.glb --repeat 1 --out "$OUT" >/dev/null
 cp "$OUT/lightmap.csv" docs/data/lightmap_world.csv
-gnuplot -e "lm='docs/data/lightmap_world.csv'; mem='docs/data/memory_world.csv'; out='docs/img/chart_lightmap_world.png'; name='Bundled 48 m world'" docs/charts/lightmap.gp
-# The scene's own light: error against rays and bounces on the interior (docs/lights.md).
+# The interior, lit by its lamps and window: the physical model, three bounces (the
+# lightmap three passes), both for the methods and for the truth.
 [ -f build/bench/interior.glb ] || python3 data/make_scenes.py --interior build/bench/interior.glb
+"$BUILD/bin/gi-bench" memory build/bench/interior.glb --model physical --bounces 3 --out "$OUT" >/dev/null
+cp "$OUT/memory.csv" docs/data/memory_interior.csv
+"$BUILD/bin/gi-bench" lightmap build/bench/interior.glb --model physical --bounces 3 --repeat 1 \
+    --out "$OUT" >/dev/null
+cp "$OUT/lightmap.csv" docs/data/lightmap_interior.csv
+# The scene's own light: error against rays and bounces on the interior (docs/lights.md).
 "$BUILD/bin/gi-bench" lights build/bench/interior.glb --repeat 1 --out "$OUT" >/dev/null
 cp "$OUT/lights.csv" docs/data/lights.csv
 gnuplot -e "csv='docs/data'; out='docs/img'" docs/charts/lights.gp
@@ -48,9 +55,17 @@ if [ "${ALL:-0}" = 1 ]; then
             >>"$OUT/memory_town.csv"
     done
     cp "$OUT/memory_town.csv" docs/data/memory_town.csv
+    for w in world200 town; do
+        "$BUILD/bin/gi-bench" lightmap build/bench/$w.glb --repeat 1 --out "$OUT" >/dev/null
+        cp "$OUT/lightmap.csv" docs/data/lightmap_$w.csv
+    done
 fi
-for w in world:"Bundled 48 m world" world200:"Generated 200 m world" town:"Town, 200 x 60 x 200 m"; do
+for w in world:"Bundled 48 m world" world200:"Generated 200 m world" town:"Town, 200 x 60 x 200 m" \
+    interior:"Interior, two rooms (physical model, 3 bounces)"; do
     f=docs/data/memory_${w%%:*}.csv
     [ -f "$f" ] && gnuplot -e "csv='$f'; out='docs/img/chart_memory_${w%%:*}.png'; name='${w#*:}'" docs/charts/memory.gp
+    l=docs/data/lightmap_${w%%:*}.csv
+    # The town's memory rows hold 0.25, 0.5 and 1 m in one file, as the others do.
+    [ -f "$f" ] && [ -f "$l" ] && gnuplot -e "lm='$l'; mem='$f'; out='docs/img/chart_lightmap_${w%%:*}.png'; name='${w#*:}'" docs/charts/lightmap.gp
 done
-echo "chart: docs/img/chart_rays.png, chart_size.png, chart_spacing.png, chart_memory_*.png, chart_lightmap_world.png (tables in docs/data/, stability.csv among them)"
+echo "chart: docs/img/chart_rays.png, chart_size.png, chart_spacing.png, chart_memory_*.png, chart_lightmap_*.png (tables in docs/data/, stability.csv among them)"

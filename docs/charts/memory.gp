@@ -23,7 +23,7 @@ do for [panel = 1:4] {
     set xlabel (col == 16 ? "character layer RMSE, six normals (% of mean)" \
                           : "surface RMSE, each with its normal (% of mean)")
     set ylabel (ycol == 6 ? "VRAM, MB" : "gzip'd file, MB")
-    if (ycol == 6) { set yrange [0.1:*] } else { set yrange [0.01:*] }
+    set yrange [*:*]
     if (panel > 1) { unset key }
     plot for [i = 1:6] for [j = 1:3] csv using (pick(word(methods, i), word(spacings, j) + 0) ? 100 * column(col) : 1/0):(column(ycol) / 1e6) \
          with linespoints lc rgb colour(i) pt (j == 1 ? 7 : j == 2 ? 5 : 9) ps 0.8 \
