@@ -146,7 +146,9 @@ $(BUILD)/bin/%: $(BUILD)/apps/%.o $(CLI_OBJ) $(LIB_A) | $(IMAGE_MODULE)
 	$(Q)$(CXX) $(ALL_LDFLAGS) $(filter %.o,$^) $(filter %.a,$^) $(DEP_LIBS) -o $@
 
 # vdb-to-gi's report of a conversion is a file of its own.
-$(BUILD)/bin/vdb-to-gi: $(BUILD)/apps/convert_report.o
+$(BUILD)/bin/vdb-to-gi: $(BUILD)/apps/convert_report.o $(BUILD)/apps/budget.o
+# --budget's parsing and measured curves, shared by gi-bake, gi-lightmap and vdb-to-gi.
+$(BUILD)/bin/gi-bake $(BUILD)/bin/gi-lightmap: $(BUILD)/apps/budget.o
 
 # gi-bench is one file a subcommand (apps/bench_*.c).
 BENCH_OBJ := $(patsubst apps/%.c,$(BUILD)/apps/%.o,$(wildcard apps/bench_*.c))
@@ -162,7 +164,7 @@ $(BUILD)/tests/%: $(BUILD)/tests/%.o $(LIB_A) | $(IMAGE_MODULE)
 	$(Q)$(CXX) $(ALL_LDFLAGS) $^ $(DEP_LIBS) -o $@
 
 -include $(LIB_OBJ:.o=.d) $(IMAGE_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(BENCH_OBJ:.o=.d) $(APP_NAMES:%=$(BUILD)/apps/%.d) \
-         $(BUILD)/apps/convert_report.d \
+         $(BUILD)/apps/convert_report.d $(BUILD)/apps/budget.d \
          $(TEST_SRC:tests/%.c=$(BUILD)/tests/%.d)
 
 ## deps: install the Debian packages vdbgi needs (only those missing)

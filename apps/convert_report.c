@@ -3,6 +3,7 @@
  * text, and as JSON for --stats) and the Bevy volume's figures.
  */
 #include "convert_report.h"
+#include "budget.h"
 #include "cli.h"
 
 #include <math.h>
@@ -36,7 +37,7 @@ void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             "  \"max_error\": %.6g,\n  \"rmse_relative\": %.6g,\n  \"p99_relative\": %.6g,\n"
             "  \"max_relative\": %.6g,\n  \"read_seconds\": %.4f,\n"
             "  \"convert_seconds\": %.4f,\n  \"convert_over_read\": %.3f,\n"
-            "  \"stored_points\": %zu,\n  \"term_bits\": %d,\n  \"memory_peak_bytes\": %zu\n}\n",
+            "  \"stored_points\": %zu,\n  \"term_bits\": %d,\n  \"memory_peak_bytes\": %zu",
             vi->probe_count, vi->valid_count, vi->filled_count, vi->unreached_count,
             vi->fallback_count, (double)vi->spacing, vi->max_level,
             vi->encoding == VDBGI_ENCODING_RGB9E5 ? "rgb9e5" : "rgbm",
@@ -51,6 +52,13 @@ void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             vi->mean_irradiance, vi->rmse, vi->p99, vi->max_error, vi->rmse / mean, vi->p99 / mean,
             vi->max_error / mean, read_seconds, vi->seconds, vi->seconds / read_seconds,
             vi->stored_points, vi->term_bits, o->memory_peak);
+        if (o->budget > 0.0)
+            fprintf(f,
+                    ",\n  \"budget_bytes\": %.0f,\n  \"budget_eps\": %g,\n  \"budget_terms\": %s,\n"
+                    "  \"budget_tries\": %d",
+                    o->budget, (double)o->budget_eps, o->budget_terms ? "true" : "false",
+                    o->budget_tries);
+        fputs("\n}\n", f);
         return;
     }
     char a[32], b[32], c[32], d[32];
@@ -73,6 +81,13 @@ void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
                 "bits kept), %s\n",
                 vi->term_bits, cli_bytes((double)vi->sh_size, d, sizeof(d)));
     cli_print_runtime(f, vi);
+    if (o->budget > 0.0) {
+        char e[320];
+        budget_expected(pi->spacing, o->budget_terms, o->budget_eps, e, sizeof(e));
+        fprintf(f, "budget       %g MB of GPU memory: eps %g, %s (conversions tried: %d); %s\n",
+                o->budget / 1e6, (double)o->budget_eps,
+                o->budget_terms ? "the L2 terms kept" : "scalar", o->budget_tries, e);
+    }
     if (vi->stored_points)
         fprintf(f, "file         %s: %s gzip'd, %zu probe values each stored once (textures %s)\n",
                 o->output, cli_bytes((double)vi->file_size, d, sizeof(d)), vi->stored_points,

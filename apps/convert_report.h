@@ -17,6 +17,11 @@ typedef struct options {
     vdbgi_convert_desc convert;
     vdbgi_axis axis;
     double slice_at, exposure; /* NAN: automatic */
+    double budget;             /* --budget in bytes, 0: none */
+    int budget_tries;          /* conversions built to fit it */
+    float budget_eps;          /* the one that fitted (or the smallest): its eps */
+    bool budget_terms;         /* and whether it kept the L2 terms */
+    size_t budget_smallest;    /* the least VRAM a conversion took */
 } options;
 
 /* The conversion's figures, as text or as JSON. */

@@ -1,5 +1,6 @@
 /* gi-lightmap: bake a scene's static surfaces into lightmaps (seed 004), as a .glb with its maps. */
 #define _POSIX_C_SOURCE 200809L
+#include "budget.h"
 #include "cli.h"
 #include "vdbgi.h"
 
@@ -23,6 +24,9 @@ static void usage(void)
            "Options:\n"
            "  -o, --output FILE        the .glb to write (required; replaced only on success)\n"
            "      --texel M            metres a texel edge (0.25)\n"
+           "      --budget MB          GPU memory the map may take (decimal MB, RGBA8): the\n"
+           "                           finest texel of 4, 3, 2, 1.5, 1, 0.75 .. 1/64 m whose\n"
+           "                           atlases fit, found by unwrapping (no texel baked)\n"
            "      --size N             atlas edge in texels (the least that holds the charts,\n"
            "                           a multiple of 32, up to 1024); more atlases if needed\n"
            "      --passes N|auto      reflections, 1..16: every source's light reaches a\n"
@@ -93,13 +97,19 @@ enum {
     OPT_RAYS,
     OPT_SLICES,
     OPT_LAYERS,
-    OPT_STATS
+    OPT_STATS,
+    OPT_BUDGET
 };
+
+/* A map texel's bytes on the GPU: the .glb's RGBA8 (docs/lightmap.md). */
+#define MAP_TEXEL_BYTES 4.0
 
 typedef struct options {
     const char *scene, *output, *slices, *stats;
     bool ao;
     bool passes_auto; /* --passes auto: only the physical model bakes until converged */
+    bool texel_given, size_given;
+    double budget; /* --budget, bytes; 0: none */
     vdbgi_lightmap_desc lm;
 } options;
 
@@ -118,6 +128,7 @@ static int parse_args(int argc, char **argv, options *o)
                                           {"slices", required_argument, NULL, OPT_SLICES},
                                           {"layers", no_argument, NULL, OPT_LAYERS},
                                           {"stats", required_argument, NULL, OPT_STATS},
+                                          {"budget", required_argument, NULL, OPT_BUDGET},
                                           CLI_LIGHT_LONG_OPTIONS,
                                           CLI_COMMON_LONG_OPTIONS};
     cli_light_defaults(&o->lm.bake);
@@ -139,11 +150,17 @@ static int parse_args(int argc, char **argv, options *o)
                 return cli_usage_error("--texel must be a number of metres in 1e-4..1e4 (got '%s')",
                                        optarg);
             o->lm.texel = (float)d;
+            o->texel_given = true;
+            break;
+        case OPT_BUDGET:
+            if (!budget_parse(optarg, &o->budget))
+                return CLI_USAGE;
             break;
         case OPT_SIZE:
             if (!cli_parse_int(optarg, &i) || i < 16 || i > 16384)
                 return cli_usage_error("--size must be an integer in 16..16384 (got '%s')", optarg);
             o->lm.size = (int)i;
+            o->size_given = true;
             break;
         case OPT_PASSES:
             if (strcmp(optarg, "auto") == 0) {
@@ -187,6 +204,12 @@ static int parse_args(int argc, char **argv, options *o)
     }
     if (o->ao && o->lm.layers)
         return cli_usage_error("--layers is for lightmaps, not --mode ao");
+    if (o->budget > 0.0 && (o->texel_given || o->size_given))
+        return cli_usage_error("--budget chooses the texel and the atlas: give --budget, or "
+                               "--texel and --size");
+    if (o->budget > 0.0 && o->lm.layers)
+        return cli_usage_error("--budget sizes one map: with --layers (a map a light), give "
+                               "--texel");
     const int light = cli_light_check(&o->lm.bake);
     if (light >= 0)
         return light;
@@ -223,6 +246,7 @@ static void print_figures(FILE *f, const run_figures *g, bool json)
     const vdbgi_lightmap_stats *const st = &g->st;
     const int size = st->atlas_size;
     const double mrays = g->bake > 0.0 ? (double)st->rays / g->bake * 1e-6 : 0.0;
+    const double texel = g->o->lm.texel > 0.0f ? (double)g->o->lm.texel : 0.25;
     if (json) {
         fputs("{\n  \"scene\": ", f);
         cli_json_string(f, g->o->scene);
@@ -244,8 +268,13 @@ static void print_figures(FILE *f, const run_figures *g, bool json)
         fprintf(f,
                 "],\n  \"rays\": %llu,\n  \"mrays_per_second\": %.3f,\n"
                 "  \"load_seconds\": %.4f,\n  \"bake_seconds\": %.4f,\n"
-                "  \"write_seconds\": %.4f,\n  \"glb_bytes\": %.0f\n}\n",
-                st->rays, mrays, g->load, g->bake, g->write, g->glb_bytes);
+                "  \"write_seconds\": %.4f,\n  \"glb_bytes\": %.0f,\n  \"texel\": %g,\n"
+                "  \"vram_bytes\": %.0f",
+                st->rays, mrays, g->load, g->bake, g->write, g->glb_bytes, texel,
+                (double)st->texels * MAP_TEXEL_BYTES * (double)(1 + st->layers));
+        if (g->o->budget > 0.0)
+            fprintf(f, ",\n  \"budget_bytes\": %.0f", g->o->budget);
+        fputs("\n}\n", f);
         return;
     }
     char bytes[32];
@@ -257,6 +286,17 @@ static void print_figures(FILE *f, const run_figures *g, bool json)
                 st->atlases, st->atlases == 1 ? "" : "es", size, 100.0 * st->utilisation);
     fprintf(f, "texels   %zu samples (%zu invalid, filled from neighbours)\n", st->samples,
             st->invalid);
+    if (g->o->budget > 0.0) {
+        char e[320], v[32];
+        budget_lightmap_expected(st->kept_uv1 ? 0.0 : texel, e, sizeof(e));
+        fprintf(f, "budget   %g MB of GPU memory: ", g->o->budget / 1e6);
+        if (st->kept_uv1)
+            fprintf(f, "an atlas of %d", size);
+        else
+            fprintf(f, "texels of %g m", texel);
+        fprintf(f, ", %s of RGBA8; %s\n",
+                cli_bytes((double)st->texels * MAP_TEXEL_BYTES, v, sizeof(v)), e);
+    }
     if (st->layers)
         fprintf(f, "layers   %zu, one light each, adding up to the map\n", st->layers);
     fprintf(f, "passes   %d:", st->passes);
@@ -280,6 +320,58 @@ static void print_figures(FILE *f, const run_figures *g, bool json)
 static void print_json(FILE *f, const void *g)
 {
     print_figures(f, g, true);
+}
+
+/*
+ * --budget: unwrap at each texel of the ladder, coarse to fine (each step
+ * 3/4 or 2/3 of the last), and keep the finest whose atlases fit. A scene
+ * keeping its own second UV set has one atlas whatever the texel: its edge
+ * is the largest multiple of 32 that fits, at most the default 1024.
+ */
+static vdbgi_result choose_texel(vdbgi_context *ctx, const vdbgi_scene *scene, options *o,
+                                 bool *said)
+{
+    static const float ladder[] = {4.0f,    3.0f,      2.0f,     1.5f,       1.0f,     0.75f,
+                                   0.5f,    0.375f,    0.25f,    0.1875f,    0.125f,   0.09375f,
+                                   0.0625f, 0.046875f, 0.03125f, 0.0234375f, 0.015625f};
+    float best = 0.0f;
+    double best_bytes = 0.0, first = 0.0;
+    for (size_t k = 0; k < sizeof(ladder) / sizeof(ladder[0]); k++) {
+        vdbgi_lightmap_desc d = o->lm;
+        d.texel = ladder[k];
+        vdbgi_lightmap_stats st;
+        if (vdbgi_lightmap_plan(ctx, scene, &d, &st) != VDBGI_OK)
+            break; /* past the atlas limits: finer ones are too */
+        if (st.kept_uv1) {
+            const int edge = (int)(sqrt(o->budget / MAP_TEXEL_BYTES) / 32.0) * 32;
+            o->lm.size = edge < 1024 ? edge : 1024;
+            if (o->lm.size < 32) {
+                cli_error("%s: its own second UV set needs an atlas of 32 texels or more, "
+                          "past --budget %g MB",
+                          o->scene, o->budget / 1e6);
+                *said = true;
+                return VDBGI_ERR_INVALID_ARG;
+            }
+            return VDBGI_OK;
+        }
+        const double bytes = (double)st.texels * MAP_TEXEL_BYTES;
+        if (k == 0)
+            first = bytes;
+        if (bytes > o->budget)
+            break;
+        best = ladder[k];
+        best_bytes = bytes;
+    }
+    if (best == 0.0f) {
+        char b[32];
+        cli_error("%s: even at %g m texels its map takes %s, past --budget %g MB", o->scene,
+                  (double)ladder[0], cli_bytes(first, b, sizeof(b)), o->budget / 1e6);
+        *said = true;
+        return VDBGI_ERR_INVALID_ARG;
+    }
+    o->lm.texel = best;
+    (void)best_bytes;
+    return VDBGI_OK;
 }
 
 int main(int argc, char **argv)
@@ -316,6 +408,9 @@ int main(int argc, char **argv)
     }
     code = CLI_OK;
     const double t1 = cli_now();
+    bool said = false; /* choose_texel said why it failed */
+    if (r == VDBGI_OK && o.budget > 0.0 && (r = choose_texel(ctx, scene, &o, &said)) != VDBGI_OK)
+        code = said ? CLI_FAILED : cli_fail_about(ctx, o.scene);
     if (r == VDBGI_OK &&
         (r = vdbgi_lightmap_bake_scene(ctx, scene, &o.lm, &lm, &g.st)) != VDBGI_OK) {
         /* The bake sees a scene, not a file: say which one asked for more work than the

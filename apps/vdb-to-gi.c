@@ -1,11 +1,13 @@
 /* vdb-to-gi: convert baked probes (.vdb) into seed 000's bricked volume (.gi.gz). */
 #define _POSIX_C_SOURCE 200809L
+#include "budget.h"
 #include "cli.h"
 #include "convert_report.h"
 #include "vdbgi.h"
 
 #include <getopt.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -52,6 +54,10 @@ static void usage(void)
            "                        surface's normal); scalar: one colour a probe (auto)\n"
            "      --gi-version V    L2 terms: 7, or 6 for runtimes from before version 7\n"
            "                        (same textures, a larger file) (7)\n"
+           "      --budget MB       GPU memory the volume may take (decimal MB): convert\n"
+           "                        at --eps (0.1), then 0.2 and 0.4, then without the L2\n"
+           "                        terms, until it fits; print what fitted and the error\n"
+           "                        the measured curves give it (docs/directional.md)\n"
            "      --term-bits B     L2 terms: bits kept of each ratio byte, 4..8; each bit\n"
            "                        fewer doubles the rounding step and shrinks the file\n"
            "                        (6: the bake's noise is larger than its step)\n"
@@ -112,8 +118,65 @@ enum {
     OPT_RES,
     OPT_VOXEL,
     OPT_THREADS,
-    OPT_REGION
+    OPT_REGION,
+    OPT_BUDGET
 };
+
+/*
+ * The volume, built at the options; with --budget, built again at each step of
+ * the ladder until one fits (*fits false, vol the last, when none does). The
+ * measured curves order it (docs/directional.md, "A budget"): coarser bricks,
+ * eps 0.2 then 0.4, cost characters under 2 points, dropping the L2 terms
+ * about 80, so the terms go last. Each step is measured, not assumed smaller:
+ * a coarser brick can pack worse.
+ */
+static vdbgi_result build_within(vdbgi_context *ctx, vdbgi_probes *probes, vdbgi_probe_file *file,
+                                 options *o, vdbgi_volume **vol, bool *fits)
+{
+    const vdbgi_convert_desc asked = o->convert;
+    const float eps0 = asked.eps_is_set ? asked.eps : 0.1f;
+    const float ladder[3] = {eps0, fmaxf(eps0, 0.2f), fmaxf(eps0, 0.4f)};
+    const int rounds = asked.terms == VDBGI_TERMS_KEEP ? 2 : 1;
+    *fits = true;
+    o->budget_smallest = SIZE_MAX;
+    for (int round = 0; round < rounds; round++)
+        for (int step = 0; step < 3; step++) {
+            if (step > 0 && ladder[step] == ladder[step - 1])
+                continue;
+            vdbgi_convert_desc d = asked;
+            d.eps = ladder[step];
+            d.eps_is_set = 1;
+            if (round == 1)
+                d.terms = VDBGI_TERMS_DROP;
+            vdbgi_volume_destroy(*vol);
+            *vol = NULL;
+            const vdbgi_convert_desc *const use = o->budget > 0.0 ? &d : &asked;
+            const vdbgi_result r = file ? vdbgi_volume_build_regions(ctx, file, o->region, use, vol)
+                                        : vdbgi_volume_build(ctx, probes, use, vol);
+            if (r != VDBGI_OK)
+                return r;
+            if (o->budget <= 0.0)
+                return VDBGI_OK;
+            vdbgi_volume_info vi;
+            vdbgi_volume_get_info(*vol, &vi);
+            const size_t vram = budget_vram(&vi);
+            o->budget_tries++;
+            if (vram < o->budget_smallest) {
+                o->budget_smallest = vram;
+                o->budget_eps = d.eps;
+                o->budget_terms = vi.basis == VDBGI_BASIS_SH2;
+            }
+            if ((double)vram <= o->budget) {
+                o->budget_eps = d.eps;
+                o->budget_terms = vi.basis == VDBGI_BASIS_SH2;
+                return VDBGI_OK;
+            }
+            if (vi.basis != VDBGI_BASIS_SH2)
+                round = rounds; /* no terms to drop */
+        }
+    *fits = false;
+    return VDBGI_OK;
+}
 
 /* Parse argv into o (one case an option, kept whole); returns -1 to go on, else the exit code. */
 static int parse_args(int argc, char **argv, options *o)
@@ -144,6 +207,7 @@ static int parse_args(int argc, char **argv, options *o)
         {"threads", required_argument, NULL, OPT_THREADS},
         {"memory-limit", required_argument, NULL, CLI_OPT_MEMORY_LIMIT},
         {"region", required_argument, NULL, OPT_REGION},
+        {"budget", required_argument, NULL, OPT_BUDGET},
         CLI_COMMON_LONG_OPTIONS};
     opterr = 0;
     int c;
@@ -211,6 +275,10 @@ static int parse_args(int argc, char **argv, options *o)
                 o->convert.gi_version = optarg[0] - '0';
             else
                 return cli_usage_error("--gi-version must be 6 or 7 (got '%s')", optarg);
+            break;
+        case OPT_BUDGET:
+            if (!budget_parse(optarg, &o->budget))
+                return CLI_USAGE;
             break;
         case OPT_TERM_BITS:
             if (!cli_parse_int(optarg, &i) || i < 4 || i > 8)
@@ -320,6 +388,8 @@ static int parse_args(int argc, char **argv, options *o)
     if (o->region && (o->slices || o->bevy || o->bevy_baked_gi))
         return cli_usage_error("--region converts to a .gi only: --slices, --bevy and "
                                "--bevy-baked-gi need the whole lattice at once");
+    if (o->budget > 0.0 && !o->output)
+        return cli_usage_error("--budget sizes the .gi: give -o OUT.gi.gz");
     if (o->region && o->convert.layout == VDBGI_LAYOUT_SEED)
         return cli_usage_error("--region writes the compact layout only");
     return -1;
@@ -445,10 +515,10 @@ int main(int argc, char **argv)
         r = write_bevy(ctx, probes, &o, json, &bevy);
     bool built = true;
     const double t1 = cli_now();
+    bool fits = true;
     if (r == VDBGI_OK && o.output)
-        built = (r = file ? vdbgi_volume_build_regions(ctx, file, o.region, &o.convert, &vol)
-                          : vdbgi_volume_build(ctx, probes, &o.convert, &vol)) == VDBGI_OK;
-    if (r == VDBGI_OK && o.output)
+        built = (r = build_within(ctx, probes, file, &o, &vol, &fits)) == VDBGI_OK;
+    if (r == VDBGI_OK && o.output && fits)
         r = vdbgi_volume_write(vol, o.output);
     vdbgi_volume_info vi;
     vdbgi_probes_info pi;
@@ -474,6 +544,13 @@ int main(int argc, char **argv)
     if (!built) {
         /* The build sees probes, not a file: say which input they came from. */
         code = cli_fail_about(ctx, o.input);
+    } else if (!fits) {
+        char b[32];
+        cli_error("%s: no conversion fits --budget %g MB of GPU memory: the smallest, %s at eps "
+                  "%g, takes %s; bake at a coarser spacing (twice the spacing takes about a "
+                  "quarter: gi-bake --budget chooses it) or raise --budget",
+                  o.input, o.budget / 1e6, o.budget_terms ? "with the L2 terms" : "scalar",
+                  (double)o.budget_eps, cli_bytes((double)o.budget_smallest, b, sizeof(b)));
     } else if (r != VDBGI_OK) {
         code = cli_fail(ctx, r);
     } else if (o.output) {

@@ -1,0 +1,95 @@
+# --budget (issue 39, item 4): vdb-to-gi converts at eps 0.1, 0.2, 0.4, then without the
+# L2 terms, and keeps the first that fits; gi-bake keeps the finest spacing whose
+# estimate fits. A budget that fits changes no byte; each tighter one gives the bytes of
+# the ladder's step that fits, no more VRAM than asked; the figures it quotes are the
+# CSV files' rows; what cannot fit or makes no sense is refused with one line, no output.
+set -u
+vram() { python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["vram_bytes"])' "$1"; }
+"$BIN/gi-bake" -q "$DATA/world.glb" -o w.vdb --basis sh2 --spacing 1 --rays 16
+for e in 0.1 0.2 0.4; do
+    "$BIN/vdb-to-gi" -q w.vdb -o "l2-$e.gi.gz" --eps $e --stats "l2-$e.json"
+done
+"$BIN/vdb-to-gi" -q w.vdb -o scalar.gi.gz --basis scalar --stats scalar.json
+v1=$(vram l2-0.1.json) v2=$(vram l2-0.2.json) v4=$(vram l2-0.4.json) vs=$(vram scalar.json)
+echo "L2 at eps 0.1, 0.2, 0.4 and scalar: $v1 $v2 $v4 $vs bytes" >&2
+# The first step of the ladder that fits b bytes, as the file it must equal.
+expect() {
+    for f in l2-0.1:$v1 l2-0.2:$v2 l2-0.4:$v4 scalar:$vs; do
+        [ "${f#*:}" -le "$1" ] && { echo "${f%%:*}.gi.gz"; return; }
+    done
+    echo none
+}
+ok=1
+for b in $((v1 * 2)) $v1 $((v1 - 1)) $v2 $v4 $((v4 - 1)) $vs; do
+    mb=$(awk -v b="$b" 'BEGIN { printf "%.6f", b / 1e6 }')
+    want=$(expect "$(awk -v m="$mb" 'BEGIN { printf "%.0f", m * 1e6 }')")
+    rm -f got.gi.gz
+    "$BIN/vdb-to-gi" w.vdb -o got.gi.gz --budget "$mb" --stats got.json >got.txt || ok=0
+    got=$(vram got.json)
+    if ! cmp -s got.gi.gz "$want" || [ "$got" -gt "$b" ]; then
+        echo "FAIL: --budget $mb gave $got bytes, not $want's" >&2
+        ok=0
+    fi
+done
+[ $ok = 1 ] && echo "ok: each budget gives the first of eps 0.1, 0.2, 0.4 and scalar that fits, byte for byte"
+# The curve quoted for 1 m, L2 at eps 0.1, is memory_world*.csv's.
+"$BIN/vdb-to-gi" w.vdb -o got.gi.gz --budget 1000 | grep '^budget' >quoted.txt
+row() { awk -F, '$1 == 1 && $2 == "compact" && $3 == "L2" && $4 == 0.1 {
+    printf "%.1f %.1f\n", 100 * $16, 100 * $14 }' "$ROOT/docs/data/$1"; }
+set -- $(row memory_world.csv) $(row memory_world200.csv)
+if grep -q "characters $1 % RMSE on the bundled world, $3 % on the 200 m world; surfaces $2 %, $4 %" \
+    quoted.txt; then
+    echo "ok: the quoted error is the CSV files' row for 1 m, L2, eps 0.1"
+else
+    echo "FAIL: quoted $(cat quoted.txt), the CSV files say $*"
+fi
+# Nothing fits: one line, exit 1, nothing written.
+small=$(awk -v b="$vs" 'BEGIN { printf "%.6f", (b - 1) / 1e6 }')
+"$BIN/vdb-to-gi" -q w.vdb -o none.gi.gz --budget "$small" 2>err.txt
+echo "exit $?, $(wc -l <err.txt) line, output $([ -e none.gi.gz ] && echo written || echo absent)"
+sed 's/--budget [0-9.]* MB/--budget B MB/; s/takes [0-9.]* kB/takes N kB/' err.txt
+for bad in 0 -1 nan abc 2e6; do
+    "$BIN/vdb-to-gi" -q w.vdb -o bad.gi.gz --budget "$bad" 2>&1 | head -n 1
+done
+# gi-bake: the finest spacing whose 8-ray preview fits, halving from 4 m.
+"$BIN/gi-bake" "$DATA/world.glb" -o b.vdb --budget 5 --rays 8 >bake.txt
+grep -o '^probes .* spacing' bake.txt
+# The preview's figures: the chosen spacing's within the budget, the next finer's past it,
+# and the chosen one's the VRAM an 8-ray bake at that spacing converts to.
+"$BIN/gi-bake" -q "$DATA/world.glb" -o p8.vdb --basis sh2 --spacing 1 --rays 8
+"$BIN/vdb-to-gi" -q p8.vdb -o p8.gi.gz --stats p8.json
+sed -n 's/^budget .*: \([0-9.]*\) m with the L2 terms, \([0-9.]*\) MB converted from an 8-ray preview (\([0-9.]*\) m: \([0-9.]*\) MB).*/\1 \2 \3 \4/p' \
+    bake.txt | awk -v real="$(vram p8.json)" '{
+    ok = $1 == 1 && $2 <= 5 && $4 > 5 && $3 == 0.5 && sprintf("%.1f", real / 1e6) == $2
+    printf "%s: %s m previewed at %s MB (an 8-ray bake converts to %.1f MB), %s m at %s MB\n",
+        ok ? "ok" : "FAIL", $1, $2, real / 1e6, $3, $4 }'
+"$BIN/gi-bake" -q "$DATA/world.glb" -o b.vdb --budget 0.5 --rays 8
+"$BIN/vdb-to-gi" -q b.vdb -o b.gi.gz --budget 0.5 --stats b.json
+echo "gi-bake and vdb-to-gi at 0.5 MB: $(python3 -c 'import json; j = json.load(open("b.json")); print(j["spacing"], "m,", "fits" if j["vram_bytes"] <= 5e5 else "does not fit")')"
+"$BIN/gi-bake" -q "$DATA/world.glb" -o tiny.vdb --budget 0.01 --rays 8
+echo "exit $?, output $([ -e tiny.vdb ] && echo written || echo absent)"
+"$BIN/gi-bake" -q "$DATA/world.glb" -o x.vdb --budget 5 --spacing 1 2>&1 | head -n 1
+"$BIN/gi-bake" -q "$DATA/world.glb" -o x.vdb --budget 5 --tile 1/2 2>&1 | head -n 1
+"$BIN/gi-bake" -q "$DATA/world.glb" -o x.vdb --budget 5 --basis ambient-cube 2>&1 | head -n 1
+# gi-lightmap: the finest texel of the ladder whose atlases fit, found by unwrapping; the
+# next finer (0.25 m, baked at --texel) past the budget.
+lm() { python3 -c 'import json, sys; j = json.load(open(sys.argv[1])); print(j["texel"], j["vram_bytes"])' "$1"; }
+"$BIN/gi-lightmap" -q "$DATA/world.glb" -o lm.glb --budget 1 --rays 4 --passes 1 --stats lm.json
+"$BIN/gi-lightmap" -q "$DATA/world.glb" -o lm25.glb --texel 0.25 --rays 4 --passes 1 --stats lm25.json
+set -- $(lm lm.json) $(lm lm25.json)
+echo "gi-lightmap at 1 MB: $1 m texels, $([ "$2" -le 1000000 ] && echo fits || echo "does not fit"); $3 m: $([ "$4" -gt 1000000 ] && echo "past it" || echo "FAIL: fits too")"
+# The quoted curves are lightmap_world.csv's and lightmap_interior.csv's rows: at 4 MB the
+# texel is 0.125 m, one of theirs; at 1 MB 0.375 m, between theirs at 0.5 and 0.25 m.
+row() { awk -F, -v t="$2" 'NR > 1 && $1 == t { printf "%.1f", 100 * $7 }' "$ROOT/docs/data/lightmap_$1.csv"; }
+"$BIN/gi-lightmap" "$DATA/world.glb" -o lm.glb --budget 4 --rays 4 --passes 1 | grep '^budget' >q4.txt
+"$BIN/gi-lightmap" "$DATA/world.glb" -o lm.glb --budget 1 --rays 4 --passes 1 | grep '^budget' >q1.txt
+if grep -q "texels of 0.125 m, .*: surfaces $(row world 0.125) % RMSE on the bundled world (one pass, seed model), $(row interior 0.125) % on the interior" q4.txt &&
+    grep -q "texels of 0.375 m, .* 0.5 m (surfaces $(row world 0.5) % RMSE on the bundled world, $(row interior 0.5) % on the interior) and 0.25 m ($(row world 0.25) %, $(row interior 0.25) %)" q1.txt; then
+    echo "ok: the lightmap's quoted error is the CSV files' rows at 0.125 m, and at 0.5 and 0.25 m around 0.375 m"
+else
+    echo "FAIL: quoted $(cat q4.txt q1.txt)"
+fi
+"$BIN/gi-lightmap" -q "$DATA/world.glb" -o none.glb --budget 0.001 --rays 4
+echo "exit $?, output $([ -e none.glb ] && echo written || echo absent)"
+"$BIN/gi-lightmap" -q "$DATA/world.glb" -o x.glb --budget 1 --texel 0.5 2>&1 | head -n 1
+"$BIN/gi-lightmap" -q "$DATA/world.glb" -o x.glb --budget 1 --layers 2>&1 | head -n 1
