@@ -33,9 +33,10 @@ static void usage(void)
            "      --walkable H         keep only the probes over walkable surfaces (facing up\n"
            "                           within 45 degrees) up to H metres: the space what\n"
            "                           moves uses, when statics take a lightmap\n"
-           "      --keep-box X0,Y0,Z0,X1,Y1,Z1\n"
+           "      --keep-box X0,Y0,Z0,X1,Y1,Z1|scene\n"
            "                           keep the probes in this box too (repeatable; alone,\n"
-           "                           only theirs)\n"
+           "                           only theirs); scene: the boxes of the scene's nodes\n"
+           "                           named vdbgi_keep* (no geometry: a balcony, a shaft)\n"
            "      --tile I/N           bake tile I of N only (slabs across x of about as many\n"
            "                           probes each); gi-merge joins the N files into the\n"
            "                           whole bake, probe for probe\n"
@@ -118,6 +119,7 @@ typedef struct options {
     vdbgi_bake_desc bake;
     bool bounces_auto; /* --bounces auto: only the physical model bounces until converged */
     bool spacing_given, basis_given;
+    bool keep_scene;    /* --keep-box scene: the scene's vdbgi_keep nodes join keep_boxes */
     double budget;      /* --budget, bytes; 0: none */
     double budget_est;  /* the chosen spacing's estimated VRAM */
     double budget_next; /* the next finer spacing's, where placed (0: not) */
@@ -181,6 +183,10 @@ static int parse_args(int argc, char **argv, options *o)
             o->place.walkable_height = d;
             break;
         case OPT_KEEP_BOX: {
+            if (strcmp(optarg, "scene") == 0) {
+                o->keep_scene = true;
+                break;
+            }
             double *const box = o->keep_boxes[o->place.keep_box_count];
             if (o->place.keep_box_count == VDBGI_MAX_KEEP_BOXES)
                 return cli_usage_error("at most %d --keep-box options", VDBGI_MAX_KEEP_BOXES);
@@ -313,6 +319,26 @@ static int parse_args(int argc, char **argv, options *o)
     return -1;
 }
 
+/* --keep-box scene: the scene's vdbgi_keep boxes after those given; false when it has none. */
+static bool keep_scene_boxes(const vdbgi_scene *scene, options *o)
+{
+    const double(*boxes)[6];
+    const size_t n = vdbgi_scene_keep_boxes(scene, &boxes);
+    if (n == 0) {
+        cli_error("%s: --keep-box scene, and no node of the scene is named vdbgi_keep*", o->scene);
+        return false;
+    }
+    if (o->place.keep_box_count + n > VDBGI_MAX_KEEP_BOXES) {
+        cli_error("%s: %zu boxes of the scene's and %zu given, at most %d", o->scene, n,
+                  o->place.keep_box_count, VDBGI_MAX_KEEP_BOXES);
+        return false;
+    }
+    memcpy(o->keep_boxes[o->place.keep_box_count], boxes, n * sizeof(boxes[0]));
+    o->place.keep_boxes = (const double(*)[6])o->keep_boxes;
+    o->place.keep_box_count += n;
+    return true;
+}
+
 /*
  * Rays a probe in --budget's previews. On the bundled world at 0.5 and 1 m,
  * the volume of an 8-ray bake came out 3-11 % above the 128-ray bake's (its
@@ -424,7 +450,9 @@ int main(int argc, char **argv)
     }
     code = CLI_FAILED;
     const double t1 = cli_now();
-    bool said = false; /* choose_spacing said why it failed */
+    bool said = false; /* choose_spacing or keep_scene_boxes said why it failed */
+    if (r == VDBGI_OK && o.keep_scene && !keep_scene_boxes(scene, &o))
+        said = true, r = VDBGI_ERR_INVALID_ARG;
     if (r == VDBGI_OK && o.budget > 0.0)
         r = choose_spacing(ctx, scene, &o, &said);
     const double t1b = cli_now();
@@ -463,6 +491,10 @@ int main(int argc, char **argv)
         if (si.light_count)
             printf(", %zu lights%s", si.light_count,
                    o.bake.lights == VDBGI_LIGHTS_OFF ? " (off)" : "");
+        if (si.keep_box_count)
+            printf(", %zu vdbgi_keep box%s%s", si.keep_box_count,
+                   si.keep_box_count == 1 ? "" : "es",
+                   o.keep_scene ? "" : " (not used without --keep-box scene)");
         printf("\n");
         float sun_dir[3], sun_e[3];
         if (sky && vdbgi_sky_sun(sky, sun_dir, sun_e))

@@ -194,7 +194,10 @@ typedef struct vdbgi_scene vdbgi_scene;
  * times its base-colour texture at the point's UV (sRGB-decoded; files beside
  * the scene or embedded in .glb) times the vertex colour where present.
  * Triangles with a non-finite vertex are skipped with a warning; degenerate
- * (zero-area) ones are skipped silently. Fails with VDBGI_ERR_IO for a missing
+ * (zero-area) ones are skipped silently. A node whose name begins with
+ * "vdbgi_keep" (and what is under it) is no geometry but a box: the world
+ * bounds of its triangles, a space what moves uses (vdbgi_scene_keep_boxes),
+ * at most VDBGI_MAX_KEEP_BOXES of them. Fails with VDBGI_ERR_IO for a missing
  * or unreadable file, VDBGI_ERR_FORMAT for a file assimp rejects or one with no
  * usable triangle. Builds the Embree BVH before returning.
  */
@@ -233,9 +236,10 @@ typedef struct vdbgi_scene_info {
     size_t material_count;
     size_t texture_count;
     float bounds_min[3], bounds_max[3]; /* of the kept triangles, metres */
-    float ray_offset;   /* largest ray offset (1e-5 of the farthest coordinate), m */
-    const char *name;   /* file name without directories */
-    size_t light_count; /* punctual lights (vdbgi_scene_get_lights) */
+    float ray_offset;      /* largest ray offset (1e-5 of the farthest coordinate), m */
+    const char *name;      /* file name without directories */
+    size_t light_count;    /* punctual lights (vdbgi_scene_get_lights) */
+    size_t keep_box_count; /* nodes named vdbgi_keep* (vdbgi_scene_keep_boxes) */
 } vdbgi_scene_info;
 
 /* Describe a scene. Strings belong to the scene. */
@@ -287,6 +291,13 @@ VDBGI_API vdbgi_result vdbgi_scene_add_lights(vdbgi_scene *scene, const vdbgi_li
                                               size_t count);
 /* The scene's lights (owned by the scene) into *lights; returns their count. */
 VDBGI_API size_t vdbgi_scene_get_lights(const vdbgi_scene *scene, const vdbgi_light **lights);
+
+/*
+ * The boxes of the scene's vdbgi_keep nodes (min x, y, z, max x, y, z,
+ * metres; owned by the scene) into *boxes, for vdbgi_place_desc.keep_boxes;
+ * returns their count.
+ */
+VDBGI_API size_t vdbgi_scene_keep_boxes(const vdbgi_scene *scene, const double (**boxes)[6]);
 
 /*
  * An environment: an equirectangular (2:1) image of the radiance arriving

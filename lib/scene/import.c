@@ -286,12 +286,65 @@ typedef struct walk_state {
     vdbgi_scene *s;
     const struct aiScene *as;
     size_t vertex_count, triangle_count, nonfinite;
+    size_t keep_count;  /* vdbgi_keep nodes met */
+    size_t empty_keeps; /* of them, with no vertex to bound */
     bool fill;
 } walk_state;
+
+/* A node whose name begins so marks a space what moves uses, not geometry. */
+#define KEEP_PREFIX "vdbgi_keep"
+
+static bool is_keep_node(const struct aiNode *node)
+{
+    const size_t n = sizeof(KEEP_PREFIX) - 1;
+    return node->mName.length >= n && memcmp(node->mName.data, KEEP_PREFIX, n) == 0;
+}
+
+/* The world bounds of every vertex under node (its meshes and its children's) into box. */
+static void bound_nodes(const struct aiScene *as, const struct aiNode *node,
+                        const struct aiMatrix4x4 *parent, double box[6])
+{
+    struct aiMatrix4x4 xf = *parent;
+    aiMultiplyMatrix4(&xf, &node->mTransformation);
+    for (unsigned n = 0; n < node->mNumMeshes; n++) {
+        const struct aiMesh *const mesh = as->mMeshes[node->mMeshes[n]];
+        for (unsigned v = 0; v < mesh->mNumVertices; v++) {
+            struct aiVector3D p = mesh->mVertices[v];
+            aiTransformVecByMatrix4(&p, &xf);
+            const double c[3] = {p.x, p.y, p.z};
+            for (int k = 0; k < 3; k++)
+                if (isfinite(c[k])) {
+                    box[k] = fmin(box[k], c[k]);
+                    box[3 + k] = fmax(box[3 + k], c[k]);
+                }
+        }
+    }
+    for (unsigned c = 0; c < node->mNumChildren; c++)
+        bound_nodes(as, node->mChildren[c], &xf, box);
+}
+
+/* A vdbgi_keep node: its box, on the fill pass, when it has one and there is room. */
+static void keep_node(walk_state *w, const struct aiNode *node, const struct aiMatrix4x4 *parent)
+{
+    w->keep_count++;
+    if (!w->fill || w->keep_count > VDBGI_MAX_KEEP_BOXES)
+        return;
+    double box[6] = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
+    bound_nodes(w->as, node, parent, box);
+    if (!(box[0] <= box[3] && box[1] <= box[4] && box[2] <= box[5])) {
+        w->empty_keeps++;
+        return;
+    }
+    memcpy(w->s->keep_boxes[w->s->keep_box_count++], box, sizeof(box));
+}
 
 /* Visit every mesh instance with its world transform; count, or fill when w->fill. */
 static void walk_nodes(walk_state *w, const struct aiNode *node, const struct aiMatrix4x4 *parent)
 {
+    if (is_keep_node(node)) {
+        keep_node(w, node, parent);
+        return;
+    }
     struct aiMatrix4x4 xf = *parent;
     aiMultiplyMatrix4(&xf, &node->mTransformation);
     for (unsigned n = 0; n < node->mNumMeshes; n++) {
@@ -454,6 +507,12 @@ vdbgi_result vdbgi_scene_load(vdbgi_context *ctx, const char *path, vdbgi_scene 
     aiIdentityMatrix4(&identity);
     walk_state w = {.as = as};
     walk_nodes(&w, as->mRootNode, &identity);
+    if (w.keep_count > VDBGI_MAX_KEEP_BOXES) {
+        vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %zu nodes named %s*, at most %d", path, w.keep_count,
+                   KEEP_PREFIX, VDBGI_MAX_KEEP_BOXES);
+        aiReleaseImport(as);
+        return VDBGI_ERR_FORMAT;
+    }
     if (w.triangle_count == 0 || w.vertex_count > UINT32_MAX) {
         vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %s", path,
                    w.triangle_count ? "too many vertices" : "no triangles to trace");
@@ -488,6 +547,9 @@ vdbgi_result vdbgi_scene_load(vdbgi_context *ctx, const char *path, vdbgi_scene 
     }
     w = (walk_state){.s = s, .as = as, .fill = true};
     walk_nodes(&w, as->mRootNode, &identity);
+    if (w.empty_keeps)
+        vdbgi_log(ctx, VDBGI_LOG_WARNING, "%s: %zu node%s named %s* without a vertex: no box", path,
+                  w.empty_keeps, w.empty_keeps == 1 ? "" : "s", KEEP_PREFIX);
     r = load_lights(s, as, path);
     aiReleaseImport(as);
     if (r != VDBGI_OK) {

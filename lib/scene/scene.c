@@ -227,6 +227,7 @@ void vdbgi_scene_get_info(const vdbgi_scene *scene, vdbgi_scene_info *info)
     info->ray_offset = scene->ray_offset;
     info->name = scene->name;
     info->light_count = scene->light_count;
+    info->keep_box_count = scene->keep_box_count;
 }
 
 /* ---- punctual lights ------------------------------------------------------ */
@@ -292,6 +293,12 @@ size_t vdbgi_scene_get_lights(const vdbgi_scene *scene, const vdbgi_light **ligh
 {
     *lights = scene->lights;
     return scene->light_count;
+}
+
+size_t vdbgi_scene_keep_boxes(const vdbgi_scene *scene, const double (**boxes)[6])
+{
+    *boxes = (const double(*)[6])scene->keep_boxes;
+    return scene->keep_box_count;
 }
 
 /* ---- albedo at a hit ----------------------------------------------------- */

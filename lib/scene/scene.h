@@ -54,6 +54,8 @@ struct vdbgi_scene {
     char *name;
     vdbgi_light lights[VDBGI_MAX_LIGHTS];
     size_t light_count;
+    double keep_boxes[VDBGI_MAX_KEEP_BOXES][6]; /* nodes named vdbgi_keep*: spaces, not geometry */
+    size_t keep_box_count;
 };
 
 /*
