@@ -39,6 +39,11 @@ mkdir -p "$OUT"
     "$BUILD/bin/vdb-to-gi" -q "$OUT/world_sh2.vdb" -o "$OUT/world_sh2.gi.gz"
     "$BUILD/bin/vdb-to-gi" -q "$OUT/world200_sh2.vdb" -o "$OUT/world200_sh2.gi.gz"
     rm -f "$OUT/world_sh2.vdb" "$OUT/world200_sh2.vdb"
+    # The 200 m world's L2 volume within issue 39's budget (2x the scalar's VRAM, 21 MB),
+    # as --budget chooses it (docs/directional.md, "A budget"), for the load below.
+    "$BUILD/bin/gi-bake" -q "$OUT/world200.glb" -o "$OUT/world200_21mb.vdb" --budget 21
+    "$BUILD/bin/vdb-to-gi" -q "$OUT/world200_21mb.vdb" -o "$OUT/world200_21mb.gi.gz" --budget 21
+    rm -f "$OUT/world200_21mb.vdb"
     "$BUILD/bin/gi-bake" -q "$OUT/town.glb" -o "$OUT/town.vdb" >/dev/null
     echo "### Lightmaps: gi-lightmap against a bare Embree loop, and packing (docs/lightmap.md)"
     echo
@@ -89,7 +94,8 @@ mkdir -p "$OUT"
         "$BUILD/bin/vdb-to-gi" -q "$OUT/world200.vdb" -o "$OUT/world200.seed.gi.gz" --layout seed
         node tests/web/bench_web.mjs data/world.glb "$OUT/world.gi.gz" \
             "200 m, seed=$OUT/world200.seed.gi.gz" "200 m, compact=$OUT/world200.gi.gz" \
-            "bundled, L2=$OUT/world_sh2.gi.gz" "200 m, L2=$OUT/world200_sh2.gi.gz"
+            "bundled, L2=$OUT/world_sh2.gi.gz" "200 m, L2=$OUT/world200_sh2.gi.gz" \
+            "200 m, L2 in 21 MB=$OUT/world200_21mb.gi.gz"
         echo
         echo "What 16 occluders cost a frame (docs/web.md)"
         echo
