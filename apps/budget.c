@@ -19,7 +19,9 @@ bool budget_parse(const char *text, double *bytes)
 
 size_t budget_vram(const vdbgi_volume_info *vi)
 {
-    return vi->columns_size + vi->atlas_size + vi->sh_size;
+    /* No columns past the runtime's limit: the 3D indirection then, never nothing. */
+    const size_t indirection = vi->columns_size ? vi->columns_size : vi->indirection_size;
+    return indirection + vi->atlas_size + vi->sh_size;
 }
 
 /*

@@ -15,7 +15,8 @@
 /* Parse --budget's MB (decimal) into bytes; false (and a usage message) when absurd. */
 bool budget_parse(const char *text, double *bytes);
 
-/* The bytes vdbgi's runtime uploads for a volume: columns, atlas and L2 terms. */
+/* The bytes vdbgi's runtime uploads for a volume: columns (or the 3D indirection where
+   there are none), atlas and L2 terms. */
 size_t budget_vram(const vdbgi_volume_info *vi);
 
 /*
