@@ -95,7 +95,7 @@ DEB_PACKAGES := gcc g++ make pkg-config libopenvdb-dev libboost-dev libimath-dev
 # Keep object files of apps and tests (make would delete them as intermediates).
 .SECONDARY:
 
-.PHONY: all lib apps tests check demo bench bench-scale chart deps asan fuzz install uninstall clean format list view pictures
+.PHONY: all lib apps tests check demo bench bench-scale bench-wasm chart deps asan fuzz install uninstall clean format list view pictures
 
 ## all: build the library and the apps (default)
 all: lib apps
@@ -250,6 +250,11 @@ bench:
 bench-scale:
 	$(Q)$(MAKE) --no-print-directory all
 	$(Q)BUILD=$(BUILD) sh tests/scale.sh
+
+## bench-wasm: the C reader built to WebAssembly against the JavaScript one (needs emscripten; docs/web.md)
+bench-wasm:
+	$(Q)$(MAKE) --no-print-directory all
+	$(Q)BUILD=$(BUILD) sh tests/wasm/bench_wasm.sh
 
 ## chart: sweep rays, eps and spacing, redraw docs/img/chart_*.png, stability table (two minutes)
 chart:
