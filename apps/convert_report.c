@@ -83,7 +83,14 @@ void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
     cli_print_runtime(f, vi);
     if (o->budget > 0.0) {
         char e[320];
-        budget_expected(pi->spacing, o->budget_terms, o->budget_eps, e, sizeof(e));
+        if (vi->layout != VDBGI_LAYOUT_COMPACT)
+            snprintf(e, sizeof(e), "no measured curve for the seed layout");
+        else
+            budget_expected(pi->spacing, o->budget_terms, o->budget_eps, e, sizeof(e));
+        const size_t n = strlen(e);
+        if (o->budget_terms && vi->term_bits != VDBGI_TERM_BITS && n < sizeof(e))
+            snprintf(e + n, sizeof(e) - n, " (the curves' terms kept %d bits, these %d)",
+                     VDBGI_TERM_BITS, vi->term_bits);
         fprintf(f, "budget       %g MB of GPU memory: eps %g, %s (conversions tried: %d); %s\n",
                 o->budget / 1e6, (double)o->budget_eps,
                 o->budget_terms ? "the L2 terms kept" : "scalar", o->budget_tries, e);

@@ -26,9 +26,10 @@ static void usage(void)
            "      --spacing M          probe spacing in metres (0.5)\n"
            "      --margin M           keep probes within M metres of a surface (4 x spacing)\n"
            "      --budget MB          GPU memory the converted volume may take (decimal MB):\n"
-           "                           the finest spacing (4 m .. 1/16 m, halving) whose\n"
-           "                           estimate fits, with the L2 terms unless --basis says\n"
-           "                           otherwise; give vdb-to-gi the same --budget\n"
+           "                           8-ray previews from 4 m, halving while one takes under\n"
+           "                           half of it, and the finest that fits; with the L2 terms\n"
+           "                           unless --basis says otherwise; give vdb-to-gi the same\n"
+           "                           --budget\n"
            "      --max-probes N       refuse lattices of more than N probes (50000000)\n"
            "      --walkable H         keep only the probes over walkable surfaces (facing up\n"
            "                           within 45 degrees) up to H metres: the space what\n"
@@ -324,10 +325,23 @@ static bool keep_scene_boxes(const vdbgi_scene *scene, options *o)
 {
     const double(*boxes)[6];
     const size_t n = vdbgi_scene_keep_boxes(scene, &boxes);
-    if (n == 0) {
-        cli_error("%s: --keep-box scene, and no node of the scene is named vdbgi_keep*", o->scene);
+    vdbgi_scene_info si;
+    vdbgi_scene_get_info(scene, &si);
+    if (si.keep_node_count > VDBGI_MAX_KEEP_BOXES) {
+        cli_error("%s: %zu nodes named vdbgi_keep*, at most %d", o->scene, si.keep_node_count,
+                  VDBGI_MAX_KEEP_BOXES);
         return false;
     }
+    if (n == 0) {
+        cli_error(si.keep_node_count ? "%s: --keep-box scene, and its nodes named vdbgi_keep* "
+                                       "have no vertex (an empty has no extent: give it a mesh)"
+                                     : "%s: --keep-box scene, and no node of the scene is named "
+                                       "vdbgi_keep*",
+                  o->scene);
+        return false;
+    }
+    if (n < si.keep_node_count)
+        cli_log(NULL, VDBGI_LOG_WARNING, "a node named vdbgi_keep* has no vertex: no box from it");
     if (o->place.keep_box_count + n > VDBGI_MAX_KEEP_BOXES) {
         cli_error("%s: %zu boxes of the scene's and %zu given, at most %d", o->scene, n,
                   o->place.keep_box_count, VDBGI_MAX_KEEP_BOXES);
@@ -390,12 +404,20 @@ static vdbgi_result choose_spacing(vdbgi_context *ctx, const vdbgi_scene *scene,
     cli_progress prog;
     cli_progress_begin(&prog, "sizing", "spacings", 7.0);
     vdbgi_result r = VDBGI_OK;
+    double coarsest = 0.0; /* the coarsest spacing with a preview */
     int tried = 0;
-    for (double spacing = 4.0; r == VDBGI_OK && spacing >= 1.0 / 16.0; spacing /= 2.0) {
+    for (double spacing = 4.0; spacing >= 1.0 / 16.0; spacing /= 2.0) {
         double vram = 0.0;
-        if ((r = preview_vram(ctx, scene, o, spacing, &vram)) != VDBGI_OK)
-            break;
+        r = preview_vram(ctx, scene, o, spacing, &vram);
         cli_progress_update(&prog, (float)++tried / 7.0f);
+        if (r != VDBGI_OK) {
+            /* A coarse lattice may miss every keep box or floor: try finer. A fine one past
+               the lattice's limits ends the search at the last that fitted. */
+            if (o->budget_est > 0.0)
+                break;
+            continue;
+        }
+        coarsest = coarsest > 0.0 ? coarsest : spacing;
         if (vram > o->budget) {
             o->budget_next = vram;
             break;
@@ -406,15 +428,16 @@ static vdbgi_result choose_spacing(vdbgi_context *ctx, const vdbgi_scene *scene,
             break;
     }
     cli_progress_end(&prog);
-    if (r == VDBGI_OK && o->budget_est == 0.0) {
-        char b[32];
-        cli_error("%s: even at 4 m its volume takes %s (an %d-ray preview), past --budget %g MB",
-                  o->scene, cli_bytes(o->budget_next, b, sizeof(b)), BUDGET_PREVIEW_RAYS,
-                  o->budget / 1e6);
-        *said = true;
-        return VDBGI_ERR_INVALID_ARG;
-    }
-    return r;
+    if (o->budget_est > 0.0)
+        return VDBGI_OK;
+    if (coarsest == 0.0)
+        return r; /* no spacing gave a preview: the last refusal says why */
+    char b[32];
+    cli_error("%s: even at %g m its volume takes %s (an %d-ray preview), past --budget %g MB",
+              o->scene, coarsest, cli_bytes(o->budget_next, b, sizeof(b)), BUDGET_PREVIEW_RAYS,
+              o->budget / 1e6);
+    *said = true;
+    return VDBGI_ERR_INVALID_ARG;
 }
 
 int main(int argc, char **argv)

@@ -146,8 +146,10 @@ static vdbgi_result build_within(vdbgi_context *ctx, vdbgi_probes *probes, vdbgi
             vdbgi_convert_desc d = asked;
             d.eps = ladder[step];
             d.eps_is_set = 1;
-            if (round == 1)
+            if (round == 1) {
                 d.terms = VDBGI_TERMS_DROP;
+                d.gi_version = 0; /* 6 and 7 are versions with terms */
+            }
             vdbgi_volume_destroy(*vol);
             *vol = NULL;
             const vdbgi_convert_desc *const use = o->budget > 0.0 ? &d : &asked;
@@ -533,7 +535,7 @@ int main(int argc, char **argv)
             pi.spacing = vi.spacing;
         }
     }
-    if (r == VDBGI_OK && o.slices) {
+    if (r == VDBGI_OK && o.slices && fits) {
         const double at = isnan(o.slice_at) ? busiest_plane(probes, o.axis) : o.slice_at;
         /* Auto exposure puts the mean irradiance at 18% grey. */
         const double ev = isnan(o.exposure) && vi.mean_irradiance > 0.0

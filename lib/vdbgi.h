@@ -196,8 +196,9 @@ typedef struct vdbgi_scene vdbgi_scene;
  * Triangles with a non-finite vertex are skipped with a warning; degenerate
  * (zero-area) ones are skipped silently. A node whose name begins with
  * "vdbgi_keep" (and what is under it) is no geometry but a box: the world
- * bounds of its triangles, a space what moves uses (vdbgi_scene_keep_boxes),
- * at most VDBGI_MAX_KEEP_BOXES of them. Fails with VDBGI_ERR_IO for a missing
+ * bounds of its vertices, a space what moves uses (vdbgi_scene_keep_boxes:
+ * the first VDBGI_MAX_KEEP_BOXES with a vertex; vdbgi_scene_info counts the
+ * nodes too). Fails with VDBGI_ERR_IO for a missing
  * or unreadable file, VDBGI_ERR_FORMAT for a file assimp rejects or one with no
  * usable triangle. Builds the Embree BVH before returning.
  */
@@ -236,10 +237,12 @@ typedef struct vdbgi_scene_info {
     size_t material_count;
     size_t texture_count;
     float bounds_min[3], bounds_max[3]; /* of the kept triangles, metres */
-    float ray_offset;      /* largest ray offset (1e-5 of the farthest coordinate), m */
-    const char *name;      /* file name without directories */
-    size_t light_count;    /* punctual lights (vdbgi_scene_get_lights) */
-    size_t keep_box_count; /* nodes named vdbgi_keep* (vdbgi_scene_keep_boxes) */
+    float ray_offset;       /* largest ray offset (1e-5 of the farthest coordinate), m */
+    const char *name;       /* file name without directories */
+    size_t light_count;     /* punctual lights (vdbgi_scene_get_lights) */
+    size_t keep_box_count;  /* boxes of nodes named vdbgi_keep* (vdbgi_scene_keep_boxes) */
+    size_t keep_node_count; /* such nodes: more than the boxes when some have no vertex, or
+                               past VDBGI_MAX_KEEP_BOXES */
 } vdbgi_scene_info;
 
 /* Describe a scene. Strings belong to the scene. */

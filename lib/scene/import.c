@@ -286,8 +286,6 @@ typedef struct walk_state {
     vdbgi_scene *s;
     const struct aiScene *as;
     size_t vertex_count, triangle_count, nonfinite;
-    size_t keep_count;  /* vdbgi_keep nodes met */
-    size_t empty_keeps; /* of them, with no vertex to bound */
     bool fill;
 } walk_state;
 
@@ -323,19 +321,18 @@ static void bound_nodes(const struct aiScene *as, const struct aiNode *node,
         bound_nodes(as, node->mChildren[c], &xf, box);
 }
 
-/* A vdbgi_keep node: its box, on the fill pass, when it has one and there is room. */
+/* A vdbgi_keep node: counted, and on the fill pass its box, when it has one and there is room. */
 static void keep_node(walk_state *w, const struct aiNode *node, const struct aiMatrix4x4 *parent)
 {
-    w->keep_count++;
-    if (!w->fill || w->keep_count > VDBGI_MAX_KEEP_BOXES)
+    if (!w->fill)
         return;
+    vdbgi_scene *const s = w->s;
+    s->keep_node_count++;
     double box[6] = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
     bound_nodes(w->as, node, parent, box);
-    if (!(box[0] <= box[3] && box[1] <= box[4] && box[2] <= box[5])) {
-        w->empty_keeps++;
-        return;
-    }
-    memcpy(w->s->keep_boxes[w->s->keep_box_count++], box, sizeof(box));
+    if (s->keep_box_count < VDBGI_MAX_KEEP_BOXES && box[0] <= box[3] && box[1] <= box[4] &&
+        box[2] <= box[5])
+        memcpy(s->keep_boxes[s->keep_box_count++], box, sizeof(box));
 }
 
 /* Visit every mesh instance with its world transform; count, or fill when w->fill. */
@@ -507,12 +504,6 @@ vdbgi_result vdbgi_scene_load(vdbgi_context *ctx, const char *path, vdbgi_scene 
     aiIdentityMatrix4(&identity);
     walk_state w = {.as = as};
     walk_nodes(&w, as->mRootNode, &identity);
-    if (w.keep_count > VDBGI_MAX_KEEP_BOXES) {
-        vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %zu nodes named %s*, at most %d", path, w.keep_count,
-                   KEEP_PREFIX, VDBGI_MAX_KEEP_BOXES);
-        aiReleaseImport(as);
-        return VDBGI_ERR_FORMAT;
-    }
     if (w.triangle_count == 0 || w.vertex_count > UINT32_MAX) {
         vdbgi_fail(ctx, VDBGI_ERR_FORMAT, "%s: %s", path,
                    w.triangle_count ? "too many vertices" : "no triangles to trace");
@@ -547,9 +538,6 @@ vdbgi_result vdbgi_scene_load(vdbgi_context *ctx, const char *path, vdbgi_scene 
     }
     w = (walk_state){.s = s, .as = as, .fill = true};
     walk_nodes(&w, as->mRootNode, &identity);
-    if (w.empty_keeps)
-        vdbgi_log(ctx, VDBGI_LOG_WARNING, "%s: %zu node%s named %s* without a vertex: no box", path,
-                  w.empty_keeps, w.empty_keeps == 1 ? "" : "s", KEEP_PREFIX);
     r = load_lights(s, as, path);
     aiReleaseImport(as);
     if (r != VDBGI_OK) {

@@ -228,6 +228,7 @@ void vdbgi_scene_get_info(const vdbgi_scene *scene, vdbgi_scene_info *info)
     info->name = scene->name;
     info->light_count = scene->light_count;
     info->keep_box_count = scene->keep_box_count;
+    info->keep_node_count = scene->keep_node_count;
 }
 
 /* ---- punctual lights ------------------------------------------------------ */

@@ -56,6 +56,7 @@ struct vdbgi_scene {
     size_t light_count;
     double keep_boxes[VDBGI_MAX_KEEP_BOXES][6]; /* nodes named vdbgi_keep*: spaces, not geometry */
     size_t keep_box_count;
+    size_t keep_node_count; /* such nodes, boxed or not (no vertex, or past the most boxes) */
 };
 
 /*

@@ -51,6 +51,10 @@ sed 's/--budget [0-9.]* MB/--budget B MB/; s/takes [0-9.]* kB/takes N kB/' err.t
 for bad in 0 -1 nan abc 2e6; do
     "$BIN/vdb-to-gi" -q w.vdb -o bad.gi.gz --budget "$bad" 2>&1 | head -n 1
 done
+# --gi-version 7 asks for the terms' file; where only the scalar fits, the scalar is written.
+mb=$(awk -v b="$vs" 'BEGIN { printf "%.6f", b / 1e6 }')
+"$BIN/vdb-to-gi" -q w.vdb -o v7.gi.gz --gi-version 7 --budget "$mb" --stats v7.json &&
+    cmp -s v7.gi.gz scalar.gi.gz && echo "ok: --gi-version 7 at the scalar's budget writes the scalar"
 # gi-bake: the finest spacing whose 8-ray preview fits, halving from 4 m.
 "$BIN/gi-bake" "$DATA/world.glb" -o b.vdb --budget 5 --rays 8 >bake.txt
 grep -o '^probes .* spacing' bake.txt
@@ -66,6 +70,9 @@ sed -n 's/^budget .*: \([0-9.]*\) m with the L2 terms, \([0-9.]*\) MB converted 
 "$BIN/gi-bake" -q "$DATA/world.glb" -o b.vdb --budget 0.5 --rays 8
 "$BIN/vdb-to-gi" -q b.vdb -o b.gi.gz --budget 0.5 --stats b.json
 echo "gi-bake and vdb-to-gi at 0.5 MB: $(python3 -c 'import json; j = json.load(open("b.json")); print(j["spacing"], "m,", "fits" if j["vram_bytes"] <= 5e5 else "does not fit")')"
+# A keep box that no point of the 4 m and 2 m lattices falls in: those spacings are passed over.
+"$BIN/gi-bake" "$DATA/world.glb" -o kb.vdb --budget 1 --keep-box 0.2,0.2,0.2,0.8,1.8,0.8 --rays 8 |
+    grep -o '^probes .* spacing'
 "$BIN/gi-bake" -q "$DATA/world.glb" -o tiny.vdb --budget 0.01 --rays 8
 echo "exit $?, output $([ -e tiny.vdb ] && echo written || echo absent)"
 "$BIN/gi-bake" -q "$DATA/world.glb" -o x.vdb --budget 5 --spacing 1 2>&1 | head -n 1
