@@ -36,6 +36,7 @@ done
 "$BIN/vdb-to-gi" w.vdb -o got.gi.gz --budget 1000 | grep '^budget' >quoted.txt
 row() { awk -F, '$1 == 1 && $2 == "compact" && $3 == "L2" && $4 == 0.1 {
     printf "%.1f %.1f\n", 100 * $16, 100 * $14 }' "$ROOT/docs/data/$1"; }
+# shellcheck disable=SC2046 # each row is two words
 set -- $(row memory_world.csv) $(row memory_world200.csv)
 if grep -q "characters $1 % RMSE on the bundled world, $3 % on the 200 m world; surfaces $2 %, $4 %" \
     quoted.txt; then
@@ -83,6 +84,7 @@ echo "exit $?, output $([ -e tiny.vdb ] && echo written || echo absent)"
 lm() { python3 -c 'import json, sys; j = json.load(open(sys.argv[1])); print(j["texel"], j["vram_bytes"])' "$1"; }
 "$BIN/gi-lightmap" -q "$DATA/world.glb" -o lm.glb --budget 1 --rays 4 --passes 1 --stats lm.json
 "$BIN/gi-lightmap" -q "$DATA/world.glb" -o lm25.glb --texel 0.25 --rays 4 --passes 1 --stats lm25.json
+# shellcheck disable=SC2046 # each is two words
 set -- $(lm lm.json) $(lm lm25.json)
 echo "gi-lightmap at 1 MB: $1 m texels, $([ "$2" -le 1000000 ] && echo fits || echo "does not fit"); $3 m: $([ "$4" -gt 1000000 ] && echo "past it" || echo "FAIL: fits too")"
 # The quoted curves are lightmap_world.csv's and lightmap_interior.csv's rows: at 4 MB the

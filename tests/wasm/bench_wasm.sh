@@ -47,7 +47,7 @@ for f in world_sh2 world; do
 done
 for f in world_sh2 world; do
     echo "== $f.gi ($(stat -c %s $f.gi) bytes inflated)"
-    for i in 1 2 3 4 5; do
+    for _ in 1 2 3 4 5; do
         node "$HERE/bench.mjs" js $f.gi
         node "$HERE/bench.mjs" wasm $f.gi gi.wasm
     done
