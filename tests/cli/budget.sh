@@ -60,13 +60,14 @@ mb=$(awk -v b="$vs" 'BEGIN { printf "%.6f", b / 1e6 }')
 "$BIN/gi-bake" "$DATA/world.glb" -o b.vdb --budget 5 --rays 8 >bake.txt
 grep -o '^probes .* spacing' bake.txt
 # The preview's figures: the chosen spacing's within the budget, the next finer's past it,
-# and the chosen one's the VRAM an 8-ray bake at that spacing converts to.
+# and the chosen one's the VRAM an 8-ray bake at that spacing converts to, less 7 %.
 "$BIN/gi-bake" -q "$DATA/world.glb" -o p8.vdb --basis sh2 --spacing 1 --rays 8
 "$BIN/vdb-to-gi" -q p8.vdb -o p8.gi.gz --stats p8.json
-sed -n 's/^budget .*: \([0-9.]*\) m with the L2 terms, \([0-9.]*\) MB converted from an 8-ray preview (\([0-9.]*\) m: \([0-9.]*\) MB).*/\1 \2 \3 \4/p' \
+sed -n 's/^budget .*: \([0-9.]*\) m with the L2 terms, an estimated \([0-9.]*\) MB converted (an 8-ray preview.s, less 7 %) (\([0-9.]*\) m: \([0-9.]*\) MB).*/\1 \2 \3 \4/p' \
     bake.txt | awk -v real="$(vram p8.json)" '{
-    ok = $1 == 1 && $2 <= 5 && $4 > 5 && $3 == 0.5 && sprintf("%.1f", real / 1e6) == $2
-    printf "%s: %s m previewed at %s MB (an 8-ray bake converts to %.1f MB), %s m at %s MB\n",
+    d = $2 * 1.07 - real / 1e6
+    ok = $1 == 1 && $2 <= 5 && $4 > 5 && $3 == 0.5 && d < 0.06 && d > -0.06
+    printf "%s: %s m estimated at %s MB (an 8-ray bake converts to %.1f MB), %s m at %s MB\n",
         ok ? "ok" : "FAIL", $1, $2, real / 1e6, $3, $4 }'
 "$BIN/gi-bake" -q "$DATA/world.glb" -o b.vdb --budget 0.5 --rays 8
 "$BIN/vdb-to-gi" -q b.vdb -o b.gi.gz --budget 0.5 --stats b.json
