@@ -122,6 +122,16 @@ enum {
     OPT_BUDGET
 };
 
+/* The volume of desc, from the whole lattice or region by region (--region). */
+static vdbgi_result build(vdbgi_context *ctx, vdbgi_probes *probes, vdbgi_probe_file *file,
+                          int region, const vdbgi_convert_desc *desc, vdbgi_volume **vol)
+{
+    vdbgi_volume_destroy(*vol);
+    *vol = NULL;
+    return file ? vdbgi_volume_build_regions(ctx, file, region, desc, vol)
+                : vdbgi_volume_build(ctx, probes, desc, vol);
+}
+
 /*
  * The volume, built at the options; with --budget, built again at each step of
  * the ladder until one fits (*fits false, vol the last, when none does). The
@@ -133,48 +143,41 @@ enum {
 static vdbgi_result build_within(vdbgi_context *ctx, vdbgi_probes *probes, vdbgi_probe_file *file,
                                  options *o, vdbgi_volume **vol, bool *fits)
 {
-    const vdbgi_convert_desc asked = o->convert;
-    const float eps0 = asked.eps_is_set ? asked.eps : 0.1f;
-    const float ladder[3] = {eps0, fmaxf(eps0, 0.2f), fmaxf(eps0, 0.4f)};
-    const int rounds = asked.terms == VDBGI_TERMS_KEEP ? 2 : 1;
     *fits = true;
+    if (o->budget <= 0.0)
+        return build(ctx, probes, file, o->region, &o->convert, vol);
+    const float eps0 = o->convert.eps_is_set ? o->convert.eps : 0.1f;
+    const float ladder[3] = {eps0, fmaxf(eps0, 0.2f), fmaxf(eps0, 0.4f)};
+    bool terms = o->convert.terms == VDBGI_TERMS_KEEP; /* a round without them to come */
     o->budget_smallest = SIZE_MAX;
-    for (int round = 0; round < rounds; round++)
+    for (int round = 0; round < (terms ? 2 : 1); round++)
         for (int step = 0; step < 3; step++) {
             if (step > 0 && ladder[step] == ladder[step - 1])
                 continue;
-            vdbgi_convert_desc d = asked;
+            vdbgi_convert_desc d = o->convert;
             d.eps = ladder[step];
             d.eps_is_set = 1;
             if (round == 1) {
                 d.terms = VDBGI_TERMS_DROP;
                 d.gi_version = 0; /* 6 and 7 are versions with terms */
             }
-            vdbgi_volume_destroy(*vol);
-            *vol = NULL;
-            const vdbgi_convert_desc *const use = o->budget > 0.0 ? &d : &asked;
-            const vdbgi_result r = file ? vdbgi_volume_build_regions(ctx, file, o->region, use, vol)
-                                        : vdbgi_volume_build(ctx, probes, use, vol);
+            const vdbgi_result r = build(ctx, probes, file, o->region, &d, vol);
             if (r != VDBGI_OK)
                 return r;
-            if (o->budget <= 0.0)
-                return VDBGI_OK;
             vdbgi_volume_info vi;
             vdbgi_volume_get_info(*vol, &vi);
             const size_t vram = budget_vram(&vi);
+            const bool fitted = (double)vram <= o->budget, smallest = vram < o->budget_smallest;
             o->budget_tries++;
-            if (vram < o->budget_smallest) {
+            terms = terms && vi.basis == VDBGI_BASIS_SH2; /* probes without terms: none to drop */
+            if (smallest)
                 o->budget_smallest = vram;
+            if (fitted || smallest) {
                 o->budget_eps = d.eps;
                 o->budget_terms = vi.basis == VDBGI_BASIS_SH2;
             }
-            if ((double)vram <= o->budget) {
-                o->budget_eps = d.eps;
-                o->budget_terms = vi.basis == VDBGI_BASIS_SH2;
+            if (fitted)
                 return VDBGI_OK;
-            }
-            if (vi.basis != VDBGI_BASIS_SH2)
-                round = rounds; /* no terms to drop */
         }
     *fits = false;
     return VDBGI_OK;

@@ -1,5 +1,5 @@
-# --budget (issue 39, item 4): vdb-to-gi converts at eps 0.1, 0.2, 0.4, then without the
-# L2 terms, and keeps the first that fits; gi-bake keeps the finest spacing whose
+# --budget (issue 39, item 4): vdb-to-gi converts at eps 0.1, 0.2, 0.4, then the same
+# without the L2 terms, and keeps the first that fits; gi-bake keeps the finest spacing whose
 # estimate fits. A budget that fits changes no byte; each tighter one gives the bytes of
 # the ladder's step that fits, no more VRAM than asked; the figures it quotes are the
 # CSV files' rows; what cannot fit or makes no sense is refused with one line, no output.
@@ -9,18 +9,21 @@ vram() { python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["vram_
 for e in 0.1 0.2 0.4; do
     "$BIN/vdb-to-gi" -q w.vdb -o "l2-$e.gi.gz" --eps $e --stats "l2-$e.json"
 done
-"$BIN/vdb-to-gi" -q w.vdb -o scalar.gi.gz --basis scalar --stats scalar.json
-v1=$(vram l2-0.1.json) v2=$(vram l2-0.2.json) v4=$(vram l2-0.4.json) vs=$(vram scalar.json)
-echo "L2 at eps 0.1, 0.2, 0.4 and scalar: $v1 $v2 $v4 $vs bytes" >&2
+for e in 0.1 0.2 0.4; do
+    "$BIN/vdb-to-gi" -q w.vdb -o "scalar-$e.gi.gz" --eps $e --basis scalar --stats "scalar-$e.json"
+done
+v1=$(vram l2-0.1.json) v2=$(vram l2-0.2.json) v4=$(vram l2-0.4.json)
+vs=$(vram scalar-0.1.json) s2=$(vram scalar-0.2.json) s4=$(vram scalar-0.4.json)
+echo "L2 at eps 0.1, 0.2, 0.4: $v1 $v2 $v4 bytes; scalar: $vs $s2 $s4" >&2
 # The first step of the ladder that fits b bytes, as the file it must equal.
 expect() {
-    for f in l2-0.1:$v1 l2-0.2:$v2 l2-0.4:$v4 scalar:$vs; do
+    for f in l2-0.1:$v1 l2-0.2:$v2 l2-0.4:$v4 scalar-0.1:$vs scalar-0.2:$s2 scalar-0.4:$s4; do
         [ "${f#*:}" -le "$1" ] && { echo "${f%%:*}.gi.gz"; return; }
     done
     echo none
 }
 ok=1
-for b in $((v1 * 2)) $v1 $((v1 - 1)) $v2 $v4 $((v4 - 1)) $vs; do
+for b in $((v1 * 2)) $v1 $((v1 - 1)) $v2 $v4 $((v4 - 1)) $vs $((vs - 1)) $s2 $s4; do
     mb=$(awk -v b="$b" 'BEGIN { printf "%.6f", b / 1e6 }')
     want=$(expect "$(awk -v m="$mb" 'BEGIN { printf "%.0f", m * 1e6 }')")
     rm -f got.gi.gz
@@ -31,7 +34,7 @@ for b in $((v1 * 2)) $v1 $((v1 - 1)) $v2 $v4 $((v4 - 1)) $vs; do
         ok=0
     fi
 done
-[ $ok = 1 ] && echo "ok: each budget gives the first of eps 0.1, 0.2, 0.4 and scalar that fits, byte for byte"
+[ $ok = 1 ] && echo "ok: each budget gives the first of eps 0.1, 0.2, 0.4 with the terms, then without, that fits, byte for byte"
 # The curve quoted for 1 m, L2 at eps 0.1, is memory_world*.csv's.
 "$BIN/vdb-to-gi" w.vdb -o got.gi.gz --budget 1000 | grep '^budget' >quoted.txt
 row() { awk -F, '$1 == 1 && $2 == "compact" && $3 == "L2" && $4 == 0.1 {
@@ -45,7 +48,8 @@ else
     echo "FAIL: quoted $(cat quoted.txt), the CSV files say $*"
 fi
 # Nothing fits: one line, exit 1, nothing written.
-small=$(awk -v b="$vs" 'BEGIN { printf "%.6f", (b - 1) / 1e6 }')
+small=$(printf '%s\n' "$vs" "$s2" "$s4" | sort -n | head -n 1)
+small=$(awk -v b="$small" 'BEGIN { printf "%.6f", (b - 1) / 1e6 }')
 "$BIN/vdb-to-gi" -q w.vdb -o none.gi.gz --budget "$small" 2>err.txt
 echo "exit $?, $(wc -l <err.txt) line, output $([ -e none.gi.gz ] && echo written || echo absent)"
 sed 's/--budget [0-9.]* MB/--budget B MB/; s/takes [0-9.]* kB/takes N kB/' err.txt
@@ -55,7 +59,7 @@ done
 # --gi-version 7 asks for the terms' file; where only the scalar fits, the scalar is written.
 mb=$(awk -v b="$vs" 'BEGIN { printf "%.6f", b / 1e6 }')
 "$BIN/vdb-to-gi" -q w.vdb -o v7.gi.gz --gi-version 7 --budget "$mb" --stats v7.json &&
-    cmp -s v7.gi.gz scalar.gi.gz && echo "ok: --gi-version 7 at the scalar's budget writes the scalar"
+    cmp -s v7.gi.gz scalar-0.1.gi.gz && echo "ok: --gi-version 7 at the scalar's budget writes the scalar"
 # gi-bake: the finest spacing whose 8-ray preview fits, halving from 4 m.
 "$BIN/gi-bake" "$DATA/world.glb" -o b.vdb --budget 5 --rays 8 >bake.txt
 grep -o '^probes .* spacing' bake.txt
