@@ -334,9 +334,6 @@ static vdbgi_result choose_texel(vdbgi_context *ctx, const vdbgi_scene *scene, o
     static const float ladder[] = {4.0f,    3.0f,      2.0f,     1.5f,       1.0f,     0.75f,
                                    0.5f,    0.375f,    0.25f,    0.1875f,    0.125f,   0.09375f,
                                    0.0625f, 0.046875f, 0.03125f, 0.0234375f, 0.015625f};
-    /* The bake's ray limit, at the most passes it sweeps (until converged: three). */
-    const double rays = o->lm.bake.rays ? o->lm.bake.rays : 64;
-    const double passes = o->ao ? 1 : o->lm.passes ? o->lm.passes : 3;
     float best = 0.0f;
     double first = 0.0;
     for (size_t k = 0; k < sizeof(ladder) / sizeof(ladder[0]); k++) {
@@ -346,10 +343,10 @@ static vdbgi_result choose_texel(vdbgi_context *ctx, const vdbgi_scene *scene, o
         const vdbgi_result r = vdbgi_lightmap_plan(ctx, scene, &d, &st);
         if (r != VDBGI_OK && k == 0)
             return r; /* the context says why */
+        if (r != VDBGI_OK)
+            break; /* past the bake's atlas or ray limits: finer texels are too */
         if (k == 0)
             first = (double)st.texels * MAP_TEXEL_BYTES;
-        if (r != VDBGI_OK || (double)st.texels * rays * passes > VDBGI_LIGHTMAP_MAX_RAYS)
-            break; /* past the atlas or ray limits: finer texels are too */
         if (st.kept_uv1) {
             /* Its own UV set, one atlas: the largest edge that fits, if the set holds at it. */
             const int edge = (int)(sqrt(o->budget / MAP_TEXEL_BYTES) / 32.0) * 32;

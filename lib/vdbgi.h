@@ -1265,8 +1265,8 @@ VDBGI_API void vdbgi_lightmap_result_destroy(vdbgi_lightmap_result *result);
  * charts, atlases, atlas_size, texels (atlas texels, all pages),
  * utilisation and kept_uv1 of vdbgi_lightmap_bake_scene with the same desc
  * (the rest 0), in the time of the unwrap alone. For choosing a texel size
- * (gi-lightmap --budget). The limits on atlases and texels are the bake's:
- * past them, VDBGI_ERR_OUT_OF_MEMORY with the bake's message.
+ * (gi-lightmap --budget). The limits on atlases, texels and rays are the
+ * bake's: past them, VDBGI_ERR_OUT_OF_MEMORY with the bake's message.
  */
 VDBGI_API vdbgi_result vdbgi_lightmap_plan(vdbgi_context *ctx, const vdbgi_scene *scene,
                                            const vdbgi_lightmap_desc *desc,

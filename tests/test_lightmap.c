@@ -10,6 +10,7 @@
 #include "test_baked.h"
 
 #include <math.h>
+#include <string.h>
 
 static void bake(vdbgi_context *ctx, const vdbgi_mesh_desc *meshes, size_t mesh_count,
                  const vdbgi_bake_desc *bd, float texel, const vdbgi_lightmap_params *lp, baked *b)
@@ -274,6 +275,16 @@ static void a_plan_tells_the_bake_atlases(void)
         vdbgi_lightmap_result_destroy(res);
     }
     CHECK(several > 0);
+    /* Past the ray limit (texels x rays x passes), the plan refuses as the bake does. */
+    const vdbgi_lightmap_desc heavy = {
+        .texel = 0.02f, .passes = 16, .bake = {.rays = 1000000, .model = VDBGI_MODEL_SEED}};
+    vdbgi_lightmap_stats st;
+    vdbgi_lightmap_result *res = NULL;
+    CHECK_RESULT(ctx, vdbgi_lightmap_plan(ctx, scene, &heavy, &st), VDBGI_ERR_OUT_OF_MEMORY);
+    CHECK(strstr(vdbgi_context_error(ctx), "G rays") != NULL);
+    CHECK_RESULT(ctx, vdbgi_lightmap_bake_scene(ctx, scene, &heavy, &res, &st),
+                 VDBGI_ERR_OUT_OF_MEMORY);
+    vdbgi_lightmap_result_destroy(res);
     vdbgi_scene_destroy(scene);
     vdbgi_context_destroy(ctx);
 }

@@ -380,10 +380,24 @@ static vdbgi_result bake_maps(vdbgi_context *ctx, vdbgi_lightmap_result *r,
     return VDBGI_OK;
 }
 
+/* Rays a texel unless the desc says. */
+#define LIGHTMAP_RAYS 64
+
+/*
+ * The passes d asks for: by default the physical model bakes until converged
+ * (0); the seed model keeps seed 004's two passes, its fill standing in for
+ * the rest (more would count the fill again).
+ */
+static int asked_passes(const vdbgi_lightmap_desc *d)
+{
+    return d->passes ? d->passes : d->bake.model == VDBGI_MODEL_PHYSICAL ? 0 : 2;
+}
+
 /*
  * The unwrap d asks for: the scene's own second UV set where it is usable,
  * else a new one (saying why, when say); refused past the atlas limits,
- * before the texels' memory (about 60 bytes each: 1 GB) is spent.
+ * before the texels' memory (about 60 bytes each: 1 GB) is spent, and past
+ * the ray limit, counting the most passes a bake until converged sweeps (3).
  */
 static vdbgi_result unwrap_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
                                  const vdbgi_lightmap_desc *d, bool say, vdbgi_unwrap *un,
@@ -406,6 +420,14 @@ static vdbgi_result unwrap_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
                          "the charts take %zu atlases of %d texels (%.1f M texels; at most 64 "
                          "atlases and %.1f M texels): raise --texel or lower --size",
                          un->page_count, un->size, texels * 1e-6, VDBGI_LIGHTMAP_MAX_TEXELS * 1e-6);
+    const int rays = d->bake.rays ? d->bake.rays : LIGHTMAP_RAYS;
+    const int passes = d->ao_dist > 0.0f ? 1 : asked_passes(d) ? asked_passes(d) : 3;
+    const double work = texels * passes * rays;
+    if (res == VDBGI_OK && work > VDBGI_LIGHTMAP_MAX_RAYS)
+        res = vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY,
+                         "%.1f M texels x %d rays x %d passes is %.1f G rays (at most %.1f G, "
+                         "minutes at tens of M rays/s): raise --texel or lower --rays or --passes",
+                         texels * 1e-6, rays, passes, work * 1e-9, VDBGI_LIGHTMAP_MAX_RAYS * 1e-9);
     return res;
 }
 
@@ -419,7 +441,7 @@ static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
     const vdbgi_lightmap_desc *const d = desc ? desc : &none;
     const double t0 = vdbgi_now();
     vdbgi_bake_desc bd = d->bake;
-    bd.rays = bd.rays == 0 ? 64 : bd.rays;
+    bd.rays = bd.rays == 0 ? LIGHTMAP_RAYS : bd.rays;
     vdbgi_bake_params bp;
     VDBGI_TRY(vdbgi_bake_params_resolve(ctx, &bd, scene, &bp));
     VDBGI_FAIL_IF(ctx, bp.bounces > 1, VDBGI_ERR_INVALID_ARG,
@@ -432,13 +454,7 @@ static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
     const float converge = d->converge == 0.0f ? VDBGI_CONVERGE : d->converge;
     VDBGI_FAIL_IF(ctx, !(converge > 0.0f && converge < 1.0f), VDBGI_ERR_INVALID_ARG,
                   "the converged share must be in (0, 1) (got %g)", (double)d->converge);
-    /*
-     * By default the physical model bakes until converged; the seed model keeps seed 004's
-     * two passes, its fill standing in for the rest (more would count the fill again).
-     * Until converged, the limits count the most passes it sweeps (3).
-     */
-    const int asked = d->passes ? d->passes : bp.model == VDBGI_MODEL_PHYSICAL ? 0 : 2;
-    const int passes = asked ? asked : 3;
+    const int asked = asked_passes(d);
     VDBGI_FAIL_IF(ctx, d->layers && d->ao_dist > 0.0f, VDBGI_ERR_INVALID_ARG,
                   "layers are for lightmaps, not AO");
     vdbgi_lightmap_result *const r = vdbgi_calloc(ctx, 1, sizeof(*r));
@@ -449,14 +465,6 @@ static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
     r->ao = d->ao_dist > 0.0f;
     bool kept = false;
     vdbgi_result res = unwrap_scene(ctx, scene, d, true, &r->un, &kept);
-    const double texels = (double)r->un.size * r->un.size * (double)r->un.page_count;
-    const double work = texels * (d->ao_dist > 0.0f ? 1 : passes) * bp.rays;
-    if (res == VDBGI_OK && work > VDBGI_LIGHTMAP_MAX_RAYS)
-        res = vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY,
-                         "%.1f M texels x %d rays x %d passes is %.1f G rays (at most %.1f G, "
-                         "minutes at tens of M rays/s): raise --texel or lower --rays or --passes",
-                         texels * 1e-6, bp.rays, d->ao_dist > 0.0f ? 1 : passes, work * 1e-9,
-                         VDBGI_LIGHTMAP_MAX_RAYS * 1e-9);
     if (res == VDBGI_OK)
         res = vdbgi_texels_build(ctx, scene, &r->un, &r->tx);
     /* Dilate past the gutters on both sides of a chart edge, and over invalid texels. */
