@@ -200,8 +200,7 @@ int bench_lightmap(const bench_options *o, const char *argv0)
         code = CLI_OK;
         goto done;
     }
-    /* Error against memory: texel sizes, each in the smallest atlas that holds it. */
-    /* Under --model and --bounces, as the truth: a pass a bounce. */
+    /* Error against memory, under --model and --bounces as the truth is: a pass a bounce. */
     const vdbgi_bake_desc rd = bench_lit(
         (vdbgi_bake_desc){.rays = 2048, .sampling = VDBGI_SAMPLING_RANDOM, .seed = 5}, &o->light);
     const int passes = o->light.bounces > 1 ? o->light.bounces : 1;
