@@ -24,6 +24,8 @@ typedef struct bench_options {
 double bench_time_process(char *const argv[], double *peak_mb);
 /* A built volume's figures with its file's size: its file made (gzip happens on write). */
 void bench_info(const vdbgi_volume *v, vdbgi_volume_info *vi);
+/* --out, build/chart by default, made when missing; NULL (said on stderr) when it cannot be. */
+const char *bench_out_dir(const bench_options *o);
 /* dir/name opened for writing with its header line, or NULL (said on stderr). */
 FILE *bench_open_csv(const char *dir, const char *name, const char *header);
 /* RMSE and p99 of b against a over n RGB values, relative to a's mean. */
@@ -35,6 +37,13 @@ void bench_beside(const char *argv0, const char *tool, char *out, size_t cap);
 int bench_bake(const bench_options *o, const char *argv0);
 int bench_convert(const bench_options *o);
 int bench_sweep(const bench_options *o);
+int bench_rays(const bench_options *o);
+/*
+ * gi-bench rays' table on a loaded scene: probes at spacing, under light (NULL:
+ * the seed model), into dir/rays.csv; the exit code.
+ */
+int bench_rays_table(vdbgi_context *ctx, const vdbgi_scene *scene, double spacing,
+                     const bench_light *light, const char *dir);
 int bench_memory(const bench_options *o, bool one_spacing);
 int bench_lightmap(const bench_options *o, const char *argv0);
 

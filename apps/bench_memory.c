@@ -5,10 +5,8 @@
 #include "vdbgi.h"
 #include "vdbgi_bench.h"
 
-#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <zlib.h>
 
 /* Bytes of a dense RGBM grid over the probes' box, gzip'd as the .gi is (level 6). */
@@ -74,11 +72,9 @@ static void memory_row(FILE *f, double spacing, const char *layout, const char *
 
 int bench_memory(const bench_options *o, bool one_spacing)
 {
-    const char *const dir = o->out ? o->out : "build/chart";
-    if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
-        cli_error("%s: cannot make directory: %s", dir, strerror(errno));
+    const char *const dir = bench_out_dir(o);
+    if (!dir)
         return CLI_FAILED;
-    }
     vdbgi_context *const ctx = cli_context();
     if (!ctx)
         return CLI_FAILED;

@@ -5,10 +5,8 @@
 #include "vdbgi.h"
 #include "vdbgi_bench.h"
 
-#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 /* ---- sweep ------------------------------------------------------------------ */
 
@@ -18,68 +16,6 @@ typedef struct sweep {
     vdbgi_scene *scene;
     FILE *csv;
 } sweep;
-
-static int sweep_rays(sweep *w, const char *dir)
-{
-    vdbgi_context *const ctx = w->ctx;
-    const vdbgi_place_desc pd = {.spacing = 1.0};
-    vdbgi_probes *p = NULL;
-    vdbgi_result r = vdbgi_probes_place(ctx, w->scene, &pd, &p);
-    if (r != VDBGI_OK)
-        return cli_fail(ctx, r);
-    vdbgi_probes_info pi;
-    vdbgi_probes_get_info(p, &pi);
-    const size_t n = pi.probe_count;
-    float *const ref = calloc(n * 3, sizeof(float)), *const got = calloc(n * 3, sizeof(float));
-    const vdbgi_bake_desc rd = {.rays = 4096, .sampling = VDBGI_SAMPLING_RANDOM, .seed = 99};
-    r = vdbgi_probes_bake(p, w->scene, &rd, NULL);
-    /* Only probes that are valid in the reference count: the others are filled anyway. */
-    size_t m = 0;
-    unsigned char *const valid = calloc(n ? n : 1, 1);
-    for (size_t i = 0; r == VDBGI_OK && i < n; i++) {
-        float bf;
-        vdbgi_probes_get(p, i, NULL, &ref[3 * m], &bf);
-        valid[i] = bf <= pi.invalid_threshold;
-        m += valid[i];
-    }
-    FILE *const f =
-        bench_open_csv(dir, "rays.csv", "sampling,rays,noise_target,seconds,rmse_rel,p99_rel");
-    static const int rays[] = {16, 32, 64, 128, 256, 512, 1024};
-    static const float targets[] = {0.1f, 0.05f, 0.02f, 0.01f};
-    for (int sampling = 0; r == VDBGI_OK && f && sampling < 3; sampling++) {
-        const int runs = sampling < 2 ? (int)(sizeof(rays) / sizeof(rays[0])) : 4;
-        for (int k = 0; r == VDBGI_OK && k < runs; k++) {
-            vdbgi_bake_desc d = {.rays = sampling < 2 ? rays[k] : 0,
-                                 .adaptive = sampling == 2,
-                                 .sampling = sampling == 0 ? VDBGI_SAMPLING_FIBONACCI
-                                                           : VDBGI_SAMPLING_RANDOM,
-                                 .noise = sampling == 2 ? targets[k] : 0.0f};
-            vdbgi_bake_stats st;
-            if ((r = vdbgi_probes_bake(p, w->scene, &d, &st)) != VDBGI_OK)
-                break;
-            size_t j = 0;
-            for (size_t i = 0; i < n; i++)
-                if (valid[i])
-                    vdbgi_probes_get(p, i, NULL, &got[3 * j++], NULL);
-            double rmse, p99;
-            bench_compare(ref, got, m, &rmse, &p99);
-            fprintf(f, "%s,%.1f,%g,%.4f,%.6f,%.6f\n",
-                    sampling == 0   ? "fibonacci"
-                    : sampling == 1 ? "random"
-                                    : "adaptive",
-                    (double)st.primary_ray_count / (double)n,
-                    sampling == 2 ? (double)targets[k] : 0.0, st.seconds, rmse, p99);
-            fflush(f);
-        }
-    }
-    if (f)
-        fclose(f);
-    free(ref);
-    free(got);
-    free(valid);
-    vdbgi_probes_destroy(p);
-    return r == VDBGI_OK && f ? CLI_OK : (r != VDBGI_OK ? cli_fail(ctx, r) : CLI_FAILED);
-}
 
 static int sweep_size(sweep *w, const char *dir)
 {
@@ -191,18 +127,16 @@ static int sweep_spacing(sweep *w, const char *dir)
 
 int bench_sweep(const bench_options *o)
 {
-    const char *const dir = o->out ? o->out : "build/chart";
-    if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
-        cli_error("%s: cannot make directory: %s", dir, strerror(errno));
+    const char *const dir = bench_out_dir(o);
+    if (!dir)
         return CLI_FAILED;
-    }
     sweep w = {.o = o};
     if (!(w.ctx = cli_context()))
         return CLI_FAILED;
     vdbgi_result r = vdbgi_scene_load(w.ctx, o->scene, &w.scene);
     int code = r == VDBGI_OK ? CLI_OK : cli_fail(w.ctx, r);
     if (code == CLI_OK)
-        code = sweep_rays(&w, dir);
+        code = bench_rays_table(w.ctx, w.scene, 1.0, NULL, dir);
     if (code == CLI_OK)
         code = sweep_size(&w, dir);
     if (code == CLI_OK)

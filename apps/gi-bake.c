@@ -41,9 +41,10 @@ static void usage(void)
            "      --tile I/N           bake tile I of N only (slabs across x of about as many\n"
            "                           probes each); gi-merge joins the N files into the\n"
            "                           whole bake, probe for probe\n"
-           "      --rays N|auto        rays per probe, or auto: batches of 32 until the\n"
-           "                           standard error is below --noise (128)\n"
-           "      --noise T            auto's target, relative to the probe's value (0.02)\n"
+           "      --rays N|auto        rays per probe, or auto: 32, then more as their spread\n"
+           "                           asks, so that independent rays would give --noise\n"
+           "                           (128)\n"
+           "      --noise T            auto's target, relative to the mean light (0.02)\n"
            "      --max-rays N         auto's cap, a power of two (1024)\n"
            "      --ray-dist M         longest ray in metres (40)\n"
            "      --ambient A          seed model: ambient fill received at every hit (0.15)\n"
@@ -445,6 +446,25 @@ static vdbgi_result choose_spacing(vdbgi_context *ctx, const vdbgi_scene *scene,
     return VDBGI_ERR_INVALID_ARG;
 }
 
+/*
+ * What the bake's noise came to: the error its settings give points on the
+ * surfaces (vdbgi_bake_stats.noise), and for auto the rays a probe took.
+ */
+static void print_noise(const vdbgi_bake_stats *st, const vdbgi_bake_desc *bake)
+{
+    printf("noise    %.2f %% of the light, measured at 256 probes near the surfaces (each baked "
+           "twice%s)",
+           100.0 * st->noise,
+           bake->adaptive || bake->sampling == VDBGI_SAMPLING_RANDOM
+               ? ""
+               : ", the set under random rotations");
+    if (bake->adaptive && st->probe_count)
+        printf(": auto, %.0f rays a probe on average for a target of %g %%",
+               (double)st->primary_ray_count / (double)st->probe_count,
+               100.0 * (bake->noise != 0.0f ? bake->noise : 0.02));
+    printf("\n");
+}
+
 int main(int argc, char **argv)
 {
     cli_init("gi-bake");
@@ -558,6 +578,7 @@ int main(int argc, char **argv)
                (unsigned long long)st.primary_ray_count, (unsigned long long)st.shadow_ray_count,
                st.bounces_traced > 1 ? "shadow and bounce" : "shadow",
                st.seconds > 0.0 ? rays / st.seconds * 1e-6 : 0.0, st.threads);
+        print_noise(&st, &o.bake);
         printf("time     %.2f s: load %.2f, ", t4 - t0, t1 - t0);
         if (o.budget > 0.0)
             printf("size %.2f, ", t1b - t1);

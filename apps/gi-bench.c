@@ -7,6 +7,7 @@
 #include "vdbgi.h"
 #include "vdbgi_bench.h"
 
+#include <errno.h>
 #include <fcntl.h>
 #include <getopt.h>
 #include <math.h>
@@ -14,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <zlib.h>
 
@@ -24,6 +26,7 @@ static void usage(void)
     printf("Usage: gi-bench bake SCENE [options]\n"
            "       gi-bench convert PROBES.vdb [options]\n"
            "       gi-bench sweep SCENE [options]\n"
+           "       gi-bench rays SCENE [options]\n"
            "       gi-bench memory SCENE [options]\n"
            "       gi-bench lightmap SCENE [options]\n"
            "       gi-bench truth SCENE [options]\n"
@@ -44,13 +47,19 @@ static void usage(void)
            "layout; print bytes against the dense RGBA8 grid, the error, and the conversion\n"
            "time against the read, each the fastest of --repeat.\n"
            "\n"
-           "sweep: speed against accuracy on SCENE, as CSV files in --out: rays.csv (rays\n"
-           "16..1024 per sampling, and adaptive targets, against a 4096-ray random bake of\n"
-           "the same probes at 1 m), size.csv (bytes against error over eps, max level,\n"
+           "sweep: speed against accuracy on SCENE, as CSV files in --out: rays.csv (as\n"
+           "rays below, at 1 m), size.csv (bytes against error over eps, max level,\n"
            "criterion and encoding), spacing.csv (0.25..2 m: probes, time, bytes, and\n"
            "the error and bias at the surface receivers against the hemisphere truth (as\n"
            "truth below), under the default darkest fill, the mean fill and the compact\n"
            "layout).\n"
+           "\n"
+           "rays: error against time for each way of spending a probe's rays, on SCENE's\n"
+           "probes at --spacing (1 m): the fixed Fibonacci set (seed 000's bake at 128)\n"
+           "and a random rotation of it a probe at 16..1024 rays, and --rays auto at noise\n"
+           "targets 0.2..0.025, each against a 16384-ray random bake of the same probes,\n"
+           "under --model and --bounces; a Markdown table, and --out/rays.csv, with the\n"
+           "fixed count that gives each row's RMSE.\n"
            "\n"
            "memory: memory against the error a player sees on SCENE, as --out/memory.csv:\n"
            "at 0.25, 0.5 and 1 m (--spacing S limits it to one), a dense grid of every\n"
@@ -80,7 +89,7 @@ static void usage(void)
            "directly, and a one-pass lightmap at 0.25 m texels; at 0.5 and 0.25 m\n"
            "(--spacing S: that one only).\n"
            "Prints a Markdown table and writes --out/truth.csv.\n"
-           "For memory, lightmap and truth, --model physical and --bounces N hold every\n"
+           "For rays, memory, lightmap and truth, --model physical and --bounces N hold every\n"
            "method and the truth to that light (a lightmap takes a pass a bounce); the\n"
            "seed model, one bounce, by default.\n"
            "\n"
@@ -187,12 +196,13 @@ static int parse_args(int argc, char **argv, bench_options *o)
     }
     if (optind == argc ||
         (strcmp(argv[optind], "bake") != 0 && strcmp(argv[optind], "convert") != 0 &&
-         strcmp(argv[optind], "sweep") != 0 && strcmp(argv[optind], "memory") != 0 &&
-         strcmp(argv[optind], "lightmap") != 0 && strcmp(argv[optind], "truth") != 0 &&
-         strcmp(argv[optind], "lights") != 0))
-        return cli_usage_error("say which benchmark: gi-bench bake SCENE, convert PROBES.vdb, "
-                               "sweep SCENE, memory SCENE, lightmap SCENE, truth SCENE or "
-                               "lights SCENE");
+         strcmp(argv[optind], "sweep") != 0 && strcmp(argv[optind], "rays") != 0 &&
+         strcmp(argv[optind], "memory") != 0 && strcmp(argv[optind], "lightmap") != 0 &&
+         strcmp(argv[optind], "truth") != 0 && strcmp(argv[optind], "lights") != 0))
+        return cli_usage_error(
+            "say which benchmark: gi-bench bake SCENE, convert PROBES.vdb, "
+            "sweep SCENE, rays SCENE, memory SCENE, lightmap SCENE, truth SCENE or "
+            "lights SCENE");
     if (argc - optind != 2)
         return cli_usage_error("give one input: gi-bench %s FILE", argv[optind]);
     o->mode = argv[optind];
@@ -230,6 +240,16 @@ void bench_info(const vdbgi_volume *v, vdbgi_volume_info *vi)
     size_t size;
     (void)vdbgi_volume_write_memory(v, NULL, 0, &size);
     vdbgi_volume_get_info(v, vi);
+}
+
+const char *bench_out_dir(const bench_options *o)
+{
+    const char *const dir = o->out ? o->out : "build/chart";
+    if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
+        cli_error("%s: cannot make directory: %s", dir, strerror(errno));
+        return NULL;
+    }
+    return dir;
 }
 
 FILE *bench_open_csv(const char *dir, const char *name, const char *header)
@@ -292,6 +312,8 @@ int main(int argc, char **argv)
         return bench_convert(&o);
     if (strcmp(o.mode, "sweep") == 0)
         return bench_sweep(&o);
+    if (strcmp(o.mode, "rays") == 0)
+        return bench_rays(&o);
     if (strcmp(o.mode, "memory") == 0)
         return bench_memory(&o, o.spacing_given);
     if (strcmp(o.mode, "lightmap") == 0)

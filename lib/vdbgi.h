@@ -483,11 +483,17 @@ typedef enum vdbgi_trace_method {
  * The irradiance estimator of seed 000. All-zero means the defaults:
  *   rays:        directions per probe, 1..1 000 000. 0 == 128. Must be 0
  *                when adaptive.
- *   adaptive:    0: every probe takes `rays` directions. 1: a Fibonacci set
- *                of max_rays directions under a random rotation, traced 32
- *                at a time in bit-reversed order (each prefix evenly spread)
- *                until the probe's standard error is at most
- *                noise x max(its value, 1e-3), or the set runs out.
+ *   adaptive:    0: every probe takes `rays` directions. 1: rays by each
+ *                probe's spread: a 32-ray Fibonacci set under the probe's
+ *                random rotation, then, as that set's spread s (the standard
+ *                deviation of its rays) asks, one more Fibonacci set under
+ *                another, of about k sqrt(s) rays less the 32 (whole 32s up
+ *                to 1024 in all, doublings past), the two blended by their
+ *                sizes^1.5. k comes from a pilot of 1024 points on the
+ *                surfaces (lifted as probes stand, on the lattice): the k at
+ *                which independent rays would give them an RMSE of noise x
+ *                their mean light (a Fibonacci set does better). The same
+ *                in any tile and on any thread count.
  *   noise:       the target of adaptive, relative, > 0. 0 == 0.02.
  *   max_rays:    the cap of adaptive, a power of two, 64..2^20. 0 == 1024.
  *   ray_dist:    longest ray, metres, > 0. 0 == 40.
@@ -598,6 +604,14 @@ typedef struct vdbgi_bake_stats {
        added, and the share the untraced ones carry. */
     int bounces, bounces_traced;
     double last_share, tail_share;
+    /*
+     * The error the bake's settings give 256 points spread over the
+     * surfaces by area, over their mean light: each estimated as a probe
+     * twice under rotations of its own, the RMS of the difference over
+     * sqrt 2 (a fixed Fibonacci set measured under random rotations, which
+     * it beats by ~15 %). 0 for an unshaded bake.
+     */
+    double noise;
 } vdbgi_bake_stats;
 
 /*

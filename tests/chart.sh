@@ -1,5 +1,7 @@
 #!/bin/sh
 # chart.sh: `make chart`. Sweep rays, eps and spacing on the bundled world (gi-bench sweep),
+# rays on the interior too (and with ALL=1 the bundled world under the physical model
+# and the 200 m world: gi-bench rays),
 # keep the CSV tables in docs/data/ and draw docs/img/chart_*.png with gnuplot; run the
 # long stability cases (tests/test_stability.c --full) into docs/data/stability.csv;
 # then memory against the error a player sees (gi-bench memory) on the bundled
@@ -13,10 +15,13 @@ BUILD=${BUILD:-build/release}
 OUT=build/chart
 mkdir -p "$OUT" docs/data docs/img
 "$BUILD/bin/gi-bench" sweep data/world.glb --out "$OUT"
-for g in rays size spacing; do
+for g in size spacing; do
     gnuplot -e "csv='$OUT'; out='docs/img'" "docs/charts/$g.gp"
     cp "$OUT/$g.csv" "docs/data/$g.csv"
 done
+cp "$OUT/rays.csv" docs/data/rays.csv
+gnuplot -e "csv='docs/data/rays.csv'; out='docs/img/chart_rays.png'; name='Bundled world, 1 m probes'" \
+    docs/charts/rays.gp
 if ! "$BUILD/tests/test_stability" --full >"$OUT/stability.log"; then
     grep -v '^# ' "$OUT/stability.log" >&2
     exit 1
@@ -39,6 +44,12 @@ cp "$OUT/memory.csv" docs/data/memory_interior.csv
 "$BUILD/bin/gi-bench" lightmap build/bench/interior.glb --model physical --bounces 3 --repeat 1 \
     --out "$OUT" >/dev/null
 cp "$OUT/lightmap.csv" docs/data/lightmap_interior.csv
+# Rays where they pay (docs/performance.md): the interior's probes at 0.5 m, three bounces.
+"$BUILD/bin/gi-bench" rays build/bench/interior.glb --model physical --bounces 3 --spacing 0.5 \
+    --out "$OUT" >/dev/null
+cp "$OUT/rays.csv" docs/data/rays_interior.csv
+gnuplot -e "csv='docs/data/rays_interior.csv'; out='docs/img/chart_rays_interior.png'; name='Interior, 0.5 m probes, physical, 3 bounces'" \
+    docs/charts/rays.gp
 # The scene's own light: error against rays and bounces on the interior (docs/lights.md).
 "$BUILD/bin/gi-bench" lights build/bench/interior.glb --repeat 1 --out "$OUT" >/dev/null
 cp "$OUT/lights.csv" docs/data/lights.csv
@@ -55,6 +66,14 @@ if [ "${ALL:-0}" = 1 ]; then
             >>"$OUT/memory_town.csv"
     done
     cp "$OUT/memory_town.csv" docs/data/memory_town.csv
+    "$BUILD/bin/gi-bench" rays data/world.glb --model physical --bounces 3 --out "$OUT" >/dev/null
+    cp "$OUT/rays.csv" docs/data/rays_world_physical.csv
+    gnuplot -e "csv='docs/data/rays_world_physical.csv'; out='docs/img/chart_rays_world_physical.png'; name='Bundled world, 1 m probes, physical, 3 bounces'" \
+        docs/charts/rays.gp
+    "$BUILD/bin/gi-bench" rays build/bench/world200.glb --spacing 2 --out "$OUT" >/dev/null
+    cp "$OUT/rays.csv" docs/data/rays_world200.csv
+    gnuplot -e "csv='docs/data/rays_world200.csv'; out='docs/img/chart_rays_world200.png'; name='Generated 200 m world, 2 m probes'" \
+        docs/charts/rays.gp
     for w in world200 town; do
         "$BUILD/bin/gi-bench" lightmap build/bench/$w.glb --repeat 1 --out "$OUT" >/dev/null
         cp "$OUT/lightmap.csv" docs/data/lightmap_$w.csv
@@ -68,4 +87,4 @@ for w in world:"Bundled 48 m world" world200:"Generated 200 m world" town:"Town,
     # The town's memory rows hold 0.25, 0.5 and 1 m in one file, as the others do.
     [ -f "$f" ] && [ -f "$l" ] && gnuplot -e "lm='$l'; mem='$f'; out='docs/img/chart_lightmap_${w%%:*}.png'; name='${w#*:}'" docs/charts/lightmap.gp
 done
-echo "chart: docs/img/chart_rays.png, chart_size.png, chart_spacing.png, chart_memory_*.png, chart_lightmap_*.png (tables in docs/data/, stability.csv among them)"
+echo "chart: docs/img/chart_rays*.png, chart_size.png, chart_spacing.png, chart_memory_*.png, chart_lightmap_*.png (tables in docs/data/, stability.csv among them)"

@@ -270,8 +270,11 @@ static bool same_probes(const vdbgi_probes *a, const vdbgi_probes *b)
     for (size_t i = 0; i < ia.probe_count; i++) {
         int32_t ca[3], cb[3];
         float ra[3], rb[3], ba, bb;
-        float sa[VDBGI_SH2_TERMS][3], sb[VDBGI_SH2_TERMS][3];
-        if (vdbgi_probes_get(a, i, ca, ra, &ba) != VDBGI_OK ||
+        float sa[VDBGI_SH2_TERMS][3], sb[VDBGI_SH2_TERMS][3], ea, eb;
+        uint32_t na, nb;
+        if (vdbgi_probes_get_noise(a, i, &ea, &na) != VDBGI_OK ||
+            vdbgi_probes_get_noise(b, i, &eb, &nb) != VDBGI_OK || ea != eb || na != nb ||
+            vdbgi_probes_get(a, i, ca, ra, &ba) != VDBGI_OK ||
             vdbgi_probes_get(b, i, cb, rb, &bb) != VDBGI_OK || memcmp(ca, cb, sizeof(ca)) ||
             memcmp(ra, rb, sizeof(ra)) || memcmp(&ba, &bb, sizeof(ba)) ||
             vdbgi_probes_get_sh2(a, i, sa) != VDBGI_OK ||
@@ -284,7 +287,8 @@ static bool same_probes(const vdbgi_probes *a, const vdbgi_probes *b)
 /*
  * A bake in 2, 3 and 5 tiles (each on its own thread count) merged with
  * OpenVDB's tree merge equals the whole bake probe for probe, bit for bit,
- * given in any order; and a set with a tile missing, given twice, from
+ * given in any order, with a fixed ray count and with rays by each probe's
+ * spread (auto, in 3 tiles); and a set with a tile missing, given twice, from
  * another bake or another tiling, or a file that is no tile, is refused.
  */
 static void tiles_merge_into_the_whole_bake(void)
@@ -350,6 +354,47 @@ static void tiles_merge_into_the_whole_bake(void)
         vdbgi_probes_destroy(merged);
         merged = NULL;
     }
+    /* Rays by each probe's spread: the pilot is the whole scene's, whatever the tile. */
+    vdbgi_bake_desc auto_d = bd;
+    auto_d.rays = 0;
+    auto_d.adaptive = 1;
+    auto_d.max_rays = 256;
+    auto_d.noise = 0.01f;
+    vdbgi_probes *auto_whole = NULL, *auto_merged = NULL;
+    CHECK_RESULT(ctx,
+                 vdbgi_probes_place(ctx, scene, &(vdbgi_place_desc){.spacing = 0.25}, &auto_whole),
+                 VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_bake(auto_whole, scene, &auto_d, NULL), VDBGI_OK);
+    const char *auto_paths[3];
+    char auto_names[3][64];
+    for (int t = 0; t < 3; t++) {
+        vdbgi_probes *tile = NULL;
+        const vdbgi_place_desc td = {.spacing = 0.25, .tile_index = t, .tile_count = 3};
+        auto_d.threads = 1 + t % 2;
+        snprintf(auto_names[t], sizeof(auto_names[t]), "%s", tmp_path(""));
+        snprintf(auto_names[t] + strlen(auto_names[t]),
+                 sizeof(auto_names[t]) - strlen(auto_names[t]), "auto3-%d.vdb", t);
+        CHECK_RESULT(ctx, vdbgi_probes_place(ctx, scene, &td, &tile), VDBGI_OK);
+        CHECK_RESULT(ctx, vdbgi_probes_bake(tile, scene, &auto_d, NULL), VDBGI_OK);
+        CHECK_RESULT(ctx, vdbgi_probes_write(tile, auto_names[t]), VDBGI_OK);
+        vdbgi_probes_destroy(tile);
+        auto_paths[t] = auto_names[t];
+    }
+    CHECK_RESULT(ctx, vdbgi_probes_merge(ctx, auto_paths, 3, tmp_path("auto.vdb")), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_read(ctx, tmp_path("auto.vdb"), &auto_merged), VDBGI_OK);
+    CHECK(auto_merged && same_probes(auto_whole, auto_merged));
+    uint32_t fewest = UINT32_MAX, most = 0;
+    vdbgi_probes_info ai;
+    vdbgi_probes_get_info(auto_whole, &ai);
+    for (size_t i = 0; i < ai.probe_count; i++) {
+        uint32_t n = 0;
+        vdbgi_probes_get_noise(auto_whole, i, NULL, &n);
+        fewest = n < fewest ? n : fewest;
+        most = n > most ? n : most;
+    }
+    CHECK(fewest == 32 && most > 64); /* the counts differ, so the test says something */
+    vdbgi_probes_destroy(auto_merged);
+    vdbgi_probes_destroy(auto_whole);
     /* The 5 tiles' set, damaged: one missing, one twice, one of the 3-tile set. */
     unlink(tmp_path("refused.vdb"));
     CHECK_RESULT(ctx, vdbgi_probes_merge(ctx, paths, 4, tmp_path("refused.vdb")), VDBGI_ERR_FORMAT);

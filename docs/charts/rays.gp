@@ -1,20 +1,22 @@
-# rays.gp: error against a 4096-ray reference, and bake time, against rays per probe.
+# rays.gp: error against a 16384-ray reference, and bake time, against rays per probe
+# (gi-bench rays). Variables: csv (the table), out (the PNG), name (the chart's title).
 set terminal pngcairo size 900,420 font "sans,10"
-set output out."/chart_rays.png"
+set output out
 set datafile separator ","
-set multiplot layout 1,2 title "Bundled world, 1 m probes: error and time against rays per probe"
+set multiplot layout 1,2 title name.": error and time against rays per probe"
 set logscale xy
 set grid
 set key top right
-set xlabel "rays per probe (mean, for adaptive)"
-set ylabel "RMSE against the 4096-ray bake (% of mean)"
-plot csv."/rays.csv" using 2:(strcol(1) eq "fibonacci" ? 100*$5 : 1/0) with linespoints title "fibonacci (fixed set)", \
-     csv."/rays.csv" using 2:(strcol(1) eq "random" ? 100*$5 : 1/0) with linespoints title "random rotation", \
-     csv."/rays.csv" using 2:(strcol(1) eq "adaptive" ? 100*$5 : 1/0) with linespoints title "auto (noise 0.1 .. 0.01)"
+set xlabel "rays per probe (mean, for auto)"
+set ylabel "RMSE against the 16384-ray bake (% of mean)"
+plot csv using 2:(strcol(1) eq "fibonacci" ? 100*$5 : 1/0) with linespoints title "fibonacci (fixed set)", \
+     csv using 2:(strcol(1) eq "random" ? 100*$5 : 1/0) with linespoints title "random rotation", \
+     csv using 2:(strcol(1) eq "adaptive" ? 100*$5 : 1/0) with linespoints title "auto (noise 0.2 .. 0.025)", \
+     csv using 2:(strcol(1) eq "oracle" ? 100*$5 : 1/0) with points pt 7 ps 1.5 title "best split of rays (oracle)"
 set ylabel "bake seconds (2 cores)"
 set xlabel "RMSE (% of mean)"
 set key top right
-plot csv."/rays.csv" using (strcol(1) eq "fibonacci" ? 100*$5 : 1/0):4 with linespoints title "fibonacci", \
-     csv."/rays.csv" using (strcol(1) eq "random" ? 100*$5 : 1/0):4 with linespoints title "random", \
-     csv."/rays.csv" using (strcol(1) eq "adaptive" ? 100*$5 : 1/0):4 with linespoints title "auto"
+plot csv using (strcol(1) eq "fibonacci" ? 100*$5 : 1/0):4 with linespoints title "fibonacci", \
+     csv using (strcol(1) eq "random" ? 100*$5 : 1/0):4 with linespoints title "random", \
+     csv using (strcol(1) eq "adaptive" ? 100*$5 : 1/0):4 with linespoints title "auto"
 unset multiplot

@@ -165,3 +165,200 @@ vdbgi_result vdbgi_bounces_converge(vdbgi_context *ctx, const vdbgi_scene *scene
     vdbgi_free(ctx, cdf);
     return r;
 }
+
+/* Points estimated as probes, each: its light per channel, the spread of its rays, and the
+   share of them that met back faces. */
+#define SPREAD_OUT 5
+typedef struct spread_job {
+    vdbgi_estimator est;
+    const float *pos;
+    size_t first, end;
+    int32_t salt; /* which of a point's streams */
+    double *out;  /* SPREAD_OUT a point: RGB, the rays' standard deviation, back faces */
+    uint64_t seed;
+} spread_job;
+
+static void *run_spread(void *arg)
+{
+    spread_job *const j = arg;
+    for (size_t i = j->first; i < j->end; i++) {
+        vdbgi_estimate e;
+        vdbgi_estimate_point(&j->est, &j->pos[3 * i],
+                             vdbgi_point_stream((int32_t)i, j->salt, 0, j->seed), &e);
+        double *const o = &j->out[SPREAD_OUT * i];
+        for (int k = 0; k < 3; k++)
+            o[k] = e.rgb[k];
+        o[3] = (double)e.stderr_ * sqrt((double)e.rays);
+        o[4] = e.backface;
+    }
+    return NULL;
+}
+
+/* The first n of pos estimated under bp (its own directions) with the points' salt streams. */
+static vdbgi_result spread(vdbgi_context *ctx, const vdbgi_scene *scene, const vdbgi_tracer *tracer,
+                           const vdbgi_bake_params *bp, const float *pos, size_t n, int32_t salt,
+                           double *out)
+{
+    int nth = bp->threads < 1 ? 1 : bp->threads > 64 ? 64 : bp->threads;
+    float *dirs = NULL;
+    int set = 0;
+    spread_job *const jobs = vdbgi_calloc(ctx, (size_t)nth, sizeof(*jobs));
+    vdbgi_result r =
+        jobs ? vdbgi_estimator_directions(ctx, bp, &dirs, &set) : VDBGI_ERR_OUT_OF_MEMORY;
+    for (int t = 0; t < nth && r == VDBGI_OK; t++) {
+        jobs[t] = (spread_job){
+            .est = {.scene = scene, .tracer = tracer, .bp = bp, .base_dirs = dirs, .shade = true},
+            .pos = pos,
+            .first = n * (size_t)t / (size_t)nth,
+            .end = n * (size_t)(t + 1) / (size_t)nth,
+            .salt = salt,
+            .out = out,
+            .seed = bp->seed};
+        r = vdbgi_estimator_init(ctx, &jobs[t].est, set);
+        if (r != VDBGI_OK)
+            nth = t;
+    }
+    if (r == VDBGI_OK)
+        vdbgi_run_threads(nth, run_spread, jobs, sizeof(*jobs));
+    for (int t = 0; jobs && t < nth; t++)
+        vdbgi_estimator_free(ctx, &jobs[t].est);
+    vdbgi_free(ctx, jobs);
+    vdbgi_free(ctx, dirs);
+    return r;
+}
+
+/*
+ * The error bp gives the first NOISE_POINTS of pos, over their mean light:
+ * each estimated twice under streams of its own, the RMS of the two's
+ * difference over sqrt 2 (one estimate's error), summed in point order.
+ * A bake with no random rotation of its own is measured under one.
+ */
+#define NOISE_POINTS 256
+
+static vdbgi_result measure_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                  const vdbgi_tracer *tracer, const vdbgi_bake_params *bp,
+                                  const float *pos, double *noise)
+{
+    vdbgi_bake_params b = *bp;
+    if (!b.adaptive)
+        b.sampling = VDBGI_SAMPLING_RANDOM;
+    double *const est = vdbgi_calloc(ctx, 2 * NOISE_POINTS, SPREAD_OUT * sizeof(double));
+    vdbgi_result r = est ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
+    if (r == VDBGI_OK)
+        r = spread(ctx, scene, tracer, &b, pos, NOISE_POINTS, -4, est);
+    const double *const again = est ? &est[SPREAD_OUT * NOISE_POINTS] : NULL;
+    if (r == VDBGI_OK)
+        r = spread(ctx, scene, tracer, &b, pos, NOISE_POINTS, -5, est + SPREAD_OUT * NOISE_POINTS);
+    double sq = 0.0, light = 0.0;
+    size_t valid = 0;
+    for (size_t i = 0; r == VDBGI_OK && i < NOISE_POINTS; i++) {
+        const double *const x = &est[SPREAD_OUT * i], *const y = &again[SPREAD_OUT * i];
+        if (!(x[4] <= bp->invalid_threshold && y[4] <= bp->invalid_threshold))
+            continue; /* filled, not baked, as the bake's invalid probes are */
+        for (size_t k = 0; k < 3; k++) {
+            sq += (x[k] - y[k]) * (x[k] - y[k]) / 2.0;
+            light += (x[k] + y[k]) / 2.0;
+        }
+        valid++;
+    }
+    *noise = light > 0.0 ? sqrt(sq / (3.0 * (double)valid)) / (light / (3.0 * (double)valid)) : 0.0;
+    vdbgi_free(ctx, est);
+    return r;
+}
+
+/*
+ * PILOT_RECEIVERS points spread over the scene's surfaces by area and lifted
+ * off them as probes stand (up to PILOT_LIFT, at most half way to what the
+ * normal meets), into pos; *placed false when the scene has no area. A point
+ * on the surface would see a plain half below it and little of the spread
+ * a probe sees.
+ */
+#define PILOT_LIFT 2.0f
+
+static vdbgi_result pilot_points(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                 const vdbgi_tracer *tracer, const double lattice[4], uint64_t seed,
+                                 float *pos, bool *placed)
+{
+    const size_t tris = scene->triangle_count, n = PILOT_RECEIVERS;
+    float *const normal = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+    double *const cdf = vdbgi_calloc(ctx, tris ? tris : 1, sizeof(double));
+    vdbgi_hit *const hits = vdbgi_calloc(ctx, n, sizeof(vdbgi_hit));
+    void *const scratch = vdbgi_alloc(ctx, vdbgi_tracer_scratch_size(n));
+    vdbgi_result r = normal && cdf && hits && scratch ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
+    double area = 0.0;
+    for (size_t t = 0; r == VDBGI_OK && t < tris; t++)
+        cdf[t] = area += vdbgi_scene_triangle_area(scene, t);
+    *placed = r == VDBGI_OK && area > 0.0;
+    if (*placed) {
+        place_receivers(scene, cdf, n, seed, pos, normal);
+        const vdbgi_ray_batch up = {pos, normal, 3, 3, 0.0f, 2.0f * PILOT_LIFT, n, NULL};
+        vdbgi_tracer_intersect(tracer, VDBGI_TRACE_SINGLE, &up, hits, scratch);
+        for (size_t i = 0; i < n; i++) {
+            uint64_t st = vdbgi_point_stream((int32_t)i, -6, 0, seed);
+            const float room = hits[i].t < INFINITY ? 0.5f * hits[i].t : PILOT_LIFT;
+            const float lift = (float)vdbgi_uniform01(&st) * fminf(room, PILOT_LIFT);
+            for (int k = 0; k < 3; k++) {
+                pos[3 * i + k] += lift * normal[3 * i + k];
+                if (lattice) /* the lattice point nearest: where a probe stands */
+                    pos[3 * i + k] =
+                        (float)(lattice[k] +
+                                lattice[3] * round((pos[3 * i + k] - lattice[k]) / lattice[3]));
+            }
+        }
+    }
+    vdbgi_free(ctx, scratch);
+    vdbgi_free(ctx, hits);
+    vdbgi_free(ctx, normal);
+    vdbgi_free(ctx, cdf);
+    return r;
+}
+
+vdbgi_result vdbgi_bake_pilot(vdbgi_context *ctx, const vdbgi_scene *scene,
+                              const vdbgi_tracer *tracer, const double lattice[4],
+                              vdbgi_bake_params *bp, double *noise)
+{
+    const size_t n = PILOT_RECEIVERS;
+    float *const pos = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+    double *const first = vdbgi_calloc(ctx, n, SPREAD_OUT * sizeof(double));
+    bool placed = false;
+    vdbgi_result r = pos && first
+                         ? pilot_points(ctx, scene, tracer, lattice, bp->seed, pos, &placed)
+                         : VDBGI_ERR_OUT_OF_MEMORY;
+    if (noise)
+        *noise = 0.0;
+    bp->adaptive_scale = 0.0;
+    if (r == VDBGI_OK && placed && bp->adaptive) {
+        vdbgi_bake_params pilot = *bp;
+        pilot.rays = VDBGI_ADAPTIVE_BATCH;
+        pilot.adaptive = false;
+        pilot.sampling = VDBGI_SAMPLING_RANDOM;
+        r = spread(ctx, scene, tracer, &pilot, pos, n, -3, first);
+    }
+    if (r == VDBGI_OK && placed && bp->adaptive) {
+        /*
+         * Independent rays would spend best in proportion to each point's
+         * spread sigma (Lagrange: the least summed variance sigma^2 / n for
+         * the rays); a 32-ray pilot's sigma says less than that about a
+         * Fibonacci set's error, and n ~ sqrt(sigma) measured better (docs/
+         * performance.md, "Rays where they pay"). The scale gives the
+         * pilot points noise times their mean light as independent rays
+         * would, sqrt(mean(sigma^1.5) / scale): a Fibonacci set does better,
+         * and what it does is measured after.
+         */
+        double light = 0.0, sigma = 0.0;
+        size_t valid = 0;
+        for (size_t i = 0; i < n; i++) {
+            const double *const o = &first[SPREAD_OUT * i];
+            if (o[4] <= bp->invalid_threshold)
+                light += (o[0] + o[1] + o[2]) / 3.0, sigma += pow(o[3], 1.5), valid++;
+        }
+        light /= (double)(valid ? valid : 1), sigma /= (double)(valid ? valid : 1);
+        const double t = (double)bp->noise * light;
+        bp->adaptive_scale = t > 0.0 ? sigma / (t * t) : 0.0;
+    }
+    if (r == VDBGI_OK && placed && noise)
+        r = measure_noise(ctx, scene, tracer, bp, pos, noise);
+    vdbgi_free(ctx, first);
+    vdbgi_free(ctx, pos);
+    return r;
+}

@@ -1,6 +1,6 @@
 /*
  * directions.c: the estimator's direction sets: seed 000's spherical
- * Fibonacci set (in bit-reversed order for adaptive batches), its cosine-
+ * Fibonacci set (a ladder of its sizes for adaptive bakes), its cosine-
  * weighted hemisphere, and the random rotation a probe's own stream gives
  * it, seeded from the probe alone.
  */
@@ -25,29 +25,6 @@ void vdbgi_fibonacci_directions(int n, float *dirs)
         dirs[3 * i + 0] = (float)(r * cos(phi));
         dirs[3 * i + 1] = (float)z;
         dirs[3 * i + 2] = (float)(r * sin(phi));
-    }
-}
-
-/*
- * Reorder a set of n (a power of two) directions so that entry k holds the
- * one at the bit-reversed index: the first 2^j entries are every (n/2^j)-th
- * direction of the set, so any prefix of whole batches covers the sphere
- * about as evenly as a set of its own size.
- */
-static void bit_reverse_order(float *dirs, int n)
-{
-    int bits = 0;
-    while ((1 << bits) < n)
-        bits++;
-    for (int k = 0; k < n; k++) {
-        int r = 0;
-        for (int b = 0; b < bits; b++)
-            r |= (k >> b & 1) << (bits - 1 - b);
-        if (r > k)
-            for (int c = 0; c < 3; c++) {
-                const float t = dirs[3 * k + c];
-                dirs[3 * k + c] = dirs[3 * r + c], dirs[3 * r + c] = t;
-            }
     }
 }
 
@@ -96,18 +73,42 @@ void vdbgi_hemisphere_directions(int n, float *dirs)
     }
 }
 
+/*
+ * The ladder of an adaptive point's second set: whole pilots up to
+ * VDBGI_ADAPTIVE_FINE rays in all, then doublings of the whole.
+ */
+static int ladder_next(int size)
+{
+    const int B = VDBGI_ADAPTIVE_BATCH;
+    return size + 2 * B <= VDBGI_ADAPTIVE_FINE ? size + B : 2 * (size + B) - B;
+}
+
+int vdbgi_adaptive_set(int n, int max_rays, int *offset)
+{
+    const int most = max_rays - VDBGI_ADAPTIVE_BATCH;
+    int size = VDBGI_ADAPTIVE_BATCH, at = 0;
+    while (size < n && size < most)
+        at += size, size = ladder_next(size);
+    *offset = at;
+    return size;
+}
+
 vdbgi_result vdbgi_estimator_directions(vdbgi_context *ctx, const vdbgi_bake_params *bp,
                                         float **dirs, int *count)
 {
-    /* All the rays of a point, or the adaptive cap in bit-reversed order. */
-    const int set = bp->adaptive ? bp->max_rays : bp->rays;
-    float *const d = vdbgi_calloc(ctx, (size_t)set, 3 * sizeof(float));
+    int total = bp->rays, largest = bp->rays;
+    if (bp->adaptive) /* every set of the ladder, one after the other (the first the pilot) */
+        largest = vdbgi_adaptive_set(bp->max_rays, bp->max_rays, &total), total += largest;
+    float *const d = vdbgi_calloc(ctx, (size_t)total, 3 * sizeof(float));
     if (!d)
         return VDBGI_ERR_OUT_OF_MEMORY;
-    vdbgi_fibonacci_directions(set, d);
     if (bp->adaptive)
-        bit_reverse_order(d, set);
+        for (int at = 0, size = VDBGI_ADAPTIVE_BATCH; at < total;
+             at += size, size = ladder_next(size))
+            vdbgi_fibonacci_directions(size, &d[3 * at]);
+    else
+        vdbgi_fibonacci_directions(total, d);
     *dirs = d;
-    *count = set;
+    *count = largest;
     return VDBGI_OK;
 }

@@ -362,6 +362,31 @@ static void report(const vdbgi_estimator *th, const probe_sums *sums, vdbgi_esti
                     (float)(vdbgi_sh2_weights[t] * sums->sh[t][k] / (double)sums->rays);
 }
 
+/*
+ * Two sets' sums as one: each set's means weighted as the inverse of its
+ * variance, which falls as n^-1.5 for a Fibonacci set over smooth light (an
+ * even split of rays would weigh the pilot's coarser set too much); then
+ * scaled back to sums over both sets' rays. The counts add.
+ */
+static void blend(probe_sums *a, const probe_sums *b)
+{
+    const double na = (double)a->rays, nb = (double)b->rays, n = na + nb;
+    const double wa = pow(na, 1.5), wb = pow(nb, 1.5);
+    const double sa = wa / (wa + wb) * n / na, sb = wb / (wa + wb) * n / nb;
+    for (int k = 0; k < 3; k++)
+        a->sum[k] = a->sum[k] * sa + b->sum[k] * sb;
+    for (int side = 0; side < 6; side++) {
+        a->cube_w[side] = a->cube_w[side] * sa + b->cube_w[side] * sb;
+        for (int k = 0; k < 3; k++)
+            a->cube[side][k] = a->cube[side][k] * sa + b->cube[side][k] * sb;
+    }
+    for (int t = 0; t < 8; t++)
+        for (int k = 0; k < 3; k++)
+            a->sh[t][k] = a->sh[t][k] * sa + b->sh[t][k] * sb;
+    a->sum_sq += b->sum_sq; /* the spread of the rays, as if alike */
+    a->rays += b->rays, a->hits += b->hits, a->back += b->back, a->shadow += b->shadow;
+}
+
 void vdbgi_estimate_point(vdbgi_estimator *th, const float pos[3], uint64_t stream,
                           vdbgi_estimate *out)
 {
@@ -371,22 +396,28 @@ void vdbgi_estimate_point(vdbgi_estimator *th, const float pos[3], uint64_t stre
     th->stream = stream;
     if (bp->adaptive) {
         /*
-         * One Fibonacci set of max_rays directions under a random rotation, traced in
-         * batches in bit-reversed order (every prefix is itself evenly spread), until
-         * the standard error falls below the target (relative to the probe's value,
-         * with a floor for dark probes) or the set is used up.
+         * A pilot set under the point's rotation, then, when its spread (the
+         * rays' standard deviation) asks for more, one more set of the ladder
+         * under a rotation of its own; the estimate is both sets' (blend).
          */
-        vdbgi_directions_rotate(stream, th->base_dirs, bp->max_rays, th->dir);
-        for (;;) {
-            trace_batch(th, pos, &th->dir[3 * sums.rays], VDBGI_ADAPTIVE_BATCH, &sums);
-            if (sums.rays + VDBGI_ADAPTIVE_BATCH > (size_t)bp->max_rays)
-                break;
-            if (sums.rays >= 2 * VDBGI_ADAPTIVE_BATCH) {
-                const double mean =
-                    (sums.sum[0] + sums.sum[1] + sums.sum[2]) / 3.0 / (double)sums.rays;
-                if (standard_error(&sums) <= bp->noise * fmax(mean, 1e-3))
-                    break;
-            }
+        const int B = VDBGI_ADAPTIVE_BATCH;
+        vdbgi_directions_rotate(stream, th->base_dirs, B, th->dir);
+        trace_batch(th, pos, th->dir, B, &sums);
+        const double want =
+            ceil(bp->adaptive_scale * sqrt(standard_error(&sums) * sqrt((double)B)));
+        if (want > B) {
+            int offset;
+            const int rest = vdbgi_adaptive_set((int)fmin(want, (double)bp->max_rays) - B,
+                                                bp->max_rays, &offset);
+            uint64_t turn = stream ^ 0x9E3779B97F4A7C15ull;
+            vdbgi_directions_rotate(vdbgi_splitmix64(&turn), &th->base_dirs[3 * offset], rest,
+                                    th->dir);
+            probe_sums more;
+            memset(&more, 0, sizeof(more));
+            more.rays = (size_t)B; /* the bounces' random numbers go on from the pilot's */
+            trace_batch(th, pos, th->dir, rest, &more);
+            more.rays -= (size_t)B;
+            blend(&sums, &more);
         }
     } else if (bp->sampling == VDBGI_SAMPLING_RANDOM) {
         vdbgi_directions_rotate(stream, th->base_dirs, bp->rays, th->dir);

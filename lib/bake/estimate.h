@@ -5,8 +5,13 @@
 #include "scene.h"
 #include "tracer.h"
 
-/* Rays per batch of an adaptive bake: one spherical Fibonacci set, rotated anew each batch. */
+/*
+ * An adaptive bake's pilot: a spherical Fibonacci set of this many rays at
+ * every point; the rest of its rays, one set of a ladder of sizes (whole
+ * pilots up to VDBGI_ADAPTIVE_FINE rays in all, doublings past it).
+ */
 #define VDBGI_ADAPTIVE_BATCH 32
+#define VDBGI_ADAPTIVE_FINE 1024
 
 #define VDBGI_EMISSION_NONE UINT32_MAX
 
@@ -39,9 +44,10 @@ typedef struct vdbgi_lamp {
 /* Resolved estimator settings (defaults applied, sun normalised). */
 typedef struct vdbgi_bake_params {
     int rays;
-    bool adaptive; /* rays in batches until the noise target or max_rays */
+    bool adaptive; /* rays a point by its pilot's spread (vdbgi_bake_pilot) */
     float noise;
     int max_rays;
+    double adaptive_scale; /* a point's rays: this times the square root of its pilot's spread */
     float ray_dist, ambient, falloff, invalid_threshold;
     float sun_dir[3], sun_color[3], sky[3];
     bool sun_on;
@@ -125,7 +131,32 @@ void vdbgi_hemisphere_turn(const float *base, int count, const float n[3], uint6
    set made random a probe at a time). */
 void vdbgi_directions_rotate(uint64_t stream, const float *base, int n, float *out);
 uint64_t vdbgi_point_stream(int32_t i, int32_t j, int32_t k, uint64_t seed);
-/* The direction set bp's points share, allocated through ctx: *count directions. */
+/*
+ * A pilot of points spread over scene's surfaces by area (as
+ * vdbgi_bounces_converge's), lifted off them and, given a lattice (origin
+ * xyz, spacing), moved to its nearest point, estimated as probes; those
+ * mostly seeing back faces left out. When bp is adaptive it
+ * sets bp->adaptive_scale: a point's rays, that times the square root of
+ * its pilot's spread, so that independent rays would give the points an
+ * RMSE of bp->noise times their mean light. *noise (when not NULL): the
+ * error bp then gives 256 of the points,
+ * each estimated twice (a fixed set under random rotations), over their
+ * mean light. The same for every tile and thread count.
+ */
+vdbgi_result vdbgi_bake_pilot(vdbgi_context *ctx, const vdbgi_scene *scene,
+                              const vdbgi_tracer *tracer, const double lattice[4],
+                              vdbgi_bake_params *bp, double *noise);
+/*
+ * The ladder's smallest set of at least n rays (max_rays less the pilot at
+ * most): its size, and in *offset where it starts among
+ * vdbgi_estimator_directions' sets.
+ */
+int vdbgi_adaptive_set(int n, int max_rays, int *offset);
+/*
+ * The directions bp's points share, allocated through ctx: the Fibonacci set
+ * of bp->rays, or an adaptive bake's ladder of sets; *count: the most a
+ * point traces at once (what vdbgi_estimator_init takes).
+ */
 vdbgi_result vdbgi_estimator_directions(vdbgi_context *ctx, const vdbgi_bake_params *bp,
                                         float **dirs, int *count);
 

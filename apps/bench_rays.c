@@ -1,0 +1,173 @@
+/* bench_rays.c: gi-bench rays: error against time for each way of spending a probe's rays. */
+#include "bench.h"
+#include "cli.h"
+#include "vdbgi.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The reference: random rotations, so its own error is noise and not a pattern it shares. */
+#define REFERENCE_RAYS 16384
+
+typedef struct rays_row {
+    const char *sampling;
+    double rays, noise, seconds, rmse, p99;
+} rays_row;
+
+/*
+ * The fixed Fibonacci count that gives rmse, read off the fixed rows in
+ * log-log (the error falls as a power of the count between two of them);
+ * 0 when rmse is outside their range.
+ */
+static double fixed_rays_for(const rays_row *rows, size_t n, double rmse)
+{
+    for (size_t i = 0; i + 1 < n; i++) {
+        const rays_row *const a = &rows[i], *const b = &rows[i + 1];
+        if (strcmp(a->sampling, "fibonacci") != 0 || strcmp(b->sampling, "fibonacci") != 0)
+            continue;
+        if (rmse <= a->rmse && rmse >= b->rmse && a->rmse > b->rmse) {
+            const double t = log(a->rmse / rmse) / log(a->rmse / b->rmse);
+            return exp(log(a->rays) + t * log(b->rays / a->rays));
+        }
+    }
+    return 0.0;
+}
+
+int bench_rays_table(vdbgi_context *ctx, const vdbgi_scene *scene, double spacing,
+                     const bench_light *light, const char *dir)
+{
+    const vdbgi_place_desc pd = {.spacing = spacing};
+    vdbgi_probes *p = NULL;
+    vdbgi_result r = vdbgi_probes_place(ctx, scene, &pd, &p);
+    if (r != VDBGI_OK)
+        return cli_fail(ctx, r);
+    vdbgi_probes_info pi;
+    vdbgi_probes_get_info(p, &pi);
+    const size_t n = pi.probe_count;
+    float *const ref = calloc(n * 3 + 1, sizeof(float)), *const got =
+                                                             calloc(n * 3 + 1, sizeof(float));
+    unsigned char *const valid = calloc(n + 1, 1);
+    double *const cost = calloc(n + 1, sizeof(double)); /* per probe: error^2 x rays */
+    static const int counts[] = {16, 32, 64, 128, 256, 512, 1024};
+    static const float targets[] = {0.2f, 0.14f, 0.1f, 0.07f, 0.05f, 0.035f, 0.025f};
+    enum {
+        FIXED = sizeof(counts) / sizeof(counts[0]),
+        TARGETS = sizeof(targets) / sizeof(targets[0])
+    };
+    rays_row rows[2 * FIXED + TARGETS + 1];
+    size_t rows_n = 0;
+    if (!ref || !got || !valid || !cost)
+        r = VDBGI_ERR_OUT_OF_MEMORY;
+    fprintf(stderr, "rays: %zu probes at %g m, the %d-ray reference\n", n, spacing, REFERENCE_RAYS);
+    const vdbgi_bake_desc rd = bench_lit(
+        (vdbgi_bake_desc){.rays = REFERENCE_RAYS, .sampling = VDBGI_SAMPLING_RANDOM, .seed = 99},
+        light);
+    if (r == VDBGI_OK)
+        r = vdbgi_probes_bake(p, scene, &rd, NULL);
+    /* Only probes valid in the reference count: the others are filled anyway. */
+    size_t m = 0;
+    for (size_t i = 0; r == VDBGI_OK && i < n; i++) {
+        float bf;
+        vdbgi_probes_get(p, i, NULL, &ref[3 * m], &bf);
+        valid[i] = bf <= pi.invalid_threshold;
+        m += valid[i];
+    }
+    /* Ways: the fixed set, its random rotation a probe, auto. */
+    for (int way = 0; r == VDBGI_OK && way < 3; way++) {
+        const int runs = way < 2 ? FIXED : TARGETS;
+        for (int k = 0; r == VDBGI_OK && k < runs; k++) {
+            const vdbgi_bake_desc d =
+                bench_lit((vdbgi_bake_desc){.rays = way < 2 ? counts[k] : 0,
+                                            .adaptive = way == 2,
+                                            .sampling = way == 0 ? VDBGI_SAMPLING_FIBONACCI
+                                                                 : VDBGI_SAMPLING_RANDOM,
+                                            .noise = way == 2 ? targets[k] : 0.0f},
+                          light);
+            vdbgi_bake_stats st;
+            if ((r = vdbgi_probes_bake(p, scene, &d, &st)) != VDBGI_OK)
+                break;
+            size_t j = 0;
+            for (size_t i = 0; i < n; i++)
+                if (valid[i])
+                    vdbgi_probes_get(p, i, NULL, &got[3 * j++], NULL);
+            /* A random rotation's error at 64..512 rays, times the rays: each probe's cost. */
+            if (way == 1 && counts[k] >= 64 && counts[k] <= 512)
+                for (size_t i = 0; i < m; i++)
+                    for (int c = 0; c < 3; c++) {
+                        const double e = (double)got[3 * i + c] - ref[3 * i + c];
+                        cost[i] += e * e * counts[k];
+                    }
+            rays_row *const row = &rows[rows_n++];
+            row->sampling = way == 0 ? "fibonacci" : way == 1 ? "random" : "adaptive";
+            row->rays = (double)st.primary_ray_count / (double)n;
+            row->noise = way == 2 ? (double)targets[k] : 0.0;
+            row->seconds = st.seconds;
+            bench_compare(ref, got, m, &row->rmse, &row->p99);
+            fprintf(stderr, "rays: %s %.1f rays: %.2f %% in %.2f s\n", row->sampling, row->rays,
+                    100.0 * row->rmse, row->seconds);
+        }
+    }
+    /*
+     * The most any choice of rays a probe could gain: probe i's error goes as
+     * cost_i / n_i, and for a given sum of rays the summed error is least at
+     * n_i ~ sqrt(cost_i) (Lagrange), where it is mean(sqrt(cost))^2 / mean(cost)
+     * of an even split's. The oracle's row: the rays that reach the random
+     * rotation's 128-ray RMSE so (its costs are measured, so noisy: the gain
+     * is if anything overstated).
+     */
+    if (r == VDBGI_OK && m > 0) {
+        double mean = 0.0, root = 0.0;
+        for (size_t i = 0; i < m; i++)
+            mean += cost[i], root += sqrt(cost[i]);
+        mean /= (double)m, root /= (double)m;
+        const rays_row *const random128 = &rows[FIXED + 3];
+        if (mean > 0.0)
+            rows[rows_n++] = (rays_row){
+                "oracle", 128.0 * root * root / mean, 0.0, 0.0, random128->rmse, random128->p99};
+    }
+    FILE *const f = r == VDBGI_OK
+                        ? bench_open_csv(dir, "rays.csv",
+                                         "sampling,rays,noise_target,seconds,rmse_rel,p99_rel,"
+                                         "probes_per_s,fixed_rays_same_rmse")
+                        : NULL;
+    if (f) {
+        printf("| sampling | noise target | rays a probe | seconds | probes/s | RMSE | "
+               "fixed Fibonacci rays for that RMSE |\n|---|---:|---:|---:|---:|---:|---:|\n");
+        for (size_t i = 0; i < rows_n; i++) {
+            const rays_row *const w = &rows[i];
+            const double same = fixed_rays_for(rows, rows_n, w->rmse);
+            fprintf(f, "%s,%.1f,%g,%.4f,%.6f,%.6f,%.0f,%.1f\n", w->sampling, w->rays, w->noise,
+                    w->seconds, w->rmse, w->p99, w->seconds > 0.0 ? (double)n / w->seconds : 0.0,
+                    same);
+            printf("| %s | %g | %.1f | %.2f | %.0f | %.2f %% | %.0f |\n", w->sampling, w->noise,
+                   w->rays, w->seconds, w->seconds > 0.0 ? (double)n / w->seconds : 0.0,
+                   100.0 * w->rmse, same);
+        }
+        fclose(f);
+    }
+    free(ref);
+    free(got);
+    free(valid);
+    free(cost);
+    vdbgi_probes_destroy(p);
+    return r == VDBGI_OK && f ? CLI_OK : (r != VDBGI_OK ? cli_fail(ctx, r) : CLI_FAILED);
+}
+
+int bench_rays(const bench_options *o)
+{
+    const char *const dir = bench_out_dir(o);
+    if (!dir)
+        return CLI_FAILED;
+    vdbgi_context *const ctx = cli_context();
+    if (!ctx)
+        return CLI_FAILED;
+    vdbgi_scene *scene = NULL;
+    vdbgi_result r = vdbgi_scene_load(ctx, o->scene, &scene);
+    int code = r == VDBGI_OK ? CLI_OK : cli_fail(ctx, r);
+    if (code == CLI_OK)
+        code = bench_rays_table(ctx, scene, o->spacing_given ? o->spacing : 1.0, &o->light, dir);
+    vdbgi_scene_destroy(scene);
+    vdbgi_context_destroy(ctx);
+    return code;
+}
