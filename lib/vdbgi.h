@@ -638,8 +638,10 @@ VDBGI_API vdbgi_result vdbgi_scene_bake_points(const vdbgi_scene *scene,
 /*
  * Write an OpenVDB file: a Vec3s grid "irradiance" (linear RGB), a float
  * grid "validity" (back-face fraction; above the stored invalid_threshold
- * means invalid), a float grid "stderr" (each probe's standard error), an
- * Int32 grid "rays" when the count was adaptive, six Vec3s grids with
+ * means invalid), a float grid "stderr" (each probe's standard error), a
+ * float grid "rays" (whole numbers) when the count was adaptive (earlier
+ * files held it as Int32, which pyopenvdb cannot open; still read), six
+ * Vec3s grids with
  * ambient cubes, all with a linear transform of voxel size = spacing and
  * translation = origin, and the bake settings, scene name, triangle count,
  * probe count and bake time as metadata of both grids. The file is written

@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <zlib.h>
 
 static vdbgi_probes *baked_probes(vdbgi_context *ctx, vdbgi_scene **scene_out)
 {
@@ -429,6 +430,48 @@ static void tiles_merge_into_the_whole_bake(void)
 }
 
 /*
+ * An adaptive bake's rays as earlier files held them, an Int32 grid
+ * (tests/files/README.md): still read, and written again as a float grid
+ * with the same counts.
+ */
+static void rays_of_older_files_are_read(void)
+{
+    vdbgi_context *ctx = test_context();
+    gzFile in = gzopen("tests/files/rays_int32.vdb.gz", "rb");
+    FILE *out = fopen(tmp_path("rays_int32.vdb"), "wb");
+    CHECK(in && out);
+    char buf[65536];
+    int got;
+    while (in && out && (got = gzread(in, buf, sizeof(buf))) > 0)
+        fwrite(buf, 1, (size_t)got, out);
+    if (in)
+        gzclose(in);
+    if (out)
+        fclose(out);
+    vdbgi_probes *old = NULL, *again = NULL;
+    CHECK_RESULT(ctx, vdbgi_probes_read(ctx, tmp_path("rays_int32.vdb"), &old), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_write(old, tmp_path("rays_float.vdb")), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_read(ctx, tmp_path("rays_float.vdb"), &again), VDBGI_OK);
+    vdbgi_probes_info info = {0};
+    if (old)
+        vdbgi_probes_get_info(old, &info);
+    size_t pilot = 0, sixty_four = 0, same = 0;
+    for (size_t i = 0; again && i < info.probe_count; i++) {
+        uint32_t a = 0, b = 0;
+        vdbgi_probes_get_noise(old, i, NULL, &a);
+        vdbgi_probes_get_noise(again, i, NULL, &b);
+        pilot += a == 32; /* the pilot alone, or with a second set of 32: the cap */
+        sixty_four += a == 64;
+        same += a == b;
+    }
+    CHECK(info.probe_count > 100 && pilot > 0 && sixty_four > 0 &&
+          pilot + sixty_four == info.probe_count && same == info.probe_count);
+    vdbgi_probes_destroy(old);
+    vdbgi_probes_destroy(again);
+    vdbgi_context_destroy(ctx);
+}
+
+/*
  * Read and convert a .vdb on a context limited to limit bytes (0: none) on one
  * thread; the result, the context's peak and (on success) the file's bytes.
  */
@@ -640,6 +683,7 @@ int main(void)
     RUN(ambient_cubes_round_trip_as_six_grids);
     RUN(sh2_terms_round_trip_as_eight_grids);
     RUN(tiles_merge_into_the_whole_bake);
+    RUN(rays_of_older_files_are_read);
     RUN(a_memory_limit_stops_a_conversion_at_its_figure);
     RUN(regions_convert_to_the_whole_conversions_bytes);
     test_tmpdir_remove();

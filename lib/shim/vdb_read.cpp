@@ -104,23 +104,33 @@ vdbgi_result check_lattice(vdbgi_context *ctx, const char *path, const openvdb::
     return VDBGI_OK;
 }
 
+/* A probe's rays as a file holds them: a float (now) or an Int32 (files before it). */
+uint32_t rays_count(float v)
+{
+    return v > 0.0f ? (v < 4.0e9f ? uint32_t(v) : UINT32_MAX) : 0u; // NaN: 0
+}
+
 /* The per-probe extras beside the irradiance: noise, rays, cube sides and L2 terms, at n probes. */
 void copy_extras(vdbgi_vdb_arrays *p, size_t n, const openvdb::FloatGrid::Ptr &se,
-                 const openvdb::Int32Grid::Ptr &rays, const openvdb::Vec3SGrid::Ptr *vec_grids,
-                 int vec_count)
+                 const openvdb::FloatGrid::Ptr &rays, const openvdb::Int32Grid::Ptr &old_rays,
+                 const openvdb::Vec3SGrid::Ptr *vec_grids, int vec_count)
 {
-    if (se || rays) {
+    if (se || rays || old_rays) {
         // Grids of another type under these names are not ours: left as absent.
         openvdb::FloatGrid::Ptr se_or_empty = se ? se : openvdb::FloatGrid::create();
-        openvdb::Int32Grid::Ptr rays_or_empty = rays ? rays : openvdb::Int32Grid::create();
+        openvdb::FloatGrid::Ptr rays_or_empty = rays ? rays : openvdb::FloatGrid::create();
+        openvdb::Int32Grid::Ptr old_or_empty = old_rays ? old_rays : openvdb::Int32Grid::create();
         const auto sa = se_or_empty->getConstAccessor();
         const auto ra = rays_or_empty->getConstAccessor();
+        const auto oa = old_or_empty->getConstAccessor();
         for (size_t i = 0; i < n; i++) {
             const openvdb::Coord c(p->ijk[3 * i], p->ijk[3 * i + 1], p->ijk[3 * i + 2]);
             if (se)
                 p->stderr_[i] = sa.getValue(c);
             if (rays)
-                p->rays[i] = uint32_t(std::max(0, ra.getValue(c)));
+                p->rays[i] = rays_count(ra.getValue(c));
+            else if (old_rays)
+                p->rays[i] = uint32_t(std::max(0, oa.getValue(c)));
         }
     }
     // Cube sides as they are; L2 terms as the probes hold them, ratios to L0 (probes.h).
@@ -222,8 +232,9 @@ vdbgi_result to_sink(vdbgi_context *ctx, const char *path, const GridLayout &lay
     const openvdb::Vec3d o = xf.indexToWorld(openvdb::Vec3d(0.0));
     const size_t count = size_t(irr->activeVoxelCount());
     const auto se = openvdb::gridPtrCast<openvdb::FloatGrid>(sebase);
-    const auto rays = openvdb::gridPtrCast<openvdb::Int32Grid>(raysbase);
-    if (p->make(p, count, se != nullptr, rays != nullptr, has_cube, !has_cube && has_sh) !=
+    const auto rays = openvdb::gridPtrCast<openvdb::FloatGrid>(raysbase);
+    const auto old_rays = openvdb::gridPtrCast<openvdb::Int32Grid>(raysbase);
+    if (p->make(p, count, se != nullptr, rays || old_rays, has_cube, !has_cube && has_sh) !=
         VDBGI_OK)
         return vdbgi_fail_about(ctx, VDBGI_ERR_OUT_OF_MEMORY, path);
     p->spacing = vs.x();
@@ -239,7 +250,7 @@ vdbgi_result to_sink(vdbgi_context *ctx, const char *path, const GridLayout &lay
         p->rgb[3 * n] = v.x(), p->rgb[3 * n + 1] = v.y(), p->rgb[3 * n + 2] = v.z();
         p->backface[n] = va ? va->getValue(c) : 0.0f;
     }
-    copy_extras(p, n, se, rays, vec_grids, vec_count);
+    copy_extras(p, n, se, rays, old_rays, vec_grids, vec_count);
     p->count = n;
     return VDBGI_OK;
 }

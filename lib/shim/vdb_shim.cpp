@@ -277,13 +277,14 @@ extern "C" vdbgi_result vdbgi_vdb_write(vdbgi_context *ctx, const char *path, co
     }
     out.write_grid(probe_grid<openvdb::FloatGrid>(p, "validity", *xf, meta, true,
                                                   [&](size_t n) { return p->backface[n]; }));
-    // Sampling noise per probe, and the rays an adaptive bake spent on it.
+    // Sampling noise per probe, and the rays an adaptive bake spent on it: a float grid
+    // (whole numbers up to 2^20, exact), which every reader opens; pyopenvdb reads no Int32.
     if (p->stderr_)
         out.write_grid(probe_grid<openvdb::FloatGrid>(p, "stderr", *xf, meta, false,
                                                       [&](size_t n) { return p->stderr_[n]; }));
     if (p->rays)
-        out.write_grid(probe_grid<openvdb::Int32Grid>(
-            p, "rays", *xf, meta, false, [&](size_t n) { return int32_t(p->rays[n]); }));
+        out.write_grid(probe_grid<openvdb::FloatGrid>(p, "rays", *xf, meta, false,
+                                                      [&](size_t n) { return float(p->rays[n]); }));
     // Ambient-cube sides or L2 terms: one Vec3s grid each, built as it is written. The
     // terms are held as ratios to L0 (vdbgi_term_encode); the file has the terms themselves.
     for (int e = 0; e < extra && out.good(); e++) {
