@@ -838,6 +838,65 @@ static void sh2_above_a_plane_reads_each_side(void)
  * by the colours' ratio). Terms held exactly would prove nothing: most must
  * differ.
  */
+/*
+ * Bounces trace their own directions: the directional sides of a probe whose
+ * rays turn with it (a random rotation, auto) must come out as the fixed set's
+ * do, under the physical model's bounces too. Their directions once went into
+ * the primaries' buffer, which the sides then read: 3x off with a sky.
+ */
+static void rotated_rays_keep_their_directions_through_bounces(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    test_mesh_plane(&m, 12.0f, 0.0f);
+    const float lo[3] = {-1, 0, -1}, hi[3] = {1, 2, 1};
+    test_mesh_box(&m, lo, hi, 0);
+    const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.6f, 0);
+    vdbgi_scene *s = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &s), VDBGI_OK);
+    const vdbgi_place_desc pd = {.spacing = 1.0, .margin = 1.5};
+    vdbgi_probes *p[3] = {NULL, NULL, NULL};
+    for (int way = 0; way < 3; way++) {
+        const vdbgi_bake_desc bd = {.rays = way < 2 ? 4096 : 0,
+                                    .adaptive = way == 2,
+                                    .max_rays = way == 2 ? 4096 : 0,
+                                    .noise = way == 2 ? 0.001f : 0.0f,
+                                    .sampling =
+                                        way ? VDBGI_SAMPLING_RANDOM : VDBGI_SAMPLING_FIBONACCI,
+                                    .basis = VDBGI_BASIS_AMBIENT_CUBE,
+                                    .model = VDBGI_MODEL_PHYSICAL,
+                                    .bounces = 2,
+                                    .sky = {0.4f, 0.5f, 0.7f}};
+        CHECK_RESULT(ctx, vdbgi_probes_place(ctx, s, &pd, &p[way]), VDBGI_OK);
+        CHECK_RESULT(ctx, vdbgi_probes_bake(p[way], s, &bd, NULL), VDBGI_OK);
+    }
+    vdbgi_probes_info info = {0};
+    if (p[0])
+        vdbgi_probes_get_info(p[0], &info);
+    double worst[3] = {0.0, 0.0, 0.0};
+    size_t compared = 0;
+    for (size_t i = 0; p[1] && p[2] && i < info.probe_count; i++) {
+        float bf, cube[3][6][3];
+        vdbgi_probes_get(p[0], i, NULL, NULL, &bf);
+        if (bf > info.invalid_threshold)
+            continue;
+        for (int way = 0; way < 3; way++)
+            vdbgi_probes_get_cube(p[way], i, cube[way]);
+        for (int side = 0; side < 6; side++)
+            for (int way = 1; way < 3; way++) {
+                const double a = cube[0][side][2], b = cube[way][side][2];
+                worst[way] = fmax(worst[way], fabs(b - a) / fmax(a, 1e-3));
+            }
+        compared++;
+    }
+    CHECK(compared > 100);
+    CHECK(worst[1] < 0.05 && worst[2] < 0.05);
+    for (int way = 0; way < 3; way++)
+        vdbgi_probes_destroy(p[way]);
+    vdbgi_scene_destroy(s);
+    vdbgi_context_destroy(ctx);
+}
+
 static void sh2_probes_hold_each_term_to_half_precision(void)
 {
     vdbgi_context *ctx = test_context();
@@ -1097,6 +1156,7 @@ int main(void)
     RUN(sh2_above_a_plane_reads_each_side);
     RUN(sh2_in_uniform_surroundings_is_flat_and_thread_independent);
     RUN(sh2_probes_hold_each_term_to_half_precision);
+    RUN(rotated_rays_keep_their_directions_through_bounces);
     RUN(adaptive_rays_stop_early_where_light_is_even);
     RUN(standard_error_tracks_the_actual_error);
     return CHECK_EXIT();

@@ -121,11 +121,9 @@ static vdbgi_result bake_run(bake_shared *sh, const vdbgi_scene *scene, bool sha
     vdbgi_bake_params run = *sh->bp;
     vdbgi_bounce_plan plan;
     vdbgi_result r = vdbgi_bounces_converge(ctx, scene, tracer, &run, &plan);
-    double noise = 0.0; /* and an adaptive bake's rays for its spread, and the noise */
     const double lattice[4] = {sh->origin[0], sh->origin[1], sh->origin[2], sh->spacing};
-    if (r == VDBGI_OK && shade)
-        r = vdbgi_bake_pilot(ctx, scene, tracer, sh->ijk ? lattice : NULL, &run,
-                             stats ? &noise : NULL);
+    if (r == VDBGI_OK && shade) /* and an adaptive bake's rays for its spread */
+        r = vdbgi_adaptive_scale(ctx, scene, tracer, sh->ijk ? lattice : NULL, &run);
     const vdbgi_bake_params *const bp = sh->bp = &run;
     float *base_dirs = NULL;
     int set = 0;
@@ -178,7 +176,9 @@ static vdbgi_result bake_run(bake_shared *sh, const vdbgi_scene *scene, bool sha
         stats->bounces_traced = plan.traced;
         stats->last_share = plan.last_share;
         stats->tail_share = plan.tail_share;
-        stats->noise = noise;
+        /* Measured after the timing: a report on the bake, not a part of it. */
+        if (shade)
+            r = vdbgi_bake_noise(ctx, scene, tracer, sh->ijk ? lattice : NULL, bp, &stats->noise);
     }
     sh->bp = NULL; /* run is gone with this call */
     for (int t = 0; ths && t < nth; t++)

@@ -313,10 +313,13 @@ static vdbgi_result pilot_points(vdbgi_context *ctx, const vdbgi_scene *scene,
     return r;
 }
 
-vdbgi_result vdbgi_bake_pilot(vdbgi_context *ctx, const vdbgi_scene *scene,
-                              const vdbgi_tracer *tracer, const double lattice[4],
-                              vdbgi_bake_params *bp, double *noise)
+vdbgi_result vdbgi_adaptive_scale(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                  const vdbgi_tracer *tracer, const double lattice[4],
+                                  vdbgi_bake_params *bp)
 {
+    bp->adaptive_scale = 0.0;
+    if (!bp->adaptive)
+        return VDBGI_OK;
     const size_t n = PILOT_RECEIVERS;
     float *const pos = vdbgi_calloc(ctx, n, 3 * sizeof(float));
     double *const first = vdbgi_calloc(ctx, n, SPREAD_OUT * sizeof(double));
@@ -324,17 +327,14 @@ vdbgi_result vdbgi_bake_pilot(vdbgi_context *ctx, const vdbgi_scene *scene,
     vdbgi_result r = pos && first
                          ? pilot_points(ctx, scene, tracer, lattice, bp->seed, pos, &placed)
                          : VDBGI_ERR_OUT_OF_MEMORY;
-    if (noise)
-        *noise = 0.0;
-    bp->adaptive_scale = 0.0;
-    if (r == VDBGI_OK && placed && bp->adaptive) {
+    if (r == VDBGI_OK && placed) {
         vdbgi_bake_params pilot = *bp;
         pilot.rays = VDBGI_ADAPTIVE_BATCH;
         pilot.adaptive = false;
         pilot.sampling = VDBGI_SAMPLING_RANDOM;
         r = spread(ctx, scene, tracer, &pilot, pos, n, -3, first);
     }
-    if (r == VDBGI_OK && placed && bp->adaptive) {
+    if (r == VDBGI_OK && placed) {
         /*
          * Independent rays would spend best in proportion to each point's
          * spread sigma (Lagrange: the least summed variance sigma^2 / n for
@@ -356,9 +356,22 @@ vdbgi_result vdbgi_bake_pilot(vdbgi_context *ctx, const vdbgi_scene *scene,
         const double t = (double)bp->noise * light;
         bp->adaptive_scale = t > 0.0 ? sigma / (t * t) : 0.0;
     }
-    if (r == VDBGI_OK && placed && noise)
-        r = measure_noise(ctx, scene, tracer, bp, pos, noise);
     vdbgi_free(ctx, first);
+    vdbgi_free(ctx, pos);
+    return r;
+}
+
+vdbgi_result vdbgi_bake_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
+                              const vdbgi_tracer *tracer, const double lattice[4],
+                              const vdbgi_bake_params *bp, double *noise)
+{
+    *noise = 0.0;
+    float *const pos = vdbgi_calloc(ctx, PILOT_RECEIVERS, 3 * sizeof(float));
+    bool placed = false;
+    vdbgi_result r = pos ? pilot_points(ctx, scene, tracer, lattice, bp->seed, pos, &placed)
+                         : VDBGI_ERR_OUT_OF_MEMORY;
+    if (r == VDBGI_OK && placed)
+        r = measure_noise(ctx, scene, tracer, bp, pos, noise);
     vdbgi_free(ctx, pos);
     return r;
 }

@@ -167,16 +167,16 @@ static size_t trace_bounces(vdbgi_estimator *th, size_t count, size_t first_ray)
                           ((uint64_t)b * 0xC2B2AE3D27D4EB4Full);
             vdbgi_splitmix64(&st);
             const double u1 = vdbgi_uniform01(&st), u2 = vdbgi_uniform01(&st);
-            cosine_direction(&th->pnorm[3 * i], u1, u2, &th->dir[3 * i]);
+            cosine_direction(&th->pnorm[3 * i], u1, u2, &th->bdir[3 * i]);
         }
-        const vdbgi_ray_batch rays = {th->porg, th->dir, 3, 3, 0.0f, bp->ray_dist, count, NULL};
+        const vdbgi_ray_batch rays = {th->porg, th->bdir, 3, 3, 0.0f, bp->ray_dist, count, NULL};
         vdbgi_tracer_intersect(th->tracer, bp->method, &rays, th->hits, th->scratch);
         traced += count;
         const bool goes_on = b <= bp->bounces;
         size_t live = 0;
         for (size_t i = 0; i < count; i++) {
             const vdbgi_hit *const h = &th->hits[i];
-            const float *const d = &th->dir[3 * i];
+            const float *const d = &th->bdir[3 * i];
             float *const L = &th->radiance[3 * th->pray[i]];
             const float *const w = &th->pweight[3 * i];
             if (!(h->t < INFINITY)) {
@@ -462,8 +462,9 @@ void vdbgi_estimate_hemisphere(vdbgi_estimator *th, const float pos[3], const fl
 
 vdbgi_result vdbgi_estimator_init(vdbgi_context *ctx, vdbgi_estimator *e, int set_count)
 {
-    const size_t n = (size_t)set_count; /* a whole set (adaptive: the cap) */
+    const size_t n = (size_t)set_count; /* the most rays a point traces at once */
     e->dir = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+    e->bdir = vdbgi_calloc(ctx, n, 3 * sizeof(float));
     e->sorg = vdbgi_calloc(ctx, n, 3 * sizeof(float));
     e->sun_weight = vdbgi_calloc(ctx, n, 3 * sizeof(float));
     e->shadow_ray = vdbgi_calloc(ctx, n, sizeof(uint32_t));
@@ -479,9 +480,9 @@ vdbgi_result vdbgi_estimator_init(vdbgi_context *ctx, vdbgi_estimator *e, int se
     e->pweight = vdbgi_calloc(ctx, n, 3 * sizeof(float));
     e->pray = vdbgi_calloc(ctx, n, sizeof(uint32_t));
     e->scratch = vdbgi_alloc(ctx, vdbgi_tracer_scratch_size(n));
-    if (!e->dir || !e->sorg || !e->sun_weight || !e->shadow_ray || !e->radiance || !e->hits ||
-        !e->occluded || !e->sdir || !e->sdist || !e->phit || !e->porg || !e->poff || !e->pnorm ||
-        !e->pweight || !e->pray || !e->scratch) {
+    if (!e->dir || !e->bdir || !e->sorg || !e->sun_weight || !e->shadow_ray || !e->radiance ||
+        !e->hits || !e->occluded || !e->sdir || !e->sdist || !e->phit || !e->porg || !e->poff ||
+        !e->pnorm || !e->pweight || !e->pray || !e->scratch) {
         vdbgi_estimator_free(ctx, e);
         return VDBGI_ERR_OUT_OF_MEMORY;
     }
@@ -491,6 +492,7 @@ vdbgi_result vdbgi_estimator_init(vdbgi_context *ctx, vdbgi_estimator *e, int se
 void vdbgi_estimator_free(vdbgi_context *ctx, vdbgi_estimator *e)
 {
     vdbgi_free(ctx, e->dir);
+    vdbgi_free(ctx, e->bdir);
     vdbgi_free(ctx, e->sorg);
     vdbgi_free(ctx, e->sun_weight);
     vdbgi_free(ctx, e->radiance);
@@ -508,7 +510,7 @@ void vdbgi_estimator_free(vdbgi_context *ctx, vdbgi_estimator *e)
     vdbgi_free(ctx, e->pray);
     e->sdir = e->sdist = e->phit = e->porg = e->poff = e->pnorm = e->pweight = NULL;
     e->pray = NULL;
-    e->dir = e->sorg = e->sun_weight = e->radiance = NULL;
+    e->dir = e->bdir = e->sorg = e->sun_weight = e->radiance = NULL;
     e->shadow_ray = NULL;
     e->hits = NULL;
     e->occluded = NULL;

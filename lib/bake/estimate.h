@@ -132,20 +132,25 @@ void vdbgi_hemisphere_turn(const float *base, int count, const float n[3], uint6
 void vdbgi_directions_rotate(uint64_t stream, const float *base, int n, float *out);
 uint64_t vdbgi_point_stream(int32_t i, int32_t j, int32_t k, uint64_t seed);
 /*
- * A pilot of points spread over scene's surfaces by area (as
+ * The pilot points: spread over scene's surfaces by area (as
  * vdbgi_bounces_converge's), lifted off them and, given a lattice (origin
  * xyz, spacing), moved to its nearest point, estimated as probes; those
- * mostly seeing back faces left out. When bp is adaptive it
- * sets bp->adaptive_scale: a point's rays, that times the square root of
- * its pilot's spread, so that independent rays would give the points an
- * RMSE of bp->noise times their mean light. *noise (when not NULL): the
- * error bp then gives 256 of the points,
- * each estimated twice (a fixed set under random rotations), over their
- * mean light. The same for every tile and thread count.
+ * mostly seeing back faces left out. The same for every tile and thread
+ * count.
+ *
+ * vdbgi_adaptive_scale, when bp is adaptive: sets bp->adaptive_scale, so
+ * that a point's rays, that times the square root of its pilot's spread,
+ * would give 1024 points an RMSE of bp->noise times their mean light with
+ * independent rays. vdbgi_bake_noise: the error bp gives 256 of them, each
+ * estimated twice (a fixed set under random rotations), over their mean
+ * light.
  */
-vdbgi_result vdbgi_bake_pilot(vdbgi_context *ctx, const vdbgi_scene *scene,
+vdbgi_result vdbgi_adaptive_scale(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                  const vdbgi_tracer *tracer, const double lattice[4],
+                                  vdbgi_bake_params *bp);
+vdbgi_result vdbgi_bake_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
                               const vdbgi_tracer *tracer, const double lattice[4],
-                              vdbgi_bake_params *bp, double *noise);
+                              const vdbgi_bake_params *bp, double *noise);
 /*
  * The ladder's smallest set of at least n rays (max_rays less the pilot at
  * most): its size, and in *offset where it starts among
@@ -181,6 +186,7 @@ typedef struct vdbgi_estimator {
     void (*hit_light)(const void *user, const vdbgi_hit *hit, bool back, float rgb[3]);
     const void *hit_user;
     float *dir, *sorg;
+    float *bdir; /* the bounces' directions, per path: dir holds the primaries' till the sums */
     float *sdir, *sdist;  /* per shadow ray: direction and length */
     float *sun_weight;    /* per shadow ray: what it adds when open, RGB */
     float *radiance;      /* per ray, RGB: what the ray brings back */
