@@ -107,9 +107,10 @@ static void *run_chunks(void *arg)
     }
 }
 
-/* Run sh over bp->threads threads (the caller's included) and sum the counters. */
+/* Run sh over bp->threads threads (the caller's included) and sum the counters; with noise,
+   stats->noise too (vdbgi_bake_noise). */
 static vdbgi_result bake_run(bake_shared *sh, const vdbgi_scene *scene, bool shade,
-                             vdbgi_bake_stats *stats)
+                             vdbgi_bake_stats *stats, bool noise)
 {
     vdbgi_context *const ctx = sh->ctx;
     /* Loading a scene builds no BVH: a bake builds its own, outside its timing. */
@@ -176,8 +177,8 @@ static vdbgi_result bake_run(bake_shared *sh, const vdbgi_scene *scene, bool sha
         stats->bounces_traced = plan.traced;
         stats->last_share = plan.last_share;
         stats->tail_share = plan.tail_share;
-        /* Measured after the timing: a report on the bake, not a part of it. */
-        if (shade)
+        /* Measured after the timing, when asked: a report on the bake, not a part of it. */
+        if (noise)
             r = vdbgi_bake_noise(ctx, scene, tracer, sh->ijk ? lattice : NULL, bp, &stats->noise);
     }
     sh->bp = NULL; /* run is gone with this call */
@@ -296,7 +297,7 @@ vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
                       .progress_user = desc ? desc->progress_user : NULL};
     memcpy(sh.origin, p->origin, sizeof(sh.origin));
     vdbgi_bake_stats st;
-    const vdbgi_result r = bake_run(&sh, scene, true, &st);
+    const vdbgi_result r = bake_run(&sh, scene, true, &st, stats != NULL);
     if (r != VDBGI_OK) {
         for (int a = 0; a < 4; a++)
             vdbgi_free(ctx, next[a]);
@@ -353,7 +354,7 @@ vdbgi_result vdbgi_probes_trace_bare(const vdbgi_probes *p, const vdbgi_scene *s
                       .progress = desc ? desc->progress : NULL,
                       .progress_user = desc ? desc->progress_user : NULL};
     memcpy(sh.origin, p->origin, sizeof(sh.origin));
-    return bake_run(&sh, scene, false, stats);
+    return bake_run(&sh, scene, false, stats, false);
 }
 
 /* Points baked as given: rgb (3 floats each), backface (1, may be NULL) and, when terms is
@@ -384,7 +385,7 @@ static vdbgi_result bake_points(const vdbgi_scene *scene, const vdbgi_bake_desc 
                       .sh = terms,
                       .progress = desc ? desc->progress : NULL,
                       .progress_user = desc ? desc->progress_user : NULL};
-    const vdbgi_result r = bake_run(&sh, scene, true, NULL);
+    const vdbgi_result r = bake_run(&sh, scene, true, NULL, false);
     if (bf != backface)
         vdbgi_free(ctx, bf);
     return r;

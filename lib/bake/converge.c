@@ -39,13 +39,24 @@ static void *run_pilot(void *arg)
     return NULL;
 }
 
-/* Receiver i of n: on the triangle where (i + 1/2) / n falls in the area's running sum, at a
-   point its stream picks, lifted off the front face as a texel's sample is. */
-static void place_receivers(const vdbgi_scene *scene, const double *cdf, size_t n, uint64_t seed,
-                            float *pos, float *normal)
+/*
+ * Receiver i of n: on the triangle where (i + 1/2) / n falls in the area's
+ * running sum, at a point its stream picks, lifted off the front face as a
+ * texel's sample is; *placed false (and none placed) when the scene has no
+ * area.
+ */
+static vdbgi_result place_receivers(vdbgi_context *ctx, const vdbgi_scene *scene, size_t n,
+                                    uint64_t seed, float *pos, float *normal, bool *placed)
 {
     const size_t tris = scene->triangle_count;
-    for (size_t i = 0; i < n; i++) {
+    double *const cdf = vdbgi_calloc(ctx, tris ? tris : 1, sizeof(double));
+    if (!cdf)
+        return VDBGI_ERR_OUT_OF_MEMORY;
+    double area = 0.0;
+    for (size_t t = 0; t < tris; t++)
+        cdf[t] = area += vdbgi_scene_triangle_area(scene, t);
+    *placed = area > 0.0;
+    for (size_t i = 0; *placed && i < n; i++) {
         const double want = ((double)i + 0.5) / (double)n * cdf[tris - 1];
         size_t lo = 0, hi = tris - 1;
         while (lo < hi) {
@@ -65,6 +76,8 @@ static void place_receivers(const vdbgi_scene *scene, const double *cdf, size_t 
             pos[3 * i + k] += off * nt[k];
         }
     }
+    vdbgi_free(ctx, cdf);
+    return VDBGI_OK;
 }
 
 /*
@@ -105,27 +118,24 @@ vdbgi_result vdbgi_bounces_converge(vdbgi_context *ctx, const vdbgi_scene *scene
         plan->bounces = plan->traced = bp->bounces;
         return VDBGI_OK;
     }
-    const size_t tris = scene->triangle_count, n = PILOT_RECEIVERS;
+    const size_t n = PILOT_RECEIVERS;
     int nth = bp->threads < 1 ? 1 : bp->threads > 64 ? 64 : bp->threads;
     vdbgi_bake_params pilot = *bp;
     pilot.bounces = VDBGI_MAX_BOUNCES;
     pilot.rays = PILOT_RAYS;
     pilot.adaptive = false;
     pilot.tail[0] = pilot.tail[1] = pilot.tail[2] = 0.0f;
-    double *const cdf = vdbgi_calloc(ctx, tris ? tris : 1, sizeof(double));
     float *const pos = vdbgi_calloc(ctx, n, 3 * sizeof(float));
     float *const normal = vdbgi_calloc(ctx, n, 3 * sizeof(float));
     double *const light = vdbgi_calloc(ctx, n, 3 * DEPTHS * sizeof(double));
     float *const dirs = vdbgi_calloc(ctx, PILOT_RAYS, 3 * sizeof(float));
     pilot_job *const jobs = vdbgi_calloc(ctx, (size_t)nth, sizeof(*jobs));
-    vdbgi_result r =
-        cdf && pos && normal && light && dirs && jobs ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
-    double area = 0.0;
-    for (size_t t = 0; r == VDBGI_OK && t < tris; t++)
-        cdf[t] = area += vdbgi_scene_triangle_area(scene, t);
-    if (r == VDBGI_OK && area > 0.0) {
+    vdbgi_result r = pos && normal && light && dirs && jobs ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
+    bool placed = false;
+    if (r == VDBGI_OK)
+        r = place_receivers(ctx, scene, n, bp->seed, pos, normal, &placed);
+    if (r == VDBGI_OK && placed) {
         vdbgi_hemisphere_directions(PILOT_RAYS, dirs);
-        place_receivers(scene, cdf, n, bp->seed, pos, normal);
         for (int t = 0; t < nth && r == VDBGI_OK; t++) {
             jobs[t] = (pilot_job){.est = {.scene = scene,
                                           .tracer = tracer,
@@ -162,7 +172,6 @@ vdbgi_result vdbgi_bounces_converge(vdbgi_context *ctx, const vdbgi_scene *scene
     vdbgi_free(ctx, light);
     vdbgi_free(ctx, normal);
     vdbgi_free(ctx, pos);
-    vdbgi_free(ctx, cdf);
     return r;
 }
 
@@ -228,7 +237,7 @@ static vdbgi_result spread(vdbgi_context *ctx, const vdbgi_scene *scene, const v
 }
 
 /*
- * The error bp gives the first NOISE_POINTS of pos, over their mean light:
+ * The error bp gives the NOISE_POINTS points pos holds, over their mean light:
  * each estimated twice under streams of its own, the RMS of the two's
  * difference over sqrt 2 (one estimate's error), summed in point order.
  * A bake with no random rotation of its own is measured under one.
@@ -246,9 +255,9 @@ static vdbgi_result measure_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
     vdbgi_result r = est ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
     if (r == VDBGI_OK)
         r = spread(ctx, scene, tracer, &b, pos, NOISE_POINTS, -4, est);
-    const double *const again = est ? &est[SPREAD_OUT * NOISE_POINTS] : NULL;
+    double *const again = est ? &est[SPREAD_OUT * NOISE_POINTS] : NULL;
     if (r == VDBGI_OK)
-        r = spread(ctx, scene, tracer, &b, pos, NOISE_POINTS, -5, est + SPREAD_OUT * NOISE_POINTS);
+        r = spread(ctx, scene, tracer, &b, pos, NOISE_POINTS, -5, again);
     double sq = 0.0, light = 0.0;
     size_t valid = 0;
     for (size_t i = 0; r == VDBGI_OK && i < NOISE_POINTS; i++) {
@@ -267,30 +276,26 @@ static vdbgi_result measure_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
 }
 
 /*
- * PILOT_RECEIVERS points spread over the scene's surfaces by area and lifted
- * off them as probes stand (up to PILOT_LIFT, at most half way to what the
- * normal meets), into pos; *placed false when the scene has no area. A point
- * on the surface would see a plain half below it and little of the spread
- * a probe sees.
+ * n points spread over the scene's surfaces by area (place_receivers) and
+ * lifted off them as probes stand (up to PILOT_LIFT, at most half way to
+ * what the normal meets), into pos; *placed false when the scene has no
+ * area. A point on the surface would see a plain half below it and little
+ * of the spread a probe sees.
  */
 #define PILOT_LIFT 2.0f
 
 static vdbgi_result pilot_points(vdbgi_context *ctx, const vdbgi_scene *scene,
                                  const vdbgi_tracer *tracer, const double lattice[4], uint64_t seed,
-                                 float *pos, bool *placed)
+                                 size_t n, float *pos, bool *placed)
 {
-    const size_t tris = scene->triangle_count, n = PILOT_RECEIVERS;
     float *const normal = vdbgi_calloc(ctx, n, 3 * sizeof(float));
-    double *const cdf = vdbgi_calloc(ctx, tris ? tris : 1, sizeof(double));
     vdbgi_hit *const hits = vdbgi_calloc(ctx, n, sizeof(vdbgi_hit));
     void *const scratch = vdbgi_alloc(ctx, vdbgi_tracer_scratch_size(n));
-    vdbgi_result r = normal && cdf && hits && scratch ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
-    double area = 0.0;
-    for (size_t t = 0; r == VDBGI_OK && t < tris; t++)
-        cdf[t] = area += vdbgi_scene_triangle_area(scene, t);
-    *placed = r == VDBGI_OK && area > 0.0;
-    if (*placed) {
-        place_receivers(scene, cdf, n, seed, pos, normal);
+    vdbgi_result r = normal && hits && scratch ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
+    *placed = false;
+    if (r == VDBGI_OK)
+        r = place_receivers(ctx, scene, n, seed, pos, normal, placed);
+    if (r == VDBGI_OK && *placed) {
         const vdbgi_ray_batch up = {pos, normal, 3, 3, 0.0f, 2.0f * PILOT_LIFT, n, NULL};
         vdbgi_tracer_intersect(tracer, VDBGI_TRACE_SINGLE, &up, hits, scratch);
         for (size_t i = 0; i < n; i++) {
@@ -309,7 +314,6 @@ static vdbgi_result pilot_points(vdbgi_context *ctx, const vdbgi_scene *scene,
     vdbgi_free(ctx, scratch);
     vdbgi_free(ctx, hits);
     vdbgi_free(ctx, normal);
-    vdbgi_free(ctx, cdf);
     return r;
 }
 
@@ -325,7 +329,7 @@ vdbgi_result vdbgi_adaptive_scale(vdbgi_context *ctx, const vdbgi_scene *scene,
     double *const first = vdbgi_calloc(ctx, n, SPREAD_OUT * sizeof(double));
     bool placed = false;
     vdbgi_result r = pos && first
-                         ? pilot_points(ctx, scene, tracer, lattice, bp->seed, pos, &placed)
+                         ? pilot_points(ctx, scene, tracer, lattice, bp->seed, n, pos, &placed)
                          : VDBGI_ERR_OUT_OF_MEMORY;
     if (r == VDBGI_OK && placed) {
         vdbgi_bake_params pilot = *bp;
@@ -366,10 +370,11 @@ vdbgi_result vdbgi_bake_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
                               const vdbgi_bake_params *bp, double *noise)
 {
     *noise = 0.0;
-    float *const pos = vdbgi_calloc(ctx, PILOT_RECEIVERS, 3 * sizeof(float));
+    float *const pos = vdbgi_calloc(ctx, NOISE_POINTS, 3 * sizeof(float));
     bool placed = false;
-    vdbgi_result r = pos ? pilot_points(ctx, scene, tracer, lattice, bp->seed, pos, &placed)
-                         : VDBGI_ERR_OUT_OF_MEMORY;
+    vdbgi_result r =
+        pos ? pilot_points(ctx, scene, tracer, lattice, bp->seed, NOISE_POINTS, pos, &placed)
+            : VDBGI_ERR_OUT_OF_MEMORY;
     if (r == VDBGI_OK && placed)
         r = measure_noise(ctx, scene, tracer, bp, pos, noise);
     vdbgi_free(ctx, pos);

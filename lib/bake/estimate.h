@@ -44,7 +44,7 @@ typedef struct vdbgi_lamp {
 /* Resolved estimator settings (defaults applied, sun normalised). */
 typedef struct vdbgi_bake_params {
     int rays;
-    bool adaptive; /* rays a point by its pilot's spread (vdbgi_bake_pilot) */
+    bool adaptive; /* rays a point by its pilot's spread (vdbgi_adaptive_scale) */
     float noise;
     int max_rays;
     double adaptive_scale; /* a point's rays: this times the square root of its pilot's spread */
@@ -141,9 +141,9 @@ uint64_t vdbgi_point_stream(int32_t i, int32_t j, int32_t k, uint64_t seed);
  * vdbgi_adaptive_scale, when bp is adaptive: sets bp->adaptive_scale, so
  * that a point's rays, that times the square root of its pilot's spread,
  * would give 1024 points an RMSE of bp->noise times their mean light with
- * independent rays. vdbgi_bake_noise: the error bp gives 256 of them, each
- * estimated twice (a fixed set under random rotations), over their mean
- * light.
+ * independent rays. vdbgi_bake_noise: the error bp gives 256 of them (spread
+ * over the whole scene as the 1024 are), each estimated twice (a fixed set
+ * under random rotations), over their mean light.
  */
 vdbgi_result vdbgi_adaptive_scale(vdbgi_context *ctx, const vdbgi_scene *scene,
                                   const vdbgi_tracer *tracer, const double lattice[4],
