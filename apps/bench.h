@@ -44,6 +44,8 @@ int bench_rays(const bench_options *o);
  */
 int bench_rays_table(vdbgi_context *ctx, const vdbgi_scene *scene, double spacing,
                      const bench_light *light, const char *dir);
+/* gi-bench texel-rays: the same for a lightmap's texels (--spacing: the texel, 0.5 m). */
+int bench_texel_rays(const bench_options *o);
 int bench_memory(const bench_options *o, bool one_spacing);
 int bench_lightmap(const bench_options *o, const char *argv0);
 

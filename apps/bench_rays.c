@@ -2,6 +2,7 @@
 #include "bench.h"
 #include "cli.h"
 #include "vdbgi.h"
+#include "vdbgi_bench.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -13,6 +14,7 @@
 typedef struct rays_row {
     const char *sampling;
     double rays, noise, seconds, rmse, p99;
+    double printed; /* the noise the bake measured and printed (vdbgi_bake_stats.noise) */
 } rays_row;
 
 /*
@@ -34,6 +36,34 @@ static double fixed_rays_for(const rays_row *rows, size_t n, double rmse)
     return 0.0;
 }
 
+/* The rows as a Markdown table and dir/csv; n points (probes or texels), each a "what". */
+static bool write_rows(const rays_row *rows, size_t rows_n, size_t n, const char *what,
+                       const char *dir, const char *csv)
+{
+    char header[160];
+    snprintf(header, sizeof(header),
+             "sampling,rays,noise_target,seconds,rmse_rel,p99_rel,%ss_per_s,fixed_rays_same_rmse,"
+             "noise_printed",
+             what);
+    FILE *const f = bench_open_csv(dir, csv, header);
+    if (!f)
+        return false;
+    printf("| sampling | noise target | rays a %s | seconds | %ss/s | RMSE | "
+           "noise printed | fixed Fibonacci rays for that RMSE |\n"
+           "|---|---:|---:|---:|---:|---:|---:|---:|\n",
+           what, what);
+    for (size_t i = 0; i < rows_n; i++) {
+        const rays_row *const w = &rows[i];
+        const double same = fixed_rays_for(rows, rows_n, w->rmse);
+        const double per_s = w->seconds > 0.0 ? (double)n / w->seconds : 0.0;
+        fprintf(f, "%s,%.1f,%g,%.4f,%.6f,%.6f,%.0f,%.1f,%.6f\n", w->sampling, w->rays, w->noise,
+                w->seconds, w->rmse, w->p99, per_s, same, w->printed);
+        printf("| %s | %g | %.1f | %.2f | %.0f | %.2f %% | %.2f %% | %.0f |\n", w->sampling,
+               w->noise, w->rays, w->seconds, per_s, 100.0 * w->rmse, 100.0 * w->printed, same);
+    }
+    return fclose(f) == 0;
+}
+
 int bench_rays_table(vdbgi_context *ctx, const vdbgi_scene *scene, double spacing,
                      const bench_light *light, const char *dir)
 {
@@ -50,7 +80,7 @@ int bench_rays_table(vdbgi_context *ctx, const vdbgi_scene *scene, double spacin
     unsigned char *const valid = calloc(n + 1, 1);
     double *const cost = calloc(n + 1, sizeof(double)); /* per probe: error^2 x rays */
     static const int counts[] = {16, 32, 64, 128, 256, 512, 1024};
-    static const float targets[] = {0.2f, 0.14f, 0.1f, 0.07f, 0.05f, 0.035f, 0.025f};
+    static const float targets[] = {0.14f, 0.1f, 0.07f, 0.05f, 0.035f, 0.025f, 0.018f};
     enum {
         FIXED = sizeof(counts) / sizeof(counts[0]),
         TARGETS = sizeof(targets) / sizeof(targets[0])
@@ -103,6 +133,7 @@ int bench_rays_table(vdbgi_context *ctx, const vdbgi_scene *scene, double spacin
             row->rays = (double)st.primary_ray_count / (double)n;
             row->noise = way == 2 ? (double)targets[k] : 0.0;
             row->seconds = st.seconds;
+            row->printed = st.noise;
             bench_compare(ref, got, m, &row->rmse, &row->p99);
             fprintf(stderr, "rays: %s %.1f rays: %.2f %% in %.2f s\n", row->sampling, row->rays,
                     100.0 * row->rmse, row->seconds);
@@ -124,34 +155,16 @@ int bench_rays_table(vdbgi_context *ctx, const vdbgi_scene *scene, double spacin
         const rays_row *const random128 = &rows[FIXED + 3];
         if (mean > 0.0)
             rows[rows_n++] = (rays_row){
-                "oracle", 128.0 * root * root / mean, 0.0, 0.0, random128->rmse, random128->p99};
+                "oracle", 128.0 * root * root / mean, 0.0, 0.0, random128->rmse, random128->p99,
+                0.0};
     }
-    FILE *const f = r == VDBGI_OK
-                        ? bench_open_csv(dir, "rays.csv",
-                                         "sampling,rays,noise_target,seconds,rmse_rel,p99_rel,"
-                                         "probes_per_s,fixed_rays_same_rmse")
-                        : NULL;
-    if (f) {
-        printf("| sampling | noise target | rays a probe | seconds | probes/s | RMSE | "
-               "fixed Fibonacci rays for that RMSE |\n|---|---:|---:|---:|---:|---:|---:|\n");
-        for (size_t i = 0; i < rows_n; i++) {
-            const rays_row *const w = &rows[i];
-            const double same = fixed_rays_for(rows, rows_n, w->rmse);
-            fprintf(f, "%s,%.1f,%g,%.4f,%.6f,%.6f,%.0f,%.1f\n", w->sampling, w->rays, w->noise,
-                    w->seconds, w->rmse, w->p99, w->seconds > 0.0 ? (double)n / w->seconds : 0.0,
-                    same);
-            printf("| %s | %g | %.1f | %.2f | %.0f | %.2f %% | %.0f |\n", w->sampling, w->noise,
-                   w->rays, w->seconds, w->seconds > 0.0 ? (double)n / w->seconds : 0.0,
-                   100.0 * w->rmse, same);
-        }
-        fclose(f);
-    }
+    const bool wrote = r == VDBGI_OK && write_rows(rows, rows_n, n, "probe", dir, "rays.csv");
     free(ref);
     free(got);
     free(valid);
     free(cost);
     vdbgi_probes_destroy(p);
-    return r == VDBGI_OK && f ? CLI_OK : (r != VDBGI_OK ? cli_fail(ctx, r) : CLI_FAILED);
+    return r == VDBGI_OK && wrote ? CLI_OK : (r != VDBGI_OK ? cli_fail(ctx, r) : CLI_FAILED);
 }
 
 int bench_rays(const bench_options *o)
@@ -170,4 +183,95 @@ int bench_rays(const bench_options *o)
     vdbgi_scene_destroy(scene);
     vdbgi_context_destroy(ctx);
     return code;
+}
+
+/* A lightmap of one pass (its first gather) under light with bake's sampling, or NULL. */
+static vdbgi_lightmap_result *texel_map(vdbgi_context *ctx, const vdbgi_scene *scene, double texel,
+                                        const bench_light *light, vdbgi_bake_desc bake,
+                                        vdbgi_lightmap_stats *st)
+{
+    const vdbgi_lightmap_desc d = {
+        .texel = (float)texel, .passes = 1, .bake = bench_lit(bake, light)};
+    vdbgi_lightmap_result *res = NULL;
+    return vdbgi_lightmap_bake_scene(ctx, scene, &d, &res, st) == VDBGI_OK ? res : NULL;
+}
+
+/*
+ * gi-bench texel-rays: the table of gi-bench rays for a lightmap's texels,
+ * one pass of texel-sized texels (the same unwrap every run), each way's map
+ * against a reference map, over the texels valid in both.
+ */
+int bench_texel_rays(const bench_options *o)
+{
+    const char *const dir = bench_out_dir(o);
+    vdbgi_context *const ctx = dir ? cli_context() : NULL;
+    if (!ctx)
+        return CLI_FAILED;
+    const double texel = o->spacing_given ? o->spacing : 0.5;
+    vdbgi_scene *scene = NULL;
+    vdbgi_result r = vdbgi_scene_load(ctx, o->scene, &scene);
+    if (r != VDBGI_OK) {
+        const int code = cli_fail(ctx, r);
+        vdbgi_context_destroy(ctx);
+        return code;
+    }
+    static const int counts[] = {16, 32, 64, 128, 256, 512, 1024};
+    static const float targets[] = {0.14f, 0.1f, 0.07f, 0.05f, 0.035f, 0.025f, 0.018f};
+    enum {
+        FIXED = sizeof(counts) / sizeof(counts[0]),
+        TARGETS = sizeof(targets) / sizeof(targets[0])
+    };
+    rays_row rows[2 * FIXED + TARGETS];
+    size_t rows_n = 0, n = 0, texels = 0;
+    vdbgi_lightmap_stats st;
+    fprintf(stderr, "texel-rays: %g m texels, the %d-ray reference\n", texel, REFERENCE_RAYS);
+    vdbgi_lightmap_result *const ref = texel_map(
+        ctx, scene, texel, &o->light,
+        (vdbgi_bake_desc){.rays = REFERENCE_RAYS, .sampling = VDBGI_SAMPLING_RANDOM, .seed = 99},
+        &st);
+    const unsigned char *ref_valid = NULL;
+    const float *const ref_rgb =
+        ref ? vdbgi_lightmap_result_texels(ref, &ref_valid, &texels) : NULL;
+    float *const a = calloc(3 * texels + 1, sizeof(float)), *const b = calloc(3 * texels + 1,
+                                                                              sizeof(float));
+    bool ok = ref && a && b;
+    for (int way = 0; ok && way < 3; way++) {
+        for (int k = 0; ok && k < (way < 2 ? FIXED : TARGETS); k++) {
+            const vdbgi_bake_desc d = {.rays = way < 2 ? counts[k] : 0,
+                                       .adaptive = way == 2,
+                                       .sampling = way == 0 ? VDBGI_SAMPLING_FIBONACCI
+                                                            : VDBGI_SAMPLING_RANDOM,
+                                       .noise = way == 2 ? targets[k] : 0.0f};
+            vdbgi_lightmap_result *const got = texel_map(ctx, scene, texel, &o->light, d, &st);
+            if (!(ok = got != NULL))
+                break;
+            const unsigned char *valid = NULL;
+            size_t count = 0;
+            const float *const rgb = vdbgi_lightmap_result_texels(got, &valid, &count);
+            n = 0;
+            for (size_t i = 0; i < texels && count == texels; i++)
+                if (ref_valid[i] && valid[i]) {
+                    memcpy(&a[3 * n], &ref_rgb[3 * i], 3 * sizeof(float));
+                    memcpy(&b[3 * n], &rgb[3 * i], 3 * sizeof(float));
+                    n++;
+                }
+            rays_row *const row = &rows[rows_n++];
+            row->sampling = way == 0 ? "fibonacci" : way == 1 ? "random" : "adaptive";
+            row->rays = st.gather_rays;
+            row->noise = way == 2 ? (double)targets[k] : 0.0;
+            row->seconds = st.pass_seconds[0];
+            row->printed = st.noise;
+            bench_compare(a, b, n, &row->rmse, &row->p99);
+            fprintf(stderr, "texel-rays: %s %.1f rays: %.2f %% in %.2f s (noise printed %.2f %%)\n",
+                    row->sampling, row->rays, 100.0 * row->rmse, row->seconds, 100.0 * st.noise);
+            vdbgi_lightmap_result_destroy(got);
+        }
+    }
+    ok = ok && write_rows(rows, rows_n, st.samples, "texel", dir, "texel_rays.csv");
+    free(a);
+    free(b);
+    vdbgi_lightmap_result_destroy(ref);
+    vdbgi_scene_destroy(scene);
+    vdbgi_context_destroy(ctx);
+    return ok ? CLI_OK : CLI_FAILED;
 }

@@ -159,12 +159,38 @@ int cli_light_check(const vdbgi_bake_desc *b)
     return -1;
 }
 
+int cli_rays_option(const char *arg, int most, vdbgi_bake_desc *b)
+{
+    long long i = 0;
+    if (strcmp(arg, "auto") == 0) {
+        b->adaptive = 1;
+        b->rays = 0;
+        return -2;
+    }
+    if (!cli_parse_int(arg, &i) || i < 1 || i > most)
+        return cli_usage_error("--rays must be auto or an integer in 1..%d (got '%s')", most, arg);
+    b->rays = (int)i;
+    b->adaptive = 0;
+    return -2;
+}
+
 int cli_light_option(int c, const char *arg, vdbgi_bake_desc *b)
 {
     double d = 0.0;
     long long i = 0;
     float v[3];
     switch (c) {
+    case CLI_OPT_NOISE:
+        if (!cli_parse_double(arg, &d) || !(d > 0.0) || !isfinite(d))
+            return cli_usage_error("--noise must be a number > 0 (got '%s')", arg);
+        b->noise = (float)d;
+        return -2;
+    case CLI_OPT_MAX_RAYS:
+        if (!cli_parse_int(arg, &i) || i < 64 || i > (1 << 20) || (i & (i - 1)))
+            return cli_usage_error("--max-rays must be a power of two in 64..1048576 (got '%s')",
+                                   arg);
+        b->max_rays = (int)i;
+        return -2;
     case CLI_OPT_RAY_DIST:
         if (!cli_parse_double(arg, &d) || !(d > 0.0) || !isfinite(d))
             return cli_usage_error("--ray-dist must be a number > 0 (got '%s')", arg);

@@ -101,7 +101,9 @@ enum {
     CLI_OPT_MODEL,
     CLI_OPT_SKY_MAP,
     CLI_OPT_SKY_INTENSITY,
-    CLI_OPT_SKY_ROTATION
+    CLI_OPT_SKY_ROTATION,
+    CLI_OPT_NOISE,
+    CLI_OPT_MAX_RAYS
 };
 #define CLI_LIGHT_LONG_OPTIONS                                                                     \
     {"ray-dist", required_argument, NULL, CLI_OPT_RAY_DIST},                                       \
@@ -118,10 +120,14 @@ enum {
         {"model", required_argument, NULL, CLI_OPT_MODEL},                                         \
         {"sky-map", required_argument, NULL, CLI_OPT_SKY_MAP},                                     \
         {"sky-intensity", required_argument, NULL, CLI_OPT_SKY_INTENSITY},                         \
+        {"noise", required_argument, NULL, CLI_OPT_NOISE},                                         \
+        {"max-rays", required_argument, NULL, CLI_OPT_MAX_RAYS},                                   \
     {                                                                                              \
         "sky-rotation", required_argument, NULL, CLI_OPT_SKY_ROTATION                              \
     }
 int cli_light_option(int c, const char *arg, vdbgi_bake_desc *b);
+/* --rays N|auto into *b, N in 1..most: -2 when set, else the exit code of a usage error. */
+int cli_rays_option(const char *arg, int most, vdbgi_bake_desc *b);
 
 /*
  * The apps bake as a path tracer counts light unless told (the library's zero

@@ -42,9 +42,9 @@ static void usage(void)
            "                           probes each); gi-merge joins the N files into the\n"
            "                           whole bake, probe for probe\n"
            "      --rays N|auto        rays per probe, or auto: 32, then more as their spread\n"
-           "                           asks, so that independent rays would give --noise\n"
-           "                           (128)\n"
-           "      --noise T            auto's target, relative to the mean light (0.02)\n"
+           "                           asks, as few as give the noise --noise says (128)\n"
+           "      --noise T            auto's target: the error, over the mean light, measured\n"
+           "                           at 256 probes near the surfaces (0.02)\n"
            "      --max-rays N         auto's cap, a power of two (1024)\n"
            "      --ray-dist M         longest ray in metres (40)\n"
            "      --ambient A          seed model: ambient fill received at every hit (0.15)\n"
@@ -103,8 +103,6 @@ enum {
     OPT_WALKABLE,
     OPT_KEEP_BOX,
     OPT_RAYS,
-    OPT_NOISE,
-    OPT_MAX_RAYS,
     OPT_TRACE,
     OPT_BASIS,
     OPT_BOUNCES,
@@ -140,8 +138,6 @@ static int parse_args(int argc, char **argv, options *o)
                                           {"walkable", required_argument, NULL, OPT_WALKABLE},
                                           {"keep-box", required_argument, NULL, OPT_KEEP_BOX},
                                           {"rays", required_argument, NULL, OPT_RAYS},
-                                          {"noise", required_argument, NULL, OPT_NOISE},
-                                          {"max-rays", required_argument, NULL, OPT_MAX_RAYS},
                                           CLI_LIGHT_LONG_OPTIONS,
                                           {"trace", required_argument, NULL, OPT_TRACE},
                                           {"basis", required_argument, NULL, OPT_BASIS},
@@ -206,29 +202,12 @@ static int parse_args(int argc, char **argv, options *o)
                 return cli_usage_error("--max-probes must be an integer >= 1 (got '%s')", optarg);
             o->place.max_probes = (uint64_t)i;
             break;
-        case OPT_RAYS:
-            if (strcmp(optarg, "auto") == 0) {
-                o->bake.adaptive = 1;
-                o->bake.rays = 0;
-                break;
-            }
-            if (!cli_parse_int(optarg, &i) || i < 1 || i > 1000000)
-                return cli_usage_error("--rays must be auto or an integer in 1..1000000 (got '%s')",
-                                       optarg);
-            o->bake.rays = (int)i;
-            o->bake.adaptive = 0;
+        case OPT_RAYS: {
+            const int rays = cli_rays_option(optarg, 1000000, &o->bake);
+            if (rays != -2)
+                return rays;
             break;
-        case OPT_NOISE:
-            if (!cli_parse_double(optarg, &d) || !(d > 0.0) || !isfinite(d))
-                return cli_usage_error("--noise must be a number > 0 (got '%s')", optarg);
-            o->bake.noise = (float)d;
-            break;
-        case OPT_MAX_RAYS:
-            if (!cli_parse_int(optarg, &i) || i < 64 || i > (1 << 20) || (i & (i - 1)))
-                return cli_usage_error(
-                    "--max-rays must be a power of two in 64..1048576 (got '%s')", optarg);
-            o->bake.max_rays = (int)i;
-            break;
+        }
         case OPT_TRACE: {
             int m = -1;
             for (int k = 0; k < 5; k++)

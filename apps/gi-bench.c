@@ -27,6 +27,7 @@ static void usage(void)
            "       gi-bench convert PROBES.vdb [options]\n"
            "       gi-bench sweep SCENE [options]\n"
            "       gi-bench rays SCENE [options]\n"
+           "       gi-bench texel-rays SCENE [options]\n"
            "       gi-bench memory SCENE [options]\n"
            "       gi-bench lightmap SCENE [options]\n"
            "       gi-bench truth SCENE [options]\n"
@@ -57,9 +58,14 @@ static void usage(void)
            "rays: error against time for each way of spending a probe's rays, on SCENE's\n"
            "probes at --spacing (1 m): the fixed Fibonacci set (seed 000's bake at 128)\n"
            "and a random rotation of it a probe at 16..1024 rays, and --rays auto at noise\n"
-           "targets 0.2..0.025, each against a 16384-ray random bake of the same probes,\n"
+           "targets 0.14..0.018, each against a 16384-ray random bake of the same probes,\n"
            "under --model and --bounces; a Markdown table, and --out/rays.csv, with the\n"
            "fixed count that gives each row's RMSE.\n"
+           "\n"
+           "texel-rays: the same for a lightmap's texels, one pass at --spacing texels\n"
+           "(0.5 m): the fixed hemisphere set, a random turn of it a texel, and --rays auto\n"
+           "at targets 0.14..0.018, each map against a 16384-ray random map over the\n"
+           "texels valid in both; --out/texel_rays.csv.\n"
            "\n"
            "memory: memory against the error a player sees on SCENE, as --out/memory.csv:\n"
            "at 0.25, 0.5 and 1 m (--spacing S limits it to one), a dense grid of every\n"
@@ -197,12 +203,13 @@ static int parse_args(int argc, char **argv, bench_options *o)
     if (optind == argc ||
         (strcmp(argv[optind], "bake") != 0 && strcmp(argv[optind], "convert") != 0 &&
          strcmp(argv[optind], "sweep") != 0 && strcmp(argv[optind], "rays") != 0 &&
-         strcmp(argv[optind], "memory") != 0 && strcmp(argv[optind], "lightmap") != 0 &&
-         strcmp(argv[optind], "truth") != 0 && strcmp(argv[optind], "lights") != 0))
-        return cli_usage_error(
-            "say which benchmark: gi-bench bake SCENE, convert PROBES.vdb, "
-            "sweep SCENE, rays SCENE, memory SCENE, lightmap SCENE, truth SCENE or "
-            "lights SCENE");
+         strcmp(argv[optind], "texel-rays") != 0 && strcmp(argv[optind], "memory") != 0 &&
+         strcmp(argv[optind], "lightmap") != 0 && strcmp(argv[optind], "truth") != 0 &&
+         strcmp(argv[optind], "lights") != 0))
+        return cli_usage_error("say which benchmark: gi-bench bake SCENE, convert PROBES.vdb, "
+                               "sweep SCENE, rays SCENE, texel-rays SCENE, memory SCENE, lightmap "
+                               "SCENE, truth SCENE or "
+                               "lights SCENE");
     if (argc - optind != 2)
         return cli_usage_error("give one input: gi-bench %s FILE", argv[optind]);
     o->mode = argv[optind];
@@ -314,6 +321,8 @@ int main(int argc, char **argv)
         return bench_sweep(&o);
     if (strcmp(o.mode, "rays") == 0)
         return bench_rays(&o);
+    if (strcmp(o.mode, "texel-rays") == 0)
+        return bench_texel_rays(&o);
     if (strcmp(o.mode, "memory") == 0)
         return bench_memory(&o, o.spacing_given);
     if (strcmp(o.mode, "lightmap") == 0)

@@ -47,7 +47,11 @@ static void usage(void)
            "      --slices DIR         pictures of each atlas: the map, and its charts\n"
            "                           (gutters black, texels inside geometry red)\n"
            "      --stats FILE         also write the figures -v prints as JSON\n"
-           "      --rays N             rays per texel (64)\n"
+           "      --rays N|auto        rays per texel, or auto: 32, then more as their spread\n"
+           "                           asks, as few as give the noise --noise says (64)\n"
+           "      --noise T            auto's target: a pass's error, over the mean light,\n"
+           "                           measured at 256 points on the surfaces (0.02)\n"
+           "      --max-rays N         auto's cap, a power of two (1024)\n"
            "      --ray-dist M         longest ray in metres (40)\n"
            "      --ambient A          seed model: ambient fill received at every hit (0.15)\n"
            "      --sun X,Y,Z|scene    direction towards the sun, or the scene's directional\n"
@@ -187,11 +191,12 @@ static int parse_args(int argc, char **argv, options *o)
             if (!cli_parse_double(optarg, &ao_dist) || !(ao_dist > 0.0) || !isfinite(ao_dist))
                 return cli_usage_error("--ao-dist must be a number > 0 (got '%s')", optarg);
             break;
-        case OPT_RAYS:
-            if (!cli_parse_int(optarg, &i) || i < 1 || i > 65536)
-                return cli_usage_error("--rays must be an integer in 1..65536 (got '%s')", optarg);
-            o->lm.bake.rays = (int)i;
+        case OPT_RAYS: {
+            const int rays = cli_rays_option(optarg, 65536, &o->lm.bake);
+            if (rays != -2)
+                return rays;
             break;
+        }
         case OPT_SLICES: o->slices = optarg; break;
         case OPT_LAYERS: o->lm.layers = 1; break;
         case OPT_STATS: o->stats = optarg; break;
@@ -204,6 +209,8 @@ static int parse_args(int argc, char **argv, options *o)
     }
     if (o->ao && o->lm.layers)
         return cli_usage_error("--layers is for lightmaps, not --mode ao");
+    if (o->ao && o->lm.bake.adaptive)
+        return cli_usage_error("--mode ao takes a fixed --rays N, not auto");
     if (o->budget > 0.0 && (o->texel_given || o->size_given))
         return cli_usage_error("--budget chooses the texel and the atlas: give --budget, or "
                                "--texel and --size");
@@ -269,9 +276,10 @@ static void print_figures(FILE *f, const run_figures *g, bool json)
                 "],\n  \"rays\": %llu,\n  \"mrays_per_second\": %.3f,\n"
                 "  \"load_seconds\": %.4f,\n  \"bake_seconds\": %.4f,\n"
                 "  \"write_seconds\": %.4f,\n  \"glb_bytes\": %.0f,\n  \"texel\": %g,\n"
-                "  \"vram_bytes\": %.0f",
+                "  \"vram_bytes\": %.0f,\n  \"gather_rays\": %.1f,\n  \"noise\": %.5f",
                 st->rays, mrays, g->load, g->bake, g->write, g->glb_bytes, texel,
-                (double)st->texels * MAP_TEXEL_BYTES * (double)(1 + st->layers));
+                (double)st->texels * MAP_TEXEL_BYTES * (double)(1 + st->layers), st->gather_rays,
+                st->noise);
         if (g->o->budget > 0.0)
             fprintf(f, ",\n  \"budget_bytes\": %.0f", g->o->budget);
         fputs("\n}\n", f);
@@ -311,6 +319,21 @@ static void print_figures(FILE *f, const run_figures *g, bool json)
     else if (!g->o->ao)
         fprintf(f, "; the last added %.2f %% of the light", 100.0 * st->last_share);
     fputc('\n', f);
+    if (!g->o->ao) {
+        const vdbgi_bake_desc *const b = &g->o->lm.bake;
+        fprintf(f,
+                "noise    %.2f %% of the light in a pass, measured at 256 points on the surfaces "
+                "(each gathered twice%s): ",
+                100.0 * st->noise,
+                b->adaptive || b->sampling == VDBGI_SAMPLING_RANDOM
+                    ? ""
+                    : ", the set under random turns");
+        if (b->adaptive)
+            fprintf(f, "auto, %.0f rays a texel on average for a target of %g %%\n",
+                    st->gather_rays, 100.0 * (b->noise != 0.0f ? b->noise : 0.02));
+        else
+            fprintf(f, "%.0f rays a texel\n", st->gather_rays);
+    }
     fprintf(f, "time     %.2f s: load %.2f, bake %.2f, write %.2f\n", g->load + g->bake + g->write,
             g->load, g->bake, g->write);
     fprintf(f, "output   %s (%s)\n", g->o->output, cli_bytes(g->glb_bytes, bytes, sizeof(bytes)));

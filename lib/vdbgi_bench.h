@@ -71,6 +71,13 @@ VDBGI_API vdbgi_result vdbgi_scene_bake_hemispheres(const vdbgi_scene *scene,
 VDBGI_API void vdbgi_lightmap_result_sample(const vdbgi_lightmap_result *result, uint32_t prim,
                                             float u, float v, float rgb[3]);
 /*
+ * A lightmap's map 0 texel by texel: E (3 floats a texel, dilated), and in
+ * *valid per texel non-zero where a valid sample was baked; *count texels.
+ * Owned by result.
+ */
+VDBGI_API const float *vdbgi_lightmap_result_texels(const vdbgi_lightmap_result *result,
+                                                    const unsigned char **valid, size_t *count);
+/*
  * The charts' boxes as packed, gutters included: 4 ints per chart (x, y, w,
  * h), each in atlas (*pages)[chart], *count charts; owned by result.
  */

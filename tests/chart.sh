@@ -1,7 +1,7 @@
 #!/bin/sh
 # chart.sh: `make chart`. Sweep rays, eps and spacing on the bundled world (gi-bench sweep),
 # rays on the interior too (and with ALL=1 the bundled world under the physical model
-# and the 200 m world: gi-bench rays),
+# and the 200 m world: gi-bench rays), rays a texel on both (gi-bench texel-rays),
 # keep the CSV tables in docs/data/ and draw docs/img/chart_*.png with gnuplot; run the
 # long stability cases (tests/test_stability.c --full) into docs/data/stability.csv;
 # then memory against the error a player sees (gi-bench memory) on the bundled
@@ -50,6 +50,15 @@ cp "$OUT/lightmap.csv" docs/data/lightmap_interior.csv
 cp "$OUT/rays.csv" docs/data/rays_interior.csv
 gnuplot -e "csv='docs/data/rays_interior.csv'; out='docs/img/chart_rays_interior.png'; name='Interior, 0.5 m probes, physical, 3 bounces'" \
     docs/charts/rays.gp
+# Rays a texel (docs/lightmap.md): one pass of 0.5 m texels, the bundled world and the interior.
+for w in world interior; do
+    scene=data/world.glb
+    [ $w = interior ] && scene=build/bench/interior.glb
+    "$BUILD/bin/gi-bench" texel-rays $scene --model physical --out "$OUT" >/dev/null
+    cp "$OUT/texel_rays.csv" docs/data/texel_rays_$w.csv
+    gnuplot -e "csv='docs/data/texel_rays_$w.csv'; out='docs/img/chart_texel_rays_$w.png'; name='$w, 0.5 m texels, physical, one pass'; what='texel'" \
+        docs/charts/rays.gp
+done
 # The scene's own light: error against rays and bounces on the interior (docs/lights.md).
 "$BUILD/bin/gi-bench" lights build/bench/interior.glb --repeat 1 --out "$OUT" >/dev/null
 cp "$OUT/lights.csv" docs/data/lights.csv

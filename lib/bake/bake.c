@@ -124,12 +124,12 @@ static vdbgi_result bake_run(bake_shared *sh, const vdbgi_scene *scene, bool sha
     vdbgi_result r = vdbgi_bounces_converge(ctx, scene, tracer, &run, &plan);
     const double lattice[4] = {sh->origin[0], sh->origin[1], sh->origin[2], sh->spacing};
     if (r == VDBGI_OK && shade) /* and an adaptive bake's rays for its spread */
-        r = vdbgi_adaptive_scale(ctx, scene, tracer, sh->ijk ? lattice : NULL, &run);
+        r = vdbgi_adaptive_scale(ctx, scene, tracer, sh->ijk ? lattice : NULL, false, &run);
     const vdbgi_bake_params *const bp = sh->bp = &run;
     float *base_dirs = NULL;
     int set = 0;
     if (r == VDBGI_OK)
-        r = vdbgi_estimator_directions(ctx, bp, &base_dirs, &set);
+        r = vdbgi_estimator_directions(ctx, bp, false, &base_dirs, &set);
     sh->proto = (vdbgi_estimator){.scene = scene,
                                   .tracer = tracer,
                                   .bp = bp,
@@ -179,7 +179,8 @@ static vdbgi_result bake_run(bake_shared *sh, const vdbgi_scene *scene, bool sha
         stats->tail_share = plan.tail_share;
         /* Measured after the timing, when asked: a report on the bake, not a part of it. */
         if (noise)
-            r = vdbgi_bake_noise(ctx, scene, tracer, sh->ijk ? lattice : NULL, bp, &stats->noise);
+            r = vdbgi_bake_noise(ctx, scene, tracer, sh->ijk ? lattice : NULL, false, bp,
+                                 &stats->noise);
     }
     sh->bp = NULL; /* run is gone with this call */
     for (int t = 0; ths && t < nth; t++)

@@ -94,7 +94,7 @@ int vdbgi_adaptive_set(int n, int max_rays, int *offset)
 }
 
 vdbgi_result vdbgi_estimator_directions(vdbgi_context *ctx, const vdbgi_bake_params *bp,
-                                        float **dirs, int *count)
+                                        bool hemisphere, float **dirs, int *count)
 {
     int total = bp->rays, largest = bp->rays;
     if (bp->adaptive) /* every set of the ladder, one after the other (the first the pilot) */
@@ -102,12 +102,14 @@ vdbgi_result vdbgi_estimator_directions(vdbgi_context *ctx, const vdbgi_bake_par
     float *const d = vdbgi_calloc(ctx, (size_t)total, 3 * sizeof(float));
     if (!d)
         return VDBGI_ERR_OUT_OF_MEMORY;
+    void (*const set)(int, float *) =
+        hemisphere ? vdbgi_hemisphere_directions : vdbgi_fibonacci_directions;
     if (bp->adaptive)
         for (int at = 0, size = VDBGI_ADAPTIVE_BATCH; at < total;
              at += size, size = ladder_next(size))
-            vdbgi_fibonacci_directions(size, &d[3 * at]);
+            set(size, &d[3 * at]);
     else
-        vdbgi_fibonacci_directions(total, d);
+        set(total, d);
     *dirs = d;
     *count = largest;
     return VDBGI_OK;

@@ -387,6 +387,46 @@ static void blend(probe_sums *a, const probe_sums *b)
     a->rays += b->rays, a->hits += b->hits, a->back += b->back, a->shadow += b->shadow;
 }
 
+/* count of base's directions under a turn of stream's into th->dir: about the unit normal
+   when there is one (a texel's hemisphere), else a whole rotation (a probe's sphere). */
+static void turn_set(vdbgi_estimator *th, const float *normal, const float *base, int count,
+                     uint64_t stream)
+{
+    if (normal)
+        vdbgi_hemisphere_turn(base, count, normal, stream, true, th->dir);
+    else
+        vdbgi_directions_rotate(stream, base, count, th->dir);
+}
+
+/*
+ * An adaptive point: a pilot set under its turn, then, when its spread (the
+ * rays' standard deviation) asks for more, one more set of the ladder under
+ * a turn of its own; the estimate is both sets' (blend).
+ */
+static void trace_adaptive(vdbgi_estimator *th, const float pos[3], const float *normal,
+                           uint64_t stream, probe_sums *sums)
+{
+    const vdbgi_bake_params *const bp = th->bp;
+    const int B = VDBGI_ADAPTIVE_BATCH;
+    turn_set(th, normal, th->base_dirs, B, stream);
+    trace_batch(th, pos, th->dir, B, sums);
+    const double want = ceil(bp->adaptive_scale *
+                             sqrt(standard_error(sums) * sqrt((double)B) + bp->adaptive_floor));
+    if (want <= B)
+        return;
+    int offset;
+    const int rest =
+        vdbgi_adaptive_set((int)fmin(want, (double)bp->max_rays) - B, bp->max_rays, &offset);
+    uint64_t turn = stream ^ 0x9E3779B97F4A7C15ull;
+    turn_set(th, normal, &th->base_dirs[3 * offset], rest, vdbgi_splitmix64(&turn));
+    probe_sums more;
+    memset(&more, 0, sizeof(more));
+    more.rays = (size_t)B; /* the bounces' random numbers go on from the pilot's */
+    trace_batch(th, pos, th->dir, rest, &more);
+    more.rays -= (size_t)B;
+    blend(sums, &more);
+}
+
 void vdbgi_estimate_point(vdbgi_estimator *th, const float pos[3], uint64_t stream,
                           vdbgi_estimate *out)
 {
@@ -395,30 +435,7 @@ void vdbgi_estimate_point(vdbgi_estimator *th, const float pos[3], uint64_t stre
     memset(&sums, 0, sizeof(sums));
     th->stream = stream;
     if (bp->adaptive) {
-        /*
-         * A pilot set under the point's rotation, then, when its spread (the
-         * rays' standard deviation) asks for more, one more set of the ladder
-         * under a rotation of its own; the estimate is both sets' (blend).
-         */
-        const int B = VDBGI_ADAPTIVE_BATCH;
-        vdbgi_directions_rotate(stream, th->base_dirs, B, th->dir);
-        trace_batch(th, pos, th->dir, B, &sums);
-        const double want =
-            ceil(bp->adaptive_scale * sqrt(standard_error(&sums) * sqrt((double)B)));
-        if (want > B) {
-            int offset;
-            const int rest = vdbgi_adaptive_set((int)fmin(want, (double)bp->max_rays) - B,
-                                                bp->max_rays, &offset);
-            uint64_t turn = stream ^ 0x9E3779B97F4A7C15ull;
-            vdbgi_directions_rotate(vdbgi_splitmix64(&turn), &th->base_dirs[3 * offset], rest,
-                                    th->dir);
-            probe_sums more;
-            memset(&more, 0, sizeof(more));
-            more.rays = (size_t)B; /* the bounces' random numbers go on from the pilot's */
-            trace_batch(th, pos, th->dir, rest, &more);
-            more.rays -= (size_t)B;
-            blend(&sums, &more);
-        }
+        trace_adaptive(th, pos, NULL, stream, &sums);
     } else if (bp->sampling == VDBGI_SAMPLING_RANDOM) {
         vdbgi_directions_rotate(stream, th->base_dirs, bp->rays, th->dir);
         trace_batch(th, pos, th->dir, bp->rays, &sums);
@@ -451,12 +468,16 @@ void vdbgi_estimate_hemisphere(vdbgi_estimator *th, const float pos[3], const fl
                                uint64_t stream, vdbgi_estimate *out)
 {
     const vdbgi_bake_params *const bp = th->bp;
-    vdbgi_hemisphere_turn(th->base_dirs, bp->rays, n, stream, bp->sampling == VDBGI_SAMPLING_RANDOM,
-                          th->dir);
     probe_sums sums;
     memset(&sums, 0, sizeof(sums));
     th->stream = stream;
-    trace_batch(th, pos, th->dir, bp->rays, &sums);
+    if (bp->adaptive) {
+        trace_adaptive(th, pos, n, stream, &sums);
+    } else {
+        vdbgi_hemisphere_turn(th->base_dirs, bp->rays, n, stream,
+                              bp->sampling == VDBGI_SAMPLING_RANDOM, th->dir);
+        trace_batch(th, pos, th->dir, bp->rays, &sums);
+    }
     report(th, &sums, out);
 }
 

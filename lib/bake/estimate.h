@@ -48,6 +48,8 @@ typedef struct vdbgi_bake_params {
     float noise;
     int max_rays;
     double adaptive_scale; /* a point's rays: this times the square root of its pilot's spread */
+    double adaptive_floor; /* added to that spread first (surface points: a pilot that saw no
+                              spread may have missed a small bright patch) */
     float ray_dist, ambient, falloff, invalid_threshold;
     float sun_dir[3], sun_color[3], sky[3];
     bool sun_on;
@@ -133,23 +135,25 @@ void vdbgi_directions_rotate(uint64_t stream, const float *base, int n, float *o
 uint64_t vdbgi_point_stream(int32_t i, int32_t j, int32_t k, uint64_t seed);
 /*
  * The pilot points: spread over scene's surfaces by area (as
- * vdbgi_bounces_converge's), lifted off them and, given a lattice (origin
- * xyz, spacing), moved to its nearest point, estimated as probes; those
- * mostly seeing back faces left out. The same for every tile and thread
- * count.
+ * vdbgi_bounces_converge's); for probes lifted off them and, given a
+ * lattice (origin xyz, spacing), moved to its nearest point, estimated as
+ * probes; for surface (a lightmap's texels) left on them, estimated over
+ * their hemispheres. Those mostly seeing back faces are left out. The same
+ * for every tile and thread count.
  *
- * vdbgi_adaptive_scale, when bp is adaptive: sets bp->adaptive_scale, so
- * that a point's rays, that times the square root of its pilot's spread,
- * would give 1024 points an RMSE of bp->noise times their mean light with
- * independent rays. vdbgi_bake_noise: the error bp gives 256 of them (spread
- * over the whole scene as the 1024 are), each estimated twice (a fixed set
- * under random rotations), over their mean light.
+ * vdbgi_adaptive_scale, when bp is adaptive: sets bp->adaptive_scale (and
+ * adaptive_floor), so that a point's rays, that times the square root of
+ * its pilot's spread (plus the floor), give an error, as vdbgi_bake_noise
+ * measures it, of bp->noise or up to 15 % under. vdbgi_bake_noise: the
+ * error bp gives 256 points (spread over the whole scene as the 1024 of the
+ * pilot are), each estimated twice (a fixed set under random rotations),
+ * over their mean light.
  */
 vdbgi_result vdbgi_adaptive_scale(vdbgi_context *ctx, const vdbgi_scene *scene,
-                                  const vdbgi_tracer *tracer, const double lattice[4],
+                                  const vdbgi_tracer *tracer, const double lattice[4], bool surface,
                                   vdbgi_bake_params *bp);
 vdbgi_result vdbgi_bake_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
-                              const vdbgi_tracer *tracer, const double lattice[4],
+                              const vdbgi_tracer *tracer, const double lattice[4], bool surface,
                               const vdbgi_bake_params *bp, double *noise);
 /*
  * The ladder's smallest set of at least n rays (max_rays less the pilot at
@@ -159,11 +163,12 @@ vdbgi_result vdbgi_bake_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
 int vdbgi_adaptive_set(int n, int max_rays, int *offset);
 /*
  * The directions bp's points share, allocated through ctx: the Fibonacci set
- * of bp->rays, or an adaptive bake's ladder of sets; *count: the most a
- * point traces at once (what vdbgi_estimator_init takes).
+ * of bp->rays, or an adaptive bake's ladder of sets, over the sphere for
+ * probes or the +z hemisphere for surface points (hemisphere); *count: the
+ * most a point traces at once (what vdbgi_estimator_init takes).
  */
 vdbgi_result vdbgi_estimator_directions(vdbgi_context *ctx, const vdbgi_bake_params *bp,
-                                        float **dirs, int *count);
+                                        bool hemisphere, float **dirs, int *count);
 
 /*
  * One thread's estimator: what it reads (set by the caller) and its scratch
@@ -235,10 +240,10 @@ void vdbgi_estimate_point(vdbgi_estimator *e, const float pos[3], uint64_t strea
 
 /*
  * Estimate at a surface point pos with unit normal n over its hemisphere:
- * e->base_dirs must be vdbgi_hemisphere_directions (bp->rays of them),
- * turned about n by an angle from stream for random sampling. out->rgb is
- * the cosine-weighted mean radiance (irradiance over pi); backface as for
- * probes. Not adaptive.
+ * e->base_dirs must be vdbgi_estimator_directions' hemisphere sets, turned
+ * about n by an angle from stream for random and adaptive sampling (an
+ * adaptive point's second set by another). out->rgb is the cosine-weighted
+ * mean radiance (irradiance over pi); backface as for probes.
  */
 void vdbgi_estimate_hemisphere(vdbgi_estimator *e, const float pos[3], const float n[3],
                                uint64_t stream, vdbgi_estimate *out);

@@ -66,7 +66,7 @@ typedef struct pass_thread {
     pass_shared *sh;
     vdbgi_estimator est;
     size_t begin, end;
-    uint64_t rays;
+    uint64_t rays, gathers, gathered;
 } pass_thread;
 
 /*
@@ -124,6 +124,7 @@ static void *run_pass(void *arg)
             vdbgi_estimate e;
             vdbgi_estimate_hemisphere(&th->est, org, n, stream, &e);
             th->rays += e.rays + e.shadow;
+            th->gathers++, th->gathered += e.rays;
             if (sh->pass == 0)
                 sh->valid[i] = e.backface <= bp->invalid_threshold;
             if (!sh->valid[i])
@@ -218,8 +219,8 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
     VDBGI_FAIL_IF(ctx, lp->passes == 0 && !(lp->converge > 0.0f && lp->converge < 1.0f),
                   VDBGI_ERR_INVALID_ARG, "the converged share must be in (0, 1) (got %g)",
                   (double)lp->converge);
-    VDBGI_FAIL_IF(ctx, bp->adaptive, VDBGI_ERR_INVALID_ARG,
-                  "lightmaps take a fixed ray count, not --rays auto");
+    VDBGI_FAIL_IF(ctx, bp->adaptive && lp->ao_dist > 0.0f, VDBGI_ERR_INVALID_ARG,
+                  "an AO map takes a fixed ray count, not --rays auto");
     VDBGI_FAIL_IF(ctx, !(lp->ao_dist >= 0.0f) || !isfinite(lp->ao_dist), VDBGI_ERR_INVALID_ARG,
                   "AO distance must be >= 0 and finite (got %g)", (double)lp->ao_dist);
     const size_t texels = (size_t)tx->size * (size_t)tx->size * tx->page_count;
@@ -227,6 +228,7 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
     out->texel_count = texels;
     vdbgi_tracer *tracer = NULL;
     float *dirs = NULL, *cur = NULL;
+    int set = 0;
     uint32_t *samples = NULL;
     pass_thread *ths = NULL;
     unsigned char *keep = NULL;
@@ -237,21 +239,25 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
     cur = vdbgi_calloc(ctx, texels, 3 * sizeof(float));
     keep = vdbgi_alloc(ctx, texels);
     samples = vdbgi_alloc(ctx, (tx->sample_count ? tx->sample_count : 1) * sizeof(*samples));
-    dirs = vdbgi_calloc(ctx, (size_t)bp->rays, 3 * sizeof(float));
     ths = vdbgi_calloc(ctx, (size_t)nth, sizeof(*ths));
-    vdbgi_result r = out->rgb && out->valid && cur && keep && samples && dirs && ths
+    vdbgi_result r = out->rgb && out->valid && cur && keep && samples && ths
                          ? VDBGI_OK
                          : VDBGI_ERR_OUT_OF_MEMORY;
     if (r == VDBGI_OK)
+        r = vdbgi_estimator_directions(ctx, bp, true, &dirs, &set);
+    if (r == VDBGI_OK)
         r = vdbgi_tracer_create(ctx, scene->positions, scene->vertex_count, scene->indices,
                                 scene->triangle_count, &tracer);
+    /* An adaptive texel's rays by its pilot's spread: the scale from points on the surfaces,
+       lit as the first pass lights them (before the threads read one). */
+    if (r == VDBGI_OK)
+        r = vdbgi_adaptive_scale(ctx, scene, tracer, NULL, true, &one);
     if (r != VDBGI_OK)
         goto done;
     size_t n = 0;
     for (size_t i = 0; i < texels; i++)
         if (tx->tri[i] >= 0)
             samples[n++] = (uint32_t)i;
-    vdbgi_hemisphere_directions(bp->rays, dirs);
     pass_shared sh = {.scene = scene,
                       .un = un,
                       .tx = tx,
@@ -269,7 +275,7 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
                                        .base_dirs = dirs,
                                        .shade = !lp->bare,
                                        .hit_user = &sh};
-        r = vdbgi_estimator_init(ctx, &ths[t].est, bp->rays);
+        r = vdbgi_estimator_init(ctx, &ths[t].est, set);
     }
     /*
      * AO bounces nothing. Until converged, the probes' pilot says how many passes the light
@@ -311,7 +317,7 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
         r = sweep(&sh, ths, nth, tracer, lp, keep, &cur, out, &prev);
     }
     for (int t = 0; t < nth; t++)
-        out->rays += ths[t].rays;
+        out->rays += ths[t].rays, out->gathers += ths[t].gathers, out->gathered += ths[t].gathered;
     for (size_t s = 0; s < n; s++)
         out->invalid_count += !out->valid[samples[s]];
 done:
@@ -325,6 +331,25 @@ done:
     vdbgi_tracer_destroy(tracer);
     if (r != VDBGI_OK)
         vdbgi_lightmap_free(out);
+    return r;
+}
+
+vdbgi_result vdbgi_lightmap_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                  const vdbgi_bake_params *bp, double *noise)
+{
+    *noise = 0.0;
+    vdbgi_bake_params one = *bp; /* as the bake's passes gather */
+    if (one.bounces == 0)
+        one.bounces = 1, one.converge = 0.0f;
+    vdbgi_tracer *tracer = NULL;
+    VDBGI_TRY(vdbgi_tracer_create(ctx, scene->positions, scene->vertex_count, scene->indices,
+                                  scene->triangle_count, &tracer));
+    vdbgi_result r = vdbgi_adaptive_scale(ctx, scene, tracer, NULL, true, &one);
+    if (r == VDBGI_OK)
+        r = vdbgi_bake_noise(ctx, scene, tracer, NULL, true, &one, noise);
+    if (r == VDBGI_OK)
+        r = vdbgi_tracer_check(tracer);
+    vdbgi_tracer_destroy(tracer);
     return r;
 }
 

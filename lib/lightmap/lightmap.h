@@ -35,6 +35,8 @@ typedef struct vdbgi_lightmap {
     int bounces;       /* until converged: the bounces the light needs (0 otherwise) */
     double tail_share; /* of them, the share the passes not swept carry */
     uint64_t rays;
+    uint64_t gathers, gathered; /* a sample's gathers over its hemisphere, every pass's, and
+                                   their rays (no AO) */
 } vdbgi_lightmap;
 
 /*
@@ -49,6 +51,13 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
                                  const vdbgi_texels *tx, const vdbgi_lightmap_params *lp,
                                  vdbgi_lightmap *out);
 void vdbgi_lightmap_free(vdbgi_lightmap *m);
+/*
+ * The noise bp's gather leaves in a pass of a lightmap of scene: the first
+ * pass's error at 256 points on the surfaces (vdbgi_bake_noise), over their
+ * mean light; an adaptive bp's scale found as the bake finds it.
+ */
+vdbgi_result vdbgi_lightmap_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                  const vdbgi_bake_params *bp, double *noise);
 
 /* A bake's files: the .glb (scene, second UV set, maps) and each map's HDR form (EXR). */
 typedef struct vdbgi_lightmap_files {

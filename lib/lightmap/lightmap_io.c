@@ -336,7 +336,7 @@ static void lightmap_add(vdbgi_lightmap *a, const vdbgi_lightmap *b)
         a->rgb[i] += b->rgb[i];
     for (int p = 0; p < 16; p++)
         a->pass_seconds[p] += b->pass_seconds[p];
-    a->rays += b->rays;
+    a->rays += b->rays, a->gathers += b->gathers, a->gathered += b->gathered;
 }
 
 /* Bake the map, or with layers each light's map and their sum as the map. */
@@ -420,6 +420,7 @@ static vdbgi_result unwrap_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
                          "the charts take %zu atlases of %d texels (%.1f M texels; at most 64 "
                          "atlases and %.1f M texels): raise --texel or lower --size",
                          un->page_count, un->size, texels * 1e-6, VDBGI_LIGHTMAP_MAX_TEXELS * 1e-6);
+    /* An adaptive bake's rays are not known before its pilot: counted as the fixed default. */
     const int rays = d->bake.rays ? d->bake.rays : LIGHTMAP_RAYS;
     const int passes = d->ao_dist > 0.0f ? 1 : asked_passes(d) ? asked_passes(d) : 3;
     const double work = texels * passes * rays;
@@ -441,7 +442,7 @@ static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
     const vdbgi_lightmap_desc *const d = desc ? desc : &none;
     const double t0 = vdbgi_now();
     vdbgi_bake_desc bd = d->bake;
-    bd.rays = bd.rays == 0 ? LIGHTMAP_RAYS : bd.rays;
+    bd.rays = bd.rays == 0 && !bd.adaptive ? LIGHTMAP_RAYS : bd.rays;
     vdbgi_bake_params bp;
     VDBGI_TRY(vdbgi_bake_params_resolve(ctx, &bd, scene, &bp));
     VDBGI_FAIL_IF(ctx, bp.bounces > 1, VDBGI_ERR_INVALID_ARG,
@@ -507,7 +508,16 @@ static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
         stats->tail_share = r->map.tail_share;
         memcpy(stats->pass_seconds, r->map.pass_seconds, sizeof(stats->pass_seconds));
         stats->rays = r->map.rays;
+        stats->gather_rays =
+            r->map.gathers ? (double)r->map.gathered / (double)r->map.gathers : 0.0;
         stats->seconds = vdbgi_now() - t0;
+        /* Measured after the timing: a report on the bake, not a part of it. */
+        if (!r->ao && !bare)
+            res = vdbgi_lightmap_noise(ctx, scene, &bp, &stats->noise);
+        if (res != VDBGI_OK) {
+            vdbgi_lightmap_result_destroy(r);
+            return res;
+        }
     }
     *out = r;
     return VDBGI_OK;
@@ -554,6 +564,14 @@ void vdbgi_lightmap_result_sample(const vdbgi_lightmap_result *r, uint32_t prim,
                                   float rgb[3])
 {
     vdbgi_lightmap_at(&r->map, &r->un, &r->tx, prim, u, v, rgb);
+}
+
+const float *vdbgi_lightmap_result_texels(const vdbgi_lightmap_result *r,
+                                          const unsigned char **valid, size_t *count)
+{
+    *valid = r->map.valid;
+    *count = r->map.texel_count;
+    return r->map.rgb;
 }
 
 const int32_t *vdbgi_lightmap_result_boxes(const vdbgi_lightmap_result *r, const uint32_t **pages,
