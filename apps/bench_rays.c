@@ -185,7 +185,8 @@ int bench_rays(const bench_options *o)
     return code;
 }
 
-/* A lightmap of one pass (its first gather) under light with bake's sampling, or NULL. */
+/* A lightmap of one pass (its first gather) under light with bake's sampling, or NULL
+   (said on stderr). */
 static vdbgi_lightmap_result *texel_map(vdbgi_context *ctx, const vdbgi_scene *scene, double texel,
                                         const bench_light *light, vdbgi_bake_desc bake,
                                         vdbgi_lightmap_stats *st)
@@ -193,7 +194,10 @@ static vdbgi_lightmap_result *texel_map(vdbgi_context *ctx, const vdbgi_scene *s
     const vdbgi_lightmap_desc d = {
         .texel = (float)texel, .passes = 1, .bake = bench_lit(bake, light)};
     vdbgi_lightmap_result *res = NULL;
-    return vdbgi_lightmap_bake_scene(ctx, scene, &d, &res, st) == VDBGI_OK ? res : NULL;
+    const vdbgi_result r = vdbgi_lightmap_bake_scene(ctx, scene, &d, &res, st);
+    if (r != VDBGI_OK)
+        cli_fail(ctx, r);
+    return res;
 }
 
 /*

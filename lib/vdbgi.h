@@ -492,9 +492,11 @@ typedef enum vdbgi_trace_method {
  *                sizes^1.5. k comes from a pilot of 1024 points on the
  *                surfaces (lifted as probes stand, on the lattice), then is
  *                fitted until the error measured at 256 such points (each
- *                baked twice, vdbgi_bake_stats.noise) is noise x their mean
- *                light, or at most 15 % under. The same in any tile and on
- *                any thread count.
+ *                baked twice, as vdbgi_bake_stats.noise is but under
+ *                rotations of their own) is noise x their mean light, or
+ *                at most 15 % under, as far as max_rays and six
+ *                measurements allow. The same in any tile and on any
+ *                thread count.
  *   noise:       the target of adaptive, relative, > 0. 0 == 0.02.
  *   max_rays:    the cap of adaptive, a power of two, 64..2^20. 0 == 1024.
  *   ray_dist:    longest ray, metres, > 0. 0 == 40.

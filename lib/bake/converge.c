@@ -251,7 +251,8 @@ static vdbgi_result spread(vdbgi_context *ctx, const vdbgi_scene *scene, const v
 
 static vdbgi_result measure_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
                                   const vdbgi_tracer *tracer, const vdbgi_bake_params *bp,
-                                  const float *pos, const float *normal, double *noise)
+                                  const float *pos, const float *normal, int32_t salt,
+                                  double *noise)
 {
     vdbgi_bake_params b = *bp;
     if (!b.adaptive)
@@ -259,10 +260,10 @@ static vdbgi_result measure_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
     double *const est = vdbgi_calloc(ctx, 2 * NOISE_POINTS, SPREAD_OUT * sizeof(double));
     vdbgi_result r = est ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
     if (r == VDBGI_OK)
-        r = spread(ctx, scene, tracer, &b, pos, normal, NOISE_POINTS, -4, est);
+        r = spread(ctx, scene, tracer, &b, pos, normal, NOISE_POINTS, salt, est);
     double *const again = est ? &est[SPREAD_OUT * NOISE_POINTS] : NULL;
     if (r == VDBGI_OK)
-        r = spread(ctx, scene, tracer, &b, pos, normal, NOISE_POINTS, -5, again);
+        r = spread(ctx, scene, tracer, &b, pos, normal, NOISE_POINTS, salt - 1, again);
     double sq = 0.0, light = 0.0;
     size_t valid = 0;
     for (size_t i = 0; r == VDBGI_OK && i < NOISE_POINTS; i++) {
@@ -335,20 +336,27 @@ static vdbgi_result pilot_points(vdbgi_context *ctx, const vdbgi_scene *scene,
 #define PROBE_FLOOR 0.05
 
 /*
- * From the scale independent rays would need, the one whose noise as
- * measured (vdbgi_bake_noise, as every bake reports it) meets bp->noise: a
- * Fibonacci set's error falls faster than independent rays', by how much
- * depends on the scene (0.4-0.55 of the target on the bundled world, 0.23
- * in a lamp-lit room). The error goes as a power of the scale, fitted from
- * the last two measurements (the first step assumes 0.75), until a scale
- * over the target and one within it bracket it; then log-log between them
- * (the measure is itself noisy: a little more scale can measure a little
- * more noise). At most CALIBRATE measurements, stopping within 15 % under
- * the target. The least scale measured within the target stands, else
- * (past what max_rays allows) the largest. The points and their streams are fixed, so the
- * same in every tile and on any thread count.
+ * From the scale independent rays would need, the one whose noise, measured
+ * as vdbgi_bake_noise measures it (the same points, under rotations of
+ * their own, so the noise a bake reports is not the fit's own sample),
+ * meets bp->noise: a Fibonacci set's error falls faster than independent
+ * rays', by how much depends on the scene (0.4-0.55 of the target on the
+ * bundled world, 0.23 in a lamp-lit room). The error goes as a power of the
+ * scale, fitted from the last two measurements (the first step assumes
+ * 0.75), until a scale over the target and one within it bracket it; then
+ * log-log between them (the measure is itself noisy: a little more scale
+ * can measure a little more noise). At most CALIBRATE measurements,
+ * stopping within 15 % under the target. The least scale measured within
+ * the target stands, else (past what max_rays allows) the largest
+ * measured. The points and their streams are fixed, so the same in every
+ * tile and on any thread count.
  */
 #define CALIBRATE 6
+#define CALIBRATE_SALT (-7) /* its own streams: the noise printed is measured apart */
+
+static vdbgi_result bake_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
+                               const vdbgi_tracer *tracer, const double lattice[4], bool surface,
+                               const vdbgi_bake_params *bp, int32_t salt, double *noise);
 
 static vdbgi_result calibrate(vdbgi_context *ctx, const vdbgi_scene *scene,
                               const vdbgi_tracer *tracer, const double lattice[4], bool surface,
@@ -361,7 +369,7 @@ static vdbgi_result calibrate(vdbgi_context *ctx, const vdbgi_scene *scene,
     for (int m = 0; m < CALIBRATE; m++) {
         const double scale = bp->adaptive_scale;
         double e;
-        VDBGI_TRY(vdbgi_bake_noise(ctx, scene, tracer, lattice, surface, bp, &e));
+        VDBGI_TRY(bake_noise(ctx, scene, tracer, lattice, surface, bp, CALIBRATE_SALT, &e));
         vdbgi_log(ctx, VDBGI_LOG_DEBUG, "auto: scale %.4g gives noise %.2f %% (target %.2f %%)",
                   scale, 100.0 * e, 100.0 * target);
         if (!(e > 0.0)) /* no noise at all: any scale does */
@@ -370,7 +378,7 @@ static vdbgi_result calibrate(vdbgi_context *ctx, const vdbgi_scene *scene,
             over = scale, over_e = e;
         if (e <= target && (within == 0.0 || scale < within))
             within = scale, within_e = e;
-        if (e <= target && e > target / 1.15)
+        if (e <= target && e > 0.85 * target)
             break; /* close under the target */
         if (prev > 0.0 && prev_e > 0.0 && prev != scale) {
             const double p = -log(e / prev_e) / log(scale / prev);
@@ -391,7 +399,7 @@ static vdbgi_result calibrate(vdbgi_context *ctx, const vdbgi_scene *scene,
         bp->adaptive_scale = next;
     }
     /* The least scale measured within the target; else (past what max_rays allows) the most. */
-    bp->adaptive_scale = within > 0.0 ? within : fmax(over, bp->adaptive_scale);
+    bp->adaptive_scale = within > 0.0 ? within : over;
     return VDBGI_OK;
 }
 
@@ -427,10 +435,10 @@ vdbgi_result vdbgi_adaptive_scale(vdbgi_context *ctx, const vdbgi_scene *scene,
          * performance.md, "Rays where they pay"). The first scale gives
          * the pilot points noise times their mean light as independent rays
          * would, sqrt(mean(sigma^1.5) / scale); a Fibonacci set does better,
-         * by a share calibrate measures. On surfaces a floor under the
-         * spread: a pilot that saw none may have missed a small bright
-         * patch, and without it auto's error stopped falling at 3.8 % on
-         * the bundled world's texels.
+         * by a share calibrate measures. A floor under the spread (more
+         * on surfaces): a pilot that saw none may have missed a small
+         * bright patch, and without it auto's error stopped falling (at
+         * 3.8 % on the bundled world's texels).
          */
         double light = 0.0, mean = 0.0, sigma = 0.0;
         size_t valid = 0;
@@ -458,9 +466,10 @@ vdbgi_result vdbgi_adaptive_scale(vdbgi_context *ctx, const vdbgi_scene *scene,
     return r;
 }
 
-vdbgi_result vdbgi_bake_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
-                              const vdbgi_tracer *tracer, const double lattice[4], bool surface,
-                              const vdbgi_bake_params *bp, double *noise)
+/* The noise at the NOISE_POINTS points, each estimated under streams salt and salt - 1. */
+static vdbgi_result bake_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
+                               const vdbgi_tracer *tracer, const double lattice[4], bool surface,
+                               const vdbgi_bake_params *bp, int32_t salt, double *noise)
 {
     *noise = 0.0;
     float *const pos = vdbgi_calloc(ctx, NOISE_POINTS, 3 * sizeof(float));
@@ -471,8 +480,15 @@ vdbgi_result vdbgi_bake_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
                                         normal, &placed)
                          : VDBGI_ERR_OUT_OF_MEMORY;
     if (r == VDBGI_OK && placed)
-        r = measure_noise(ctx, scene, tracer, bp, pos, normal, noise);
+        r = measure_noise(ctx, scene, tracer, bp, pos, normal, salt, noise);
     vdbgi_free(ctx, normal);
     vdbgi_free(ctx, pos);
     return r;
+}
+
+vdbgi_result vdbgi_bake_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
+                              const vdbgi_tracer *tracer, const double lattice[4], bool surface,
+                              const vdbgi_bake_params *bp, double *noise)
+{
+    return bake_noise(ctx, scene, tracer, lattice, surface, bp, -4, noise);
 }

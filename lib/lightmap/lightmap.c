@@ -221,6 +221,8 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
                   (double)lp->converge);
     VDBGI_FAIL_IF(ctx, bp->adaptive && lp->ao_dist > 0.0f, VDBGI_ERR_INVALID_ARG,
                   "an AO map takes a fixed ray count, not --rays auto");
+    VDBGI_FAIL_IF(ctx, bp->adaptive && lp->bare, VDBGI_ERR_INVALID_ARG,
+                  "the bare loop takes a fixed ray count (unshaded, auto sees no spread)");
     VDBGI_FAIL_IF(ctx, !(lp->ao_dist >= 0.0f) || !isfinite(lp->ao_dist), VDBGI_ERR_INVALID_ARG,
                   "AO distance must be >= 0 and finite (got %g)", (double)lp->ao_dist);
     const size_t texels = (size_t)tx->size * (size_t)tx->size * tx->page_count;
@@ -249,9 +251,11 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
         r = vdbgi_tracer_create(ctx, scene->positions, scene->vertex_count, scene->indices,
                                 scene->triangle_count, &tracer);
     /* An adaptive texel's rays by its pilot's spread: the scale from points on the surfaces,
-       lit as the first pass lights them (before the threads read one). */
+       lit as the first pass lights them (before the threads read one), timed with that pass. */
+    const double scale_t0 = vdbgi_now();
     if (r == VDBGI_OK)
         r = vdbgi_adaptive_scale(ctx, scene, tracer, NULL, true, &one);
+    const double scale_seconds = vdbgi_now() - scale_t0;
     if (r != VDBGI_OK)
         goto done;
     size_t n = 0;
@@ -298,7 +302,7 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
         if ((r = sweep(&sh, ths, nth, tracer, lp, keep, &cur, out, &prev)) != VDBGI_OK)
             break;
         if (pass < (int)(sizeof(out->pass_seconds) / sizeof(out->pass_seconds[0])))
-            out->pass_seconds[pass] = vdbgi_now() - t0;
+            out->pass_seconds[pass] = vdbgi_now() - t0 + (pass == 0 ? scale_seconds : 0.0);
         out->passes = pass + 1;
         const double light = map_light(out, samples, n);
         out->last_share = light > 0.0 ? (light - light_before) / light : 0.0;
@@ -318,6 +322,9 @@ vdbgi_result vdbgi_lightmap_bake(vdbgi_context *ctx, const vdbgi_scene *scene,
     }
     for (int t = 0; t < nth; t++)
         out->rays += ths[t].rays, out->gathers += ths[t].gathers, out->gathered += ths[t].gathered;
+    /* After the passes' timing: a report on the map, not a part of it. */
+    if (r == VDBGI_OK && lp->noise && lp->ao_dist <= 0.0f)
+        r = vdbgi_bake_noise(ctx, scene, tracer, NULL, true, &one, &out->noise);
     for (size_t s = 0; s < n; s++)
         out->invalid_count += !out->valid[samples[s]];
 done:

@@ -20,6 +20,7 @@ typedef struct vdbgi_lightmap_params {
     float ao_dist;  /* > 0: ambient occlusion instead (seed 004's AO mode): the fraction of the
                       cosine-weighted hemisphere open for this many metres, in every channel */
     bool bare;      /* the same rays, nothing shaded nor dilated (the benchmark's bare loop) */
+    bool noise;     /* measure the noise a pass's gather leaves into the map's noise */
 } vdbgi_lightmap_params;
 
 typedef struct vdbgi_lightmap {
@@ -37,6 +38,7 @@ typedef struct vdbgi_lightmap {
     uint64_t rays;
     uint64_t gathers, gathered; /* a sample's gathers over its hemisphere, every pass's, and
                                    their rays (no AO) */
+    double noise;               /* with the params' noise: vdbgi_lightmap_noise's figure */
 } vdbgi_lightmap;
 
 /*
@@ -54,7 +56,9 @@ void vdbgi_lightmap_free(vdbgi_lightmap *m);
 /*
  * The noise bp's gather leaves in a pass of a lightmap of scene: the first
  * pass's error at 256 points on the surfaces (vdbgi_bake_noise), over their
- * mean light; an adaptive bp's scale found as the bake finds it.
+ * mean light; an adaptive bp's scale found as the bake finds it. What a
+ * bake measures with the params' noise, apart from one (for layers, whose
+ * bakes each take a light of bp's).
  */
 vdbgi_result vdbgi_lightmap_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
                                   const vdbgi_bake_params *bp, double *noise);

@@ -420,14 +420,17 @@ static vdbgi_result unwrap_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
                          "the charts take %zu atlases of %d texels (%.1f M texels; at most 64 "
                          "atlases and %.1f M texels): raise --texel or lower --size",
                          un->page_count, un->size, texels * 1e-6, VDBGI_LIGHTMAP_MAX_TEXELS * 1e-6);
-    /* An adaptive bake's rays are not known before its pilot: counted as the fixed default. */
-    const int rays = d->bake.rays ? d->bake.rays : LIGHTMAP_RAYS;
+    /* An adaptive bake's rays are not known before its pilot: counted at its cap. */
+    const int rays = d->bake.adaptive ? (d->bake.max_rays ? d->bake.max_rays : 1024)
+                     : d->bake.rays   ? d->bake.rays
+                                      : LIGHTMAP_RAYS;
     const int passes = d->ao_dist > 0.0f ? 1 : asked_passes(d) ? asked_passes(d) : 3;
     const double work = texels * passes * rays;
     if (res == VDBGI_OK && work > VDBGI_LIGHTMAP_MAX_RAYS)
         res = vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY,
                          "%.1f M texels x %d rays x %d passes is %.1f G rays (at most %.1f G, "
-                         "minutes at tens of M rays/s): raise --texel or lower --rays or --passes",
+                         "minutes at tens of M rays/s): raise --texel or lower --rays, "
+                         "--max-rays or --passes",
                          texels * 1e-6, rays, passes, work * 1e-9, VDBGI_LIGHTMAP_MAX_RAYS * 1e-9);
     return res;
 }
@@ -469,15 +472,20 @@ static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
     if (res == VDBGI_OK)
         res = vdbgi_texels_build(ctx, scene, &r->un, &r->tx);
     /* Dilate past the gutters on both sides of a chart edge, and over invalid texels. */
-    const vdbgi_lightmap_params lp = {
-        asked, converge, d->direct != 0, 2 * (int)r->un.gutter + 2, d->ao_dist, bare};
+    const bool ao = d->ao_dist > 0.0f;
+    const vdbgi_lightmap_params lp = {.passes = asked,
+                                      .converge = converge,
+                                      .direct = d->direct != 0,
+                                      .rings = 2 * (int)r->un.gutter + 2,
+                                      .ao_dist = d->ao_dist,
+                                      .bare = bare,
+                                      .noise = stats && !ao && !bare && !d->layers};
     if (res == VDBGI_OK)
         res = bake_maps(ctx, r, &bp, &lp, d->layers != 0);
     /* A black map is a scene without light (a closed room with no lamp under the physical model)
        or, bounced light only, one with nothing lit in view of its surfaces (a lone plane under
        the sun): say so rather than write darkness silently. */
     bool lit = false;
-    const bool ao = d->ao_dist > 0.0f;
     for (size_t i = 0; res == VDBGI_OK && !ao && i < 3 * r->map.texel_count && !lit; i++)
         lit = r->map.rgb[i] > 0.0f;
     if (res == VDBGI_OK && !ao && r->map.texel_count && !lit)
@@ -511,8 +519,9 @@ static vdbgi_result bake_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
         stats->gather_rays =
             r->map.gathers ? (double)r->map.gathered / (double)r->map.gathers : 0.0;
         stats->seconds = vdbgi_now() - t0;
-        /* Measured after the timing: a report on the bake, not a part of it. */
-        if (!r->ao && !bare)
+        /* Measured by the bake after its passes; layers' bakes each took one light of bp. */
+        stats->noise = r->map.noise;
+        if (!r->ao && !bare && d->layers)
             res = vdbgi_lightmap_noise(ctx, scene, &bp, &stats->noise);
         if (res != VDBGI_OK) {
             vdbgi_lightmap_result_destroy(r);
