@@ -354,12 +354,8 @@ static vdbgi_result pilot_points(vdbgi_context *ctx, const vdbgi_scene *scene,
 #define CALIBRATE 6
 #define CALIBRATE_SALT (-7) /* its own streams: the noise printed is measured apart */
 
-static vdbgi_result bake_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
-                               const vdbgi_tracer *tracer, const double lattice[4], bool surface,
-                               const vdbgi_bake_params *bp, int32_t salt, double *noise);
-
 static vdbgi_result calibrate(vdbgi_context *ctx, const vdbgi_scene *scene,
-                              const vdbgi_tracer *tracer, const double lattice[4], bool surface,
+                              const vdbgi_tracer *tracer, const float *pos, const float *normal,
                               vdbgi_bake_params *bp)
 {
     const double target = (double)bp->noise, aim = 0.95 * target;
@@ -369,7 +365,7 @@ static vdbgi_result calibrate(vdbgi_context *ctx, const vdbgi_scene *scene,
     for (int m = 0; m < CALIBRATE; m++) {
         const double scale = bp->adaptive_scale;
         double e;
-        VDBGI_TRY(bake_noise(ctx, scene, tracer, lattice, surface, bp, CALIBRATE_SALT, &e));
+        VDBGI_TRY(measure_noise(ctx, scene, tracer, bp, pos, normal, CALIBRATE_SALT, &e));
         vdbgi_log(ctx, VDBGI_LOG_DEBUG, "auto: scale %.4g gives noise %.2f %% (target %.2f %%)",
                   scale, 100.0 * e, 100.0 * target);
         if (!(e > 0.0)) /* no noise at all: any scale does */
@@ -401,6 +397,23 @@ static vdbgi_result calibrate(vdbgi_context *ctx, const vdbgi_scene *scene,
     /* The least scale measured within the target; else (past what max_rays allows) the most. */
     bp->adaptive_scale = within > 0.0 ? within : over;
     return VDBGI_OK;
+}
+
+/*
+ * The NOISE_POINTS points the noise is measured at, placed as the pilot's
+ * (with their normals on surfaces) into *pos and *normal, which the caller
+ * frees; *placed false when the scene has no area.
+ */
+static vdbgi_result noise_points(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                 const vdbgi_tracer *tracer, const double lattice[4], bool surface,
+                                 uint64_t seed, float **pos, float **normal, bool *placed)
+{
+    *pos = vdbgi_calloc(ctx, NOISE_POINTS, 3 * sizeof(float));
+    *normal = surface ? vdbgi_calloc(ctx, NOISE_POINTS, 3 * sizeof(float)) : NULL;
+    *placed = false;
+    return *pos && (*normal || !surface) ? pilot_points(ctx, scene, tracer, lattice, seed,
+                                                        NOISE_POINTS, *pos, *normal, placed)
+                                         : VDBGI_ERR_OUT_OF_MEMORY;
 }
 
 vdbgi_result vdbgi_adaptive_scale(vdbgi_context *ctx, const vdbgi_scene *scene,
@@ -461,28 +474,14 @@ vdbgi_result vdbgi_adaptive_scale(vdbgi_context *ctx, const vdbgi_scene *scene,
     vdbgi_free(ctx, first);
     vdbgi_free(ctx, normal);
     vdbgi_free(ctx, pos);
-    if (r == VDBGI_OK && placed && bp->adaptive_scale > 0.0)
-        r = calibrate(ctx, scene, tracer, lattice, surface, bp);
-    return r;
-}
-
-/* The noise at the NOISE_POINTS points, each estimated under streams salt and salt - 1. */
-static vdbgi_result bake_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
-                               const vdbgi_tracer *tracer, const double lattice[4], bool surface,
-                               const vdbgi_bake_params *bp, int32_t salt, double *noise)
-{
-    *noise = 0.0;
-    float *const pos = vdbgi_calloc(ctx, NOISE_POINTS, 3 * sizeof(float));
-    float *const normal = surface ? vdbgi_calloc(ctx, NOISE_POINTS, 3 * sizeof(float)) : NULL;
-    bool placed = false;
-    vdbgi_result r = pos && (normal || !surface)
-                         ? pilot_points(ctx, scene, tracer, lattice, bp->seed, NOISE_POINTS, pos,
-                                        normal, &placed)
-                         : VDBGI_ERR_OUT_OF_MEMORY;
-    if (r == VDBGI_OK && placed)
-        r = measure_noise(ctx, scene, tracer, bp, pos, normal, salt, noise);
-    vdbgi_free(ctx, normal);
-    vdbgi_free(ctx, pos);
+    if (r == VDBGI_OK && placed && bp->adaptive_scale > 0.0) {
+        float *at = NULL, *at_normal = NULL; /* the noise points, placed once for the fit */
+        r = noise_points(ctx, scene, tracer, lattice, surface, bp->seed, &at, &at_normal, &placed);
+        if (r == VDBGI_OK && placed)
+            r = calibrate(ctx, scene, tracer, at, at_normal, bp);
+        vdbgi_free(ctx, at_normal);
+        vdbgi_free(ctx, at);
+    }
     return r;
 }
 
@@ -490,5 +489,14 @@ vdbgi_result vdbgi_bake_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
                               const vdbgi_tracer *tracer, const double lattice[4], bool surface,
                               const vdbgi_bake_params *bp, double *noise)
 {
-    return bake_noise(ctx, scene, tracer, lattice, surface, bp, -4, noise);
+    *noise = 0.0;
+    float *pos = NULL, *normal = NULL;
+    bool placed = false;
+    vdbgi_result r =
+        noise_points(ctx, scene, tracer, lattice, surface, bp->seed, &pos, &normal, &placed);
+    if (r == VDBGI_OK && placed)
+        r = measure_noise(ctx, scene, tracer, bp, pos, normal, -4, noise);
+    vdbgi_free(ctx, normal);
+    vdbgi_free(ctx, pos);
+    return r;
 }
