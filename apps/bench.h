@@ -26,6 +26,12 @@ double bench_time_process(char *const argv[], double *peak_mb);
 void bench_info(const vdbgi_volume *v, vdbgi_volume_info *vi);
 /* --out, build/chart by default, made when missing; NULL (said on stderr) when it cannot be. */
 const char *bench_out_dir(const bench_options *o);
+/*
+ * --out (as bench_out_dir), a context and o->scene loaded: CLI_OK, or the
+ * exit code, said on stderr, with nothing left to free.
+ */
+int bench_open_scene(const bench_options *o, const char **dir, vdbgi_context **ctx,
+                     vdbgi_scene **scene);
 /* dir/name opened for writing with its header line, or NULL (said on stderr). */
 FILE *bench_open_csv(const char *dir, const char *name, const char *header);
 /* RMSE and p99 of b against a over n RGB values, relative to a's mean. */

@@ -72,18 +72,15 @@ static void memory_row(FILE *f, double spacing, const char *layout, const char *
 
 int bench_memory(const bench_options *o, bool one_spacing)
 {
-    const char *const dir = bench_out_dir(o);
-    if (!dir)
-        return CLI_FAILED;
-    vdbgi_context *const ctx = cli_context();
-    if (!ctx)
-        return CLI_FAILED;
+    const char *dir = NULL;
+    vdbgi_context *ctx = NULL;
     vdbgi_scene *scene = NULL;
+    const int opened = bench_open_scene(o, &dir, &ctx, &scene);
+    if (opened != CLI_OK)
+        return opened;
     bench_receivers rv = {0};
     float *got = NULL;
-    vdbgi_result r = vdbgi_scene_load(ctx, o->scene, &scene);
-    if (r == VDBGI_OK)
-        r = bench_receivers_make(scene, &o->light, &rv);
+    vdbgi_result r = bench_receivers_make(scene, &o->light, &rv);
     if (r == VDBGI_OK && !(got = calloc(3 * rv.count + 3, sizeof(float))))
         r = VDBGI_ERR_OUT_OF_MEMORY;
     FILE *const f =

@@ -18,6 +18,33 @@ typedef struct rays_row {
 } rays_row;
 
 /*
+ * The ways both tables measure, each a run of rows: the fixed set at each
+ * count, its random turn a point at each count, auto at each target.
+ */
+enum { WAYS = 3 };
+static const int counts[] = {16, 32, 64, 128, 256, 512, 1024};
+static const float targets[] = {0.14f, 0.1f, 0.07f, 0.05f, 0.035f, 0.025f, 0.018f};
+enum { FIXED = sizeof(counts) / sizeof(counts[0]), TARGETS = sizeof(targets) / sizeof(targets[0]) };
+
+static int way_runs(int way)
+{
+    return way < 2 ? FIXED : TARGETS;
+}
+
+/* Way way's row k: its sampling under light, and its name and target into row. */
+static vdbgi_bake_desc way_row(int way, int k, const bench_light *light, rays_row *row)
+{
+    row->sampling = way == 0 ? "fibonacci" : way == 1 ? "random" : "adaptive";
+    row->noise = way == 2 ? (double)targets[k] : 0.0;
+    return bench_lit(
+        (vdbgi_bake_desc){.rays = way < 2 ? counts[k] : 0,
+                          .adaptive = way == 2,
+                          .sampling = way == 0 ? VDBGI_SAMPLING_FIBONACCI : VDBGI_SAMPLING_RANDOM,
+                          .noise = way == 2 ? targets[k] : 0.0f},
+        light);
+}
+
+/*
  * The fixed Fibonacci count that gives rmse, read off the fixed rows in
  * log-log (the error falls as a power of the count between two of them);
  * 0 when rmse is outside their range.
@@ -79,12 +106,6 @@ int bench_rays_table(vdbgi_context *ctx, const vdbgi_scene *scene, double spacin
                                                              calloc(n * 3 + 1, sizeof(float));
     unsigned char *const valid = calloc(n + 1, 1);
     double *const cost = calloc(n + 1, sizeof(double)); /* per probe: error^2 x rays */
-    static const int counts[] = {16, 32, 64, 128, 256, 512, 1024};
-    static const float targets[] = {0.14f, 0.1f, 0.07f, 0.05f, 0.035f, 0.025f, 0.018f};
-    enum {
-        FIXED = sizeof(counts) / sizeof(counts[0]),
-        TARGETS = sizeof(targets) / sizeof(targets[0])
-    };
     rays_row rows[2 * FIXED + TARGETS + 1];
     size_t rows_n = 0;
     if (!ref || !got || !valid || !cost)
@@ -104,16 +125,10 @@ int bench_rays_table(vdbgi_context *ctx, const vdbgi_scene *scene, double spacin
         m += valid[i];
     }
     /* Ways: the fixed set, its random rotation a probe, auto. */
-    for (int way = 0; r == VDBGI_OK && way < 3; way++) {
-        const int runs = way < 2 ? FIXED : TARGETS;
-        for (int k = 0; r == VDBGI_OK && k < runs; k++) {
-            const vdbgi_bake_desc d =
-                bench_lit((vdbgi_bake_desc){.rays = way < 2 ? counts[k] : 0,
-                                            .adaptive = way == 2,
-                                            .sampling = way == 0 ? VDBGI_SAMPLING_FIBONACCI
-                                                                 : VDBGI_SAMPLING_RANDOM,
-                                            .noise = way == 2 ? targets[k] : 0.0f},
-                          light);
+    for (int way = 0; r == VDBGI_OK && way < WAYS; way++) {
+        for (int k = 0; r == VDBGI_OK && k < way_runs(way); k++) {
+            rays_row *const row = &rows[rows_n];
+            const vdbgi_bake_desc d = way_row(way, k, light, row);
             vdbgi_bake_stats st;
             if ((r = vdbgi_probes_bake(p, scene, &d, &st)) != VDBGI_OK)
                 break;
@@ -128,10 +143,8 @@ int bench_rays_table(vdbgi_context *ctx, const vdbgi_scene *scene, double spacin
                         const double e = (double)got[3 * i + c] - ref[3 * i + c];
                         cost[i] += e * e * counts[k];
                     }
-            rays_row *const row = &rows[rows_n++];
-            row->sampling = way == 0 ? "fibonacci" : way == 1 ? "random" : "adaptive";
+            rows_n++;
             row->rays = (double)st.primary_ray_count / (double)n;
-            row->noise = way == 2 ? (double)targets[k] : 0.0;
             row->seconds = st.seconds;
             row->printed = st.noise;
             bench_compare(ref, got, m, &row->rmse, &row->p99);
@@ -169,30 +182,23 @@ int bench_rays_table(vdbgi_context *ctx, const vdbgi_scene *scene, double spacin
 
 int bench_rays(const bench_options *o)
 {
-    const char *const dir = bench_out_dir(o);
-    if (!dir)
-        return CLI_FAILED;
-    vdbgi_context *const ctx = cli_context();
-    if (!ctx)
-        return CLI_FAILED;
+    const char *dir = NULL;
+    vdbgi_context *ctx = NULL;
     vdbgi_scene *scene = NULL;
-    vdbgi_result r = vdbgi_scene_load(ctx, o->scene, &scene);
-    int code = r == VDBGI_OK ? CLI_OK : cli_fail(ctx, r);
-    if (code == CLI_OK)
-        code = bench_rays_table(ctx, scene, o->spacing_given ? o->spacing : 1.0, &o->light, dir);
+    int code = bench_open_scene(o, &dir, &ctx, &scene);
+    if (code != CLI_OK)
+        return code;
+    code = bench_rays_table(ctx, scene, o->spacing_given ? o->spacing : 1.0, &o->light, dir);
     vdbgi_scene_destroy(scene);
     vdbgi_context_destroy(ctx);
     return code;
 }
 
-/* A lightmap of one pass (its first gather) under light with bake's sampling, or NULL
-   (said on stderr). */
+/* A lightmap of one pass (its first gather) baked as bake says, or NULL (said on stderr). */
 static vdbgi_lightmap_result *texel_map(vdbgi_context *ctx, const vdbgi_scene *scene, double texel,
-                                        const bench_light *light, vdbgi_bake_desc bake,
-                                        vdbgi_lightmap_stats *st)
+                                        vdbgi_bake_desc bake, vdbgi_lightmap_stats *st)
 {
-    const vdbgi_lightmap_desc d = {
-        .texel = (float)texel, .passes = 1, .bake = bench_lit(bake, light)};
+    const vdbgi_lightmap_desc d = {.texel = (float)texel, .passes = 1, .bake = bake};
     vdbgi_lightmap_result *res = NULL;
     const vdbgi_result r = vdbgi_lightmap_bake_scene(ctx, scene, &d, &res, st);
     if (r != VDBGI_OK)
@@ -207,46 +213,35 @@ static vdbgi_lightmap_result *texel_map(vdbgi_context *ctx, const vdbgi_scene *s
  */
 int bench_texel_rays(const bench_options *o)
 {
-    const char *const dir = bench_out_dir(o);
-    vdbgi_context *const ctx = dir ? cli_context() : NULL;
-    if (!ctx)
-        return CLI_FAILED;
-    const double texel = o->spacing_given ? o->spacing : 0.5;
+    const char *dir = NULL;
+    vdbgi_context *ctx = NULL;
     vdbgi_scene *scene = NULL;
-    vdbgi_result r = vdbgi_scene_load(ctx, o->scene, &scene);
-    if (r != VDBGI_OK) {
-        const int code = cli_fail(ctx, r);
-        vdbgi_context_destroy(ctx);
-        return code;
-    }
-    static const int counts[] = {16, 32, 64, 128, 256, 512, 1024};
-    static const float targets[] = {0.14f, 0.1f, 0.07f, 0.05f, 0.035f, 0.025f, 0.018f};
-    enum {
-        FIXED = sizeof(counts) / sizeof(counts[0]),
-        TARGETS = sizeof(targets) / sizeof(targets[0])
-    };
+    const int opened = bench_open_scene(o, &dir, &ctx, &scene);
+    if (opened != CLI_OK)
+        return opened;
+    const double texel = o->spacing_given ? o->spacing : 0.5;
     rays_row rows[2 * FIXED + TARGETS];
     size_t rows_n = 0, n = 0, texels = 0;
     vdbgi_lightmap_stats st;
     fprintf(stderr, "texel-rays: %g m texels, the %d-ray reference\n", texel, REFERENCE_RAYS);
-    vdbgi_lightmap_result *const ref = texel_map(
-        ctx, scene, texel, &o->light,
-        (vdbgi_bake_desc){.rays = REFERENCE_RAYS, .sampling = VDBGI_SAMPLING_RANDOM, .seed = 99},
-        &st);
+    vdbgi_lightmap_result *const ref =
+        texel_map(ctx, scene, texel,
+                  bench_lit((vdbgi_bake_desc){.rays = REFERENCE_RAYS,
+                                              .sampling = VDBGI_SAMPLING_RANDOM,
+                                              .seed = 99},
+                            &o->light),
+                  &st);
     const unsigned char *ref_valid = NULL;
     const float *const ref_rgb =
         ref ? vdbgi_lightmap_result_texels(ref, &ref_valid, &texels) : NULL;
     float *const a = calloc(3 * texels + 1, sizeof(float)), *const b = calloc(3 * texels + 1,
                                                                               sizeof(float));
     bool ok = ref && a && b;
-    for (int way = 0; ok && way < 3; way++) {
-        for (int k = 0; ok && k < (way < 2 ? FIXED : TARGETS); k++) {
-            const vdbgi_bake_desc d = {.rays = way < 2 ? counts[k] : 0,
-                                       .adaptive = way == 2,
-                                       .sampling = way == 0 ? VDBGI_SAMPLING_FIBONACCI
-                                                            : VDBGI_SAMPLING_RANDOM,
-                                       .noise = way == 2 ? targets[k] : 0.0f};
-            vdbgi_lightmap_result *const got = texel_map(ctx, scene, texel, &o->light, d, &st);
+    for (int way = 0; ok && way < WAYS; way++) {
+        for (int k = 0; ok && k < way_runs(way); k++) {
+            rays_row *const row = &rows[rows_n];
+            const vdbgi_bake_desc d = way_row(way, k, &o->light, row);
+            vdbgi_lightmap_result *const got = texel_map(ctx, scene, texel, d, &st);
             if (!(ok = got != NULL))
                 break;
             const unsigned char *valid = NULL;
@@ -259,10 +254,8 @@ int bench_texel_rays(const bench_options *o)
                     memcpy(&b[3 * n], &rgb[3 * i], 3 * sizeof(float));
                     n++;
                 }
-            rays_row *const row = &rows[rows_n++];
-            row->sampling = way == 0 ? "fibonacci" : way == 1 ? "random" : "adaptive";
+            rows_n++;
             row->rays = st.gather_rays;
-            row->noise = way == 2 ? (double)targets[k] : 0.0;
             row->seconds = st.pass_seconds[0];
             row->printed = st.noise;
             bench_compare(a, b, n, &row->rmse, &row->p99);

@@ -259,6 +259,22 @@ const char *bench_out_dir(const bench_options *o)
     return dir;
 }
 
+int bench_open_scene(const bench_options *o, const char **dir, vdbgi_context **ctx,
+                     vdbgi_scene **scene)
+{
+    *ctx = NULL;
+    *scene = NULL;
+    if (!(*dir = bench_out_dir(o)) || !(*ctx = cli_context()))
+        return CLI_FAILED;
+    const vdbgi_result r = vdbgi_scene_load(*ctx, o->scene, scene);
+    if (r == VDBGI_OK)
+        return CLI_OK;
+    const int code = cli_fail(*ctx, r);
+    vdbgi_context_destroy(*ctx);
+    *ctx = NULL;
+    return code;
+}
+
 FILE *bench_open_csv(const char *dir, const char *name, const char *header)
 {
     char path[4096];
