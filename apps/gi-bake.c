@@ -44,7 +44,7 @@ static void usage(void)
            "      --rays N|auto        rays per probe, or auto: 32, then more as their spread\n"
            "                           asks, as few as give the noise --noise says (128)\n"
            "      --noise T            auto's target: the error, over the mean light, measured\n"
-           "                           at 256 probes near the surfaces (0.02)\n"
+           "                           at 256 of the lattice's probes (0.02)\n"
            "      --max-rays N         auto's cap, a power of two (1024)\n"
            "      --ray-dist M         longest ray in metres (40)\n"
            "      --ambient A          seed model: ambient fill received at every hit (0.15)\n"
@@ -426,12 +426,12 @@ static vdbgi_result choose_spacing(vdbgi_context *ctx, const vdbgi_scene *scene,
 }
 
 /*
- * What the bake's noise came to: the error its settings give points on the
- * surfaces (vdbgi_bake_stats.noise), and for auto the rays a probe took.
+ * What the bake's noise came to: the error its settings give 256 of the
+ * lattice's probes (vdbgi_bake_stats.noise), and for auto the rays a probe took.
  */
 static void print_noise(const vdbgi_bake_stats *st, const vdbgi_bake_desc *bake)
 {
-    printf("noise    %.2f %% of the light, measured at 256 probes near the surfaces (each baked "
+    printf("noise    %.2f %% of the light, measured at 256 of the lattice's probes (each baked "
            "twice%s)",
            100.0 * st->noise,
            bake->adaptive || bake->sampling == VDBGI_SAMPLING_RANDOM

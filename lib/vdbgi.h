@@ -489,9 +489,9 @@ typedef enum vdbgi_trace_method {
  *                deviation of its rays) asks, one more Fibonacci set under
  *                another, of about k sqrt(s) rays less the 32 (whole 32s up
  *                to 1024 in all, doublings past), the two blended by their
- *                sizes^1.5. k comes from a pilot of 1024 points on the
- *                surfaces (lifted as probes stand, on the lattice), then is
- *                fitted until the error measured at 256 such points (each
+ *                sizes^1.5. k comes from a pilot of 1024 of the lattice's
+ *                valid probes (spread over the whole band, whatever the
+ *                tile), then is fitted until the error measured at 256 (each
  *                baked twice, as vdbgi_bake_stats.noise is but under
  *                rotations of their own) is noise x their mean light, or
  *                at most 15 % under, as far as max_rays and six
@@ -608,9 +608,10 @@ typedef struct vdbgi_bake_stats {
     int bounces, bounces_traced;
     double last_share, tail_share;
     /*
-     * The error the bake's settings give 256 points spread over the
-     * surfaces by area, over their mean light: each estimated as a probe
-     * twice under rotations of its own, the RMS of the difference over
+     * The error the bake's settings give 256 of the lattice's valid
+     * probes, picked by hash over the whole band (whatever the tile; keep
+     * boxes and --walkable not applied), over their mean light: each
+     * estimated twice under rotations of its own, the RMS of the difference over
      * sqrt 2 (a fixed Fibonacci set measured under random rotations, which
      * it beats by ~15 %). 0 for an unshaded bake.
      */

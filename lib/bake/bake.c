@@ -21,7 +21,7 @@ typedef struct bake_shared {
     /* Either a lattice (ijk + origin + spacing) or explicit points. */
     const int32_t *ijk;
     const float *points;
-    double origin[3], spacing;
+    double origin[3], spacing, margin;
     size_t count;
     float *rgb, *backface;
     float *stderr_;  /* per probe, or NULL */
@@ -122,7 +122,8 @@ static vdbgi_result bake_run(bake_shared *sh, const vdbgi_scene *scene, bool sha
     vdbgi_bake_params run = *sh->bp;
     vdbgi_bounce_plan plan;
     vdbgi_result r = vdbgi_bounces_converge(ctx, scene, tracer, &run, &plan);
-    const double lattice[4] = {sh->origin[0], sh->origin[1], sh->origin[2], sh->spacing};
+    const double lattice[5] = {sh->origin[0], sh->origin[1], sh->origin[2], sh->spacing,
+                               sh->margin};
     if (r == VDBGI_OK && shade) /* and an adaptive bake's rays for its spread */
         r = vdbgi_adaptive_scale(ctx, scene, tracer, sh->ijk ? lattice : NULL, false, &run);
     const vdbgi_bake_params *const bp = sh->bp = &run;
@@ -287,6 +288,7 @@ vdbgi_result vdbgi_probes_bake(vdbgi_probes *p, const vdbgi_scene *scene,
                       .bp = &bp,
                       .ijk = p->ijk,
                       .spacing = p->spacing,
+                      .margin = p->margin,
                       .count = p->count,
                       .rgb = rgb,
                       .backface = backface,
@@ -351,6 +353,7 @@ vdbgi_result vdbgi_probes_trace_bare(const vdbgi_probes *p, const vdbgi_scene *s
                       .bp = &bp,
                       .ijk = p->ijk,
                       .spacing = p->spacing,
+                      .margin = p->margin,
                       .count = p->count,
                       .progress = desc ? desc->progress : NULL,
                       .progress_user = desc ? desc->progress_user : NULL};

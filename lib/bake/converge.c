@@ -8,10 +8,12 @@
  * pilot saw of the rest, carries them (the "ambient term" of progressive
  * radiosity, measured rather than assumed).
  */
+#include "band.h"
 #include "estimate.h"
 #include "util.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* Enough receivers that the sums settle to well under the share asked (docs/lights.md). */
@@ -207,10 +209,11 @@ static void *run_spread(void *arg)
 }
 
 /* The first n of pos estimated under bp (its own directions) with the points' salt streams,
-   as probes, or given their normals as surface points. */
-static vdbgi_result spread(vdbgi_context *ctx, const vdbgi_scene *scene, const vdbgi_tracer *tracer,
-                           const vdbgi_bake_params *bp, const float *pos, const float *normal,
-                           size_t n, int32_t salt, double *out)
+   as probes, or given their normals as surface points; unshaded, only the back faces. */
+static vdbgi_result trace_points(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                 const vdbgi_tracer *tracer, const vdbgi_bake_params *bp,
+                                 const float *pos, const float *normal, size_t n, int32_t salt,
+                                 bool shade, double *out)
 {
     int nth = bp->threads < 1 ? 1 : bp->threads > 64 ? 64 : bp->threads;
     float *dirs = NULL;
@@ -220,7 +223,7 @@ static vdbgi_result spread(vdbgi_context *ctx, const vdbgi_scene *scene, const v
                           : VDBGI_ERR_OUT_OF_MEMORY;
     for (int t = 0; t < nth && r == VDBGI_OK; t++) {
         jobs[t] = (spread_job){
-            .est = {.scene = scene, .tracer = tracer, .bp = bp, .base_dirs = dirs, .shade = true},
+            .est = {.scene = scene, .tracer = tracer, .bp = bp, .base_dirs = dirs, .shade = shade},
             .pos = pos,
             .normal = normal,
             .first = n * (size_t)t / (size_t)nth,
@@ -239,6 +242,13 @@ static vdbgi_result spread(vdbgi_context *ctx, const vdbgi_scene *scene, const v
     vdbgi_free(ctx, jobs);
     vdbgi_free(ctx, dirs);
     return r;
+}
+
+static vdbgi_result spread(vdbgi_context *ctx, const vdbgi_scene *scene, const vdbgi_tracer *tracer,
+                           const vdbgi_bake_params *bp, const float *pos, const float *normal,
+                           size_t n, int32_t salt, double *out)
+{
+    return trace_points(ctx, scene, tracer, bp, pos, normal, n, salt, true, out);
 }
 
 /*
@@ -281,21 +291,112 @@ static vdbgi_result measure_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
     return r;
 }
 
+/* A band point and the hash that picks it. */
+typedef struct band_pick {
+    uint64_t hash;
+    size_t index;
+} band_pick;
+
+static int by_hash(const void *a, const void *b)
+{
+    const band_pick *const x = a, *const y = b;
+    return x->hash != y->hash ? (x->hash < y->hash ? -1 : 1)
+                              : (x->index > y->index) - (x->index < y->index);
+}
+
 /*
- * n points spread over the scene's surfaces by area (place_receivers), into
- * pos; *placed false when the scene has no area. With normal (n of them),
- * the points stay on the surfaces, as texels' samples stand. Else they are
- * lifted off them as probes stand (up to PILOT_LIFT, at most half way to
- * what the normal meets; a point on the surface would see a plain half
- * below it and little of the spread a probe sees) and, given a lattice,
- * moved to its nearest point.
+ * n of the lattice's own valid probes (lattice: origin xyz, spacing, margin),
+ * spread over the band as the bake's are, into pos: the points of the
+ * lattice k times coarser (k = 4, else 2, else 1) within the margin of a
+ * triangle, found as the bake places its probes (band.c) but over the whole
+ * scene, so the same in every tile; taken in the order their streams hash
+ * to, those whose 32 unshaded rays meet few enough back faces, until n are
+ * found (or at k = 1, as many as the band has, cycled). Surface points
+ * lifted along their normals stood as probes do over a plane but not round
+ * a building's edges or in a corner: at 1 m probes (a 4 m margin) on the
+ * bundled world the noise measured there was 0.75 of the error against a
+ * 16,384-ray bake, on 2,048 points, with the estimators alike.
+ */
+#define CHECK_SALT (-9)
+
+static vdbgi_result band_sample(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                const vdbgi_tracer *tracer, const vdbgi_bake_params *bp,
+                                const double lattice[5], size_t n, float *pos, bool *placed)
+{
+    vdbgi_bake_params check = *bp;
+    check.rays = VDBGI_ADAPTIVE_BATCH;
+    check.adaptive = false;
+    check.sampling = VDBGI_SAMPLING_RANDOM;
+    float *const at = vdbgi_calloc(ctx, n, 3 * sizeof(float));
+    double *const out = vdbgi_calloc(ctx, n, SPREAD_OUT * sizeof(double));
+    vdbgi_result r = at && out ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
+    size_t kept = 0;
+    for (int k = 4; r == VDBGI_OK && kept < n && k >= 1; k /= 2) {
+        int32_t *ijk = NULL;
+        size_t count = 0;
+        vdbgi_band_desc band = {.positions = scene->positions,
+                                .indices = scene->indices,
+                                .triangle_count = scene->triangle_count,
+                                .origin = {lattice[0], lattice[1], lattice[2]},
+                                .spacing = k * lattice[3],
+                                .margin = lattice[4],
+                                .x_range = {INT64_MIN, INT64_MAX},
+                                .max_count = UINT64_MAX,
+                                .threads = bp->threads};
+        r = vdbgi_band_points(ctx, &band, &ijk, &count);
+        band_pick *const pick =
+            r == VDBGI_OK && count ? vdbgi_calloc(ctx, count, sizeof(*pick)) : NULL;
+        if (r == VDBGI_OK && count && !pick)
+            r = VDBGI_ERR_OUT_OF_MEMORY;
+        for (size_t i = 0; pick && i < count; i++)
+            pick[i] = (band_pick){vdbgi_point_stream(k * ijk[3 * i], k * ijk[3 * i + 1],
+                                                     k * ijk[3 * i + 2], bp->seed),
+                                  i};
+        if (pick)
+            qsort(pick, count, sizeof(*pick), by_hash);
+        /* Coarser points again at a finer k: the same points, so start afresh. */
+        kept = 0;
+        for (size_t from = 0; r == VDBGI_OK && pick && from < count && kept < n; from += n) {
+            const size_t m = count - from < n ? count - from : n;
+            for (size_t i = 0; i < m; i++)
+                for (int c = 0; c < 3; c++)
+                    at[3 * i + c] = (float)(lattice[c] + lattice[3] * (double)k *
+                                                             ijk[3 * pick[from + i].index + c]);
+            r = trace_points(ctx, scene, tracer, &check, at, NULL, m, CHECK_SALT, false, out);
+            for (size_t i = 0; r == VDBGI_OK && i < m && kept < n; i++)
+                if (out[SPREAD_OUT * i + 4] <= bp->invalid_threshold)
+                    memcpy(&pos[3 * kept++], &at[3 * i], 3 * sizeof(float));
+        }
+        vdbgi_free(ctx, pick);
+        vdbgi_free(ctx, ijk);
+    }
+    *placed = r == VDBGI_OK && kept > 0;
+    for (size_t i = kept; *placed && i < n; i++)
+        memcpy(&pos[3 * i], &pos[3 * (i % kept)], 3 * sizeof(float));
+    vdbgi_free(ctx, out);
+    vdbgi_free(ctx, at);
+    return r;
+}
+
+/*
+ * n points for a pilot or the noise, into pos; *placed false when the scene
+ * has none. Given a lattice, the bake's own probes (band_sample). Else
+ * spread over the scene's surfaces by area (place_receivers): with normal
+ * (n of them) left on the surfaces, as texels' samples stand; without,
+ * lifted off them as points stand (one on the surface would see a plain
+ * half below it and little of the spread a probe sees), up to PILOT_LIFT,
+ * at most half way to what the normal meets.
  */
 #define PILOT_LIFT 2.0f
 
 static vdbgi_result pilot_points(vdbgi_context *ctx, const vdbgi_scene *scene,
-                                 const vdbgi_tracer *tracer, const double lattice[4], uint64_t seed,
-                                 size_t n, float *pos, float *surface_normal, bool *placed)
+                                 const vdbgi_tracer *tracer, const double lattice[5],
+                                 const vdbgi_bake_params *bp, size_t n, float *pos,
+                                 float *surface_normal, bool *placed)
 {
+    if (lattice && !surface_normal)
+        return band_sample(ctx, scene, tracer, bp, lattice, n, pos, placed);
+    const uint64_t seed = bp->seed;
     float *const normal = surface_normal ? surface_normal : vdbgi_calloc(ctx, n, 3 * sizeof(float));
     *placed = false;
     if (!normal)
@@ -317,13 +418,8 @@ static vdbgi_result pilot_points(vdbgi_context *ctx, const vdbgi_scene *scene,
             uint64_t st = vdbgi_point_stream((int32_t)i, -6, 0, seed);
             const float room = hits[i].t < INFINITY ? 0.5f * hits[i].t : PILOT_LIFT;
             const float lift = (float)vdbgi_uniform01(&st) * fminf(room, PILOT_LIFT);
-            for (int k = 0; k < 3; k++) {
+            for (int k = 0; k < 3; k++)
                 pos[3 * i + k] += lift * normal[3 * i + k];
-                if (lattice) /* the lattice point nearest: where a probe stands */
-                    pos[3 * i + k] =
-                        (float)(lattice[k] +
-                                lattice[3] * round((pos[3 * i + k] - lattice[k]) / lattice[3]));
-            }
         }
     }
     vdbgi_free(ctx, scratch);
@@ -405,19 +501,20 @@ static vdbgi_result calibrate(vdbgi_context *ctx, const vdbgi_scene *scene,
  * frees; *placed false when the scene has no area.
  */
 static vdbgi_result noise_points(vdbgi_context *ctx, const vdbgi_scene *scene,
-                                 const vdbgi_tracer *tracer, const double lattice[4], bool surface,
-                                 uint64_t seed, float **pos, float **normal, bool *placed)
+                                 const vdbgi_tracer *tracer, const double lattice[5], bool surface,
+                                 const vdbgi_bake_params *bp, float **pos, float **normal,
+                                 bool *placed)
 {
     *pos = vdbgi_calloc(ctx, NOISE_POINTS, 3 * sizeof(float));
     *normal = surface ? vdbgi_calloc(ctx, NOISE_POINTS, 3 * sizeof(float)) : NULL;
     *placed = false;
-    return *pos && (*normal || !surface) ? pilot_points(ctx, scene, tracer, lattice, seed,
-                                                        NOISE_POINTS, *pos, *normal, placed)
-                                         : VDBGI_ERR_OUT_OF_MEMORY;
+    return *pos && (*normal || !surface)
+               ? pilot_points(ctx, scene, tracer, lattice, bp, NOISE_POINTS, *pos, *normal, placed)
+               : VDBGI_ERR_OUT_OF_MEMORY;
 }
 
 vdbgi_result vdbgi_adaptive_scale(vdbgi_context *ctx, const vdbgi_scene *scene,
-                                  const vdbgi_tracer *tracer, const double lattice[4], bool surface,
+                                  const vdbgi_tracer *tracer, const double lattice[5], bool surface,
                                   vdbgi_bake_params *bp)
 {
     bp->adaptive_scale = bp->adaptive_floor = 0.0;
@@ -428,10 +525,9 @@ vdbgi_result vdbgi_adaptive_scale(vdbgi_context *ctx, const vdbgi_scene *scene,
     float *const normal = surface ? vdbgi_calloc(ctx, n, 3 * sizeof(float)) : NULL;
     double *const first = vdbgi_calloc(ctx, n, SPREAD_OUT * sizeof(double));
     bool placed = false;
-    vdbgi_result r =
-        pos && first && (normal || !surface)
-            ? pilot_points(ctx, scene, tracer, lattice, bp->seed, n, pos, normal, &placed)
-            : VDBGI_ERR_OUT_OF_MEMORY;
+    vdbgi_result r = pos && first && (normal || !surface)
+                         ? pilot_points(ctx, scene, tracer, lattice, bp, n, pos, normal, &placed)
+                         : VDBGI_ERR_OUT_OF_MEMORY;
     if (r == VDBGI_OK && placed) {
         vdbgi_bake_params pilot = *bp;
         pilot.rays = VDBGI_ADAPTIVE_BATCH;
@@ -476,7 +572,7 @@ vdbgi_result vdbgi_adaptive_scale(vdbgi_context *ctx, const vdbgi_scene *scene,
     vdbgi_free(ctx, pos);
     if (r == VDBGI_OK && placed && bp->adaptive_scale > 0.0) {
         float *at = NULL, *at_normal = NULL; /* the noise points, placed once for the fit */
-        r = noise_points(ctx, scene, tracer, lattice, surface, bp->seed, &at, &at_normal, &placed);
+        r = noise_points(ctx, scene, tracer, lattice, surface, bp, &at, &at_normal, &placed);
         if (r == VDBGI_OK && placed)
             r = calibrate(ctx, scene, tracer, at, at_normal, bp);
         vdbgi_free(ctx, at_normal);
@@ -486,14 +582,13 @@ vdbgi_result vdbgi_adaptive_scale(vdbgi_context *ctx, const vdbgi_scene *scene,
 }
 
 vdbgi_result vdbgi_bake_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
-                              const vdbgi_tracer *tracer, const double lattice[4], bool surface,
+                              const vdbgi_tracer *tracer, const double lattice[5], bool surface,
                               const vdbgi_bake_params *bp, double *noise)
 {
     *noise = 0.0;
     float *pos = NULL, *normal = NULL;
     bool placed = false;
-    vdbgi_result r =
-        noise_points(ctx, scene, tracer, lattice, surface, bp->seed, &pos, &normal, &placed);
+    vdbgi_result r = noise_points(ctx, scene, tracer, lattice, surface, bp, &pos, &normal, &placed);
     if (r == VDBGI_OK && placed)
         r = measure_noise(ctx, scene, tracer, bp, pos, normal, -4, noise);
     vdbgi_free(ctx, normal);

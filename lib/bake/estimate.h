@@ -134,12 +134,12 @@ void vdbgi_hemisphere_turn(const float *base, int count, const float n[3], uint6
 void vdbgi_directions_rotate(uint64_t stream, const float *base, int n, float *out);
 uint64_t vdbgi_point_stream(int32_t i, int32_t j, int32_t k, uint64_t seed);
 /*
- * The pilot points: spread over scene's surfaces by area (as
- * vdbgi_bounces_converge's); for probes lifted off them and, given a
- * lattice (origin xyz, spacing), moved to its nearest point, estimated as
- * probes; for surface (a lightmap's texels) left on them, estimated over
- * their hemispheres. Those mostly seeing back faces are left out. The same
- * for every tile and thread count.
+ * The pilot points: given a lattice (origin xyz, spacing, margin), its
+ * own valid probes, picked by hash over the whole band; for surface (a
+ * lightmap's texels), points spread over the scene's surfaces by area (as
+ * vdbgi_bounces_converge's), estimated over their hemispheres; for probes
+ * given as points, those lifted off the surfaces. Those mostly seeing back
+ * faces are left out. The same for every tile and thread count.
  *
  * vdbgi_adaptive_scale, when bp is adaptive: sets bp->adaptive_scale (and
  * adaptive_floor), so that a point's rays, that times the square root of
@@ -150,10 +150,10 @@ uint64_t vdbgi_point_stream(int32_t i, int32_t j, int32_t k, uint64_t seed);
  * over their mean light.
  */
 vdbgi_result vdbgi_adaptive_scale(vdbgi_context *ctx, const vdbgi_scene *scene,
-                                  const vdbgi_tracer *tracer, const double lattice[4], bool surface,
+                                  const vdbgi_tracer *tracer, const double lattice[5], bool surface,
                                   vdbgi_bake_params *bp);
 vdbgi_result vdbgi_bake_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
-                              const vdbgi_tracer *tracer, const double lattice[4], bool surface,
+                              const vdbgi_tracer *tracer, const double lattice[5], bool surface,
                               const vdbgi_bake_params *bp, double *noise);
 /*
  * The ladder's smallest set of at least n rays (max_rays less the pilot at
