@@ -491,7 +491,9 @@ typedef enum vdbgi_trace_method {
  *                to 1024 in all, doublings past), the two blended by their
  *                sizes^1.5. k comes from a pilot of 1024 of the lattice's
  *                valid probes (spread over the whole band, whatever the
- *                tile), then is fitted until the error measured at 256 (each
+ *                tile; where the margin is unknown, a file's probes,
+ *                points lifted off the surfaces), then is fitted until the
+ *                error measured at 256 (each
  *                baked twice, as vdbgi_bake_stats.noise is but under
  *                rotations of their own) is noise x their mean light, or
  *                at most 15 % under, as far as max_rays and six
@@ -610,7 +612,8 @@ typedef struct vdbgi_bake_stats {
     /*
      * The error the bake's settings give 256 of the lattice's valid
      * probes, picked by hash over the whole band (whatever the tile; keep
-     * boxes and --walkable not applied), over their mean light: each
+     * boxes and --walkable not applied; without a margin, points lifted
+     * off the surfaces), over their mean light: each
      * estimated twice under rotations of its own, the RMS of the difference over
      * sqrt 2 (a fixed Fibonacci set measured under random rotations, which
      * it beats by ~15 %). 0 for an unshaded bake.

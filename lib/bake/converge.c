@@ -291,84 +291,117 @@ static vdbgi_result measure_noise(vdbgi_context *ctx, const vdbgi_scene *scene,
     return r;
 }
 
-/* A band point and the hash that picks it. */
+/* A band point: its fine ijk and the hash that picks it. */
 typedef struct band_pick {
     uint64_t hash;
-    size_t index;
+    int32_t ijk[3];
 } band_pick;
 
 static int by_hash(const void *a, const void *b)
 {
     const band_pick *const x = a, *const y = b;
-    return x->hash != y->hash ? (x->hash < y->hash ? -1 : 1)
-                              : (x->index > y->index) - (x->index < y->index);
+    if (x->hash != y->hash)
+        return x->hash < y->hash ? -1 : 1;
+    return memcmp(x->ijk, y->ijk, sizeof(x->ijk));
 }
 
 /*
- * n of the lattice's own valid probes (lattice: origin xyz, spacing, margin),
- * spread over the band as the bake's are, into pos: the points of the
- * lattice k times coarser (k = 4, else 2, else 1) within the margin of a
- * triangle, found as the bake places its probes (band.c) but over the whole
- * scene, so the same in every tile; taken in the order their streams hash
- * to, those whose 32 unshaded rays meet few enough back faces, until n are
- * found (or at k = 1, as many as the band has, cycled). Surface points
- * lifted along their normals stood as probes do over a plane but not round
- * a building's edges or in a corner: at 1 m probes (a 4 m margin) on the
- * bundled world the noise measured there was 0.75 of the error against a
- * 16,384-ray bake, on 2,048 points, with the estimators alike.
+ * The band's points on k lattices k times coarser than lattice's, each
+ * shifted by o (0..k-1) fine steps on every axis, so that every layer of
+ * the fine lattice along every axis is reached (one coarse lattice alone
+ * keeps one layer in k: over a plane, one height), into *out (fine ijk,
+ * hashed by the fine point's stream), *count of them. About 1/k^2 of the
+ * fine lattice's points.
+ */
+static vdbgi_result band_candidates(vdbgi_context *ctx, const vdbgi_scene *scene,
+                                    const double lattice[5], int k, uint64_t seed, int threads,
+                                    band_pick **out, size_t *count)
+{
+    int32_t *ijk[4] = {NULL, NULL, NULL, NULL};
+    size_t m[4] = {0, 0, 0, 0}, total = 0;
+    vdbgi_result r = VDBGI_OK;
+    for (int o = 0; o < k && r == VDBGI_OK; o++) {
+        vdbgi_band_desc band = {.positions = scene->positions,
+                                .indices = scene->indices,
+                                .triangle_count = scene->triangle_count,
+                                .spacing = k * lattice[3],
+                                .margin = lattice[4],
+                                .x_range = {INT64_MIN, INT64_MAX},
+                                .max_count = UINT64_MAX,
+                                .threads = threads};
+        for (int c = 0; c < 3; c++)
+            band.origin[c] = lattice[c] + o * lattice[3];
+        r = vdbgi_band_points(ctx, &band, &ijk[o], &m[o]);
+        total += m[o];
+    }
+    *count = 0;
+    *out = r == VDBGI_OK && total ? vdbgi_calloc(ctx, total, sizeof(band_pick)) : NULL;
+    if (r == VDBGI_OK && total && !*out)
+        r = VDBGI_ERR_OUT_OF_MEMORY;
+    for (int o = 0; o < k && *out; o++)
+        for (size_t i = 0; i < m[o]; i++) {
+            band_pick *const b = &(*out)[(*count)++];
+            for (int c = 0; c < 3; c++)
+                b->ijk[c] = k * ijk[o][3 * i + c] + o;
+            b->hash = vdbgi_point_stream(b->ijk[0], b->ijk[1], b->ijk[2], seed);
+        }
+    for (int o = 0; o < k; o++)
+        vdbgi_free(ctx, ijk[o]);
+    return r;
+}
+
+/*
+ * n of the lattice's own valid probes (lattice: origin xyz, spacing, margin
+ * > 0), spread over the band as the bake's are, into pos: the band's points
+ * on lattices k = 4, else 2, else 1 times coarser (band_candidates), found
+ * as the bake places its probes (band.c) but over the whole scene, so the
+ * same in every tile; taken in the order their streams hash to, those whose
+ * 32 primary rays meet few enough back faces, until n are found (at the
+ * finest k tried, as many as the band has, cycled; no finer k past
+ * CANDIDATES_MOST points, where each halving of k quadruples them).
+ * Surface points lifted along their normals stood as probes do over a
+ * plane but not round a building's edges or in a corner: at 1 m probes
+ * (a 4 m margin) on the bundled world the noise measured there was 0.75
+ * of the error against a 16,384-ray bake, on 2,048 points, with the
+ * estimators alike.
  */
 #define CHECK_SALT (-9)
+#define CANDIDATES_MOST ((size_t)1 << 22)
 
 static vdbgi_result band_sample(vdbgi_context *ctx, const vdbgi_scene *scene,
                                 const vdbgi_tracer *tracer, const vdbgi_bake_params *bp,
                                 const double lattice[5], size_t n, float *pos, bool *placed)
 {
+    /* Only the back faces count: primary rays, no lamp, no bounce. */
     vdbgi_bake_params check = *bp;
     check.rays = VDBGI_ADAPTIVE_BATCH;
     check.adaptive = false;
     check.sampling = VDBGI_SAMPLING_RANDOM;
+    check.model = VDBGI_MODEL_SEED;
+    check.bounces = 1;
+    check.lamp_count = 0;
     float *const at = vdbgi_calloc(ctx, n, 3 * sizeof(float));
     double *const out = vdbgi_calloc(ctx, n, SPREAD_OUT * sizeof(double));
     vdbgi_result r = at && out ? VDBGI_OK : VDBGI_ERR_OUT_OF_MEMORY;
-    size_t kept = 0;
-    for (int k = 4; r == VDBGI_OK && kept < n && k >= 1; k /= 2) {
-        int32_t *ijk = NULL;
-        size_t count = 0;
-        vdbgi_band_desc band = {.positions = scene->positions,
-                                .indices = scene->indices,
-                                .triangle_count = scene->triangle_count,
-                                .origin = {lattice[0], lattice[1], lattice[2]},
-                                .spacing = k * lattice[3],
-                                .margin = lattice[4],
-                                .x_range = {INT64_MIN, INT64_MAX},
-                                .max_count = UINT64_MAX,
-                                .threads = bp->threads};
-        r = vdbgi_band_points(ctx, &band, &ijk, &count);
-        band_pick *const pick =
-            r == VDBGI_OK && count ? vdbgi_calloc(ctx, count, sizeof(*pick)) : NULL;
-        if (r == VDBGI_OK && count && !pick)
-            r = VDBGI_ERR_OUT_OF_MEMORY;
-        for (size_t i = 0; pick && i < count; i++)
-            pick[i] = (band_pick){vdbgi_point_stream(k * ijk[3 * i], k * ijk[3 * i + 1],
-                                                     k * ijk[3 * i + 2], bp->seed),
-                                  i};
+    size_t kept = 0, count = 0;
+    for (int k = 4; r == VDBGI_OK && kept < n && k >= 1 && count <= CANDIDATES_MOST; k /= 2) {
+        band_pick *pick = NULL;
+        r = band_candidates(ctx, scene, lattice, k, bp->seed, bp->threads, &pick, &count);
         if (pick)
             qsort(pick, count, sizeof(*pick), by_hash);
-        /* Coarser points again at a finer k: the same points, so start afresh. */
-        kept = 0;
-        for (size_t from = 0; r == VDBGI_OK && pick && from < count && kept < n; from += n) {
+        kept = 0; /* a finer k holds the coarser points again: start afresh */
+        for (size_t from = 0; r == VDBGI_OK && from < count && kept < n; from += n) {
             const size_t m = count - from < n ? count - from : n;
             for (size_t i = 0; i < m; i++)
                 for (int c = 0; c < 3; c++)
-                    at[3 * i + c] = (float)(lattice[c] + lattice[3] * (double)k *
-                                                             ijk[3 * pick[from + i].index + c]);
+                    at[3 * i + c] =
+                        (float)(lattice[c] + lattice[3] * (double)pick[from + i].ijk[c]);
             r = trace_points(ctx, scene, tracer, &check, at, NULL, m, CHECK_SALT, false, out);
             for (size_t i = 0; r == VDBGI_OK && i < m && kept < n; i++)
                 if (out[SPREAD_OUT * i + 4] <= bp->invalid_threshold)
                     memcpy(&pos[3 * kept++], &at[3 * i], 3 * sizeof(float));
         }
         vdbgi_free(ctx, pick);
-        vdbgi_free(ctx, ijk);
     }
     *placed = r == VDBGI_OK && kept > 0;
     for (size_t i = kept; *placed && i < n; i++)
@@ -380,12 +413,14 @@ static vdbgi_result band_sample(vdbgi_context *ctx, const vdbgi_scene *scene,
 
 /*
  * n points for a pilot or the noise, into pos; *placed false when the scene
- * has none. Given a lattice, the bake's own probes (band_sample). Else
- * spread over the scene's surfaces by area (place_receivers): with normal
- * (n of them) left on the surfaces, as texels' samples stand; without,
- * lifted off them as points stand (one on the surface would see a plain
- * half below it and little of the spread a probe sees), up to PILOT_LIFT,
- * at most half way to what the normal meets.
+ * has none. Given a lattice with its margin, the bake's own probes
+ * (band_sample). Else spread over the scene's surfaces by area
+ * (place_receivers): with normal (n of them) left on the surfaces, as
+ * texels' samples stand; without, lifted off them as points stand (one on
+ * the surface would see a plain half below it and little of the spread a
+ * probe sees), up to PILOT_LIFT, at most half way to what the normal meets,
+ * and given a lattice (probes read from a file that never said their
+ * margin), moved to its nearest point.
  */
 #define PILOT_LIFT 2.0f
 
@@ -394,7 +429,7 @@ static vdbgi_result pilot_points(vdbgi_context *ctx, const vdbgi_scene *scene,
                                  const vdbgi_bake_params *bp, size_t n, float *pos,
                                  float *surface_normal, bool *placed)
 {
-    if (lattice && !surface_normal)
+    if (lattice && lattice[4] > 0.0 && !surface_normal)
         return band_sample(ctx, scene, tracer, bp, lattice, n, pos, placed);
     const uint64_t seed = bp->seed;
     float *const normal = surface_normal ? surface_normal : vdbgi_calloc(ctx, n, 3 * sizeof(float));
@@ -418,8 +453,13 @@ static vdbgi_result pilot_points(vdbgi_context *ctx, const vdbgi_scene *scene,
             uint64_t st = vdbgi_point_stream((int32_t)i, -6, 0, seed);
             const float room = hits[i].t < INFINITY ? 0.5f * hits[i].t : PILOT_LIFT;
             const float lift = (float)vdbgi_uniform01(&st) * fminf(room, PILOT_LIFT);
-            for (int k = 0; k < 3; k++)
+            for (int k = 0; k < 3; k++) {
                 pos[3 * i + k] += lift * normal[3 * i + k];
+                if (lattice)
+                    pos[3 * i + k] =
+                        (float)(lattice[k] +
+                                lattice[3] * round((pos[3 * i + k] - lattice[k]) / lattice[3]));
+            }
         }
     }
     vdbgi_free(ctx, scratch);

@@ -134,11 +134,11 @@ void vdbgi_hemisphere_turn(const float *base, int count, const float n[3], uint6
 void vdbgi_directions_rotate(uint64_t stream, const float *base, int n, float *out);
 uint64_t vdbgi_point_stream(int32_t i, int32_t j, int32_t k, uint64_t seed);
 /*
- * The pilot points: given a lattice (origin xyz, spacing, margin), its
+ * The pilot points: given a lattice (origin xyz, spacing, margin > 0), its
  * own valid probes, picked by hash over the whole band; for surface (a
  * lightmap's texels), points spread over the scene's surfaces by area (as
  * vdbgi_bounces_converge's), estimated over their hemispheres; for probes
- * given as points, those lifted off the surfaces. Those mostly seeing back
+ * given as points or with no margin, those lifted off the surfaces. Those mostly seeing back
  * faces are left out. The same for every tile and thread count.
  *
  * vdbgi_adaptive_scale, when bp is adaptive: sets bp->adaptive_scale (and
