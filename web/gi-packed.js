@@ -24,7 +24,7 @@ function* readPlacement(table, keys, lv, dims) {
   const origin = new Uint16Array(3 * count);
   for (let b = 0; b < count; b++) {
     for (let k = 0; k < 3; k++) origin[3 * b + k] = dv.getUint16(2 * (k * count + b), true);
-    const [x, y, z] = origin.subarray(3 * b, 3 * b + 3);
+    const x = origin[3 * b], y = origin[3 * b + 1], z = origin[3 * b + 2];
     if (x + N > dims[0] || y + N > dims[1] || z + N > dims[2] || y % N)
       throw new Error(`brick ${b} at texel ${x},${y},${z} is not in a layer of the ${dims.join('x')} atlas`);
   }
@@ -34,17 +34,17 @@ function* readPlacement(table, keys, lv, dims) {
   // Layer by layer, in brick order within one, as lib/format/packed.c (the first overlap found is the one named).
   const order = Array.from({ length: count }, (_, b) => b).sort((a, b) => origin[3 * a + 1] - origin[3 * b + 1] || a - b);
   yield* strides(count, STRIDE, (n) => {
-    const b = order[n], o = origin.subarray(3 * b, 3 * b + 3);
+    const b = order[n], ox = origin[3 * b], oy = origin[3 * b + 1], oz = origin[3 * b + 2];
     for (let t = 0; t < TEXELS; t++) {
-      const x = o[0] + (t % N), y = o[1] + (Math.floor(t / N) % N), z = o[2] + Math.floor(t / (N * N));
+      const x = ox + (t % N), y = oy + (Math.floor(t / N) % N), z = oz + Math.floor(t / (N * N));
       const i = (z * dims[1] + y) * dims[0] + x;
       if (owner[i] === 0) {
         owner[i] = b + 1;
         continue;
       }
-      const j = owner[i] - 1;
-      const same = owner[i] !== ZERO && lv[j] === lv[b] &&
-        [0, 1, 2].every((k) => origin[3 * j + k] - 4 * keys[j][k] === o[k] - 4 * keys[b][k]);
+      const j = owner[i] - 1, kj = keys[j], kb = keys[b];
+      const same = owner[i] !== ZERO && lv[j] === lv[b] && origin[3 * j] - 4 * kj[0] === ox - 4 * kb[0] &&
+        origin[3 * j + 1] - 4 * kj[1] === oy - 4 * kb[1] && origin[3 * j + 2] - 4 * kj[2] === oz - 4 * kb[2];
       if (!same)
         throw new Error(`brick ${b} overlaps ${owner[i] === ZERO ? 'the block of zeros' : "another brick's points"} at texel ${x},${y},${z}`);
     }
@@ -168,9 +168,9 @@ export async function rebuildPackedSliced(gi, payload, sliceMs = SLICE_MS) {
 const STRIDE = 128;
 
 // fn(i) for i in 0..n-1, yielding before every `stride` of them. The loop over a
-// stride runs in a plain function, which V8 optimises while it runs; inside the
-// generator it would not be (a once-called generator's loops stay unoptimised:
-// the rebuild of an L2 file took 1.3x the time written that way).
+// stride runs in a plain function, which V8 optimises while it runs; a once-called
+// generator's own loops it optimised late or not at all (a first rebuild of an L2
+// file took 1.4x the time with the loops written in the generator).
 const run = (from, to, fn) => {
   for (let i = from; i < to; i++) fn(i);
 };
@@ -220,10 +220,10 @@ function* rebuildSteps(gi, payload) {
   // Each cell's brick, for the stitching.
   const cellBrick = new Int32Array(cells).fill(-1);
   const brickCells = (b, fn) => {
-    const span = 1 << lv[b], lo = keys[b].map((k) => k * span);
-    for (let z = lo[2]; z < Math.min(lo[2] + span, d[2]); z++)
-      for (let y = lo[1]; y < Math.min(lo[1] + span, d[1]); y++)
-        for (let x = lo[0]; x < Math.min(lo[0] + span, d[0]); x++) fn(cellAt(x, y, z));
+    const span = 1 << lv[b], key = keys[b], x0 = key[0] * span, y0 = key[1] * span, z0 = key[2] * span;
+    for (let z = z0; z < Math.min(z0 + span, d[2]); z++)
+      for (let y = y0; y < Math.min(y0 + span, d[1]); y++)
+        for (let x = x0; x < Math.min(x0 + span, d[0]); x++) fn(cellAt(x, y, z));
   };
   yield* strides(count, STRIDE, (b) => {
     brickCells(b, (c) => { cellBrick[c] = b; });
@@ -411,7 +411,9 @@ function* rebuildSteps(gi, payload) {
   // copied, stitched ones interpolated from their coarser brick (coarse
   // bricks' samples kept as floats, coarsest first) and encoded.
   // decode(idx, out): a stored point's three numbers; copy(idx, texel): its
-  // bytes into atlas texel `texel`; encode(rgb, texel): a stitched value.
+  // bytes into atlas texel `texel`, or null (a term pass: the stored texels'
+  // bytes are copied before, and only the stitched ones are visited);
+  // encode(rgb, texel): a stitched value.
   const cidx = new Int32Array(count).fill(-1);
   let coarse = 0;
   for (let b = 0; b < count; b++) if (lv[b]) cidx[b] = coarse++;
@@ -424,31 +426,35 @@ function* rebuildSteps(gi, payload) {
   // Each brick texel's stored point (-1: none), or STITCHED: looked up once, for the
   // one pass of an L1 volume and the nine of an L2 one. A stitched texel's coarser
   // brick is found again when it is met (stitched() sets point and coarseIndex).
+  // The stitched texels, (brick, texel) in brick order, are listed too: all a term
+  // pass visits past the coarse bricks.
   const STITCHED = -2;
-  const texelIndex = new Int32Array(count * TEXELS);
+  const texelIndex = new Int32Array(count * TEXELS), stitchedList = [];
   yield* strides(count, STRIDE, (b) => {
     const span = 1 << lv[b], key = keys[b], any = stitch[4 * b] | stitch[4 * b + 1] | stitch[4 * b + 2] | stitch[4 * b + 3];
     for (let t = 0, qz = 0; qz < N; qz++)
       for (let qy = 0; qy < N; qy++)
-        for (let qx = 0; qx < N; qx++, t++)
-          texelIndex[b * TEXELS + t] = any && stitched(b, t) ? STITCHED
-            : at3((key[0] * 4 + qx) * span, (key[1] * 4 + qy) * span, (key[2] * 4 + qz) * span);
+        for (let qx = 0; qx < N; qx++, t++) {
+          if (any && stitched(b, t)) {
+            texelIndex[b * TEXELS + t] = STITCHED;
+            stitchedList.push(b, t);
+          } else {
+            texelIndex[b * TEXELS + t] = at3((key[0] * 4 + qx) * span, (key[1] * 4 + qy) * span, (key[2] * 4 + qz) * span);
+          }
+        }
   });
   // Each texel's place in a brick's block of the atlas, from the block's first texel.
   const blockTexel = new Int32Array(TEXELS);
   for (let t = 0; t < TEXELS; t++)
     blockTexel[t] = (Math.floor(t / (N * N)) * dims[1] + Math.floor(t / N) % N) * dims[0] + (t % N);
   const brickTexel = (b) => (origin[3 * b + 2] * dims[1] + origin[3 * b + 1]) * dims[0] + origin[3 * b];
-  // The coarse bricks, coarsest first (brick order within a level), and the stitched
-  // texels (brick, texel) in brick order: what the term passes visit, which copy nothing.
+  // The coarse bricks, coarsest first (brick order within a level): what every pass
+  // samples first.
   const coarseOrder = [];
   for (let level = gi.maxLevel; level >= 1; level--)
     for (let b = 0; b < count; b++) if (lv[b] === level) coarseOrder.push(b);
-  const stitchedList = [];
-  for (let b = 0; b < count; b++)
-    for (let t = 0; t < TEXELS; t++) if (texelIndex[b * TEXELS + t] === STITCHED) stitchedList.push(b, t);
   const s3 = new Float32Array(3);
-  // A stitched texel's value (stitched() has set point and its coarser brick) into rgb.
+  // A stitched texel's value into rgb (stitched() finds its point and coarser brick).
   const stitchedValue = (b, t) => {
     stitched(b, t);
     if (cidx[b] >= 0) {
