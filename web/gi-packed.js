@@ -17,8 +17,9 @@ export const ATLAS_TEXELS_PER_BRICK = 500;
 // brick, then y, then z), checked as lib/format/packed.c checks it: inside the
 // atlas, in a layer (y a multiple of 5), sharing texels only with bricks of
 // its level that hold the same lattice points there, and never the block of
-// zeros at the atlas's corner.
-function* readPlacement(table, keys, lv, dims) {
+// zeros at the atlas's corner. blockTexel: each texel's place in a brick's block
+// of the atlas, from the block's first texel (blockTexels).
+function* readPlacement(table, keys, lv, dims, blockTexel) {
   const count = keys.length;
   const dv = new DataView(table.buffer, table.byteOffset, table.byteLength);
   const origin = new Uint16Array(3 * count);
@@ -30,14 +31,14 @@ function* readPlacement(table, keys, lv, dims) {
   }
   const owner = new Uint32Array(dims[0] * dims[1] * dims[2]);
   const ZERO = 0xffffffff;
-  for (let t = 0; t < TEXELS; t++) owner[(Math.floor(t / (N * N)) * dims[1] + Math.floor(t / N) % N) * dims[0] + (t % N)] = ZERO;
+  for (let t = 0; t < TEXELS; t++) owner[blockTexel[t]] = ZERO;
   // Layer by layer, in brick order within one, as lib/format/packed.c (the first overlap found is the one named).
   const order = Array.from({ length: count }, (_, b) => b).sort((a, b) => origin[3 * a + 1] - origin[3 * b + 1] || a - b);
   yield* strides(count, STRIDE, (n) => {
     const b = order[n], ox = origin[3 * b], oy = origin[3 * b + 1], oz = origin[3 * b + 2];
+    const base = (oz * dims[1] + oy) * dims[0] + ox;
     for (let t = 0; t < TEXELS; t++) {
-      const x = ox + (t % N), y = oy + (Math.floor(t / N) % N), z = oz + Math.floor(t / (N * N));
-      const i = (z * dims[1] + y) * dims[0] + x;
+      const i = base + blockTexel[t];
       if (owner[i] === 0) {
         owner[i] = b + 1;
         continue;
@@ -45,11 +46,21 @@ function* readPlacement(table, keys, lv, dims) {
       const j = owner[i] - 1, kj = keys[j], kb = keys[b];
       const same = owner[i] !== ZERO && lv[j] === lv[b] && origin[3 * j] - 4 * kj[0] === ox - 4 * kb[0] &&
         origin[3 * j + 1] - 4 * kj[1] === oy - 4 * kb[1] && origin[3 * j + 2] - 4 * kj[2] === oz - 4 * kb[2];
-      if (!same)
+      if (!same) {
+        const x = ox + (t % N), y = oy + (Math.floor(t / N) % N), z = oz + Math.floor(t / (N * N));
         throw new Error(`brick ${b} overlaps ${owner[i] === ZERO ? 'the block of zeros' : "another brick's points"} at texel ${x},${y},${z}`);
+      }
     }
   });
   return origin;
+}
+
+// Each texel t of a brick's 5^3 block: its place in an atlas of dims from the block's first texel.
+function blockTexels(dims) {
+  const off = new Int32Array(TEXELS);
+  for (let t = 0; t < TEXELS; t++)
+    off[t] = (Math.floor(t / (N * N)) * dims[1] + Math.floor(t / N) % N) * dims[0] + (t % N);
+  return off;
 }
 
 const popcount = (x) => {
@@ -228,8 +239,8 @@ function* rebuildSteps(gi, payload) {
   yield* strides(count, STRIDE, (b) => {
     brickCells(b, (c) => { cellBrick[c] = b; });
   });
-  const dims = gi.atlasDims;
-  const origin = yield* readPlacement(payload.subarray(cells, cells + 6 * count), keys, lv, dims);
+  const dims = gi.atlasDims, blockTexel = blockTexels(dims);
+  const origin = yield* readPlacement(payload.subarray(cells, cells + 6 * count), keys, lv, dims, blockTexel);
   // Indirection: r, g, b the brick's first texel / 4; a its level, and the texel mod 4 per axis.
   const indirection = new Uint8Array(4 * cells);
   yield* strides(count, STRIDE, (b) => {
@@ -443,10 +454,6 @@ function* rebuildSteps(gi, payload) {
           }
         }
   });
-  // Each texel's place in a brick's block of the atlas, from the block's first texel.
-  const blockTexel = new Int32Array(TEXELS);
-  for (let t = 0; t < TEXELS; t++)
-    blockTexel[t] = (Math.floor(t / (N * N)) * dims[1] + Math.floor(t / N) % N) * dims[0] + (t % N);
   const brickTexel = (b) => (origin[3 * b + 2] * dims[1] + origin[3 * b + 1]) * dims[0] + origin[3 * b];
   // The coarse bricks, coarsest first (brick order within a level): what every pass
   // samples first.
