@@ -144,10 +144,14 @@ int cli_light_prepare(vdbgi_context *ctx, const vdbgi_scene *scene, vdbgi_bake_d
 void cli_light_defaults(vdbgi_bake_desc *b)
 {
     b->model = VDBGI_MODEL_PHYSICAL;
+    b->adaptive = 1;
 }
 
 int cli_light_check(const vdbgi_bake_desc *b)
 {
+    if (!b->adaptive && (b->noise != 0.0f || b->max_rays != 0))
+        return cli_usage_error("--%s is for --rays auto, not a fixed --rays %d",
+                               b->noise != 0.0f ? "noise" : "max-rays", b->rays);
     if (b->model != VDBGI_MODEL_PHYSICAL)
         return -1;
     if (b->ambient_is_set)

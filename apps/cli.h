@@ -130,10 +130,12 @@ int cli_light_option(int c, const char *arg, vdbgi_bake_desc *b);
 int cli_rays_option(const char *arg, int most, vdbgi_bake_desc *b);
 
 /*
- * The apps bake as a path tracer counts light unless told (the library's zero
- * is the seed's model): call before parsing. cli_light_check after parsing
- * refuses the seed model's stand-ins under the physical model with a hint;
- * -1 to go on, else the exit code of a usage error.
+ * The apps bake as a path tracer counts light, with rays by each probe's or
+ * texel's spread to VDBGI_NOISE, unless told (the library's zero is the
+ * seed's model and its 128 fixed rays): call before parsing. cli_light_check
+ * after parsing refuses the seed model's stand-ins under the physical model,
+ * and auto's settings beside a fixed --rays N, with a hint; -1 to go on, else
+ * the exit code of a usage error.
  */
 void cli_light_defaults(vdbgi_bake_desc *b);
 int cli_light_check(const vdbgi_bake_desc *b);

@@ -41,10 +41,11 @@ static void usage(void)
            "      --tile I/N           bake tile I of N only (slabs across x of about as many\n"
            "                           probes each); gi-merge joins the N files into the\n"
            "                           whole bake, probe for probe\n"
-           "      --rays N|auto        rays per probe, or auto: 32, then more as their spread\n"
-           "                           asks, as few as give the noise --noise says (128)\n"
+           "      --rays N|auto        rays per probe (128: seed 000's set), or auto: 32, then\n"
+           "                           more as their spread asks, as few as give the noise\n"
+           "                           --noise says (auto)\n"
            "      --noise T            auto's target: the error, over the mean light, measured\n"
-           "                           at 256 of the lattice's probes (0.02)\n"
+           "                           at 256 of the lattice's probes (0.05)\n"
            "      --max-rays N         auto's cap, a power of two (1024)\n"
            "      --ray-dist M         longest ray in metres (40)\n"
            "      --ambient A          seed model: ambient fill received at every hit (0.15)\n"
@@ -440,7 +441,7 @@ static void print_noise(const vdbgi_bake_stats *st, const vdbgi_bake_desc *bake)
     if (bake->adaptive && st->probe_count)
         printf(": auto, %.0f rays a probe on average for a target of %g %%",
                (double)st->primary_ray_count / (double)st->probe_count,
-               100.0 * (bake->noise != 0.0f ? bake->noise : 0.02));
+               100.0 * (bake->noise != 0.0f ? bake->noise : VDBGI_NOISE));
     printf("\n");
 }
 

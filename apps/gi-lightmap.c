@@ -48,9 +48,10 @@ static void usage(void)
            "                           (gutters black, texels inside geometry red)\n"
            "      --stats FILE         also write the figures -v prints as JSON\n"
            "      --rays N|auto        rays per texel, or auto: 32, then more as their spread\n"
-           "                           asks, as few as give the noise --noise says (64)\n"
+           "                           asks, as few as give the noise --noise says (auto;\n"
+           "                           --mode ao: 64)\n"
            "      --noise T            auto's target: a pass's error, over the mean light,\n"
-           "                           measured at 256 points on the surfaces (0.02)\n"
+           "                           measured at 256 points on the surfaces (0.05)\n"
            "      --max-rays N         auto's cap, a power of two (1024)\n"
            "      --ray-dist M         longest ray in metres (40)\n"
            "      --ambient A          seed model: ambient fill received at every hit (0.15)\n"
@@ -112,7 +113,7 @@ typedef struct options {
     const char *scene, *output, *slices, *stats;
     bool ao;
     bool passes_auto; /* --passes auto: only the physical model bakes until converged */
-    bool texel_given, size_given;
+    bool texel_given, size_given, auto_given;
     double budget; /* --budget, bytes; 0: none */
     vdbgi_lightmap_desc lm;
 } options;
@@ -195,6 +196,7 @@ static int parse_args(int argc, char **argv, options *o)
             const int rays = cli_rays_option(optarg, 65536, &o->lm.bake);
             if (rays != -2)
                 return rays;
+            o->auto_given = o->lm.bake.adaptive != 0;
             break;
         }
         case OPT_SLICES: o->slices = optarg; break;
@@ -209,8 +211,10 @@ static int parse_args(int argc, char **argv, options *o)
     }
     if (o->ao && o->lm.layers)
         return cli_usage_error("--layers is for lightmaps, not --mode ao");
-    if (o->ao && o->lm.bake.adaptive)
+    if (o->ao && (o->auto_given || o->lm.bake.noise != 0.0f || o->lm.bake.max_rays != 0))
         return cli_usage_error("--mode ao takes a fixed --rays N, not auto");
+    if (o->ao)
+        o->lm.bake.adaptive = 0; /* occlusion has no auto (the library's 64 rays) */
     if (o->budget > 0.0 && (o->texel_given || o->size_given))
         return cli_usage_error("--budget chooses the texel and the atlas: give --budget, or "
                                "--texel and --size");
@@ -330,7 +334,7 @@ static void print_figures(FILE *f, const run_figures *g, bool json)
                     : ", the set under random turns");
         if (b->adaptive)
             fprintf(f, "auto, %.0f rays a texel on average for a target of %g %%\n",
-                    st->gather_rays, 100.0 * (b->noise != 0.0f ? b->noise : 0.02));
+                    st->gather_rays, 100.0 * (b->noise != 0.0f ? b->noise : VDBGI_NOISE));
         else
             fprintf(f, "%.0f rays a texel\n", st->gather_rays);
     }

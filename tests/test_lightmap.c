@@ -333,6 +333,19 @@ static void a_plan_tells_the_bake_atlases(void)
     CHECK_RESULT(ctx, vdbgi_lightmap_bake_scene(ctx, scene, &heavy, &res, &st),
                  VDBGI_ERR_OUT_OF_MEMORY);
     vdbgi_lightmap_result_destroy(res);
+    /*
+     * Auto's rays are counted at what the noise asks (256 a texel at the default, 4x that at
+     * half of it), not at its cap: a map of 3-10 M texels plans at the default and is refused
+     * at --noise 0.025, where every texel may take the 1,024 the cap allows.
+     */
+    vdbgi_lightmap_desc many = {
+        .texel = 0.004f, .passes = 3, .bake = {.adaptive = 1, .model = VDBGI_MODEL_SEED}};
+    CHECK_RESULT(ctx, vdbgi_lightmap_plan(ctx, scene, &many, &st), VDBGI_OK);
+    printf("  %.2f M texels\n", st.texels * 1e-6);
+    CHECK(st.texels > 8e9 / (3.0 * 1024) && st.texels < 8e9 / (3.0 * 256));
+    many.bake.noise = 0.025f;
+    CHECK_RESULT(ctx, vdbgi_lightmap_plan(ctx, scene, &many, &st), VDBGI_ERR_OUT_OF_MEMORY);
+    CHECK(strstr(vdbgi_context_error(ctx), "G rays") != NULL);
     vdbgi_scene_destroy(scene);
     vdbgi_context_destroy(ctx);
 }

@@ -117,7 +117,7 @@ vdbgi_result vdbgi_bake_params_resolve(vdbgi_context *ctx, const vdbgi_bake_desc
     bp->rays = desc->rays == 0 ? 128 : desc->rays;
     VDBGI_FAIL_IF(ctx, bp->rays < 1 || bp->rays > 1000000, VDBGI_ERR_INVALID_ARG,
                   "rays per probe must be in 1..1000000 (got %d)", desc->rays);
-    bp->noise = desc->noise != 0.0f ? desc->noise : 0.02f;
+    bp->noise = desc->noise != 0.0f ? desc->noise : VDBGI_NOISE;
     VDBGI_FAIL_IF(ctx, !(bp->noise > 0.0f) || !isfinite(bp->noise), VDBGI_ERR_INVALID_ARG,
                   "noise target must be > 0 (got %g)", (double)desc->noise);
     bp->max_rays = desc->max_rays ? desc->max_rays : 1024;

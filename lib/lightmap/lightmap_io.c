@@ -384,6 +384,21 @@ static vdbgi_result bake_maps(vdbgi_context *ctx, vdbgi_lightmap_result *r,
 #define LIGHTMAP_RAYS 64
 
 /*
+ * An adaptive bake's rays a texel are not known before its pilot: the most
+ * measured at the default noise (248 on the interior, 188 on the bundled
+ * world: docs/performance.md), 256, scaled as noise^-2 and held to the cap.
+ * Counting the cap itself (1,024) refused the default bake of a map past
+ * 2.6 M texels that takes minutes.
+ */
+static int adaptive_rays_expected(const vdbgi_bake_desc *b)
+{
+    const double noise = b->noise > 0.0f ? b->noise : VDBGI_NOISE;
+    const double cap = b->max_rays ? b->max_rays : 1024;
+    const double rays = 256.0 * (VDBGI_NOISE / noise) * (VDBGI_NOISE / noise);
+    return (int)(rays < cap ? rays : cap);
+}
+
+/*
  * The passes d asks for: by default the physical model bakes until converged
  * (0); the seed model keeps seed 004's two passes, its fill standing in for
  * the rest (more would count the fill again).
@@ -420,8 +435,7 @@ static vdbgi_result unwrap_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
                          "the charts take %zu atlases of %d texels (%.1f M texels; at most 64 "
                          "atlases and %.1f M texels): raise --texel or lower --size",
                          un->page_count, un->size, texels * 1e-6, VDBGI_LIGHTMAP_MAX_TEXELS * 1e-6);
-    /* An adaptive bake's rays are not known before its pilot: counted at its cap. */
-    const int rays = d->bake.adaptive ? (d->bake.max_rays ? d->bake.max_rays : 1024)
+    const int rays = d->bake.adaptive ? adaptive_rays_expected(&d->bake)
                      : d->bake.rays   ? d->bake.rays
                                       : LIGHTMAP_RAYS;
     const int passes = d->ao_dist > 0.0f ? 1 : asked_passes(d) ? asked_passes(d) : 3;
