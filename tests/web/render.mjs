@@ -37,6 +37,14 @@ async function makeRenderer(backend, canvas, width, height) {
   return r;
 }
 
+// A WebGL renderer's dispose() keeps its context until the page collects it, and
+// Chromium loses the oldest past 16 with a warning: a bench's many loads on one
+// page reach that, so each task gives its context back.
+function release(renderer) {
+  renderer.dispose();
+  if (renderer.isWebGLRenderer) renderer.forceContextLoss();
+}
+
 // The demo world's camera and the bake's lights (gi-bake's defaults: sun
 // towards 0.4,0.8,0.3, ambient 0.15; three's Lambert divides by pi).
 function stage(scene, width, height) {
@@ -266,7 +274,7 @@ async function load(task) {
     return { ok: false, error: e.message };
   } finally {
     observer.disconnect();
-    renderer.dispose();
+    release(renderer);
   }
 }
 
@@ -317,7 +325,7 @@ async function occlude(task) {
   } catch (e) {
     refused = e.message;
   }
-  renderer.dispose();
+  release(renderer);
   const pick = (a) => Array.from({ length: width * height }, (_, i) => a[4 * i]);
   return { pos: Array.from(pos), before: pick(before), after: pick(after), refused };
 }
@@ -439,7 +447,7 @@ async function frame(task) {
   const ctx = { renderer, scene, camera, gi, width, height, backend: 'webgl' };
   const radiance = await readFloat(ctx);
   const pos = await readFloat(ctx, DebugView.POSITION);
-  renderer.dispose();
+  release(renderer);
   return { radiance: Array.from(radiance), pos: Array.from(pos), ...figures };
 }
 
@@ -484,7 +492,7 @@ async function boundsDraw(task) {
   camera.lookAt((x0 + x1) / 2, y, (z0 + z1) / 2);
   const px = await readFloat({ renderer, scene, camera, gi, width: 32, height: 32, backend: bench.backend });
   volume.dispose();
-  renderer.dispose();
+  release(renderer);
   // The mean light in 8-bit steps.
   return { ms: performance.now() - t0, light: (255 * px.reduce((a, v, i) => (i % 4 === 3 ? a : a + v), 0)) / (32 * 32 * 3) };
 }
@@ -531,7 +539,7 @@ async function split(task) {
     gi.addOccluder(hero);
   });
   const unlit = await frame(async (gi) => { gi.enabled = false; });
-  renderer.dispose();
+  release(renderer);
   return { byCall: byCall.px, counts: byCall.counts, byHand: byHand.px, unlit: unlit.px };
 }
 
@@ -582,7 +590,7 @@ async function grid(task) {
     return { fillMs, gridBytes: data.byteLength, resolution: g.resolution.toArray(), volumeBytes: volume.vramBytes,
       spacing: volume.info.spacing };
   });
-  renderer.dispose();
+  release(renderer);
   return { ours: ours.px, three: three.px, fillMs: three.fillMs, gridBytes: three.gridBytes,
     resolution: three.resolution, volumeBytes: three.volumeBytes, spacing: three.spacing,
     frameMs: { none: none?.frameMs, ours: ours.frameMs, three: three.frameMs } };
@@ -608,7 +616,7 @@ async function reads(task) {
   };
   const plain = await count(new THREE.MeshStandardMaterial());
   const lit = await count(gi.apply(new THREE.MeshStandardMaterial(), { perFragment: true }));
-  renderer.dispose();
+  release(renderer);
   return { plain, lit };
 }
 
@@ -628,7 +636,7 @@ async function gridLimit(task) {
     out.errors.push(gl.getError());
     rt.dispose();
   }
-  renderer.dispose();
+  release(renderer);
   return out;
 }
 
