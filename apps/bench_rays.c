@@ -63,6 +63,27 @@ static double fixed_rays_for(const rays_row *rows, size_t n, double rmse)
     return 0.0;
 }
 
+/*
+ * The most any choice of rays a point could gain: point i's error goes as
+ * cost_i / n_i, and for a given sum of rays the summed error is least at
+ * n_i ~ sqrt(cost_i) (Lagrange), where it is mean(sqrt(cost))^2 / mean(cost)
+ * of an even split's. The oracle's row: the rays that reach the random
+ * rotation's 128-ray RMSE so (its costs are measured, so noisy: the gain is
+ * if anything overstated). n points, each costed by the same runs.
+ */
+static void oracle_row(rays_row *rows, size_t *rows_n, const double *cost, size_t n)
+{
+    double mean = 0.0, root = 0.0;
+    for (size_t i = 0; i < n; i++)
+        mean += cost[i], root += sqrt(cost[i]);
+    if (n == 0 || !(mean > 0.0))
+        return;
+    mean /= (double)n, root /= (double)n;
+    const rays_row *const random128 = &rows[FIXED + 3];
+    rows[(*rows_n)++] = (rays_row){
+        "oracle", 128.0 * root * root / mean, 0.0, 0.0, random128->rmse, random128->p99, 0.0};
+}
+
 /* The rows as a Markdown table and dir/csv; n points (probes or texels), each a "what". */
 static bool write_rows(const rays_row *rows, size_t rows_n, size_t n, const char *what,
                        const char *dir, const char *csv)
@@ -152,25 +173,8 @@ int bench_rays_table(vdbgi_context *ctx, const vdbgi_scene *scene, double spacin
                     100.0 * row->rmse, row->seconds);
         }
     }
-    /*
-     * The most any choice of rays a probe could gain: probe i's error goes as
-     * cost_i / n_i, and for a given sum of rays the summed error is least at
-     * n_i ~ sqrt(cost_i) (Lagrange), where it is mean(sqrt(cost))^2 / mean(cost)
-     * of an even split's. The oracle's row: the rays that reach the random
-     * rotation's 128-ray RMSE so (its costs are measured, so noisy: the gain
-     * is if anything overstated).
-     */
-    if (r == VDBGI_OK && m > 0) {
-        double mean = 0.0, root = 0.0;
-        for (size_t i = 0; i < m; i++)
-            mean += cost[i], root += sqrt(cost[i]);
-        mean /= (double)m, root /= (double)m;
-        const rays_row *const random128 = &rows[FIXED + 3];
-        if (mean > 0.0)
-            rows[rows_n++] = (rays_row){
-                "oracle", 128.0 * root * root / mean, 0.0, 0.0, random128->rmse, random128->p99,
-                0.0};
-    }
+    if (r == VDBGI_OK)
+        oracle_row(rows, &rows_n, cost, m);
     const bool wrote = r == VDBGI_OK && write_rows(rows, rows_n, n, "probe", dir, "rays.csv");
     free(ref);
     free(got);
@@ -220,7 +224,7 @@ int bench_texel_rays(const bench_options *o)
     if (opened != CLI_OK)
         return opened;
     const double texel = o->spacing_given ? o->spacing : 0.5;
-    rays_row rows[2 * FIXED + TARGETS];
+    rays_row rows[2 * FIXED + TARGETS + 1];
     size_t rows_n = 0, n = 0, texels = 0;
     vdbgi_lightmap_stats st;
     fprintf(stderr, "texel-rays: %g m texels, the %d-ray reference\n", texel, REFERENCE_RAYS);
@@ -236,7 +240,9 @@ int bench_texel_rays(const bench_options *o)
         ref ? vdbgi_lightmap_result_texels(ref, &ref_valid, &texels) : NULL;
     float *const a = calloc(3 * texels + 1, sizeof(float)), *const b = calloc(3 * texels + 1,
                                                                               sizeof(float));
-    bool ok = ref && a && b;
+    double *const cost = calloc(texels + 1, sizeof(double)); /* per texel: error^2 x rays */
+    unsigned char *const costs = calloc(texels + 1, 1);      /* of the 4 runs that cost */
+    bool ok = ref && a && b && cost && costs;
     for (int way = 0; ok && way < WAYS; way++) {
         for (int k = 0; ok && k < way_runs(way); k++) {
             rays_row *const row = &rows[rows_n];
@@ -248,10 +254,17 @@ int bench_texel_rays(const bench_options *o)
             size_t count = 0;
             const float *const rgb = vdbgi_lightmap_result_texels(got, &valid, &count);
             n = 0;
+            /* As gi-bench rays: the random rotation's cost at 64..512 rays, texel by texel. */
+            const bool costed = way == 1 && counts[k] >= 64 && counts[k] <= 512;
             for (size_t i = 0; i < texels && count == texels; i++)
                 if (ref_valid[i] && valid[i]) {
                     memcpy(&a[3 * n], &ref_rgb[3 * i], 3 * sizeof(float));
                     memcpy(&b[3 * n], &rgb[3 * i], 3 * sizeof(float));
+                    for (int c = 0; costed && c < 3; c++) {
+                        const double e = (double)rgb[3 * i + c] - ref_rgb[3 * i + c];
+                        cost[i] += e * e * counts[k];
+                    }
+                    costs[i] += costed;
                     n++;
                 }
             rows_n++;
@@ -264,9 +277,18 @@ int bench_texel_rays(const bench_options *o)
             vdbgi_lightmap_result_destroy(got);
         }
     }
+    /* The oracle over the texels valid in all four runs that cost (gutters never are). */
+    size_t kept = 0;
+    for (size_t i = 0; ok && i < texels; i++)
+        if (costs[i] == 4)
+            cost[kept++] = cost[i];
+    if (ok)
+        oracle_row(rows, &rows_n, cost, kept);
     ok = ok && write_rows(rows, rows_n, st.samples, "texel", dir, "texel_rays.csv");
     free(a);
     free(b);
+    free(cost);
+    free(costs);
     vdbgi_lightmap_result_destroy(ref);
     vdbgi_scene_destroy(scene);
     vdbgi_context_destroy(ctx);

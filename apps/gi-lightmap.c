@@ -212,7 +212,10 @@ static int parse_args(int argc, char **argv, options *o)
     if (o->ao && o->lm.layers)
         return cli_usage_error("--layers is for lightmaps, not --mode ao");
     if (o->ao && (o->auto_given || o->lm.bake.noise != 0.0f || o->lm.bake.max_rays != 0))
-        return cli_usage_error("--mode ao takes a fixed --rays N, not auto");
+        return cli_usage_error("--mode ao takes a fixed --rays N, not auto%s",
+                               o->auto_given              ? ""
+                               : o->lm.bake.noise != 0.0f ? "'s --noise"
+                                                          : "'s --max-rays");
     if (o->ao)
         o->lm.bake.adaptive = 0; /* occlusion has no auto (the library's 64 rays) */
     if (o->budget > 0.0 && (o->texel_given || o->size_given))
@@ -370,8 +373,15 @@ static vdbgi_result choose_texel(vdbgi_context *ctx, const vdbgi_scene *scene, o
         const vdbgi_result r = vdbgi_lightmap_plan(ctx, scene, &d, &st);
         if (r != VDBGI_OK && k == 0)
             return r; /* the context says why */
-        if (r != VDBGI_OK)
-            break; /* past the bake's atlas or ray limits: finer texels are too */
+        if (r != VDBGI_OK) {
+            /* Past the bake's atlas or ray limits: finer texels are too. Said, since the
+               budget may have held them. */
+            char why[512];
+            snprintf(why, sizeof(why), "--budget: texels of %g m stop the ladder: %s", ladder[k],
+                     vdbgi_context_error(ctx));
+            cli_log(NULL, VDBGI_LOG_WARNING, why);
+            break;
+        }
         if (k == 0)
             first = (double)st.texels * MAP_TEXEL_BYTES;
         if (st.kept_uv1) {

@@ -1265,7 +1265,11 @@ typedef struct vdbgi_lightmap_desc {
 #define VDBGI_LIGHTMAP_MAX_PASSES 16
 /* Most atlas texels a lightmap takes (about 60 bytes each while baking: 1 GB). */
 #define VDBGI_LIGHTMAP_MAX_TEXELS (1 << 24)
-/* Most hemisphere rays it traces, texels x rays x passes (minutes on a few cores). */
+/*
+ * Most hemisphere rays it plans, texels x rays x passes (minutes on a few
+ * cores): an adaptive bake counted at 256 rays a texel at VDBGI_NOISE,
+ * scaled as noise^-2 within 32..max_rays (a bake at its cap traces more).
+ */
 #define VDBGI_LIGHTMAP_MAX_RAYS 8e9
 
 typedef struct vdbgi_lightmap_stats {

@@ -384,18 +384,18 @@ static vdbgi_result bake_maps(vdbgi_context *ctx, vdbgi_lightmap_result *r,
 #define LIGHTMAP_RAYS 64
 
 /*
- * An adaptive bake's rays a texel are not known before its pilot: the most
- * measured at the default noise (248 on the interior, 188 on the bundled
- * world: docs/performance.md), 256, scaled as noise^-2 and held to the cap.
- * Counting the cap itself (1,024) refused the default bake of a map past
- * 2.6 M texels that takes minutes.
+ * An adaptive bake's rays a texel are not known before its pilot: about the
+ * most measured at the default noise (182-259 a texel on three worlds:
+ * docs/performance.md, "Rays by default"), 256, scaled as noise^-2, held
+ * between the pilot's 32 and the cap. Counting the cap itself (1,024)
+ * refused the default bake of any map past 2.6 M texels.
  */
 static int adaptive_rays_expected(const vdbgi_bake_desc *b)
 {
     const double noise = b->noise > 0.0f ? b->noise : VDBGI_NOISE;
     const double cap = b->max_rays ? b->max_rays : 1024;
     const double rays = 256.0 * (VDBGI_NOISE / noise) * (VDBGI_NOISE / noise);
-    return (int)(rays < cap ? rays : cap);
+    return rays < VDBGI_ADAPTIVE_BATCH ? VDBGI_ADAPTIVE_BATCH : (int)(rays < cap ? rays : cap);
 }
 
 /*
@@ -442,10 +442,11 @@ static vdbgi_result unwrap_scene(vdbgi_context *ctx, const vdbgi_scene *scene,
     const double work = texels * passes * rays;
     if (res == VDBGI_OK && work > VDBGI_LIGHTMAP_MAX_RAYS)
         res = vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY,
-                         "%.1f M texels x %d rays x %d passes is %.1f G rays (at most %.1f G, "
-                         "minutes at tens of M rays/s): raise --texel or lower --rays, "
-                         "--max-rays or --passes",
-                         texels * 1e-6, rays, passes, work * 1e-9, VDBGI_LIGHTMAP_MAX_RAYS * 1e-9);
+                         "%.1f M texels x %s%d rays x %d passes is %.1f G rays (at most %.1f G, "
+                         "minutes at tens of M rays/s): raise --texel%s or lower %s or --passes",
+                         texels * 1e-6, d->bake.adaptive ? "about " : "", rays, passes, work * 1e-9,
+                         VDBGI_LIGHTMAP_MAX_RAYS * 1e-9, d->bake.adaptive ? " or --noise" : "",
+                         d->bake.adaptive ? "--max-rays" : "--rays");
     return res;
 }
 

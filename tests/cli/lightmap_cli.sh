@@ -46,6 +46,7 @@ for rays in auto 16; do
 done
 python3 -c "import json; a=json.load(open('auto.json')); f=json.load(open('16.json')); print('auto: noise in 8.5..10 %%: %s, rays a texel in 32..1024: %s; fixed 16: %g rays a texel, over 3x auto\'s noise: %s' % (0.085 <= a['noise'] <= 0.1, 32 <= a['gather_rays'] <= 1024, f['gather_rays'], f['noise'] > 3 * a['noise']))"
 "$BIN/gi-lightmap" "$DATA/room.obj" -o x.glb --mode ao --rays auto 2> err.txt; echo "ao, auto: exit $?, $(head -1 err.txt)"
+"$BIN/gi-lightmap" "$DATA/room.obj" -o x.glb --mode ao --rays 32 --noise 0.1 2> err.txt; echo "ao, --noise: exit $?, $(head -1 err.txt)"
 rm -f lit.glb lit.json auto.glb auto.json 16.json auto.lightmap*.exr out.txt x.glb
 "$BIN/gi-lightmap" "$DATA/room.obj" -o x.gltf 2> err.txt; echo "not .glb: exit $?, $(head -1 err.txt)"
 "$BIN/gi-lightmap" "$DATA/room.obj" -o x.glb --mode bake 2> err.txt; echo "mode: exit $?, $(head -1 err.txt)"
