@@ -31,6 +31,15 @@ static int way_runs(int way)
     return way < 2 ? FIXED : TARGETS;
 }
 
+/*
+ * Whether way's row k adds to each point's cost for the oracle: the random
+ * rotation at 64..512 rays, whose error goes as 1/rays.
+ */
+static bool costs_run(int way, int k)
+{
+    return way == 1 && counts[k] >= 64 && counts[k] <= 512;
+}
+
 /* Way way's row k: its sampling under light, and its name and target into row. */
 static vdbgi_bake_desc way_row(int way, int k, const bench_light *light, rays_row *row)
 {
@@ -158,7 +167,7 @@ int bench_rays_table(vdbgi_context *ctx, const vdbgi_scene *scene, double spacin
                 if (valid[i])
                     vdbgi_probes_get(p, i, NULL, &got[3 * j++], NULL);
             /* A random rotation's error at 64..512 rays, times the rays: each probe's cost. */
-            if (way == 1 && counts[k] >= 64 && counts[k] <= 512)
+            if (costs_run(way, k))
                 for (size_t i = 0; i < m; i++)
                     for (int c = 0; c < 3; c++) {
                         const double e = (double)got[3 * i + c] - ref[3 * i + c];
@@ -241,7 +250,7 @@ int bench_texel_rays(const bench_options *o)
     float *const a = calloc(3 * texels + 1, sizeof(float)), *const b = calloc(3 * texels + 1,
                                                                               sizeof(float));
     double *const cost = calloc(texels + 1, sizeof(double)); /* per texel: error^2 x rays */
-    unsigned char *const costs = calloc(texels + 1, 1);      /* of the 4 runs that cost */
+    unsigned char *const costs = calloc(texels + 1, 1);      /* runs that costed it */
     bool ok = ref && a && b && cost && costs;
     for (int way = 0; ok && way < WAYS; way++) {
         for (int k = 0; ok && k < way_runs(way); k++) {
@@ -254,8 +263,7 @@ int bench_texel_rays(const bench_options *o)
             size_t count = 0;
             const float *const rgb = vdbgi_lightmap_result_texels(got, &valid, &count);
             n = 0;
-            /* As gi-bench rays: the random rotation's cost at 64..512 rays, texel by texel. */
-            const bool costed = way == 1 && counts[k] >= 64 && counts[k] <= 512;
+            const bool costed = costs_run(way, k); /* as gi-bench rays's, texel by texel */
             for (size_t i = 0; i < texels && count == texels; i++)
                 if (ref_valid[i] && valid[i]) {
                     memcpy(&a[3 * n], &ref_rgb[3 * i], 3 * sizeof(float));
@@ -277,10 +285,13 @@ int bench_texel_rays(const bench_options *o)
             vdbgi_lightmap_result_destroy(got);
         }
     }
-    /* The oracle over the texels valid in all four runs that cost (gutters never are). */
+    /* The oracle over the texels valid in every run that costs (gutters never are). */
+    int costed_runs = 0;
+    for (int k = 0; k < FIXED; k++)
+        costed_runs += costs_run(1, k);
     size_t kept = 0;
     for (size_t i = 0; ok && i < texels; i++)
-        if (costs[i] == 4)
+        if (costs[i] == costed_runs)
             cost[kept++] = cost[i];
     if (ok)
         oracle_row(rows, &rows_n, cost, kept);
