@@ -473,6 +473,13 @@ void cli_print_runtime(FILE *f, const vdbgi_volume_info *vi)
             cli_bytes((double)(vi->columns_size + vi->atlas_size + vi->sh_size), b, sizeof(b)));
 }
 
+const char *cli_term_form(const vdbgi_volume_info *vi)
+{
+    const size_t texels = vi->atlas_size / 4;
+    return texels && vi->sh_size == 14 * texels ? "14 bytes a texel: the second band in luminance"
+                                                : "24 bytes a texel: all in colour";
+}
+
 bool cli_parse_vec3(const char *s, float out[3])
 {
     double v[3];

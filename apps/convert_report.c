@@ -78,8 +78,8 @@ void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
     if (vi->basis == VDBGI_BASIS_SH2)
         fprintf(f,
                 "basis        L2: eight terms a texel beside the atlas (signed ratios to L0, %d "
-                "bits kept), %s\n",
-                vi->term_bits, cli_bytes((double)vi->sh_size, d, sizeof(d)));
+                "bits kept; %s), %s\n",
+                vi->term_bits, cli_term_form(vi), cli_bytes((double)vi->sh_size, d, sizeof(d)));
     cli_print_runtime(f, vi);
     if (o->budget > 0.0) {
         char e[320];

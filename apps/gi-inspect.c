@@ -144,8 +144,8 @@ static int inspect_gi(vdbgi_context *ctx, const char *path, float (*at)[3], int 
         printf("stored       %zu probe values, each once; the textures rebuilt from them\n",
                vi.stored_points);
     if (vi.basis == VDBGI_BASIS_SH2)
-        printf("basis        L2: eight terms a texel beside the atlas, %s more VRAM\n",
-               cli_bytes((double)vi.sh_size, b, sizeof(b)));
+        printf("basis        L2: eight terms a texel beside the atlas (%s), %s more VRAM\n",
+               cli_term_form(&vi), cli_bytes((double)vi.sh_size, b, sizeof(b)));
     for (int i = 0; i < at_count; i++) {
         float rgb[3];
         if (normal)

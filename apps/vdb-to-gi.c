@@ -50,10 +50,12 @@ static void usage(void)
            "                        levels stitched, neighbours sharing borders\n"
            "                        (docs/format.md) (compact)\n"
            "      --basis B         auto: probes baked with --basis sh2 keep their L2 terms\n"
-           "                        in the compact layout (.gi version 7, read with the\n"
+           "                        in the compact layout (.gi version 8, read with the\n"
            "                        surface's normal); scalar: one colour a probe (auto)\n"
-           "      --gi-version V    L2 terms: 7, or 6 for runtimes from before version 7\n"
-           "                        (same textures, a larger file) (7)\n"
+           "      --gi-version V    L2 terms: 8, the second band's terms one ratio for all\n"
+           "                        three channels (14 bytes a texel on the GPU); 7, each\n"
+           "                        term in colour (24 bytes); 6, version 7 for runtimes\n"
+           "                        from before it (a larger file) (8)\n"
            "      --budget MB       GPU memory the volume may take (decimal MB): convert\n"
            "                        at --eps (0.1), then 0.2 and 0.4, then without the L2\n"
            "                        terms, until it fits; print what fitted and the error\n"
@@ -159,7 +161,7 @@ static vdbgi_result build_within(vdbgi_context *ctx, vdbgi_probes *probes, vdbgi
             d.eps_is_set = 1;
             if (round == 1) {
                 d.terms = VDBGI_TERMS_DROP;
-                d.gi_version = 0; /* 6 and 7 are versions with terms */
+                d.gi_version = 0; /* 6 to 8 are versions with terms */
             }
             const vdbgi_result r = build(ctx, probes, file, o->region, &d, vol);
             if (r != VDBGI_OK)
@@ -276,10 +278,10 @@ static int parse_args(int argc, char **argv, options *o)
                 return cli_usage_error("--basis must be auto or scalar (got '%s')", optarg);
             break;
         case OPT_GI_VERSION:
-            if (strcmp(optarg, "6") == 0 || strcmp(optarg, "7") == 0)
+            if (strcmp(optarg, "6") == 0 || strcmp(optarg, "7") == 0 || strcmp(optarg, "8") == 0)
                 o->convert.gi_version = optarg[0] - '0';
             else
-                return cli_usage_error("--gi-version must be 6 or 7 (got '%s')", optarg);
+                return cli_usage_error("--gi-version must be 6, 7 or 8 (got '%s')", optarg);
             break;
         case OPT_BUDGET:
             if (!budget_parse(optarg, &o->budget))

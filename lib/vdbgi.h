@@ -873,13 +873,16 @@ typedef enum vdbgi_terms {
  *   layout:     see vdbgi_layout (0: the compact layout).
  *   terms:      see vdbgi_terms: whether a volume of the compact layout
  *               carries the probes' L2 terms when they have them
- *               (VDBGI_BASIS_SH2; .gi version 7, read with a normal:
+ *               (VDBGI_BASIS_SH2; .gi version 8, read with a normal:
  *               vdbgi_volume_sample_normal). The seed layout holds the
  *               scalar only.
- *   gi_version: a volume with L2 terms: 0 or 7, the newest file; 6 for
- *               runtimes from before version 7 (the same textures, a larger
- *               file). Other values, or 6 and 7 for a volume without terms,
- *               are VDBGI_ERR_INVALID_ARG.
+ *   gi_version: a volume with L2 terms: 0 or 8, the newest file (terms
+ *               4-8 one ratio for all channels, their luminance's: 14
+ *               bytes a texel on the GPU); 7 keeps every term's three
+ *               channels (24 bytes a texel), 6 is 7 for runtimes from
+ *               before version 7 (the same textures, a larger file).
+ *               Other values, or 6 to 8 for a volume without terms, are
+ *               VDBGI_ERR_INVALID_ARG.
  *   term_bits:  L2 terms: the bits of each signed ratio byte kept, 4..8
  *               (0: VDBGI_TERM_BITS); 8 keeps all, each bit fewer doubles
  *               the step to which a ratio is rounded, and shrinks the file.
@@ -1054,7 +1057,8 @@ typedef struct vdbgi_volume_info {
        (docs/format.md): a 2D RGBA8 texture; size 0 above VDBGI_COLUMNS_ROW^2 texels. */
     uint32_t columns_dims[2];
     size_t columns_size; /* bytes; the GPU holds columns_size + atlas_size + sh_size */
-    size_t sh_size;      /* L2 terms: 24 bytes an atlas texel (six RGBA8 snorm textures), or 0 */
+    size_t sh_size;      /* L2 terms: 14 bytes an atlas texel (version 8: three RGBA8 and one RG8
+                            snorm textures) or 24 (6 and 7: six RGBA8), or 0 */
     int term_bits;       /* L2 terms, build only: the bits of each ratio byte kept (desc's) */
 } vdbgi_volume_info;
 

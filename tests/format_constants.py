@@ -79,7 +79,12 @@ FMT, PACKED, RUNTIME = "web/gi-format.js", "web/gi-packed.js", "web/vdbgi.js"
 STREAM = "web/gi-stream.js"
 PAIRS = [
     ("header bytes", lambda: js_const(FMT, "HEADER_BYTES"), lambda: c_define(GIH, "VDBGI_GI_HEADER_SIZE")),
-    ("header bytes, versions 6 and 7", lambda: js_const(FMT, "HEADER_BYTES_V6"),
+    ("newest version", lambda: js_match(FMT, r"version < 1 \|\| version > (\d+)"),
+     lambda: c_define(GIH, "VDBGI_GI_VERSION")),
+    ("L2 term bytes, versions 6 and 7", lambda: js_const(PACKED, "SH_BYTES"), lambda: c_define(GIH, "VDBGI_SH_BYTES")),
+    ("L2 term bytes, version 8", lambda: js_const(PACKED, "SH_BYTES_LUMA2"),
+     lambda: c_define(GIH, "VDBGI_SH_BYTES_LUMA2")),
+    ("header bytes, versions 6 to 8", lambda: js_const(FMT, "HEADER_BYTES_V6"),
      lambda: c_define(GIH, "VDBGI_GI_HEADER_MAX")),
     ("RGBM encoding", lambda: js_const(FMT, "ENCODING_RGBM"), lambda: c_enum(API, "VDBGI_ENCODING_RGBM")),
     ("RGB9E5 encoding", lambda: js_const(FMT, "ENCODING_RGB9E5"), lambda: c_enum(API, "VDBGI_ENCODING_RGB9E5")),

@@ -25,7 +25,7 @@ static size_t file_size(vdbgi_context *ctx, const vdbgi_volume *v)
 }
 
 /*
- * L2 terms in bricks (.gi version 7, and 6): a surface reads its own side, as the
+ * L2 terms in bricks (.gi version 7, and 6; version 8 below): a surface reads its own side, as the
  * probes' own L2 does; the L0 atlas is the scalar volume's, byte for byte;
  * the file round-trips, does not depend on the thread count, and a damaged
  * basis, a cut or a wrong version is refused.
@@ -45,7 +45,7 @@ static void l2_bricks_read_each_side_and_round_trip(void)
     CHECK_RESULT(ctx, vdbgi_probes_place(ctx, scene, &pd, &p), VDBGI_OK);
     const vdbgi_bake_desc bd = {.rays = 64, .basis = VDBGI_BASIS_SH2};
     CHECK_RESULT(ctx, vdbgi_probes_bake(p, scene, &bd, NULL), VDBGI_OK);
-    vdbgi_convert_desc cd = {.eps_is_set = 1, .max_level_is_set = 1, .threads = 1};
+    vdbgi_convert_desc cd = {.eps_is_set = 1, .max_level_is_set = 1, .threads = 1, .gi_version = 7};
     vdbgi_volume *v = NULL, *v3 = NULL, *v6 = NULL, *scalar = NULL, *back = NULL, *back6 = NULL;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
     cd.threads = 3;
@@ -152,7 +152,8 @@ static void l2_bricks_read_each_side_and_round_trip(void)
     } damage[] = {{raw, raw, 0, NULL},
                   {112, raw, 3, "unknown basis 3"},
                   {8, raw, 5, "cannot come from"},
-                  {8, raw, 8, "this reader knows 1..7"},
+                  {8, raw, 8, "cannot come from"}, /* short of version 8's planes */
+                  {8, raw, 9, "this reader knows 1..8"},
                   {12, raw, 112, "bad header size"},
                   {raw, raw - 1, 0, "cannot come from"},
                   {raw, 114, 0, "too short"}};
@@ -187,12 +188,26 @@ done:
     vdbgi_context_destroy(ctx);
 }
 
-/* p's terms with band drop left out (0: none) or sign_of negated (0: none), read along n. */
+static double luma(const float c[3])
+{
+    return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+}
+
+/*
+ * p's terms with band drop left out (0: none) or sign_of negated (0: none), read along n;
+ * with luma2, bands 4-8 as .gi version 8 holds them: each channel's L0 times the band's
+ * luminance over L0's.
+ */
 static void probe_l2_reading(const vdbgi_probes *p, size_t i, const float n[3], int drop,
-                             int sign_of, float rgb[3])
+                             int sign_of, bool luma2, float rgb[3])
 {
     float sh[VDBGI_SH2_TERMS][3];
     CHECK_RESULT(p->ctx, vdbgi_probes_get_sh2(p, i, sh), VDBGI_OK);
+    for (int b = 4; luma2 && b < VDBGI_SH2_TERMS; b++) {
+        const double r = luma(sh[0]) > 0.0 ? luma(sh[b]) / luma(sh[0]) : 0.0;
+        for (int k = 0; k < 3; k++)
+            sh[b][k] = (float)(sh[0][k] * r);
+    }
     for (int k = 0; k < 3; k++) {
         if (drop)
             sh[drop][k] = 0.0f;
@@ -205,13 +220,14 @@ static void probe_l2_reading(const vdbgi_probes *p, size_t i, const float n[3], 
 /*
  * The worst error over every valid probe of an eps-0 L2 volume, read at the
  * probe along each of the normals, against the probe's own E(n) (a band
- * dropped or negated when asked), in encoding steps: L0's RGBM step, and
- * one step of each term's ratio (term_step of its range over 127, as
- * term_bits rounds it) weighted by |p_k(n)|.
+ * dropped or negated when asked; bands 4-8 in luminance with luma2), in
+ * encoding steps: L0's RGBM step, and one step of each term's ratio
+ * (term_step of its range over 127, as term_bits rounds it) weighted by
+ * |p_k(n)|.
  */
 static double worst_l2_error_in_steps(const vdbgi_probes *p, const vdbgi_volume *v,
                                       const float (*normals)[3], int count, int drop, int sign_of,
-                                      int term_step)
+                                      int term_step, bool luma2)
 {
     double worst = 0.0;
     for (size_t i = 0; i < p->count; i++) {
@@ -233,7 +249,7 @@ static double worst_l2_error_in_steps(const vdbgi_probes *p, const vdbgi_volume 
                 s += fabs(pk[k]) * vdbgi_sh_ratio_range(k);
             float got[3], want[3];
             vdbgi_volume_sample_normal(v, pos, n, got);
-            probe_l2_reading(p, i, n, drop, sign_of, want);
+            probe_l2_reading(p, i, n, drop, sign_of, luma2, want);
             for (int k = 0; k < 3; k++) {
                 const double step =
                     (mx + 8.0 / 255.0) / 255.0 * (1.0 + s) + c0[k] * s * term_step / 127.0;
@@ -242,6 +258,23 @@ static double worst_l2_error_in_steps(const vdbgi_probes *p, const vdbgi_volume 
         }
     }
     return worst;
+}
+
+/* The six axis normals, then 20 random unit ones from seed. */
+static void axes_and_random_normals(float normals[26][3], uint64_t seed)
+{
+    static const float axes[6][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                     {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+    memcpy(normals, axes, sizeof(axes));
+    for (int j = 6; j < 26; j++) {
+        float l = 0.0f;
+        for (int k = 0; k < 3; k++) {
+            normals[j][k] = (float)(2.0 * vdbgi_uniform01(&seed) - 1.0);
+            l += normals[j][k] * normals[j][k];
+        }
+        for (int k = 0; k < 3; k++)
+            normals[j][k] /= sqrtf(l);
+    }
 }
 
 /*
@@ -268,32 +301,24 @@ static void at_eps_0_every_probe_reads_its_own_l2_for_any_normal(void)
     CHECK_RESULT(ctx, vdbgi_probes_place(ctx, scene, &pd, &p), VDBGI_OK);
     const vdbgi_bake_desc bd = {.rays = 64, .basis = VDBGI_BASIS_SH2, .sky = {0.2f, 0.3f, 0.5f}};
     CHECK_RESULT(ctx, vdbgi_probes_bake(p, scene, &bd, NULL), VDBGI_OK);
-    vdbgi_convert_desc cd = {.eps_is_set = 1, .max_level_is_set = 1, .term_bits = 8};
+    vdbgi_convert_desc cd = {
+        .eps_is_set = 1, .max_level_is_set = 1, .term_bits = 8, .gi_version = 7};
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v), VDBGI_OK);
     cd.term_bits = 0;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &coarse), VDBGI_OK);
-    float normals[26][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-    uint64_t state = 12345;
-    for (int j = 6; j < 26; j++) {
-        float l = 0.0f;
-        for (int k = 0; k < 3; k++) {
-            normals[j][k] = (float)(2.0 * vdbgi_uniform01(&state) - 1.0);
-            l += normals[j][k] * normals[j][k];
-        }
-        for (int k = 0; k < 3; k++)
-            normals[j][k] /= sqrtf(l);
-    }
+    float normals[26][3];
+    axes_and_random_normals(normals, 12345);
     if (v && coarse) {
         const float(*const ns)[3] = (const float(*)[3])normals;
-        CHECK(worst_l2_error_in_steps(p, v, ns, 26, 0, 0, 1) <= 1.0);
+        CHECK(worst_l2_error_in_steps(p, v, ns, 26, 0, 0, 1, false) <= 1.0);
         /* The default rounds each ratio to a step 2^(8 - bits) times as large: within it. */
         const int step = 1 << (8 - VDBGI_TERM_BITS);
         CHECK(coarse->info.term_bits == VDBGI_TERM_BITS &&
-              worst_l2_error_in_steps(p, coarse, ns, 26, 0, 0, step) <= 1.0);
-        CHECK(worst_l2_error_in_steps(p, coarse, ns, 26, 0, 0, 1) > 1.0);
+              worst_l2_error_in_steps(p, coarse, ns, 26, 0, 0, step, false) <= 1.0);
+        CHECK(worst_l2_error_in_steps(p, coarse, ns, 26, 0, 0, 1, false) > 1.0);
         for (int band = 1; band <= 8; band++) {
-            const double dropped = worst_l2_error_in_steps(p, v, ns, 26, band, 0, 1);
-            const double negated = worst_l2_error_in_steps(p, v, ns, 26, 0, band, 1);
+            const double dropped = worst_l2_error_in_steps(p, v, ns, 26, band, 0, 1, false);
+            const double negated = worst_l2_error_in_steps(p, v, ns, 26, 0, band, 1, false);
             if (!(dropped > 1.0 && negated > 1.0)) {
                 fprintf(stderr, "band %d: %.2f steps dropped, %.2f negated\n", band, dropped,
                         negated);
@@ -308,11 +333,125 @@ static void at_eps_0_every_probe_reads_its_own_l2_for_any_normal(void)
     vdbgi_context_destroy(ctx);
 }
 
+/*
+ * Version 8 (the default): terms 1-3 per channel, 4-8 one luminance ratio. Beside a
+ * version 7 volume of the same probes, at eps 0 and every bit: the same atlas and the
+ * same first-band bytes at every texel, the second band's three channels equal, 14 term
+ * bytes a stored point in the file and a texel on the GPU, a smaller file that reads back
+ * byte for byte, refused when cut; and every probe reads, for any normal, within one
+ * encoding step of its own light with bands 4-8 in luminance, and not of its own light in
+ * colour (a white sun on the floor under a blue sky: light whose colour turns with
+ * direction).
+ */
+static void version_8_holds_the_second_band_in_luminance(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    const float lo[3] = {-2.0f, 0.0f, -2.0f}, hi[3] = {2.0f, 3.0f, 2.0f};
+    test_mesh_plane(&m, 16.0f, 0.0f);
+    test_mesh_box(&m, lo, hi, 0);
+    const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.6f, 0);
+    vdbgi_scene *scene = NULL;
+    vdbgi_probes *p = NULL;
+    vdbgi_volume *v7 = NULL, *v8 = NULL, *back = NULL;
+    const vdbgi_place_desc pd = {.spacing = 0.5, .origin = {0.25, 0.25, 0.25}, .origin_is_set = 1};
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &scene), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_probes_place(ctx, scene, &pd, &p), VDBGI_OK);
+    const vdbgi_bake_desc bd = {.rays = 64,
+                                .basis = VDBGI_BASIS_SH2,
+                                .sky = {0.05f, 0.1f, 0.4f},
+                                .sun_dir = {0.4f, 0.8f, 0.3f},
+                                .sun_color = {2.0f, 2.0f, 2.0f}};
+    CHECK_RESULT(ctx, vdbgi_probes_bake(p, scene, &bd, NULL), VDBGI_OK);
+    vdbgi_convert_desc cd = {
+        .eps_is_set = 1, .max_level_is_set = 1, .term_bits = 8, .gi_version = 7};
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v7), VDBGI_OK);
+    cd.gi_version = 0;
+    CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v8), VDBGI_OK);
+    if (!v7 || !v8)
+        goto done;
+    CHECK(v7->version == 7 && v8->version == VDBGI_GI_VERSION && VDBGI_GI_VERSION == 8);
+    const size_t texels = v8->info.atlas_size / 4;
+    CHECK(v8->info.atlas_size == v7->info.atlas_size &&
+          memcmp(v8->tex.atlas, v7->tex.atlas, v8->info.atlas_size) == 0);
+    size_t first_same = 0, second_equal = 0, second_differs_in_v7 = 0;
+    for (size_t t = 0; t < texels; t++) {
+        const int8_t *a = &v8->tex.sh[24 * t], *b = &v7->tex.sh[24 * t];
+        first_same += memcmp(a, b, 9) == 0;
+        bool equal = true, differs = false;
+        for (int k = 9; k < 24; k += 3) {
+            equal &= a[k] == a[k + 1] && a[k] == a[k + 2];
+            differs |= b[k] != b[k + 1] || b[k] != b[k + 2];
+        }
+        second_equal += equal;
+        second_differs_in_v7 += differs;
+    }
+    CHECK(first_same == texels && second_equal == texels && second_differs_in_v7 > texels / 10);
+    vdbgi_volume_info i7, i8;
+    vdbgi_volume_get_info(v7, &i7);
+    vdbgi_volume_get_info(v8, &i8);
+    CHECK(i7.sh_size == 24 * texels && i8.sh_size == 14 * texels);
+    CHECK(v8->payload_size ==
+          v8->info.indirection_size / 4 + 6 * v8->info.brick_count + 18 * v8->info.stored_points);
+    const size_t size = file_size(ctx, v8);
+    CHECK(size > 0 && size < file_size(ctx, v7));
+    CHECK_RESULT(ctx, vdbgi_volume_write(v8, tmp_path("l2-v8.gi.gz")), VDBGI_OK);
+    CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("l2-v8.gi.gz"), &back), VDBGI_OK);
+    if (back) {
+        CHECK(back->version == 8 && back->info.basis == VDBGI_BASIS_SH2);
+        CHECK(memcmp(back->tex.atlas, v8->tex.atlas, v8->info.atlas_size) == 0);
+        CHECK(memcmp(back->tex.sh, v8->tex.sh, 24 * texels) == 0);
+        CHECK(file_size(ctx, back) == size && memcmp(back->file, v8->file, size) == 0);
+    }
+    uint8_t h[VDBGI_GI_HEADER_MAX];
+    const size_t hs = vdbgi_gifile_header(&v8->info, v8->version, h);
+    CHECK(hs == 116 && vdbgi_get_u32(h + 8) == 8 && vdbgi_get_u32(h + 112) == 2);
+    const size_t raw = hs + v8->payload_size;
+    uint8_t *const plain = malloc(raw);
+    memcpy(plain, h, hs);
+    memcpy(plain + hs, v8->payload, v8->payload_size);
+    /* As version 7 the same bytes are short of the three channels' terms: refused. */
+    const struct {
+        uint32_t version;
+        size_t size;
+        vdbgi_result want;
+    } cases[] = {{8, raw, VDBGI_OK}, {7, raw, VDBGI_ERR_FORMAT}, {8, raw - 1, VDBGI_ERR_FORMAT}};
+    for (size_t c = 0; c < sizeof(cases) / sizeof(cases[0]); c++) {
+        vdbgi_put_u32(plain + 8, cases[c].version);
+        FILE *f = fopen(tmp_path("l2-v8.gi"), "wb");
+        fwrite(plain, 1, cases[c].size, f);
+        fclose(f);
+        vdbgi_volume *r = NULL;
+        CHECK_RESULT(ctx, vdbgi_volume_read(ctx, tmp_path("l2-v8.gi"), &r), cases[c].want);
+        vdbgi_volume_destroy(r);
+    }
+    free(plain);
+    float normals[26][3];
+    axes_and_random_normals(normals, 777);
+    const float(*const ns)[3] = (const float(*)[3])normals;
+    const double luma_steps = worst_l2_error_in_steps(p, v8, ns, 26, 0, 0, 1, true);
+    const double colour_steps = worst_l2_error_in_steps(p, v8, ns, 26, 0, 0, 1, false);
+    if (!(luma_steps <= 1.0 && colour_steps > 2.0)) {
+        fprintf(stderr, "version 8: %.2f steps from its luminance bands, %.2f from colour\n",
+                luma_steps, colour_steps);
+        CHECK(false);
+    }
+    CHECK(worst_l2_error_in_steps(p, v7, ns, 26, 0, 0, 1, false) <= 1.0);
+done:
+    vdbgi_volume_destroy(back);
+    vdbgi_volume_destroy(v8);
+    vdbgi_volume_destroy(v7);
+    vdbgi_probes_destroy(p);
+    vdbgi_scene_destroy(scene);
+    vdbgi_context_destroy(ctx);
+}
+
 int main(void)
 {
     test_tmpdir_make("test-bricks-l2");
     RUN(l2_bricks_read_each_side_and_round_trip);
     RUN(at_eps_0_every_probe_reads_its_own_l2_for_any_normal);
+    RUN(version_8_holds_the_second_band_in_luminance);
     test_tmpdir_remove();
     return CHECK_EXIT();
 }

@@ -17,8 +17,14 @@ export type Vec3 = [number, number, number];
 export interface GiInfo {
   version: number;
   layout: typeof LAYOUT_SEED | typeof LAYOUT_COMPACT;
-  /** BASIS_SH2 when the file holds L2 terms (versions 6 and 7), else BASIS_SCALAR. */
+  /** BASIS_SH2 when the file holds L2 terms (versions 6 to 8), else BASIS_SCALAR. */
   basis: typeof BASIS_SCALAR | typeof BASIS_SH2;
+  /**
+   * The L2 terms' bytes a texel on the GPU: SH_BYTES (24: versions 6 and 7, every term in
+   * colour), SH_BYTES_LUMA2 (14: version 8, terms 4-8 one ratio for the three channels),
+   * or 0 (no terms).
+   */
+  shBytes: number;
   encoding: typeof ENCODING_RGBM | typeof ENCODING_RGB9E5;
   rgbmRange: number;
   indDims: Vec3;
@@ -29,7 +35,7 @@ export interface GiInfo {
   maxLevel: number;
   /** Bricks at levels 0..3. */
   bricks: [number, number, number, number];
-  /** Probe values the file stores (versions 5 to 7; 0 before). */
+  /** Probe values the file stores (versions 5 to 8; 0 before). */
   storedPoints: number;
 }
 
@@ -39,9 +45,22 @@ export interface GiData extends GiInfo {
   indirection: Uint8Array;
   /** The atlas, RGBA8 (RGBM) or RGB9E5 words, atlasDims texels. */
   atlas: Uint8Array;
-  /** L2 terms: six RGBA8 snorm textures the atlas's size (versions 6 and 7). */
+  /**
+   * L2 terms, snorm textures the atlas's size: six RGBA8 (versions 6 and 7), or three
+   * RGBA8 and one RG8 (version 8). termSlot says where each term byte is.
+   */
   sh?: Int8Array[];
 }
+
+/** Term bytes a texel: versions 6 and 7. */
+export const SH_BYTES: 24;
+/** Term bytes a texel: version 8. */
+export const SH_BYTES_LUMA2: 14;
+/**
+ * Where term byte j (3 term + channel, 0..23) of a texel lies in GiData.sh, for a
+ * volume of shBytes term bytes a texel: [texture, component, components a texel].
+ */
+export function termSlot(shBytes: number, j: number): [number, number, number];
 
 /** Milliseconds of each step, filled in by decodeGi. */
 export interface GiTimings {

@@ -3,12 +3,14 @@
 // in a worker and in node (tests/js), and it refuses, with an Error naming the
 // problem, every file docs/format.md says a reader must refuse, so no lookup
 // can ever leave the textures. A version 5 file (the compact layout, each
-// probe stored once) has its textures rebuilt by gi-packed.js; versions 6 and 7 add
-// L2 terms, rebuilt there too into six RGBA8 snorm textures (gi.sh).
-import { rebuildPacked, rebuildPackedSliced, ATLAS_TEXELS_PER_BRICK } from './gi-packed.js';
+// probe stored once) has its textures rebuilt by gi-packed.js; versions 6 to 8 add
+// L2 terms, rebuilt there too into snorm textures (gi.sh): six RGBA8 (6 and 7), or
+// three RGBA8 and one RG8 (8: the second band in luminance; gi.shBytes 14).
+import { rebuildPacked, rebuildPackedSliced, ATLAS_TEXELS_PER_BRICK, termBytes } from './gi-packed.js';
 import { GiStreamReader, MAX_BYTES, now, overBudget } from './gi-stream.js';
 
 export { MAX_BYTES } from './gi-stream.js';
+export { SH_BYTES, SH_BYTES_LUMA2, termSlot } from './gi-packed.js';
 
 export const ENCODING_RGBM = 0;
 export const ENCODING_RGB9E5 = 1;
@@ -27,7 +29,7 @@ const MIN_SPACING = 1e-4, MAX_SPACING = 1e4, MAX_ORIGIN = 1e9, MAX_INDEX = 1 << 
 const g = (x) => Number(x.toPrecision(6)); // a float32 field for a message, as C's %g
 
 const HEADER_BYTES = 112;
-// Version 6: the basis field follows, and 24 term bytes a stored point.
+// Versions 6 to 8: the basis field follows, and the term bytes of each stored point.
 const HEADER_BYTES_V6 = 116;
 export const BASIS_SCALAR = 0;
 export const BASIS_SH2 = 2;
@@ -91,7 +93,7 @@ function parseHeader(buf) {
   // Versions 3 and 4 were older compact forms, no longer read.
   if (version === 3 || version === 4)
     throw new Error(`an older vdbgi's compact layout (.gi version ${version}): convert the .vdb again`);
-  if (version < 1 || version > 7) throw new Error(`.gi version ${version}, this reader knows 1..7`);
+  if (version < 1 || version > 8) throw new Error(`.gi version ${version}, this reader knows 1..8`);
   const field = u32(104);
   const isCompact = field === LAYOUT_COMPACT || field === OLD_LAYOUT_COMPACT;
   const isSeed = field === LAYOUT_SEED || field === OLD_LAYOUT_SEED;
@@ -101,7 +103,7 @@ function parseHeader(buf) {
     throw new Error(`unknown layout ${field} for version ${version}`);
   const layout = isCompact ? LAYOUT_COMPACT : LAYOUT_SEED;
   const headerSize = u32(12);
-  // Versions 6 and 7 say their basis: L2, the only one they hold.
+  // Versions 6 to 8 say their basis: L2, the only one they hold.
   const terms = version >= 6;
   if (terms && buf.length < HEADER_BYTES_V6) throw new Error('shorter than a .gi header');
   if (terms && u32(112) !== BASIS_SH2) throw new Error(`unknown basis ${u32(112)}`);
@@ -109,6 +111,8 @@ function parseHeader(buf) {
     version,
     layout,
     basis: terms ? BASIS_SH2 : BASIS_SCALAR,
+    // The L2 terms' bytes a texel on the GPU: 24, 14 (version 8), or 0.
+    shBytes: terms ? termBytes(version) : 0,
     encoding: u32(16),
     rgbmRange: f32(20),
     indDims: vec(24, u32),
@@ -161,8 +165,8 @@ function parseHeader(buf) {
     throw new Error(`a ${gi.atlasDims.join('x')} atlas for ${brickCount} bricks (at most ${ATLAS_TEXELS_PER_BRICK} texels a brick)`);
   checkBox(gi);
   // Version 5 stores a level byte a cell, 6 bytes a brick (its place) and 4 a
-  // stored point, not the textures; versions 6 and 7 24 more a point, the L2 terms.
-  const pointBytes = terms ? 28 : 4;
+  // stored point, not the textures; versions 6 to 8 the L2 terms' bytes more a point.
+  const pointBytes = 4 + gi.shBytes;
   const stored = packed ? indBytes / 4 + 6 * brickCount + pointBytes * gi.storedPoints : indBytes + atlasBytes;
   return { gi, headerSize, stored };
 }
@@ -205,10 +209,10 @@ function parseBody(gi, buf, headerSize, rebuild) {
 }
 
 // The bytes a volume's textures take as the reader makes them: the indirection
-// as the header sizes it, the atlas, and for L2 six term textures its size.
+// as the header sizes it, the atlas, and for L2 the term textures (shBytes a texel).
 export function textureBytes(gi) {
   const texels = (d) => d[0] * d[1] * d[2];
-  return 4 * texels(gi.indDims) + 4 * texels(gi.atlasDims) * (gi.basis === BASIS_SH2 ? 7 : 1);
+  return 4 * texels(gi.indDims) + (4 + gi.shBytes) * texels(gi.atlasDims);
 }
 
 // The stream reader's view of a header: what must follow it and what it unpacks to.

@@ -1,5 +1,5 @@
-// gi-packed.js: the runtime textures of a version 5, 6 or 7 .gi (docs/format.md,
-// "Version 5" to "Version 7"), rebuilt from its level bytes, its bricks'
+// gi-packed.js: the runtime textures of a version 5 to 8 .gi (docs/format.md,
+// "Version 5" to "Version 8"), rebuilt from its level bytes, its bricks'
 // places and the probe values (and L2 terms) it stores once. Bit for bit what lib/format/packed.c rebuilds: every float operation below
 // is a float32 one (Math.fround) in the C code's order, and the encoders
 // round as the C ones do, so a test can compare the two byte for byte.
@@ -12,6 +12,23 @@ const f = Math.fround;
 // A version 5 atlas holds at most this many texels a brick (docs/format.md); gi-format.js
 // checks it with the header, before the atlas is weighed against the budget.
 export const ATLAS_TEXELS_PER_BRICK = 500;
+
+// The L2 terms' bytes a stored point and a texel hold: 24 (versions 6 and 7: eight
+// terms x RGB), or 14 (version 8: terms 1-3 x RGB, then terms 4-8 one byte each,
+// the ratio of their luminance that the three channels share).
+export const SH_BYTES = 24;
+export const SH_BYTES_LUMA2 = 14;
+export const termBytes = (version) => (version >= 8 ? SH_BYTES_LUMA2 : SH_BYTES);
+
+// Where term byte j (3 term + channel, 0..23) of a texel lies in gi.sh, for a volume of
+// shBytes term bytes a texel: [texture, component, components a texel of that texture].
+// Versions 6 and 7: six RGBA8 textures. Version 8: three RGBA8 and one RG8, terms 4-8's
+// three channels one byte.
+export function termSlot(shBytes, j) {
+  if (shBytes === SH_BYTES) return [j >> 2, j & 3, 4];
+  const b = j < 9 ? j : 9 + Math.floor((j - 9) / 3);
+  return [b >> 2, b & 3, b < 12 ? 4 : 2];
+}
 
 // Each brick's first atlas texel from the placement table (u16 x of every
 // brick, then y, then z), checked as lib/format/packed.c checks it: inside the
@@ -150,7 +167,7 @@ function interpolate(s, key, level, p, out) {
   }
 }
 
-// Rebuild { indirection, atlas, storedPoints } from a version 5, 6 or 7 payload, or
+// Rebuild { indirection, atlas, storedPoints } from a version 5 to 8 payload, or
 // throw an Error naming what is inconsistent. `gi` is the parsed header.
 export function rebuildPacked(gi, payload) {
   const steps = rebuildSteps(gi, payload);
@@ -386,17 +403,22 @@ function* rebuildSteps(gi, payload) {
       values[4 * i + k] = (planes[k * points + i] + pred) & 255;
     }
   });
-  // Versions 6 and 7: each stored point's 24 L2 term bytes, from the 24
-  // planes after the values. Version 6: a residual on the same byte of the
-  // point at -x, else -y, else -z. Version 7: the median edge detector on the
-  // signed bytes of -x, -y and -x-y where all three are stored (else version
-  // 6's), and a green or blue residual stored less the red or green one.
+  // Versions 6 to 8: each stored point's 24 L2 term bytes, from the planes
+  // after the values. Version 6: a residual on the same byte of the point at
+  // -x, else -y, else -z. Version 7: the median edge detector on the signed
+  // bytes of -x, -y and -x-y where all three are stored (else version 6's),
+  // and a green or blue residual stored less the red or green one. Version 8:
+  // version 7 without the planes of terms 4-8's green and blue, whose
+  // residuals are 0 (their channels share one ratio): those bytes copy red's.
   let terms = null;
   if (gi.version >= 6) {
     terms = new Uint8Array(24 * points);
     const signedTerms = new Int8Array(terms.buffer); // the same bytes, read as the signed numbers they are
     const tplanes = planes.subarray(4 * points);
     const v7 = gi.version >= 7;
+    // Each of the 24 bytes' plane (-1: none, a zero residual).
+    const planeOf = Int32Array.from({ length: 24 }, (_, k) =>
+      gi.version < 8 || k < 9 ? k : (k - 9) % 3 ? -1 : 9 + (k - 9) / 3);
     yield* forEachPoint((i, x, y, z) => {
       const a = at3(x - 1, y, z), b = at3(x, y - 1, z), e = at3(x, y, z - 1);
       const c = v7 && a >= 0 && b >= 0 ? at3(x - 1, y - 1, z) : -1;
@@ -412,7 +434,7 @@ function* rebuildSteps(gi, payload) {
         } else if (j >= 0) {
           pred = terms[tj + k];
         }
-        const r = tplanes[k * points + i];
+        const r = planeOf[k] < 0 ? 0 : tplanes[planeOf[k] * points + i];
         d = v7 && k % 3 ? (r + d) & 255 : r;
         terms[ti + k] = (d + pred) & 255;
       }
@@ -548,5 +570,14 @@ function* rebuildSteps(gi, payload) {
         sh[j >> 2][4 * texel + (j & 3)] = rint(Math.min(Math.max(c[k], -127), 127));
       }
     });
-  return { indirection, atlas, storedPoints: points, sh };
+  if (gi.version < 8) return { indirection, atlas, storedPoints: points, sh };
+  // Version 8's four textures: bytes 0-7 as they are, 8-11 the first band's last byte
+  // and terms 4-6's shared one, 12-13 (two bytes a texel) those of terms 7 and 8.
+  const rg = new Int8Array(2 * texels);
+  for (let t = 0; t < texels; t++) {
+    sh2[t] = (sh2[t] & 0xffff) | ((sh[3][4 * t] & 255) << 16) | ((sh[3][4 * t + 3] & 255) << 24);
+    rg[2 * t] = sh[4][4 * t + 2];
+    rg[2 * t + 1] = sh[5][4 * t + 1];
+  }
+  return { indirection, atlas, storedPoints: points, sh: [sh[0], sh[1], sh[2], rg] };
 }

@@ -9,7 +9,7 @@
 // shaders agree but for a term byte of -128, which the converter never writes),
 // instead of the grid's in-page bake; docs/web.md says when to pick which.
 import * as THREE from 'three';
-import { ENCODING_RGB9E5, LAYOUT_COMPACT, layoutGeometry, SH2_RANGE } from './gi-format.js';
+import { ENCODING_RGB9E5, LAYOUT_COMPACT, layoutGeometry, SH2_RANGE, termSlot } from './gi-format.js';
 
 // WebGL2's guaranteed 3D texture side is 256; 2048 is what desktops and
 // SwiftShader give, and the atlas's depth is 7 (nz + 2) slices.
@@ -84,7 +84,12 @@ function lookup(v, pos, out) {
     v.texel(idx, rgba);
     for (let ch = 0; ch < 4; ch++) acc[ch] += w * rgba[ch];
     // Each term byte as the C sampler reads it, max(q / 127, -1), before the filter.
-    if (v.sh) for (let j = 0; j < 24; j++) out[3 + j] += w * Math.max((v.sh[j >> 2][4 * idx + (j & 3)] - 128) / 127, -1);
+    if (v.sh) {
+      for (let j = 0; j < 24; j++) {
+        const [tex, comp, size] = v.slots[j];
+        out[3 + j] += w * Math.max((v.sh[tex][size * idx + comp] - 128) / 127, -1);
+      }
+    }
   }
   // RGBM decodes after the filter, as the shader does; RGB9E5 was decoded a texel at a time.
   for (let ch = 0; ch < 3; ch++) out[ch] = v.rgbm ? acc[ch] * acc[3] * v.rgbmRange : acc[ch];
@@ -109,6 +114,7 @@ function volumeArrays(volume) {
     atlasDims: info.atlasDims, geo: layoutGeometry(info.layout), compact: info.layout === LAYOUT_COMPACT,
     columns: volume.columns.image.data, rgbm, rgbmRange: info.rgbmRange, texel,
     sh: volume.sh ? volume.sh.map((t) => t.image.data) : null,
+    slots: Array.from({ length: 24 }, (_, j) => termSlot(info.shBytes, j)),
   };
 }
 

@@ -111,7 +111,8 @@ function giNodes(runtime) {
     const uvw = texel.add(0.5).div(n.atlasDims);
     const s = n.texture('atlas', uvw);
     const l0 = mix(s.rgb, s.rgb.mul(s.a).mul(n.rgbmRange), step(1e-30, n.rgbmRange));
-    // Term byte j = 3 term + channel in texture j / 4, component j mod 4, as q + 128.
+    // Term byte j = 3 term + channel in texture j / 4, component j mod 4, as q + 128;
+    // version 8 (basis 3) has terms 4-8 (j = 3..7) at byte 6 + j, for all three channels.
     const c = [];
     for (let i = 0; i < 6; i++) {
       const t = max(n.texture(`sh${i}`, uvw).mul(255).sub(128).div(127), -1);
@@ -119,9 +120,12 @@ function giNodes(runtime) {
     }
     const poly = [nrm.x, nrm.y, nrm.z, nrm.x.mul(nrm.y), nrm.y.mul(nrm.z), nrm.z.mul(nrm.z).mul(3).sub(1),
       nrm.x.mul(nrm.z), nrm.x.mul(nrm.x).sub(nrm.y.mul(nrm.y))];
+    const luma2 = step(2.5, n.basis);
     let sum = vec3(1);
-    for (let j = 0; j < 8; j++)
-      sum = sum.add(vec3(c[3 * j], c[3 * j + 1], c[3 * j + 2]).mul(SH2_RANGE[j]).mul(poly[j]));
+    for (let j = 0; j < 8; j++) {
+      const rgb = vec3(c[3 * j], c[3 * j + 1], c[3 * j + 2]);
+      sum = sum.add((j < 3 ? rgb : mix(rgb, vec3(c[6 + j]), luma2)).mul(SH2_RANGE[j]).mul(poly[j]));
+    }
     // mix(a, b, 0) is a exactly: L0 alone where there are no terms to read.
     const irradiance = mix(l0, max(l0.mul(sum), 0), l2);
     const empty = float(1).sub(step(0.5, ind.r.add(ind.g).add(ind.b).add(ind.a)));

@@ -57,7 +57,7 @@ export class GiVolume {
   readonly columns: DataTexture;
   /** The atlas: RGBA8 (RGBM) or RGB9E5. */
   readonly atlas: Data3DTexture;
-  /** L2 terms: six textures, or null for a scalar volume. */
+  /** L2 terms: six textures (versions 6 and 7) or four (version 8, info.shBytes 14), or null for a scalar volume. */
   readonly sh: Data3DTexture[] | null;
   readonly boxMin: Vector3;
   readonly boxMax: Vector3;

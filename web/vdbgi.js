@@ -20,6 +20,7 @@ import * as THREE from 'three';
 import { now, yieldToPage } from './gi-stream.js';
 import {
   decodeGi, giReader, parseGiSliced, layoutGeometry, MAX_BYTES, ENCODING_RGB9E5, LAYOUT_SEED, LAYOUT_COMPACT, SH2_RANGE,
+  SH_BYTES_LUMA2,
 } from './gi-format.js';
 import { prepareTextures, readTextures } from './gi-gpu.js';
 
@@ -296,7 +297,7 @@ function startDecoder(worker, maxBytes) {
 export class GiVolume {
   constructor(header, fileBytes) {
     // The indirection as columns, the terms as unorm bytes (gi-gpu.js), unless the worker made them.
-    const { columns, atlas: atlasBytes, sh: shBytes, ...info } = header.columns ? header : prepareTextures(header);
+    const { columns, atlas: atlasBytes, sh: shArrays, ...info } = header.columns ? header : prepareTextures(header);
     this.info = Object.freeze(info);
     this.fileBytes = fileBytes;
     const [ax, ay, az] = header.atlasDims;
@@ -319,11 +320,13 @@ export class GiVolume {
       atlas.type = THREE.UnsignedByteType;
     }
     atlas.minFilter = atlas.magFilter = THREE.LinearFilter;
-    // L2 terms (versions 6 and 7): six textures of four signed ratios, as unorm
-    // bytes q + 128 (prepareTextures), read back as (255 t - 128) / 127 in the shader.
-    this.sh = shBytes ? shBytes.map((u) => {
+    // L2 terms: signed ratios as unorm bytes q + 128 (prepareTextures), read back as
+    // (255 t - 128) / 127 in the shader. Versions 6 and 7: six RGBA8 textures; 8: three
+    // RGBA8 and one RG8 (docs/format.md, "Version 8").
+    const texels = ax * ay * az;
+    this.sh = shArrays ? shArrays.map((u) => {
       const t = new THREE.Data3DTexture(u, ax, ay, az);
-      t.format = THREE.RGBAFormat;
+      t.format = u.length === 2 * texels ? THREE.RGFormat : THREE.RGBAFormat;
       t.type = THREE.UnsignedByteType;
       t.minFilter = t.magFilter = THREE.LinearFilter;
       return t;
@@ -331,7 +334,8 @@ export class GiVolume {
     for (const t of [ind, atlas, ...(this.sh ?? [])]) {
       t.wrapS = t.wrapT = t.wrapR = THREE.ClampToEdgeWrapping;
       t.generateMipmaps = false;
-      t.unpackAlignment = 4;
+      // Rows of an RG8 texture of odd width end on two bytes.
+      t.unpackAlignment = t.format === THREE.RGFormat ? 2 : 4;
       t.colorSpace = THREE.NoColorSpace;
       t.needsUpdate = true;
     }
@@ -340,7 +344,7 @@ export class GiVolume {
     this.boxMin = new THREE.Vector3(...header.boxMin);
     this.boxMax = new THREE.Vector3(...header.boxMax);
     // No mipmaps, 4 bytes a texel: what the GPU holds is the atlas and the columns.
-    this.vramBytes = columns.data.length + atlasBytes.length * (this.sh ? 7 : 1);
+    this.vramBytes = columns.data.length + atlasBytes.length + (shArrays ?? []).reduce((n, u) => n + u.length, 0);
   }
 
   get bricks() { return this.info.bricks; }
@@ -381,7 +385,8 @@ export class GiRuntimeBase {
       giColumns: { value: this._empty.ind },
       giColumnsDims: { value: new THREE.Vector2(2, 1) },
       giAtlas: { value: this._empty.atlas },
-      // L2 terms: six textures (the empty one without), and whether there are any.
+      // L2 terms: six samplers (the empty texture where the volume has fewer), and their
+      // form (giBasis 0 none, 2 every term in colour, 3 the second band in luminance).
       giSh: { value: Array(6).fill(this._empty.atlas) },
       giBasis: { value: 0 },
       giBoxMin: { value: new THREE.Vector3(0, 0, 0) },
@@ -599,8 +604,9 @@ export class GiRuntimeBase {
     u.giColumns.value = volume.columns;
     u.giColumnsDims.value.set(volume.columns.image.width, volume.columns.image.height);
     u.giAtlas.value = volume.atlas;
-    u.giSh.value = volume.sh ?? Array(6).fill(this._empty.atlas);
-    u.giBasis.value = volume.sh ? 2 : 0;
+    // Six term samplers whatever the volume holds: version 8's four, then the empty one.
+    u.giSh.value = [...(volume.sh ?? []), ...Array(6).fill(this._empty.atlas)].slice(0, 6);
+    u.giBasis.value = !volume.sh ? 0 : h.shBytes === SH_BYTES_LUMA2 ? 3 : 2;
     u.giBoxMin.value.copy(volume.boxMin);
     u.giBoxSize.value.subVectors(volume.boxMax, volume.boxMin);
     u.giIndDims.value.set(...h.indDims);
@@ -809,8 +815,10 @@ vec4 vdbgiColumnsTexel(float i) {
 }
 // n: the receiver's world normal. With L2 terms (docs/format.md, "Version 6")
 // the position moves half a spacing along it, off its own surface, and the
-// six term textures, read where the atlas is, turn L0 into E(n) / pi. A zero
-// normal (a mesh without normals, per vertex) reads L0 alone.
+// term textures, read where the atlas is, turn L0 into E(n) / pi. A zero
+// normal (a mesh without normals, per vertex) reads L0 alone. giBasis: 0 no
+// terms, 2 every term in colour (versions 6, 7), 3 terms 4-8 one ratio for
+// the three channels, at bytes 9-13 (version 8).
 GiLookup vdbgiLookup(vec3 pos, vec3 n) {
   float nn = dot(n, n);
   bool l2 = giBasis > 0 && nn > 0.25;
@@ -848,15 +856,18 @@ GiLookup vdbgiLookup(vec3 pos, vec3 n) {
   GiLookup r;
   r.irradiance = giRgbmRange > 0.0 ? s.rgb * s.a * giRgbmRange : s.rgb;
   if (l2) {
-    // Term byte j = 3 term + channel in texture j / 4, component j mod 4.
-    // (GLSL ES 3.0 indexes a sampler array by constants only: one line a texture.)
+    // Term byte j = 3 term + channel in texture j / 4, component j mod 4; version 8's
+    // terms 4-8 (k = 3..7) at byte 6 + k, for all three channels. (GLSL ES 3.0 indexes
+    // a sampler array by constants only: one line a texture.)
     float t[24];
     ${[0, 1, 2, 3, 4, 5].map((i) => `vec4 q${i} = max((texture(giSh[${i}], uvw) * 255.0 - 128.0) / 127.0, -1.0);
     t[${4 * i}] = q${i}.x; t[${4 * i + 1}] = q${i}.y; t[${4 * i + 2}] = q${i}.z; t[${4 * i + 3}] = q${i}.w;`).join('\n    ')}
     float poly[8] = float[8](n.x, n.y, n.z, n.x * n.y, n.y * n.z, 3.0 * n.z * n.z - 1.0, n.x * n.z, n.x * n.x - n.y * n.y);
     float range[8] = float[8](${SH2_RANGE.map((r) => r.toFixed(4)).join(', ')});
+    float luma2 = giBasis == 3 ? 1.0 : 0.0;
     vec3 sum = vec3(1.0);
-    for (int k = 0; k < 8; k++) sum += vec3(t[3 * k], t[3 * k + 1], t[3 * k + 2]) * range[k] * poly[k];
+    for (int k = 0; k < 8; k++)
+      sum += mix(vec3(t[3 * k], t[3 * k + 1], t[3 * k + 2]), vec3(t[6 + k]), k >= 3 ? luma2 : 0.0) * range[k] * poly[k];
     r.irradiance = max(r.irradiance * sum, 0.0);
   }
   r.level = compact ? (ind == vec4(0.0) ? -1.0 : level) : ind.a - 1.0;

@@ -109,6 +109,33 @@ static size_t first_reader(const vdbgi_pack_plan *pl, const int32_t p[3])
     return first;
 }
 
+/* Rec. 709's luminance of a linear colour. */
+static float luminance(const float *c)
+{
+    return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
+}
+
+/*
+ * A point's 24 term bytes (docs/format.md, "Version 6"), from the filled field's 27 numbers
+ * f (NULL, a fallback point: none, flat): each term's ratio to L0 per channel. Version 8
+ * gives terms 4-8 the ratio of their luminance (Rec. 709) in all three channels: the first
+ * band's colours carry where coloured light comes from, the second its shape.
+ */
+static void term_bytes(const vdbgi_volume *v, const float *f, uint8_t sh[VDBGI_SH_BYTES])
+{
+    const int step = 1 << (8 - v->info.term_bits);
+    for (int k = 0; k < VDBGI_SH_BYTES; k++) {
+        const int term = k / 3;
+        if (!f)
+            sh[k] = 0;
+        else if (v->version >= 8 && term >= 3)
+            sh[k] = (uint8_t)vdbgi_sh_ratio_encode(luminance(&f[3 + 3 * term]), luminance(f), term,
+                                                   step);
+        else
+            sh[k] = (uint8_t)vdbgi_sh_ratio_encode(f[3 + k], f[k % 3], term, step);
+    }
+}
+
 /*
  * A band of owner-cell planes z0 <= cz < z1 for one thread of the converter's
  * passes over the stored points; i0 is its first point's index. The points
@@ -150,12 +177,8 @@ static void *values_worker(void *arg)
             job->fallback++;
         }
         job->clamped += encode_texel(v, f, &job->values[4 * i]);
-        /* L2 terms as ratios to the field's own L0 (a fallback point has none: flat). */
-        for (int k = 0; job->sh && k < VDBGI_SH_BYTES; k++)
-            job->sh[VDBGI_SH_BYTES * i + k] =
-                valued ? (uint8_t)vdbgi_sh_ratio_encode(f[3 + k], f[k % 3], k / 3,
-                                                        1 << (8 - v->info.term_bits))
-                       : 0;
+        if (job->sh)
+            term_bytes(v, valued ? f : NULL, &job->sh[VDBGI_SH_BYTES * i]);
     });
     return NULL;
 }
@@ -177,8 +200,8 @@ static void *residual_worker(void *arg)
         if (job->sh) {
             uint8_t e[VDBGI_SH_BYTES];
             term_residuals(job->v->version, job->sh, nb, i, e);
-            for (int k = 0; k < VDBGI_SH_BYTES; k++)
-                job->out[(4 + k) * n + i] = e[k];
+            for (int j = 0; j < vdbgi_term_bytes(job->v->version); j++)
+                job->out[(4 + (size_t)j) * n + i] = e[vdbgi_term_byte(job->v->version, j)];
         }
     });
     return NULL;
@@ -334,7 +357,7 @@ vdbgi_result vdbgi_pack_writer_create(vdbgi_volume *v, vdbgi_brick *bricks, size
     const uint32_t *const d = v->info.ind_dims;
     const size_t cells = (size_t)d[0] * d[1] * d[2], n = w->pl.points;
     const bool with_sh = v->info.basis == VDBGI_BASIS_SH2;
-    const size_t point_bytes = 4 + (with_sh ? VDBGI_SH_BYTES : 0);
+    const size_t point_bytes = 4 + (with_sh ? (size_t)vdbgi_term_bytes(v->version) : 0);
     const size_t grid_cells = (size_t)w->pl.grid[0] * w->pl.grid[1] * w->pl.grid[2];
     w->values = vdbgi_calloc(ctx, 4 * (n ? n : 1), 1);
     w->sh = with_sh ? vdbgi_calloc(ctx, n ? n : 1, VDBGI_SH_BYTES) : NULL;
@@ -395,7 +418,7 @@ vdbgi_result vdbgi_pack_writer_finish(vdbgi_pack_writer *w, uint8_t **payload, s
     const vdbgi_pack_plan *const pl = &w->pl;
     const uint32_t *const d = v->info.ind_dims;
     const size_t cells = (size_t)d[0] * d[1] * d[2], n = pl->points, count = w->count;
-    const size_t point_bytes = 4 + (w->sh ? VDBGI_SH_BYTES : 0);
+    const size_t point_bytes = 4 + (w->sh ? (size_t)vdbgi_term_bytes(v->version) : 0);
     memcpy(w->out, w->levels, cells);
     for (size_t b = 0; b < count; b++)
         for (int k = 0; k < 3; k++)

@@ -49,9 +49,9 @@ static vdbgi_result resolve_desc(vdbgi_context *ctx, const vdbgi_convert_desc *d
     VDBGI_FAIL_IF(ctx, desc->term_bits != 0 && (desc->term_bits < 4 || desc->term_bits > 8),
                   VDBGI_ERR_INVALID_ARG, "L2 terms keep 4 to 8 bits of each ratio (got %d)",
                   desc->term_bits);
-    VDBGI_FAIL_IF(ctx, desc->gi_version != 0 && desc->gi_version != 6 && desc->gi_version != 7,
+    VDBGI_FAIL_IF(ctx, desc->gi_version != 0 && (desc->gi_version < 6 || desc->gi_version > 8),
                   VDBGI_ERR_INVALID_ARG,
-                  "a volume with L2 terms is written as .gi version 6 or 7 (got %d)",
+                  "a volume with L2 terms is written as .gi version 6, 7 or 8 (got %d)",
                   desc->gi_version);
     *threads = desc->threads ? desc->threads : vdbgi_core_count();
     return VDBGI_OK;

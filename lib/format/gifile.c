@@ -20,10 +20,10 @@
 
 static const char gi_magic[8] = {'v', 'd', 'b', 'g', 'i', '.', 'g', 'i'};
 
-/* Versions 6 and 7 hold L2 terms: a basis field ends their 116-byte header. */
+/* Versions 6 to 8 hold L2 terms: a basis field ends their 116-byte header. */
 static bool holds_terms(uint32_t version)
 {
-    return version == 6 || version == 7;
+    return version >= 6 && version <= 8;
 }
 
 size_t vdbgi_gifile_header(const vdbgi_volume_info *in, uint32_t packed,
@@ -33,7 +33,7 @@ size_t vdbgi_gifile_header(const vdbgi_volume_info *in, uint32_t packed,
     memcpy(h, gi_magic, 8);
     /*
      * Seed-layout files stay version 1, byte for byte (their layout field is
-     * reserved, 0); the compact layout is packed (5, or 6 and 7 with L2 terms,
+     * reserved, 0); the compact layout is packed (5, or 6 to 8 with L2 terms,
      * as its payload was written), or version 2 as textures.
      */
     const bool compact = in->layout == VDBGI_LAYOUT_COMPACT;
@@ -107,7 +107,7 @@ static vdbgi_result parse_version(vdbgi_context *ctx, const char *path, const ui
      * Version 1 is the seed layout (its field is reserved, 0); version 2 says
      * which; version 5 is the packed compact layout. Versions 3 and 4 were
      * older compact forms: in 5^3 slots, and packed with placement left to
-     * the reader. Versions 6 and 7 are version 5 with L2 terms.
+     * the reader. Versions 6 to 8 are version 5 with L2 terms.
      */
     VDBGI_FAIL_IF(ctx, version == 3 || version == 4, VDBGI_ERR_FORMAT,
                   "%s: an older vdbgi's compact layout (.gi version %u): convert the .vdb again",
@@ -166,7 +166,7 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
     VDBGI_FAIL_IF(ctx, *header_size < least_header || *header_size > 65536, VDBGI_ERR_FORMAT,
                   "%s: bad header size %zu", path, *header_size);
     memset(info, 0, sizeof(*info));
-    /* Versions 6 and 7 say their basis: L2 is the only one they hold (5 and older: the scalar). */
+    /* Versions 6 to 8 say their basis: L2 is the only one they hold (5 and older: the scalar). */
     VDBGI_FAIL_IF(ctx, terms && vdbgi_get_u32(h + 112) != VDBGI_BASIS_SH2, VDBGI_ERR_FORMAT,
                   "%s: unknown basis %u", path, vdbgi_get_u32(h + 112));
     info->basis = terms ? VDBGI_BASIS_SH2 : VDBGI_BASIS_SCALAR;
@@ -252,7 +252,8 @@ static vdbgi_result parse_header(vdbgi_context *ctx, const char *path, const uin
                   VDBGI_ATLAS_TEXELS_PER_BRICK);
     VDBGI_TRY(check_box(ctx, path, info));
     *stored_size = packed ? ind / 4 + VDBGI_PLACEMENT_BYTES * (uint64_t)info->brick_count +
-                                (4 + (terms ? VDBGI_SH_BYTES : 0)) * (uint64_t)info->stored_points
+                                (4 + (terms ? (uint64_t)vdbgi_term_bytes(version) : 0)) *
+                                    (uint64_t)info->stored_points
                           : ind + atlas;
     return VDBGI_OK;
 }
@@ -325,7 +326,7 @@ vdbgi_result vdbgi_gifile_parse(vdbgi_context *ctx, const char *path, const uint
                           : (file_size < sizeof(h) ? file_size : sizeof(h));
     if (!gz)
         memcpy(h, file, got);
-    /* The first 112 bytes say the version; a basis (versions 6 and 7) follows them. */
+    /* The first 112 bytes say the version; a basis (versions 6 to 8) follows them. */
     const size_t want =
         got >= 12 && holds_terms(vdbgi_get_u32(h + 8)) ? VDBGI_GI_HEADER_MAX : VDBGI_GI_HEADER_SIZE;
     if (got < want) {
@@ -351,8 +352,11 @@ vdbgi_result vdbgi_gifile_parse(vdbgi_context *ctx, const char *path, const uint
         goto done;
     }
     /* The budget: what the body and the textures built from it would take. */
-    const uint64_t textures = (uint64_t)info->indirection_size +
-                              (uint64_t)info->atlas_size * (info->basis == VDBGI_BASIS_SH2 ? 7 : 1);
+    const uint64_t textures =
+        (uint64_t)info->indirection_size +
+        (uint64_t)info->atlas_size / 4 *
+            (4 + (info->basis == VDBGI_BASIS_SH2 ? (uint64_t)vdbgi_term_bytes(vdbgi_get_u32(h + 8))
+                                                 : 0));
     const uint64_t biggest = textures > total ? textures : total;
     if (biggest > ctx->volume_budget) {
         r = vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY,

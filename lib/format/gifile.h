@@ -4,19 +4,37 @@
 
 #include "context.h"
 
-/* Versions 1 to 5 have 112 header bytes; versions 6 and 7 add the basis, 116. */
+/* Versions 1 to 5 have 112 header bytes; versions 6 to 8 add the basis, 116. */
 #define VDBGI_GI_HEADER_SIZE 112
 #define VDBGI_GI_HEADER_MAX 116
 /*
  * The versions (docs/format.md has the table): 1 the seed layout's textures,
  * 2 either layout's textures, 5 the compact layout packed with its bricks'
  * places, 6 version 5 with L2 terms (a basis field, then 24 bytes a stored
- * point), 7 version 6 with the terms predicted better (what vdbgi writes).
+ * point), 7 version 6 with the terms predicted better, 8 version 7 with the
+ * second band's terms one ratio for all three channels (what vdbgi writes).
  * 3 and 4 were older compact forms, refused.
  */
-#define VDBGI_GI_VERSION 7
-/* Versions 6 and 7: the L2 terms' bytes a stored point (8 terms x RGB, signed ratios to L0). */
+#define VDBGI_GI_VERSION 8
+/* The L2 terms' bytes a stored point as the library holds them (8 terms x RGB, signed ratios
+   to L0), and as versions 6 and 7 store them and their textures hold them. */
 #define VDBGI_SH_BYTES 24
+/* Version 8: terms 1-3 x RGB, then terms 4-8 one byte each (luminance), in the file and the
+   GPU's textures (three RGBA8 and one RG8 a texel). */
+#define VDBGI_SH_BYTES_LUMA2 14
+
+/* The term bytes a stored point and a texel hold in a file of this version (6 to 8). */
+static inline int vdbgi_term_bytes(uint32_t version)
+{
+    return version >= 8 ? VDBGI_SH_BYTES_LUMA2 : VDBGI_SH_BYTES;
+}
+
+/* Which of a point's 24 bytes (3 term + channel) term byte j of this version is:
+   version 8's bytes 9..13 are terms 4..8's red byte, the one their three channels share. */
+static inline int vdbgi_term_byte(uint32_t version, int j)
+{
+    return version >= 8 && j >= 9 ? 9 + 3 * (j - 9) : j;
+}
 /*
  * The layout field holds vdbgi_layout's numbers (1 seed, 2 compact). Two
  * older values are still read in version 2: 0 for the seed layout, and 3 for
@@ -47,7 +65,7 @@
 /*
  * The header of a volume's file: version 1 for the seed layout, 2 for the
  * compact layout's textures (packed 0), or packed, the version its payload
- * follows (5, or 6 and 7 with info->basis VDBGI_BASIS_SH2; info->stored_points
+ * follows (5, or 6 to 8 with info->basis VDBGI_BASIS_SH2; info->stored_points
  * counts the stored values).
  * Returns its size in bytes.
  */

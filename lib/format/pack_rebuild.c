@@ -199,7 +199,8 @@ vdbgi_result vdbgi_pack_rebuild_values(vdbgi_volume *v, const vdbgi_pack_plan *p
     return rebuild_pass(v, pl, &terms, threads, clamped_out);
 }
 
-/* The L2 terms' bytes from their planes (plane 3 term + channel), in storage order. */
+/* The L2 terms' bytes from their planes (vdbgi_term_byte's), in storage order. Version 8
+   stores no green or blue residual of terms 4-8: they are 0, so those bytes copy red's. */
 static void undo_term_residuals(const vdbgi_pack_plan *pl, uint32_t version, const uint8_t *planes,
                                 uint8_t *sh)
 {
@@ -207,9 +208,9 @@ static void undo_term_residuals(const vdbgi_pack_plan *pl, uint32_t version, con
     FOR_EACH_POINT(pl, p, i, {
         int64_t nb[4];
         neighbours(pl, p, nb);
-        uint8_t e[VDBGI_SH_BYTES];
-        for (int k = 0; k < VDBGI_SH_BYTES; k++)
-            e[k] = planes[k * n + i];
+        uint8_t e[VDBGI_SH_BYTES] = {0};
+        for (int j = 0; j < vdbgi_term_bytes(version); j++)
+            e[vdbgi_term_byte(version, j)] = planes[(size_t)j * n + i];
         term_undo_residuals(version, sh, nb, i, e);
     });
 }

@@ -1,5 +1,6 @@
 /* volume_access.c: what a volume gives its users: the sampler's view, samples, its
    figures, and copies of its textures (the indirection as the runtime's columns). */
+#include "gifile.h"
 #include "volume.h"
 
 #include <string.h>
@@ -95,7 +96,9 @@ void vdbgi_volume_get_info(const vdbgi_volume *v, vdbgi_volume_info *info)
 {
     *info = v->info;
     info->columns_size = vdbgi_volume_columns(v, NULL, 0, info->columns_dims);
-    info->sh_size = v->info.basis == VDBGI_BASIS_SH2 ? 6 * v->info.atlas_size : 0;
+    info->sh_size = v->info.basis == VDBGI_BASIS_SH2
+                        ? v->info.atlas_size / 4 * (size_t)vdbgi_term_bytes(v->version)
+                        : 0;
 }
 
 size_t vdbgi_volume_copy_columns(const vdbgi_volume *v, void *buffer, size_t capacity)

@@ -34,12 +34,13 @@ for run in rgbm,0.2 rgb9e5,0.2 rgbm,5 rgb9e5,5; do
     grep '^bricks' inspect.txt | sed 's/^/  /'
     node "$ROOT/tests/js/check_textures.mjs" w.gi.gz textures.gi
 done
-# L2 terms (version 7, and 6 as older runtimes read them): the JavaScript reader
-# rebuilds the six term textures (stitched texels too, at eps 5) and reads them with a
+# L2 terms (version 8, its second band in luminance; 7, every term in colour; and 6 as
+# older runtimes read them): the JavaScript reader rebuilds the term textures (six, or
+# version 8's four; stitched texels too, at eps 5) and reads them with a
 # normal as the C sampler does; the same points read without it disagree, so the terms
 # are what is compared.
 "$BIN/gi-bake" -q "$DATA/world.glb" -o sh.vdb --spacing 1 --rays 32 --basis sh2 >/dev/null
-for run in rgbm,0.2,7 rgb9e5,5,6 rgb9e5,5,7; do
+for run in rgbm,0.2,7 rgb9e5,5,6 rgb9e5,5,7 rgbm,0.2,8 rgb9e5,5,8; do
     version=${run##*,} run=${run%,*}
     "$BIN/vdb-to-gi" -q sh.vdb -o s.gi.gz --encoding ${run%,*} --eps ${run#*,} --gi-version $version
     echo "version $(gzip -dc s.gi.gz | od -An -tu4 -j8 -N4 | tr -d ' ')"

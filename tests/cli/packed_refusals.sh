@@ -2,7 +2,7 @@
 # cells disagree, level bytes and header that count other bricks or points, sizes
 # that do not add up, bricks placed outside the atlas, between its layers, over the
 # block of zeros or over another brick's points, an atlas too large for its bricks,
-# the older versions 3 and 4, a newer version 8, a scalar file labelled version 7 (L2
+# the older versions 3 and 4, a newer version 9, a scalar file labelled version 7 (L2
 # terms), an unknown layout. Each is gzip'd whole, so only the
 # readers' checks can catch it; the C reader (gi-inspect) and the JavaScript one each
 # refuse every one with one line, and read the good file. A header that counts more

@@ -4,7 +4,7 @@
 # through WebGPU (TSL), for both encodings and both brick layouts, and 400
 # covered pixels match gi-inspect --at at their world positions within the
 # tolerance docs/web.md derives; the brick-level view shows their levels. An L2
-# volume (version 6) is read with each pixel's own normal.
+# volume (versions 8 and 7) is read with each pixel's own normal.
 # The seed's range criterion at a coarse eps puts level 1 (and, seed layout, 2) bricks where
 # the camera looks, so the lookup's coarse-brick arithmetic is exercised.
 if [ ! -x "${CHROMIUM:-/usr/bin/chromium}" ] || [ ! -d "$ROOT/web/node_modules/puppeteer-core" ]; then
@@ -24,10 +24,14 @@ done
 for backend in webgl webgpu; do
     node "$ROOT/tests/web/check_probe.mjs" $backend "$DATA/world.glb" w.gi.gz "$BIN/gi-inspect" 2>/dev/null
 done
-# L2 terms (version 7): each pixel reads with its own world normal, half a
-# spacing off its surface, in both back ends.
+# L2 terms (version 8, the second band in luminance; and version 7, all in colour):
+# each pixel reads with its own world normal, half a spacing off its surface, in both
+# back ends.
 "$BIN/gi-bake" -q "$DATA/world.glb" -o sh.vdb --spacing 1 --rays 32 --basis sh2 >/dev/null
-"$BIN/vdb-to-gi" -q sh.vdb -o w.gi.gz --criterion range --eps 5
-for backend in webgl webgpu; do
-    node "$ROOT/tests/web/check_probe.mjs" $backend "$DATA/world.glb" w.gi.gz "$BIN/gi-inspect" 2>/dev/null
+for version in 8 7; do
+    "$BIN/vdb-to-gi" -q sh.vdb -o w.gi.gz --criterion range --eps 5 --gi-version $version
+    for backend in webgl webgpu; do
+        printf 'version %s, ' $version
+        node "$ROOT/tests/web/check_probe.mjs" $backend "$DATA/world.glb" w.gi.gz "$BIN/gi-inspect" 2>/dev/null
+    done
 done

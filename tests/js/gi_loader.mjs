@@ -3,7 +3,7 @@
 // uses (DecompressionStream, DataView, every refusal docs/format.md lists);
 // this adds the seed's lookup in float32 (Math.fround after every operation
 // the shader does), so node can hold both to the C sampler.
-import { decodeGi, indirectionColumns, layoutGeometry, LAYOUT_COMPACT, SH2_RANGE } from '../../web/gi-format.js';
+import { decodeGi, indirectionColumns, layoutGeometry, LAYOUT_COMPACT, SH2_RANGE, termSlot } from '../../web/gi-format.js';
 
 const f = Math.fround;
 
@@ -54,13 +54,14 @@ function sampleLinear(gi, uvw, detail, texel = atlasTexel) {
   return out;
 }
 
-// L2 term `term`'s three ratios at an atlas texel, as a snorm8 texture reads them.
+// L2 term `term`'s three ratios at an atlas texel, as a snorm8 texture reads them
+// (termSlot: version 8's terms 4-8 one byte for the three).
 const termTexel = (term) => (gi, x, y, z) => {
   const [dx, dy] = gi.atlasDims;
   const out = [0, 0, 0, 0];
   for (let k = 0; k < 3; k++) {
-    const j = 3 * term + k;
-    out[k] = Math.max(f(gi.sh[j >> 2][4 * ((z * dy + y) * dx + x) + (j & 3)] / 127), -1);
+    const [tex, comp, size] = termSlot(gi.shBytes, 3 * term + k);
+    out[k] = Math.max(f(gi.sh[tex][size * ((z * dy + y) * dx + x) + comp] / 127), -1);
   }
   return out;
 };
