@@ -37,7 +37,8 @@ void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             "  \"max_error\": %.6g,\n  \"rmse_relative\": %.6g,\n  \"p99_relative\": %.6g,\n"
             "  \"max_relative\": %.6g,\n  \"read_seconds\": %.4f,\n"
             "  \"convert_seconds\": %.4f,\n  \"convert_over_read\": %.3f,\n"
-            "  \"stored_points\": %zu,\n  \"term_bits\": %d,\n  \"memory_peak_bytes\": %zu",
+            "  \"stored_points\": %zu,\n  \"term_bits\": %d,\n  \"term_bytes\": %zu,\n"
+            "  \"luma2_error\": %.6g,\n  \"memory_peak_bytes\": %zu",
             vi->probe_count, vi->valid_count, vi->filled_count, vi->unreached_count,
             vi->fallback_count, (double)vi->spacing, vi->max_level,
             vi->encoding == VDBGI_ENCODING_RGB9E5 ? "rgb9e5" : "rgbm",
@@ -51,7 +52,9 @@ void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             (double)vi->dense_rgba8_size / (double)vi->file_size, vi->clamped_count,
             vi->mean_irradiance, vi->rmse, vi->p99, vi->max_error, vi->rmse / mean, vi->p99 / mean,
             vi->max_error / mean, read_seconds, vi->seconds, vi->seconds / read_seconds,
-            vi->stored_points, vi->term_bits, o->memory_peak);
+            vi->stored_points, vi->term_bits,
+            vi->atlas_size ? vi->sh_size / (vi->atlas_size / 4) : 0, vi->luma2_error,
+            o->memory_peak);
         if (o->budget > 0.0)
             fprintf(f,
                     ",\n  \"budget_bytes\": %.0f,\n  \"budget_eps\": %g,\n  \"budget_terms\": %s,\n"
@@ -78,8 +81,9 @@ void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
     if (vi->basis == VDBGI_BASIS_SH2)
         fprintf(f,
                 "basis        L2: eight terms a texel beside the atlas (signed ratios to L0, %d "
-                "bits kept; %s), %s\n",
-                vi->term_bits, cli_term_form(vi), cli_bytes((double)vi->sh_size, d, sizeof(d)));
+                "bits kept; %s), %s; the second band in luminance moves a reading by %.2f%%\n",
+                vi->term_bits, cli_term_form(vi), cli_bytes((double)vi->sh_size, d, sizeof(d)),
+                100.0 * vi->luma2_error);
     cli_print_runtime(f, vi);
     if (o->budget > 0.0) {
         char e[320];

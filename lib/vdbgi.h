@@ -876,19 +876,28 @@ typedef enum vdbgi_terms {
  *               (VDBGI_BASIS_SH2; .gi version 8, read with a normal:
  *               vdbgi_volume_sample_normal). The seed layout holds the
  *               scalar only.
- *   gi_version: a volume with L2 terms: 0 or 8, the newest file (terms
- *               4-8 one ratio for all channels, their luminance's: 14
- *               bytes a texel on the GPU); 7 keeps every term's three
- *               channels (24 bytes a texel), 6 is 7 for runtimes from
- *               before version 7 (the same textures, a larger file).
- *               Other values, or 6 to 8 for a volume without terms, are
- *               VDBGI_ERR_INVALID_ARG.
+ *   gi_version: a volume with L2 terms: 8, terms 4-8 one ratio for all
+ *               channels, their luminance's (14 bytes a texel on the GPU);
+ *               7, every term's three channels (24 bytes a texel); 6 is
+ *               7 for runtimes from before version 7 (the same textures, a
+ *               larger file); 0 chooses: 8 where its second band moves the
+ *               probes' readings by at most VDBGI_LUMA2_TOLERANCE
+ *               (info.luma2_error), else 7. Other values, or 6 to 8 for a
+ *               volume without terms, are VDBGI_ERR_INVALID_ARG.
  *   term_bits:  L2 terms: the bits of each signed ratio byte kept, 4..8
  *               (0: VDBGI_TERM_BITS); 8 keeps all, each bit fewer doubles
  *               the step to which a ratio is rounded, and shrinks the file.
  *               The textures and readers stay as they are. A volume
  *               without terms has nothing to round (no error).
  */
+/*
+ * The most luma2_error (vdbgi_volume_info) with which vdbgi_convert_desc's gi_version 0
+ * writes version 8, from gi-bench truth at 0.5 m (docs/directional.md, "The second band
+ * in luminance"): the interior's 3.0 % cost its characters 0.3 points against the
+ * hemisphere truth, the bundled world's 4.5-6.3 % cost them 1.9.
+ */
+#define VDBGI_LUMA2_TOLERANCE 0.04
+
 typedef struct vdbgi_convert_desc {
     float eps;
     int eps_is_set;
@@ -1060,6 +1069,10 @@ typedef struct vdbgi_volume_info {
     size_t sh_size;      /* L2 terms: 14 bytes an atlas texel (version 8: three RGBA8 and one RG8
                             snorm textures) or 24 (6 and 7: six RGBA8), or 0 */
     int term_bits;       /* L2 terms, build only: the bits of each ratio byte kept (desc's) */
+    /* L2 terms, build only: how far version 8's second band (in luminance) moves the valid
+       probes' readings from every term in colour: RMS over 14 normals (axes, diagonals) and
+       the channels, over the mean reading. */
+    double luma2_error;
 } vdbgi_volume_info;
 
 VDBGI_API void vdbgi_volume_get_info(const vdbgi_volume *volume, vdbgi_volume_info *info);

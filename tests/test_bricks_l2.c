@@ -334,7 +334,7 @@ static void at_eps_0_every_probe_reads_its_own_l2_for_any_normal(void)
 }
 
 /*
- * Version 8 (the default): terms 1-3 per channel, 4-8 one luminance ratio. Beside a
+ * Version 8: terms 1-3 per channel, 4-8 one luminance ratio. Beside a
  * version 7 volume of the same probes, at eps 0 and every bit: the same atlas and the
  * same first-band bytes at every texel, the second band's three channels equal, 14 term
  * bytes a stored point in the file and a texel on the GPU, a smaller file that reads back
@@ -366,7 +366,7 @@ static void version_8_holds_the_second_band_in_luminance(void)
     vdbgi_convert_desc cd = {
         .eps_is_set = 1, .max_level_is_set = 1, .term_bits = 8, .gi_version = 7};
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v7), VDBGI_OK);
-    cd.gi_version = 0;
+    cd.gi_version = 8;
     CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &cd, &v8), VDBGI_OK);
     if (!v7 || !v8)
         goto done;
@@ -446,12 +446,105 @@ done:
     vdbgi_context_destroy(ctx);
 }
 
+/*
+ * luma2_error computed apart: every valid probe read along the six axes and the eight
+ * diagonals with all its terms in colour and with terms 4-8 as version 8 holds them, the
+ * RMS of the channels' difference over the mean reading.
+ */
+static double luma2_error_of(const vdbgi_probes *p)
+{
+    const float d = 1.0f / sqrtf(3.0f);
+    double sq = 0.0, sum = 0.0;
+    size_t n = 0;
+    for (size_t i = 0; i < p->count; i++) {
+        if (p->backface[i] > p->invalid_threshold)
+            continue;
+        for (int j = 0; j < 14; j++) {
+            const float a = j < 6         ? 0.0f
+                            : (j - 6) & 4 ? -d
+                                          : d,
+                        b = j < 6         ? 0.0f
+                            : (j - 6) & 2 ? -d
+                                          : d,
+                        c = j < 6         ? 0.0f
+                            : (j - 6) & 1 ? -d
+                                          : d;
+            float n3[3] = {a, b, c};
+            if (j < 6) {
+                n3[j / 2] = j % 2 ? -1.0f : 1.0f;
+            }
+            float colour[3], luma2[3];
+            probe_l2_reading(p, i, n3, 0, 0, false, colour);
+            probe_l2_reading(p, i, n3, 0, 0, true, luma2);
+            for (int k = 0; k < 3; k++) {
+                sq += (double)(colour[k] - luma2[k]) * (colour[k] - luma2[k]);
+                sum += colour[k];
+                n++;
+            }
+        }
+    }
+    return sum > 0.0 ? sqrt(sq / (double)n) / (sum / (double)n) : 0.0;
+}
+
+/*
+ * gi_version 0 chooses: version 8 where its second band moves the probes' readings by at
+ * most VDBGI_LUMA2_TOLERANCE (info.luma2_error, as computed apart), else 7. Under a white
+ * sky over grey surfaces every direction's light has one colour: no error, version 8.
+ * A white sun on the floor under a deep blue sky: version 7.
+ */
+static void the_default_chooses_the_luminance_band_where_it_costs_little(void)
+{
+    vdbgi_context *ctx = test_context();
+    test_mesh m = {0};
+    const float lo[3] = {-2.0f, 0.0f, -2.0f}, hi[3] = {2.0f, 3.0f, 2.0f};
+    test_mesh_plane(&m, 16.0f, 0.0f);
+    test_mesh_box(&m, lo, hi, 0);
+    const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.6f, 0);
+    vdbgi_scene *scene = NULL;
+    const vdbgi_place_desc pd = {.spacing = 0.5, .origin = {0.25, 0.25, 0.25}, .origin_is_set = 1};
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &scene), VDBGI_OK);
+    const vdbgi_bake_desc skies[2] = {{.rays = 64,
+                                       .basis = VDBGI_BASIS_SH2,
+                                       .sky = {0.5f, 0.5f, 0.5f},
+                                       .lights = VDBGI_LIGHTS_OFF},
+                                      {.rays = 64,
+                                       .basis = VDBGI_BASIS_SH2,
+                                       .sky = {0.02f, 0.05f, 0.4f},
+                                       .sun_dir = {0.4f, 0.8f, 0.3f},
+                                       .sun_color = {2.0f, 2.0f, 2.0f}}};
+    for (int s = 0; s < 2; s++) {
+        vdbgi_probes *p = NULL;
+        vdbgi_volume *v = NULL;
+        CHECK_RESULT(ctx, vdbgi_probes_place(ctx, scene, &pd, &p), VDBGI_OK);
+        CHECK_RESULT(ctx, vdbgi_probes_bake(p, scene, &skies[s], NULL), VDBGI_OK);
+        CHECK_RESULT(ctx, vdbgi_volume_build(ctx, p, &(vdbgi_convert_desc){.threads = 2}, &v),
+                     VDBGI_OK);
+        if (v) {
+            vdbgi_volume_info vi;
+            vdbgi_volume_get_info(v, &vi);
+            const double apart = luma2_error_of(p);
+            if (!(fabs(vi.luma2_error - apart) <= 1e-4 * apart + 1e-6) ||
+                (s == 0 ? !(vi.luma2_error < 1e-4) || v->version != 8
+                        : !(vi.luma2_error > VDBGI_LUMA2_TOLERANCE) || v->version != 7)) {
+                fprintf(stderr, "sky %d: luma2_error %g (apart %g), version %u\n", s,
+                        vi.luma2_error, apart, v->version);
+                CHECK(false);
+            }
+        }
+        vdbgi_volume_destroy(v);
+        vdbgi_probes_destroy(p);
+    }
+    vdbgi_scene_destroy(scene);
+    vdbgi_context_destroy(ctx);
+}
+
 int main(void)
 {
     test_tmpdir_make("test-bricks-l2");
     RUN(l2_bricks_read_each_side_and_round_trip);
     RUN(at_eps_0_every_probe_reads_its_own_l2_for_any_normal);
     RUN(version_8_holds_the_second_band_in_luminance);
+    RUN(the_default_chooses_the_luminance_band_where_it_costs_little);
     test_tmpdir_remove();
     return CHECK_EXIT();
 }

@@ -95,11 +95,14 @@ static vdbgi_volume *volume_start(vdbgi_context *ctx, const vdbgi_probes *like,
     info->probe_count = st->probes;
     info->valid_count = st->valid;
     memcpy(v->lattice_origin, like->origin, sizeof(v->lattice_origin));
-    double sum[3];
+    double sum[VDBGI_COLOUR_SUMS];
     vdbgi_slab_sums_total(&st->colour, sum);
     for (int k = 0; k < 3; k++)
         v->mean_rgb[k] = info->valid_count ? (float)(sum[k] / (double)info->valid_count) : 0.0f;
     info->mean_irradiance = (v->mean_rgb[0] + v->mean_rgb[1] + v->mean_rgb[2]) / 3.0;
+    /* Version 8's cost, as a share of the mean reading (no terms, or no light: none). */
+    const double readings = 3.0 * VDBGI_LUMA2_NORMALS * (double)info->valid_count;
+    info->luma2_error = sum[4] > 0.0 ? sqrt(sum[3] * readings) / sum[4] : 0.0;
     /* A dense RGBA8 grid over the probes' box at the same spacing, for comparison. */
     info->dense_rgba8_size = 4;
     for (int k = 0; k < 3; k++)
@@ -289,9 +292,11 @@ vdbgi_result vdbgi_build_start(vdbgi_context *ctx, const vdbgi_probes *like,
     vdbgi_volume *const v = volume_start(ctx, like, st, encoding, cp->layout, cp->max_level);
     if (!v)
         return VDBGI_ERR_OUT_OF_MEMORY;
-    v->version = !bp->terms                 ? 5
-                 : desc && desc->gi_version ? (uint32_t)desc->gi_version
-                                            : VDBGI_GI_VERSION;
+    /* Terms 4-8 in luminance (version 8) where that moves a reading by little. */
+    v->version = !bp->terms                                     ? 5
+                 : desc && desc->gi_version                     ? (uint32_t)desc->gi_version
+                 : v->info.luma2_error <= VDBGI_LUMA2_TOLERANCE ? VDBGI_GI_VERSION
+                                                                : 7;
     if (bp->terms) {
         v->info.basis = VDBGI_BASIS_SH2;
         v->info.term_bits = desc && desc->term_bits ? desc->term_bits : VDBGI_TERM_BITS;
@@ -359,7 +364,8 @@ vdbgi_result vdbgi_volume_build(vdbgi_context *ctx, const vdbgi_probes *probes,
     vdbgi_stats_add(&st, probes);
     vdbgi_stats_valid_z(&st, z);
     vdbgi_result r = vdbgi_build_check_extent(ctx, &st);
-    if (r == VDBGI_OK && (r = vdbgi_slab_sums_init(ctx, &st.colour, z, 3)) == VDBGI_OK) {
+    if (r == VDBGI_OK &&
+        (r = vdbgi_slab_sums_init(ctx, &st.colour, z, VDBGI_COLOUR_SUMS)) == VDBGI_OK) {
         vdbgi_stats_add_colours(&st, probes);
         r = vdbgi_build_start(ctx, probes, &st, desc, &bp, &v);
     }

@@ -223,7 +223,7 @@ vdbgi_result vdbgi_volume_build_regions_halo(vdbgi_context *ctx, vdbgi_probe_fil
     size_t payload_size = 0;
     /* Pass 0: what the whole lattice's fill and coarsening need to know first. */
     vdbgi_stats_init(&st);
-    vdbgi_result r = vdbgi_slab_sums_init(ctx, &st.colour, z, 3);
+    vdbgi_result r = vdbgi_slab_sums_init(ctx, &st.colour, z, VDBGI_COLOUR_SUMS);
     for (int32_t z0 = rg.first; r == VDBGI_OK && z0 < rg.end; z0 += rg.size) {
         if ((r = region_read(&rg, z0, 0, &p)) != VDBGI_OK)
             break;

@@ -85,6 +85,43 @@ void vdbgi_stats_add(vdbgi_lattice_stats *st, const vdbgi_probes *p)
     }
 }
 
+/*
+ * Probe i's L2 reading with every term in colour against version 8's, whose terms 4-8 are
+ * each channel's L0 times the term's luminance over L0's (pack_write.c): into sum[3] the
+ * squared channel differences and into sum[4] the channels read, over the six axes and
+ * the eight diagonals.
+ */
+static void add_luma2_deviation(const vdbgi_probes *p, size_t i, double *sum)
+{
+    static const float d = 0.57735027f;
+    static const float normals[VDBGI_LUMA2_NORMALS][3] = {
+        {1, 0, 0},  {-1, 0, 0}, {0, 1, 0},   {0, -1, 0}, {0, 0, 1},   {0, 0, -1},  {d, d, d},
+        {d, d, -d}, {d, -d, d}, {d, -d, -d}, {-d, d, d}, {-d, d, -d}, {-d, -d, d}, {-d, -d, -d}};
+    const float *const c0 = &p->rgb[3 * i];
+    float terms[24], sh[VDBGI_SH2_TERMS][3], luma[VDBGI_SH2_TERMS][3];
+    vdbgi_terms_decode(&p->sh[24 * i], c0, terms);
+    const float y0 = 0.2126f * c0[0] + 0.7152f * c0[1] + 0.0722f * c0[2];
+    for (int c = 0; c < 3; c++)
+        sh[0][c] = luma[0][c] = c0[c];
+    for (int t = 1; t < VDBGI_SH2_TERMS; t++) {
+        const float *const ct = &terms[3 * (t - 1)];
+        const float y = 0.2126f * ct[0] + 0.7152f * ct[1] + 0.0722f * ct[2];
+        for (int c = 0; c < 3; c++) {
+            sh[t][c] = ct[c];
+            luma[t][c] = t < 4 ? ct[c] : y0 > 0.0f ? c0[c] * (y / y0) : 0.0f;
+        }
+    }
+    for (int n = 0; n < VDBGI_LUMA2_NORMALS; n++) {
+        float a[3], b[3];
+        vdbgi_sh2_eval((const float(*)[3])sh, normals[n], a);
+        vdbgi_sh2_eval((const float(*)[3])luma, normals[n], b);
+        for (int c = 0; c < 3; c++) {
+            sum[3] += (double)(a[c] - b[c]) * (a[c] - b[c]);
+            sum[4] += a[c];
+        }
+    }
+}
+
 void vdbgi_stats_add_colours(vdbgi_lattice_stats *st, const vdbgi_probes *p)
 {
     for (size_t i = 0; i < p->count; i++) {
@@ -93,6 +130,8 @@ void vdbgi_stats_add_colours(vdbgi_lattice_stats *st, const vdbgi_probes *p)
         double *const sum = slab_at(&st->colour, p->ijk[3 * i + 2]);
         for (int k = 0; k < 3; k++)
             sum[k] += p->rgb[3 * i + k];
+        if (p->sh)
+            add_luma2_deviation(p, i, sum);
     }
 }
 

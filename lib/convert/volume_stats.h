@@ -24,6 +24,15 @@ vdbgi_result vdbgi_slab_sums_init(vdbgi_context *ctx, vdbgi_slab_sums *s, const 
 
 void vdbgi_slab_sums_total(const vdbgi_slab_sums *s, double *out);
 
+/*
+ * The colour sums' doubles a slab: the valid probes' r, g and b; then, for probes with L2
+ * terms, what version 8 would change in their readings (vdbgi_stats_add_colours): the
+ * squared channel differences and the channels read, each summed over VDBGI_LUMA2_NORMALS
+ * normals.
+ */
+#define VDBGI_COLOUR_SUMS 5
+#define VDBGI_LUMA2_NORMALS 14
+
 /* What the conversion needs of the whole lattice before it fills any of it. */
 typedef struct vdbgi_lattice_stats {
     size_t probes, valid;
@@ -37,7 +46,8 @@ void vdbgi_stats_init(vdbgi_lattice_stats *st);
 /* Counts and extents. */
 void vdbgi_stats_add(vdbgi_lattice_stats *st, const vdbgi_probes *p);
 
-/* The valid probes' colours into st->colour, allocated once vdbgi_build_check_extent bounds its slabs. */
+/* The valid probes' colours into st->colour (VDBGI_COLOUR_SUMS a slab), allocated once
+   vdbgi_build_check_extent bounds its slabs. */
 void vdbgi_stats_add_colours(vdbgi_lattice_stats *st, const vdbgi_probes *p);
 
 /* The z range of the valid probes' cells, which the sums over them cover. */

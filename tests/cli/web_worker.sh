@@ -1,5 +1,6 @@
 # loadGi's decoding in a module worker (issue 40, item 1): the bundled world's scalar and
-# L2 volumes and a file cut short, loaded with the worker, on the page, with a worker
+# L2 volumes (as the default writes it, every term in colour here, and as version 8) and a
+# file cut short, loaded with the worker, on the page, with a worker
 # script that is not there (the page takes over) and with the worker as esbuild bundles
 # it by web/README.md's words, give the same textures, byte for byte, and the same
 # refusal (tests/web/check_worker.mjs).
@@ -10,6 +11,7 @@ fi
 mkdir site
 "$BIN/gi-bake" -q "$DATA/world.glb" -o l2.vdb --spacing 1 --rays 16 --basis sh2 >/dev/null
 "$BIN/vdb-to-gi" -q l2.vdb -o site/l2.gi.gz
+"$BIN/vdb-to-gi" -q l2.vdb -o site/l2v8.gi.gz --gi-version 8
 "$BIN/vdb-to-gi" -q l2.vdb -o site/scalar.gi.gz --basis scalar
 size=$(wc -c < site/l2.gi.gz)
 head -c $((size / 2)) site/l2.gi.gz > site/cut.gi.gz

@@ -1,5 +1,6 @@
 // check_worker.mjs DIR: loadGi's two decoders (issue 40, item 1). DIR holds
-// scalar.gi.gz, l2.gi.gz, cut.gi.gz (l2's first half) and gi-worker.js, the
+// scalar.gi.gz, l2.gi.gz, l2v8.gi.gz (version 8: four term textures, one RG8),
+// cut.gi.gz (l2's first half) and gi-worker.js, the
 // worker as esbuild bundles it (web/README.md). Each file is loaded with the
 // worker (the default, gi-worker.js beside vdbgi.js), on the page (worker:
 // false), with a worker script that does not exist (the page takes over), and
@@ -14,7 +15,7 @@ const ways = [['worker', 'auto'], ['page', false], ['page', '/web/no-such-worker
 // The missing worker script's 404, which the fallback test asks for.
 const allow = [/Failed to load resource: the server responded with a status of 404/];
 await withPage({ '/files': dir }, async ({ run }) => {
-  for (const file of ['scalar', 'l2', 'cut']) {
+  for (const file of ['scalar', 'l2', 'l2v8', 'cut']) {
     const got = [];
     for (const [, worker] of ways) got.push(await run({ kind: 'load', gi: `/files/${file}.gi.gz`, worker, digest: true }));
     const said = got.map((r) => (r.ok ? `${r.timings.decoder}, textures ${r.digest}` : `refused: ${r.error}`));
