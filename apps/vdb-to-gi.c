@@ -50,12 +50,13 @@ static void usage(void)
            "                        levels stitched, neighbours sharing borders\n"
            "                        (docs/format.md) (compact)\n"
            "      --basis B         auto: probes baked with --basis sh2 keep their L2 terms\n"
-           "                        in the compact layout (.gi version 8, read with the\n"
-           "                        surface's normal); scalar: one colour a probe (auto)\n"
+           "                        in the compact layout (.gi version 8 or 7, read with\n"
+           "                        the surface's normal); scalar: one colour a probe (auto)\n"
            "      --gi-version V    L2 terms: 8, the second band's terms one ratio for all\n"
            "                        three channels (14 bytes a texel on the GPU); 7, each\n"
            "                        term in colour (24 bytes); 6, version 7 for runtimes\n"
-           "                        from before it (a larger file) (8)\n"
+           "                        from before it (a larger file); auto: 8 where that\n"
+           "                        moves the probes' readings by at most 4 %%, else 7 (auto)\n"
            "      --budget MB       GPU memory the volume may take (decimal MB): convert\n"
            "                        at --eps (0.1), then 0.2 and 0.4, then without the L2\n"
            "                        terms, until it fits; print what fitted and the error\n"
@@ -280,8 +281,10 @@ static int parse_args(int argc, char **argv, options *o)
         case OPT_GI_VERSION:
             if (strcmp(optarg, "6") == 0 || strcmp(optarg, "7") == 0 || strcmp(optarg, "8") == 0)
                 o->convert.gi_version = optarg[0] - '0';
+            else if (strcmp(optarg, "auto") == 0)
+                o->convert.gi_version = 0;
             else
-                return cli_usage_error("--gi-version must be 6, 7 or 8 (got '%s')", optarg);
+                return cli_usage_error("--gi-version must be 6, 7, 8 or auto (got '%s')", optarg);
             break;
         case OPT_BUDGET:
             if (!budget_parse(optarg, &o->budget))

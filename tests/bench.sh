@@ -37,6 +37,8 @@ mkdir -p "$OUT"
     "$BUILD/bin/gi-bench" convert "$OUT/world200_sh2.vdb" --repeat 1
     # The L2 volumes the browser's load is timed on below.
     "$BUILD/bin/vdb-to-gi" -q "$OUT/world_sh2.vdb" -o "$OUT/world_sh2.gi.gz"
+    # and as .gi version 8, the second band in luminance (the default keeps this world's colour)
+    "$BUILD/bin/vdb-to-gi" -q "$OUT/world_sh2.vdb" -o "$OUT/world_sh2_v8.gi.gz" --gi-version 8
     "$BUILD/bin/vdb-to-gi" -q "$OUT/world200_sh2.vdb" -o "$OUT/world200_sh2.gi.gz"
     rm -f "$OUT/world_sh2.vdb" "$OUT/world200_sh2.vdb"
     # The 200 m world's L2 volume within issue 39's budget (2x the scalar's VRAM, 21 MB),
@@ -94,7 +96,8 @@ mkdir -p "$OUT"
         "$BUILD/bin/vdb-to-gi" -q "$OUT/world200.vdb" -o "$OUT/world200.seed.gi.gz" --layout seed
         node tests/web/bench_web.mjs data/world.glb "$OUT/world.gi.gz" \
             "200 m, seed=$OUT/world200.seed.gi.gz" "200 m, compact=$OUT/world200.gi.gz" \
-            "bundled, L2=$OUT/world_sh2.gi.gz" "200 m, L2=$OUT/world200_sh2.gi.gz" \
+            "bundled, L2=$OUT/world_sh2.gi.gz" "bundled, L2 version 8=$OUT/world_sh2_v8.gi.gz" \
+            "200 m, L2=$OUT/world200_sh2.gi.gz" \
             "200 m, L2 in 21 MB=$OUT/world200_21mb.gi.gz"
         echo
         echo "What 16 occluders cost a frame (docs/web.md)"
@@ -110,9 +113,11 @@ mkdir -p "$OUT"
         echo
         "$BUILD/bin/gi-bake" -q "$OUT/interior.glb" -o "$OUT/interior_sh2.vdb" --basis sh2 >/dev/null
         "$BUILD/bin/vdb-to-gi" -q "$OUT/interior_sh2.vdb" -o "$OUT/interior_sh2.gi.gz"
+        "$BUILD/bin/vdb-to-gi" -q "$OUT/interior_sh2.vdb" -o "$OUT/interior_v7.gi.gz" --gi-version 7
         "$BUILD/bin/vdb-to-gi" -q "$OUT/interior_sh2.vdb" -o "$OUT/interior_l0.gi.gz" --basis scalar
         # The same probes without their terms: what the L2 terms cost a frame, beside L0's lookup.
         node tests/web/bench_probe_grid.mjs "interior=$OUT/interior.glb,$OUT/interior_sh2.gi.gz" \
+            "interior, version 7=$OUT/interior.glb,$OUT/interior_v7.gi.gz" \
             "interior, L0 only=$OUT/interior.glb,$OUT/interior_l0.gi.gz" \
             "world=data/world.glb,$OUT/world_sh2.gi.gz" "200 m world=-,$OUT/world200_sh2.gi.gz"
         echo

@@ -209,10 +209,11 @@ function parseBody(gi, buf, headerSize, rebuild) {
 }
 
 // The bytes a volume's textures take as the reader makes them: the indirection
-// as the header sizes it, the atlas, and for L2 the term textures (shBytes a texel).
+// as the header sizes it, the atlas, and for L2 six term textures its size (version 8's
+// four are packed from those six).
 export function textureBytes(gi) {
   const texels = (d) => d[0] * d[1] * d[2];
-  return 4 * texels(gi.indDims) + (4 + gi.shBytes) * texels(gi.atlasDims);
+  return 4 * texels(gi.indDims) + 4 * texels(gi.atlasDims) * (gi.basis === BASIS_SH2 ? 7 : 1);
 }
 
 // The stream reader's view of a header: what must follow it and what it unpacks to.

@@ -25,7 +25,7 @@ export const termBytes = (version) => (version >= 8 ? SH_BYTES_LUMA2 : SH_BYTES)
 // Versions 6 and 7: six RGBA8 textures. Version 8: three RGBA8 and one RG8, terms 4-8's
 // three channels one byte.
 export function termSlot(shBytes, j) {
-  if (shBytes === SH_BYTES) return [j >> 2, j & 3, 4];
+  if (shBytes !== SH_BYTES_LUMA2) return [j >> 2, j & 3, 4];
   const b = j < 9 ? j : 9 + Math.floor((j - 9) / 3);
   return [b >> 2, b & 3, b < 12 ? 4 : 2];
 }
@@ -575,7 +575,8 @@ function* rebuildSteps(gi, payload) {
   // and terms 4-6's shared one, 12-13 (two bytes a texel) those of terms 7 and 8.
   const rg = new Int8Array(2 * texels);
   for (let t = 0; t < texels; t++) {
-    sh2[t] = (sh2[t] & 0xffff) | ((sh[3][4 * t] & 255) << 16) | ((sh[3][4 * t + 3] & 255) << 24);
+    sh[2][4 * t + 2] = sh[3][4 * t];
+    sh[2][4 * t + 3] = sh[3][4 * t + 3];
     rg[2 * t] = sh[4][4 * t + 2];
     rg[2 * t + 1] = sh[5][4 * t + 1];
   }

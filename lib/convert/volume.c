@@ -295,7 +295,7 @@ vdbgi_result vdbgi_build_start(vdbgi_context *ctx, const vdbgi_probes *like,
     /* Terms 4-8 in luminance (version 8) where that moves a reading by little. */
     v->version = !bp->terms                                     ? 5
                  : desc && desc->gi_version                     ? (uint32_t)desc->gi_version
-                 : v->info.luma2_error <= VDBGI_LUMA2_TOLERANCE ? VDBGI_GI_VERSION
+                 : v->info.luma2_error <= VDBGI_LUMA2_TOLERANCE ? 8
                                                                 : 7;
     if (bp->terms) {
         v->info.basis = VDBGI_BASIS_SH2;

@@ -352,11 +352,10 @@ vdbgi_result vdbgi_gifile_parse(vdbgi_context *ctx, const char *path, const uint
         goto done;
     }
     /* The budget: what the body and the textures built from it would take. */
-    const uint64_t textures =
-        (uint64_t)info->indirection_size +
-        (uint64_t)info->atlas_size / 4 *
-            (4 + (info->basis == VDBGI_BASIS_SH2 ? (uint64_t)vdbgi_term_bytes(vdbgi_get_u32(h + 8))
-                                                 : 0));
+    /* Terms: 24 bytes a texel in every version, as the readers rebuild them (version 8's
+       14 are packed from them). */
+    const uint64_t textures = (uint64_t)info->indirection_size +
+                              (uint64_t)info->atlas_size * (info->basis == VDBGI_BASIS_SH2 ? 7 : 1);
     const uint64_t biggest = textures > total ? textures : total;
     if (biggest > ctx->volume_budget) {
         r = vdbgi_fail(ctx, VDBGI_ERR_OUT_OF_MEMORY,

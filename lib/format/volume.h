@@ -11,7 +11,7 @@ struct vdbgi_volume {
     vdbgi_textures tex; /* what the GPU gets */
     uint8_t *payload;   /* compact layout: the file's body (level bytes, placement, values) */
     size_t payload_size;
-    uint32_t version; /* the file version the payload follows: 5, or 6 or 7 with L2 terms */
+    uint32_t version; /* the file version the payload follows: 5, or 6 to 8 with L2 terms */
     uint8_t *file;    /* the gzip'd .gi a write writes, made once the volume is whole */
     size_t file_size;
     /* Only from vdbgi_volume_build: */
