@@ -109,12 +109,6 @@ static size_t first_reader(const vdbgi_pack_plan *pl, const int32_t p[3])
     return first;
 }
 
-/* Rec. 709's luminance of a linear colour. */
-static float luminance(const float *c)
-{
-    return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
-}
-
 /*
  * A point's 24 term bytes (docs/format.md, "Version 6"), from the filled field's 27 numbers
  * f (NULL, a fallback point: none, flat): each term's ratio to L0 per channel. Version 8
@@ -129,8 +123,8 @@ static void term_bytes(const vdbgi_volume *v, const float *f, uint8_t sh[VDBGI_S
         if (!f)
             sh[k] = 0;
         else if (v->version >= 8 && term >= 3)
-            sh[k] = (uint8_t)vdbgi_sh_ratio_encode(luminance(&f[3 + 3 * term]), luminance(f), term,
-                                                   step);
+            sh[k] = (uint8_t)vdbgi_sh_ratio_encode(vdbgi_luminance(&f[3 + 3 * term]),
+                                                   vdbgi_luminance(f), term, step);
         else
             sh[k] = (uint8_t)vdbgi_sh_ratio_encode(f[3 + k], f[k % 3], term, step);
     }

@@ -1,6 +1,7 @@
 /* volume_stats.c: sums over the lattice slab by slab, its extents, and a conversion's
    error figures (the shader's view of the valid probes against their values). */
 #include "volume_stats.h"
+#include "encode.h"
 #include "util.h"
 
 #include <math.h>
@@ -100,12 +101,12 @@ static void add_luma2_deviation(const vdbgi_probes *p, size_t i, double *sum)
     const float *const c0 = &p->rgb[3 * i];
     float terms[24], sh[VDBGI_SH2_TERMS][3], luma[VDBGI_SH2_TERMS][3];
     vdbgi_terms_decode(&p->sh[24 * i], c0, terms);
-    const float y0 = 0.2126f * c0[0] + 0.7152f * c0[1] + 0.0722f * c0[2];
+    const float y0 = vdbgi_luminance(c0);
     for (int c = 0; c < 3; c++)
         sh[0][c] = luma[0][c] = c0[c];
     for (int t = 1; t < VDBGI_SH2_TERMS; t++) {
         const float *const ct = &terms[3 * (t - 1)];
-        const float y = 0.2126f * ct[0] + 0.7152f * ct[1] + 0.0722f * ct[2];
+        const float y = vdbgi_luminance(ct);
         for (int c = 0; c < 3; c++) {
             sh[t][c] = ct[c];
             luma[t][c] = t < 4 ? ct[c] : y0 > 0.0f ? c0[c] * (y / y0) : 0.0f;

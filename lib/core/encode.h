@@ -31,6 +31,12 @@ void vdbgi_sharedexp8_decode(const uint8_t in[4], float rgb[3]);
 float vdbgi_sh_ratio_range(int term);
 int8_t vdbgi_sh_ratio_encode(float term_value, float l0, int term, int step);
 
+/* Rec. 709's luminance of a linear colour: .gi version 8's one ratio for terms 4-8. */
+static inline float vdbgi_luminance(const float c[3])
+{
+    return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
+}
+
 /* IEEE 754 binary16, round to nearest even; overflow goes to infinity. */
 /* The sRGB transfer function of a linear value clamped to [0, 1] (NaN gives 0), for 8-bit
    images people look at. */
