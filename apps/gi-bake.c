@@ -342,7 +342,10 @@ static bool keep_scene_boxes(const vdbgi_scene *scene, options *o)
  * judged less that much; where the bake still comes out over, vdb-to-gi
  * --budget coarsens it to fit. The bake chosen is auto since (5 % noise),
  * whose volumes come out at or under the 128-ray bake's (the room's L2 at
- * 0.25 m: 0.30 MB against 0.47), so the margin errs on the safe side.
+ * 0.25 m: 0.30 MB against 0.47), so the margin errs on the safe side. A
+ * preview's L2 terms are sized as .gi version 7 (24 bytes a texel): an
+ * 8-ray bake's noise could tip the converter's choice of version 8 either
+ * way, and the real conversion choosing 8 only leaves room.
  */
 #define BUDGET_PREVIEW_RAYS 8
 #define BUDGET_PREVIEW_OVER 1.07
@@ -359,9 +362,10 @@ static vdbgi_result preview_vram(vdbgi_context *ctx, const vdbgi_scene *scene, c
     bd.noise = 0.0f;
     bd.max_rays = 0;
     bd.progress = NULL;
+    const bool terms = bd.basis == VDBGI_BASIS_SH2;
     const vdbgi_convert_desc cd = {.threads = bd.threads,
-                                   .terms = bd.basis == VDBGI_BASIS_SH2 ? VDBGI_TERMS_KEEP
-                                                                        : VDBGI_TERMS_DROP};
+                                   .terms = terms ? VDBGI_TERMS_KEEP : VDBGI_TERMS_DROP,
+                                   .gi_version = terms ? 7 : 0};
     vdbgi_probes *p = NULL;
     vdbgi_volume *v = NULL;
     vdbgi_result r = vdbgi_probes_place(ctx, scene, &pd, &p);

@@ -873,8 +873,8 @@ typedef enum vdbgi_terms {
  *   layout:     see vdbgi_layout (0: the compact layout).
  *   terms:      see vdbgi_terms: whether a volume of the compact layout
  *               carries the probes' L2 terms when they have them
- *               (VDBGI_BASIS_SH2; .gi version 8, read with a normal:
- *               vdbgi_volume_sample_normal). The seed layout holds the
+ *               (VDBGI_BASIS_SH2; .gi version 8 or 7, see gi_version; read
+ *               with a normal: vdbgi_volume_sample_normal). The seed layout holds the
  *               scalar only.
  *   gi_version: a volume with L2 terms: 8, terms 4-8 one ratio for all
  *               channels, their luminance's (14 bytes a texel on the GPU);

@@ -292,6 +292,8 @@ vdbgi_result vdbgi_build_start(vdbgi_context *ctx, const vdbgi_probes *like,
     vdbgi_volume *const v = volume_start(ctx, like, st, encoding, cp->layout, cp->max_level);
     if (!v)
         return VDBGI_ERR_OUT_OF_MEMORY;
+    if (!bp->terms)
+        v->info.luma2_error = 0.0; /* no terms to hold in any form */
     /* Terms 4-8 in luminance (version 8) where that moves a reading by little. */
     v->version = !bp->terms                                     ? 5
                  : desc && desc->gi_version                     ? (uint32_t)desc->gi_version
