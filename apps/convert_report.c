@@ -95,6 +95,11 @@ void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
         if (o->budget_terms && vi->term_bits != VDBGI_TERM_BITS && n < sizeof(e))
             snprintf(e + n, sizeof(e) - n, " (the curves' terms kept %d bits, these %d)",
                      VDBGI_TERM_BITS, vi->term_bits);
+        const size_t m = strlen(e);
+        if (o->budget_terms && vi->sh_size == 14 * (vi->atlas_size / 4) && m < sizeof(e))
+            snprintf(e + m, sizeof(e) - m,
+                     " (the curves' terms were in colour; the second band in luminance adds "
+                     "1-2 points on characters, docs/directional.md)");
         fprintf(f, "budget       %g MB of GPU memory: eps %g, %s (conversions tried: %d); %s\n",
                 o->budget / 1e6, (double)o->budget_eps,
                 o->budget_terms ? "the L2 terms kept" : "scalar", o->budget_tries, e);

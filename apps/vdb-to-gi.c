@@ -58,7 +58,8 @@ static void usage(void)
            "                        from before it (a larger file); auto: 8 where that\n"
            "                        moves the probes' readings by at most 4 %%, else 7 (auto)\n"
            "      --budget MB       GPU memory the volume may take (decimal MB): convert\n"
-           "                        at --eps (0.1), then 0.2 and 0.4, then without the L2\n"
+           "                        at --eps (0.1), then 0.2 and 0.4, then those as .gi\n"
+           "                        version 8 (where auto chose 7), then without the L2\n"
            "                        terms, until it fits; print what fitted and the error\n"
            "                        the measured curves give it (docs/directional.md)\n"
            "      --term-bits B     L2 terms: bits kept of each ratio byte, 4..8; each bit\n"
@@ -139,9 +140,10 @@ static vdbgi_result build(vdbgi_context *ctx, vdbgi_probes *probes, vdbgi_probe_
  * The volume, built at the options; with --budget, built again at each step of
  * the ladder until one fits (*fits false, vol the last, when none does). The
  * measured curves order it (docs/directional.md, "A budget"): coarser bricks,
- * eps 0.2 then 0.4, cost characters under 2 points, dropping the L2 terms
- * about 80, so the terms go last. Each step is measured, not assumed smaller:
- * a coarser brick can pack worse.
+ * eps 0.2 then 0.4, cost characters under 2 points, the second band in
+ * luminance (.gi version 8, where the converter chose 7) 1-2 more, dropping
+ * the L2 terms about 80, so the terms go last. Each step is measured, not
+ * assumed smaller: a coarser brick can pack worse.
  */
 static vdbgi_result build_within(vdbgi_context *ctx, vdbgi_probes *probes, vdbgi_probe_file *file,
                                  options *o, vdbgi_volume **vol, bool *fits)
@@ -152,15 +154,20 @@ static vdbgi_result build_within(vdbgi_context *ctx, vdbgi_probes *probes, vdbgi
     const float eps0 = o->convert.eps_is_set ? o->convert.eps : 0.1f;
     const float ladder[3] = {eps0, fmaxf(eps0, 0.2f), fmaxf(eps0, 0.4f)};
     bool terms = o->convert.terms == VDBGI_TERMS_KEEP; /* a round without them to come */
+    /* A round as version 8 to come: where the version is the converter's to choose, and it
+       chose 7. */
+    bool luma2 = terms && o->convert.gi_version == 0;
     o->budget_smallest = SIZE_MAX;
-    for (int round = 0; round < (terms ? 2 : 1); round++)
+    for (int round = 0; round < (terms ? 3 : 1); round++)
         for (int step = 0; step < 3; step++) {
-            if (step > 0 && ladder[step] == ladder[step - 1])
+            if ((step > 0 && ladder[step] == ladder[step - 1]) || (round == 1 && !luma2))
                 continue;
             vdbgi_convert_desc d = o->convert;
             d.eps = ladder[step];
             d.eps_is_set = 1;
-            if (round == 1) {
+            if (round == 1)
+                d.gi_version = 8;
+            if (round == 2) {
                 d.terms = VDBGI_TERMS_DROP;
                 d.gi_version = 0; /* 6 to 8 are versions with terms */
             }
@@ -173,6 +180,8 @@ static vdbgi_result build_within(vdbgi_context *ctx, vdbgi_probes *probes, vdbgi
             const bool fitted = (double)vram <= o->budget, smallest = vram < o->budget_smallest;
             o->budget_tries++;
             terms = terms && vi.basis == VDBGI_BASIS_SH2; /* probes without terms: none to drop */
+            if (round == 0)                               /* the converter chose 7 */
+                luma2 = luma2 && terms && vi.sh_size != 14 * (vi.atlas_size / 4);
             if (smallest)
                 o->budget_smallest = vram;
             if (fitted || smallest) {
