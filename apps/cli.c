@@ -473,11 +473,21 @@ void cli_print_runtime(FILE *f, const vdbgi_volume_info *vi)
             cli_bytes((double)(vi->columns_size + vi->atlas_size + vi->sh_size), b, sizeof(b)));
 }
 
-const char *cli_term_form(const vdbgi_volume_info *vi)
+size_t cli_term_bytes(const vdbgi_volume_info *vi)
 {
     const size_t texels = vi->atlas_size / 4;
-    return texels && vi->sh_size == 14 * texels ? "14 bytes a texel: the second band in luminance"
-                                                : "24 bytes a texel: all in colour";
+    return texels ? vi->sh_size / texels : 0;
+}
+
+bool cli_terms_luma2(const vdbgi_volume_info *vi)
+{
+    return cli_term_bytes(vi) == 14;
+}
+
+const char *cli_term_form(const vdbgi_volume_info *vi)
+{
+    return cli_terms_luma2(vi) ? "14 bytes a texel: the second band in luminance"
+                               : "24 bytes a texel: all in colour";
 }
 
 bool cli_parse_vec3(const char *s, float out[3])

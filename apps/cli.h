@@ -211,9 +211,13 @@ void cli_progress_end(cli_progress *p);
 const char *cli_bytes(double bytes, char *buf, size_t cap);
 /* The "runtime" line of gi-inspect and vdb-to-gi: what vdbgi's shaders upload. */
 void cli_print_runtime(FILE *f, const vdbgi_volume_info *vi);
-/* How a volume's L2 terms are held, from their bytes a texel (sh_size over the atlas's texels):
-   "14 bytes a texel: the second band in luminance" (version 8) or "24 bytes a texel: all in
-   colour" (6 and 7). */
+/* A volume's L2 term bytes a texel, sh_size over the atlas's texels: 14 (.gi version 8, the
+   second band in luminance), 24 (6 and 7, all in colour), or 0 (no terms). */
+size_t cli_term_bytes(const vdbgi_volume_info *vi);
+/* Whether its terms are version 8's: the second band in luminance. */
+bool cli_terms_luma2(const vdbgi_volume_info *vi);
+/* How its L2 terms are held: "14 bytes a texel: the second band in luminance" or "24 bytes
+   a texel: all in colour". */
 const char *cli_term_form(const vdbgi_volume_info *vi);
 /* s as a JSON string: quoted, quotes, backslashes and control characters escaped. */
 void cli_json_string(FILE *f, const char *s);

@@ -52,9 +52,7 @@ void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             (double)vi->dense_rgba8_size / (double)vi->file_size, vi->clamped_count,
             vi->mean_irradiance, vi->rmse, vi->p99, vi->max_error, vi->rmse / mean, vi->p99 / mean,
             vi->max_error / mean, read_seconds, vi->seconds, vi->seconds / read_seconds,
-            vi->stored_points, vi->term_bits,
-            vi->atlas_size ? vi->sh_size / (vi->atlas_size / 4) : 0, vi->luma2_error,
-            o->memory_peak);
+            vi->stored_points, vi->term_bits, cli_term_bytes(vi), vi->luma2_error, o->memory_peak);
         if (o->budget > 0.0)
             fprintf(f,
                     ",\n  \"budget_bytes\": %.0f,\n  \"budget_eps\": %g,\n  \"budget_terms\": %s,\n"
@@ -96,7 +94,7 @@ void print_stats(FILE *f, const options *o, const vdbgi_volume_info *vi,
             snprintf(e + n, sizeof(e) - n, " (the curves' terms kept %d bits, these %d)",
                      VDBGI_TERM_BITS, vi->term_bits);
         const size_t m = strlen(e);
-        if (o->budget_terms && vi->sh_size == 14 * (vi->atlas_size / 4) && m < sizeof(e))
+        if (o->budget_terms && cli_terms_luma2(vi) && m < sizeof(e))
             snprintf(e + m, sizeof(e) - m,
                      " (the curves' terms were in colour; the second band in luminance adds "
                      "1-2 points on characters, docs/directional.md)");

@@ -181,7 +181,7 @@ static vdbgi_result build_within(vdbgi_context *ctx, vdbgi_probes *probes, vdbgi
             o->budget_tries++;
             terms = terms && vi.basis == VDBGI_BASIS_SH2; /* probes without terms: none to drop */
             if (round == 0)                               /* the converter chose 7 */
-                luma2 = luma2 && terms && vi.sh_size != 14 * (vi.atlas_size / 4);
+                luma2 = luma2 && terms && !cli_terms_luma2(&vi);
             if (smallest)
                 o->budget_smallest = vram;
             if (fitted || smallest) {
