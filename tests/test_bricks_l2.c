@@ -24,6 +24,28 @@ static size_t file_size(vdbgi_context *ctx, const vdbgi_volume *v)
     return size;
 }
 
+/* The probes every test here places: at 0.5 m, off the surfaces by a quarter spacing. */
+static const vdbgi_place_desc pd = {
+    .spacing = 0.5, .origin = {0.25, 0.25, 0.25}, .origin_is_set = 1};
+
+/*
+ * The scene of the tests after the first, from mesh m (which must outlive it): a 4 x 3 x
+ * 4 m box on a 16 m floor, grey 0.6, and with wall a thin wall beside it.
+ */
+static vdbgi_scene *box_on_floor(vdbgi_context *ctx, test_mesh *m, bool wall)
+{
+    const float lo[3] = {-2.0f, 0.0f, -2.0f}, hi[3] = {2.0f, 3.0f, 2.0f};
+    const float wlo[3] = {4.0f, 0.0f, -4.0f}, whi[3] = {4.5f, 2.0f, 4.0f};
+    test_mesh_plane(m, 16.0f, 0.0f);
+    test_mesh_box(m, lo, hi, 0);
+    if (wall)
+        test_mesh_box(m, wlo, whi, 0);
+    const vdbgi_mesh_desc md = test_mesh_desc(m, 0.6f, 0);
+    vdbgi_scene *scene = NULL;
+    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &scene), VDBGI_OK);
+    return scene;
+}
+
 /*
  * L2 terms in bricks (.gi version 7, and 6; version 8 below): a surface reads its own side, as the
  * probes' own L2 does; the L0 atlas is the scalar volume's, byte for byte;
@@ -40,7 +62,6 @@ static void l2_bricks_read_each_side_and_round_trip(void)
     const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.6f, 0);
     vdbgi_scene *scene = NULL;
     vdbgi_probes *p = NULL;
-    const vdbgi_place_desc pd = {.spacing = 0.5, .origin = {0.25, 0.25, 0.25}, .origin_is_set = 1};
     CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &scene), VDBGI_OK);
     CHECK_RESULT(ctx, vdbgi_probes_place(ctx, scene, &pd, &p), VDBGI_OK);
     const vdbgi_bake_desc bd = {.rays = 64, .basis = VDBGI_BASIS_SH2};
@@ -287,17 +308,9 @@ static void at_eps_0_every_probe_reads_its_own_l2_for_any_normal(void)
 {
     vdbgi_context *ctx = test_context();
     test_mesh m = {0};
-    const float lo[3] = {-2.0f, 0.0f, -2.0f}, hi[3] = {2.0f, 3.0f, 2.0f};
-    const float wlo[3] = {4.0f, 0.0f, -4.0f}, whi[3] = {4.5f, 2.0f, 4.0f};
-    test_mesh_plane(&m, 16.0f, 0.0f);
-    test_mesh_box(&m, lo, hi, 0);
-    test_mesh_box(&m, wlo, whi, 0);
-    const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.6f, 0);
-    vdbgi_scene *scene = NULL;
+    vdbgi_scene *scene = box_on_floor(ctx, &m, true);
     vdbgi_probes *p = NULL;
     vdbgi_volume *v = NULL, *coarse = NULL;
-    const vdbgi_place_desc pd = {.spacing = 0.5, .origin = {0.25, 0.25, 0.25}, .origin_is_set = 1};
-    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &scene), VDBGI_OK);
     CHECK_RESULT(ctx, vdbgi_probes_place(ctx, scene, &pd, &p), VDBGI_OK);
     const vdbgi_bake_desc bd = {.rays = 64, .basis = VDBGI_BASIS_SH2, .sky = {0.2f, 0.3f, 0.5f}};
     CHECK_RESULT(ctx, vdbgi_probes_bake(p, scene, &bd, NULL), VDBGI_OK);
@@ -347,15 +360,9 @@ static void version_8_holds_the_second_band_in_luminance(void)
 {
     vdbgi_context *ctx = test_context();
     test_mesh m = {0};
-    const float lo[3] = {-2.0f, 0.0f, -2.0f}, hi[3] = {2.0f, 3.0f, 2.0f};
-    test_mesh_plane(&m, 16.0f, 0.0f);
-    test_mesh_box(&m, lo, hi, 0);
-    const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.6f, 0);
-    vdbgi_scene *scene = NULL;
+    vdbgi_scene *scene = box_on_floor(ctx, &m, false);
     vdbgi_probes *p = NULL;
     vdbgi_volume *v7 = NULL, *v8 = NULL, *back = NULL;
-    const vdbgi_place_desc pd = {.spacing = 0.5, .origin = {0.25, 0.25, 0.25}, .origin_is_set = 1};
-    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &scene), VDBGI_OK);
     CHECK_RESULT(ctx, vdbgi_probes_place(ctx, scene, &pd, &p), VDBGI_OK);
     const vdbgi_bake_desc bd = {.rays = 64,
                                 .basis = VDBGI_BASIS_SH2,
@@ -497,13 +504,7 @@ static void the_default_chooses_the_luminance_band_where_it_costs_little(void)
 {
     vdbgi_context *ctx = test_context();
     test_mesh m = {0};
-    const float lo[3] = {-2.0f, 0.0f, -2.0f}, hi[3] = {2.0f, 3.0f, 2.0f};
-    test_mesh_plane(&m, 16.0f, 0.0f);
-    test_mesh_box(&m, lo, hi, 0);
-    const vdbgi_mesh_desc md = test_mesh_desc(&m, 0.6f, 0);
-    vdbgi_scene *scene = NULL;
-    const vdbgi_place_desc pd = {.spacing = 0.5, .origin = {0.25, 0.25, 0.25}, .origin_is_set = 1};
-    CHECK_RESULT(ctx, vdbgi_scene_create(ctx, &md, 1, &scene), VDBGI_OK);
+    vdbgi_scene *scene = box_on_floor(ctx, &m, false);
     const vdbgi_bake_desc skies[3] = {{.rays = 64,
                                        .basis = VDBGI_BASIS_SH2,
                                        .sky = {0.5f, 0.5f, 0.5f},
