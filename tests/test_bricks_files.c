@@ -74,6 +74,29 @@ static void round_trip(vdbgi_layout layout)
             CHECK_RESULT(ctx, vdbgi_gifile_slurp(ctx, tmp_path("t.gi"), &plain, &plain_size),
                          VDBGI_OK);
             CHECK(plain && vdbgi_get_u32(plain + 8) == (packed ? 2u : 1u));
+            /* Parsed in place (the WebAssembly reader's way): the body a copy would be, moved
+               to the front of the file's own block; a refused file is left as it was. */
+            uint8_t *copied = NULL, *moved = NULL;
+            size_t copied_size = 0, moved_size = 0;
+            CHECK_RESULT(ctx,
+                         vdbgi_gifile_parse(ctx, "t", plain, plain_size, &hi, &version, &copied,
+                                            &copied_size),
+                         VDBGI_OK);
+            uint8_t *const before = malloc(plain_size);
+            memcpy(before, plain, plain_size);
+            CHECK_RESULT(ctx,
+                         vdbgi_gifile_parse_in_place(ctx, "t", plain, plain_size - 1, &hi, &version,
+                                                     &moved, &moved_size),
+                         VDBGI_ERR_FORMAT);
+            CHECK(moved == NULL && memcmp(before, plain, plain_size) == 0);
+            CHECK_RESULT(ctx,
+                         vdbgi_gifile_parse_in_place(ctx, "t", plain, plain_size, &hi, &version,
+                                                     &moved, &moved_size),
+                         VDBGI_OK);
+            CHECK(moved == plain && moved_size == copied_size && copied_size > 0 &&
+                  memcmp(moved, copied, copied_size) == 0);
+            free(before);
+            vdbgi_free(ctx, copied);
             vdbgi_free(ctx, plain);
             CHECK(memcmp(t->tex.indirection, r->tex.indirection, ia.indirection_size) == 0);
             CHECK(memcmp(t->tex.atlas, r->tex.atlas, ia.atlas_size) == 0);

@@ -311,9 +311,9 @@ static size_t gunzip_prefix(const uint8_t *in, size_t in_size, uint8_t *out, siz
  * decompress to exactly the header's size with its CRC and length right,
  * and nothing may follow it.
  */
-vdbgi_result vdbgi_gifile_parse(vdbgi_context *ctx, const char *path, const uint8_t *file,
-                                size_t file_size, vdbgi_volume_info *info, uint32_t *version,
-                                uint8_t **body, size_t *body_size)
+static vdbgi_result parse_file(vdbgi_context *ctx, const char *path, const uint8_t *file,
+                               size_t file_size, uint8_t *in_place, vdbgi_volume_info *info,
+                               uint32_t *version, uint8_t **body, size_t *body_size)
 {
     uint8_t *raw = NULL;
     *body = NULL;
@@ -365,7 +365,9 @@ vdbgi_result vdbgi_gifile_parse(vdbgi_context *ctx, const char *path, const uint
                        (double)ctx->volume_budget / (1 << 20));
         goto done;
     }
-    if (!(raw = vdbgi_alloc(ctx, (size_t)total))) {
+    if (in_place && !gz)
+        raw = in_place;
+    else if (!(raw = vdbgi_alloc(ctx, (size_t)total))) {
         r = VDBGI_ERR_OUT_OF_MEMORY;
         goto done;
     }
@@ -386,7 +388,7 @@ vdbgi_result vdbgi_gifile_parse(vdbgi_context *ctx, const char *path, const uint
                                : "damaged gzip data (its CRC, length or stream is wrong)");
             goto done;
         }
-    } else {
+    } else if (raw != file) {
         memcpy(raw, file, (size_t)total);
     }
     /* The body to the front: it is what the caller keeps (as textures, or a payload). */
@@ -397,6 +399,21 @@ vdbgi_result vdbgi_gifile_parse(vdbgi_context *ctx, const char *path, const uint
     *body_size = (size_t)stored;
     raw = NULL;
 done:
-    vdbgi_free(ctx, raw);
+    if (raw != in_place)
+        vdbgi_free(ctx, raw);
     return r;
+}
+
+vdbgi_result vdbgi_gifile_parse(vdbgi_context *ctx, const char *path, const uint8_t *file,
+                                size_t file_size, vdbgi_volume_info *info, uint32_t *version,
+                                uint8_t **body, size_t *body_size)
+{
+    return parse_file(ctx, path, file, file_size, NULL, info, version, body, body_size);
+}
+
+vdbgi_result vdbgi_gifile_parse_in_place(vdbgi_context *ctx, const char *path, uint8_t *file,
+                                         size_t file_size, vdbgi_volume_info *info,
+                                         uint32_t *version, uint8_t **body, size_t *body_size)
+{
+    return parse_file(ctx, path, file, file_size, file, info, version, body, body_size);
 }

@@ -88,6 +88,15 @@ vdbgi_result vdbgi_gifile_gzip(vdbgi_context *ctx, const uint8_t *h, size_t head
 vdbgi_result vdbgi_gifile_parse(vdbgi_context *ctx, const char *name, const uint8_t *bytes,
                                 size_t size, vdbgi_volume_info *info, uint32_t *version,
                                 uint8_t **body, size_t *body_size);
+/*
+ * The same, without the copy: a plain .gi's body is moved to the front of
+ * file, which *body then is (file from ctx's allocator: the caller frees
+ * *body, and not file too). A gzip'd file is inflated into a block of its
+ * own, as vdbgi_gifile_parse does, and a refused one is left as it was.
+ */
+vdbgi_result vdbgi_gifile_parse_in_place(vdbgi_context *ctx, const char *name, uint8_t *file,
+                                         size_t file_size, vdbgi_volume_info *info,
+                                         uint32_t *version, uint8_t **body, size_t *body_size);
 
 /* A regular file's bytes, allocated through ctx. */
 vdbgi_result vdbgi_gifile_slurp(vdbgi_context *ctx, const char *path, uint8_t **data, size_t *size);

@@ -199,19 +199,37 @@ vdbgi_result vdbgi_pack_rebuild_values(vdbgi_volume *v, const vdbgi_pack_plan *p
     return rebuild_pass(v, pl, &terms, threads, clamped_out);
 }
 
-/* The L2 terms' bytes from their planes (vdbgi_term_byte's), in storage order. Version 8
-   stores no green or blue residual of terms 4-8: they are 0, so those bytes copy red's. */
-static void undo_term_residuals(const vdbgi_pack_plan *pl, uint32_t version, const uint8_t *planes,
-                                uint8_t *sh)
+/*
+ * The stored points of owner-cell layer z (the first is point i0), their values and L2
+ * terms (sh, or NULL) from their residuals' planes, in storage order: each predicted from
+ * neighbours before it. The terms' planes hold vdbgi_term_byte's bytes; version 8 stores
+ * no green or blue residual of terms 4-8: they are 0, so those bytes copy red's.
+ * Called a layer at a time, not once for all: V8 runs a WebAssembly function in its
+ * baseline code until the call after it has optimised it (not inside a running loop), so
+ * the reader built for the browser's worker (web/wasm) gets the optimised loop only from
+ * a function it calls many times; noinline keeps it one.
+ */
+static __attribute__((noinline)) void undo_residuals(const vdbgi_pack_plan *pl, uint32_t version,
+                                                     bool rgbm, const uint8_t *planes,
+                                                     uint8_t *values, uint8_t *sh, int32_t z,
+                                                     size_t i0)
 {
     const size_t n = pl->points;
-    FOR_EACH_POINT(pl, p, i, {
+    const uint8_t *const term_planes = planes + 4 * n;
+    FOR_EACH_POINT_IN(pl, z, z + 1, i0, p, i, {
         int64_t nb[4];
         neighbours(pl, p, nb);
-        uint8_t e[VDBGI_SH_BYTES] = {0};
-        for (int j = 0; j < vdbgi_term_bytes(version); j++)
-            e[vdbgi_term_byte(version, j)] = planes[(size_t)j * n + i];
-        term_undo_residuals(version, sh, nb, i, e);
+        for (int o = 0; o < 4; o++) {
+            const int k = byte_order(rgbm, o);
+            values[4 * i + k] = (uint8_t)(planes[k * n + i] +
+                                          predict(values, nb, k, rgbm && k < 3, values[4 * i + 3]));
+        }
+        if (sh) {
+            uint8_t e[VDBGI_SH_BYTES] = {0};
+            for (int j = 0; j < vdbgi_term_bytes(version); j++)
+                e[vdbgi_term_byte(version, j)] = term_planes[(size_t)j * n + i];
+            term_undo_residuals(version, sh, nb, i, e);
+        }
     });
 }
 
@@ -228,17 +246,11 @@ vdbgi_result vdbgi_pack_rebuild(vdbgi_volume *v, const vdbgi_pack_plan *pl, cons
         return VDBGI_ERR_OUT_OF_MEMORY;
     }
     const bool rgbm = v->info.encoding == VDBGI_ENCODING_RGBM;
-    FOR_EACH_POINT(pl, p, i, {
-        int64_t nb[4];
-        neighbours(pl, p, nb);
-        for (int o = 0; o < 4; o++) {
-            const int k = byte_order(rgbm, o);
-            values[4 * i + k] = (uint8_t)(planes[k * n + i] +
-                                          predict(values, nb, k, rgbm && k < 3, values[4 * i + 3]));
-        }
-    });
-    if (with_sh)
-        undo_term_residuals(pl, v->version, planes + 4 * n, sh);
+    for (int32_t z = 0; z < (int32_t)pl->grid[2]; z++) {
+        const int32_t first[3] = {0, 0, z};
+        undo_residuals(pl, v->version, rgbm, planes, values, sh, z,
+                       pl->offset[cell_index(pl->grid, first)]);
+    }
     const vdbgi_result r =
         vdbgi_pack_rebuild_values(v, pl, values, (const int8_t *)sh, threads, clamped);
     vdbgi_free(v->ctx, values);
