@@ -80,6 +80,22 @@ IMAGE_OBJ := $(BUILD)/lib/shim/image_shim.pic.o
 
 APP_NAMES := gi-bake vdb-to-gi gi-inspect gi-bench gi-lightmap gi-merge
 APPS := $(APP_NAMES:%=$(BUILD)/bin/%)
+# The web runtime's reader (web/gi-wasm.js): lib/'s rebuild of a packed .gi built to
+# WebAssembly with clang and wasi-libc, with web/wasm's entry points, one-thread
+# run_threads and gzip stand-ins (the browser inflates), written beside the worker's
+# scripts as a module of base64 (web/README.md). The same bytes from every config.
+# -D_Float16=__fp16: clang 14 has no _Float16 on wasm32; util.c's half floats are the
+# baker's, not the reader's, and the linker drops them.
+WASM_CC ?= clang
+WASM_SRC := $(addprefix lib/,core/context.c core/util.c core/encode.c format/gifile.c \
+            format/packed.c format/pack_rebuild.c format/textures.c format/sampler.c \
+            format/volume_access.c convert/pack_place.c) $(wildcard web/wasm/*.c)
+WASM := $(BUILD)/web/gi-reader.wasm
+WASM_JS := web/gi-reader-wasm.js
+WASM_FLAGS := --target=wasm32-wasi -O2 -std=c11 $(WARN_C) -Wno-missing-prototypes -ffp-contract=off \
+              -DVDBGI_BUILDING -D_Float16=__fp16 -Iweb/wasm/include $(LIB_INC) \
+              -mexec-model=reactor -Wl,--no-entry -Wl,--strip-all
+
 # gi-bench is for measuring vdbgi itself: built, never installed.
 INSTALL_APPS := $(filter-out %/gi-bench,$(APPS))
 CLI_OBJ := $(BUILD)/apps/cli.o
@@ -90,19 +106,21 @@ TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 DEB_PACKAGES := gcc g++ make pkg-config libopenvdb-dev libboost-dev libimath-dev libtbb-dev \
                 libembree-dev libopenimageio-dev libassimp-dev zlib1g-dev libdeflate-dev libopenvdb-tools \
                 python3 python3-openvdb python3-numpy openimageio-tools gnuplot-nox clang-format chromium libstb-dev \
-                libtinygltf-dev assimp-testmodels slurmctld slurmd slurm-client munge
+                libtinygltf-dev assimp-testmodels slurmctld slurmd slurm-client munge \
+                clang lld wasi-libc libclang-rt-14-dev-wasm32
 
 # Keep object files of apps and tests (make would delete them as intermediates).
 .SECONDARY:
 
-.PHONY: all lib apps tests check demo bench bench-scale bench-wasm chart deps asan fuzz install uninstall clean format list view pictures
+.PHONY: all lib apps tests web check demo bench bench-scale chart deps asan fuzz install uninstall clean format list view pictures
 
-## all: build the library and the apps (default)
-all: lib apps
+## all: build the library, the apps and the web runtime's WebAssembly reader (default)
+all: lib apps web
 
 lib: $(LIB_A) $(IMAGE_MODULE)
 apps: $(APPS)
 tests: $(TESTS)
+web: $(WASM_JS)
 
 $(BUILD)/lib/%.o: lib/%.c Makefile
 	@mkdir -p $(@D)
@@ -144,6 +162,16 @@ $(BUILD)/bin/%: $(BUILD)/apps/%.o $(CLI_OBJ) $(LIB_A) | $(IMAGE_MODULE)
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  LINK    $@")
 	$(Q)$(CXX) $(ALL_LDFLAGS) $(filter %.o,$^) $(filter %.a,$^) $(DEP_LIBS) -o $@
+
+$(WASM): $(WASM_SRC) $(wildcard lib/*.h lib/*/*.h web/wasm/include/*.h) Makefile
+	@mkdir -p $(@D)
+	@$(if $(Q),echo "  WASM    $@")
+	$(Q)$(WASM_CC) $(WASM_FLAGS) $(WASM_SRC) -o $@
+
+$(WASM_JS): $(WASM)
+	@$(if $(Q),echo "  BASE64  $@")
+	$(Q){ echo "// gi-reader-wasm.js: made by make from web/wasm (gi-wasm.js loads it); not edited by hand."; \
+	  printf 'export default "'; base64 -w0 $<; echo '";'; } > $@.tmp && mv $@.tmp $@
 
 # vdb-to-gi's report of a conversion is a file of its own.
 $(BUILD)/bin/vdb-to-gi: $(BUILD)/apps/convert_report.o $(BUILD)/apps/budget.o
@@ -251,11 +279,6 @@ bench-scale:
 	$(Q)$(MAKE) --no-print-directory all
 	$(Q)BUILD=$(BUILD) sh tests/scale.sh
 
-## bench-wasm: the C reader built to WebAssembly against the JavaScript one (needs emscripten; docs/web.md)
-bench-wasm:
-	$(Q)$(MAKE) --no-print-directory all
-	$(Q)BUILD=$(BUILD) sh tests/wasm/bench_wasm.sh
-
 ## chart: sweep rays, eps and spacing, redraw docs/img/chart_*.png, stability table (two minutes)
 chart:
 	$(Q)$(MAKE) --no-print-directory deps
@@ -287,11 +310,12 @@ uninstall:
 
 ## clean: remove build outputs
 clean:
-	rm -rf build out
+	rm -rf build out $(WASM_JS)
 
 ## format: apply .clang-format to every C and C++ source
 format:
-	clang-format -i lib/*.h lib/*/*.c lib/*/*.h lib/*/*.cpp apps/*.c apps/*.h tests/*.c tests/*.h
+	clang-format -i lib/*.h lib/*/*.c lib/*/*.h lib/*/*.cpp apps/*.c apps/*.h tests/*.c tests/*.h \
+	    web/wasm/*.c web/wasm/include/*.h
 
 ## list: show these targets
 list:

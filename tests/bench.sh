@@ -90,6 +90,11 @@ mkdir -p "$OUT"
         /usr/bin/python3 tests/breakdown.py --row "$w" "$OUT/$w.vdb" "$OUT/$w.gi.gz"
     done
     echo
+    echo "### The worker's rebuild: the C reader as WebAssembly against the JavaScript one, in node (docs/web.md)"
+    echo
+    node tests/web/bench_reader.mjs "bundled, scalar=$OUT/world.gi.gz" "bundled, L2=$OUT/world_sh2.gi.gz" \
+        "bundled, L2 version 8=$OUT/world_sh2_v8.gi.gz" "200 m, L2 in 21 MB=$OUT/world200_21mb.gi.gz"
+    echo
     echo "### Browser runtime: load and frame time in headless Chromium, SwiftShader (docs/web.md)"
     echo
     if [ -x "${CHROMIUM:-/usr/bin/chromium}" ] && [ -d web/node_modules/puppeteer-core ]; then

@@ -72,6 +72,8 @@ export interface GiTimings {
   firstFrame?: number;
   /** Which decoded a loadGi: its worker or the page. */
   decoder?: 'worker' | 'page';
+  /** Which rebuilt its textures: the C reader as WebAssembly (the worker's) or the JavaScript one. */
+  reader?: 'wasm' | 'js';
 }
 
 /** Texels a brick side, the border before its first probe, where a coarse probe stands. */

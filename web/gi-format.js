@@ -61,12 +61,14 @@ function checkBox(gi) {
   }
 }
 
-// Parse an uncompressed .gi. The returned textures are views into `buf`.
-export function parseGi(buf) {
+// Parse an uncompressed .gi. The returned textures are views into `buf`, or
+// a packed file's, rebuilt by `rebuild` (gi-packed.js's, or gi-wasm.js's:
+// the same bytes).
+export function parseGi(buf, rebuild = rebuildPacked) {
   const { gi, headerSize, stored } = parseHeader(buf);
   if (buf.length !== headerSize + stored)
     throw new Error(`file holds ${buf.length} bytes, header says ${headerSize + stored}`);
-  return parseBody(gi, buf, headerSize, rebuildPacked);
+  return parseBody(gi, buf, headerSize, rebuild);
 }
 
 // parseGi, giving the page back every 20 ms or so while a packed file's textures
@@ -171,8 +173,8 @@ function parseHeader(buf) {
   return { gi, headerSize, stored };
 }
 
-// The textures after a checked header: rebuilt (packed, by `rebuild`, which may
-// return a promise: then so does this) or checked in place.
+// The textures after a checked header: rebuilt (packed, by rebuild(gi, payload,
+// file), which may return a promise: then so does this) or checked in place.
 function parseBody(gi, buf, headerSize, rebuild) {
   const { brick } = layoutGeometry(gi.layout);
   const compact = gi.layout === LAYOUT_COMPACT;
@@ -184,7 +186,7 @@ function parseBody(gi, buf, headerSize, rebuild) {
       if (sh) gi.sh = sh;
       return gi;
     };
-    const rebuilt = rebuild(gi, buf.subarray(headerSize));
+    const rebuilt = rebuild(gi, buf.subarray(headerSize), buf);
     return rebuilt instanceof Promise ? rebuilt.then(take) : take(rebuilt);
   }
   gi.indirection = buf.subarray(headerSize, headerSize + indBytes);

@@ -2,12 +2,16 @@
 // from beside itself (or from the script its `worker` option names). The page
 // sends a .gi.gz's chunks as they arrive, each transferred; here they are
 // checked and unpacked as gi-stream.js says (giReader), then parsed, rebuilt
-// and made ready for the GPU (readTextures), and the textures' buffers go
-// back transferred, not copied. Every refusal is the page reader's, word for
-// word. One load a worker; the page ends it.
+// (by the C reader built to WebAssembly, gi-wasm.js, compiled while the file
+// arrives; by gi-packed.js where it cannot run, or where the worker's URL
+// ends in ?reader=js) and made ready for the GPU (readTextures), and the
+// textures' buffers go back transferred, not copied. Every refusal is the
+// page reader's, word for word. One load a worker; the page ends it.
 import { giReader, parseGi } from './gi-format.js';
 import { readTextures } from './gi-gpu.js';
+import { wasmRebuild } from './gi-wasm.js';
 
+const wasm = new URL(import.meta.url).searchParams.get('reader') === 'js' ? Promise.resolve(null) : wasmRebuild();
 let reader = null;
 const reply = (id, body, transfer = []) => self.postMessage({ id, ...body }, transfer);
 
@@ -19,7 +23,9 @@ self.onmessage = async ({ data }) => {
     } else if (op === 'push') {
       await reader.push(data.chunk);
     } else if (op === 'end') {
-      const read = await readTextures(reader, parseGi);
+      const rebuild = await wasm;
+      const read = await readTextures(reader, (bytes) => parseGi(bytes, rebuild ?? undefined));
+      read.reader = rebuild ? 'wasm' : 'js';
       const { header } = read;
       const buffers = new Set([header.columns.data, header.atlas, ...(header.sh ?? [])].map((a) => a.buffer));
       return reply(id, read, [...buffers]);

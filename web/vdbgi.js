@@ -81,7 +81,9 @@ export const LOAD_TIMEOUT_MS = 30000;
 // which it gives back every SLICE_MS: `worker` 'auto' (the worker where this
 // file is not inside a bundler's output, which has no gi-worker.js beside it),
 // false (the page), or the URL of gi-worker.js as the app serves it.
-// timings.decoder says which ran.
+// timings.decoder says which ran, and timings.reader which rebuilt a packed
+// file's textures: 'wasm' (lib/'s C reader, gi-wasm.js: the worker's, where
+// WebAssembly runs) or 'js' (gi-packed.js: the page's, which it can slice).
 export async function loadGi(source, { renderer = null, signal, timeout = LOAD_TIMEOUT_MS, onProgress, maxBytes = MAX_BYTES,
   worker = 'auto' } = {}) {
   const url = typeof source === 'string' || source instanceof URL ? String(source) : null;
@@ -105,6 +107,7 @@ async function load(source, url, { renderer, signal, timeout, onProgress, maxByt
     timings.gunzip = gi.inflateMs;
     timings.parse = gi.parseMs;
     timings.decoder = gi.decoder;
+    timings.reader = gi.reader ?? 'js';
     header = gi.header;
     fileBytes = gi.loaded;
   } else {
@@ -116,6 +119,7 @@ async function load(source, url, { renderer, signal, timeout, onProgress, maxByt
     header = await decodeGi(bytes, timings, { maxBytes });
     if (signal?.aborted) throw signal.reason;
     timings.decoder = 'page';
+    timings.reader = 'js';
     fileBytes = bytes.length;
   }
   t = now();

@@ -1,7 +1,8 @@
 # An independent JavaScript loader (tests/js/gi_loader.mjs: node, DecompressionStream)
 # agrees with the C sampler (gi-inspect --at) at 400 points, for both encodings and
 # both brick layouts; it reads the indirection as the runtime's columns, which it
-# builds to the size the C library reports.
+# builds to the size the C library reports. The C reader built to WebAssembly (the
+# worker's) rebuilds every packed file's textures as the JavaScript one does.
 "$BIN/gi-bake" -q "$DATA/world.glb" -o world.vdb --spacing 1 --rays 32 >/dev/null
 for run in rgbm,seed rgb9e5,seed rgbm,compact rgb9e5,compact; do
     "$BIN/vdb-to-gi" -q world.vdb -o w.gi.gz --encoding ${run%,*} --layout ${run#*,} --eps 0.2
@@ -33,6 +34,7 @@ for run in rgbm,0.2 rgb9e5,0.2 rgbm,5 rgb9e5,5; do
     "$BIN/gi-inspect" w.gi.gz --textures textures.gi > inspect.txt
     grep '^bricks' inspect.txt | sed 's/^/  /'
     node "$ROOT/tests/js/check_textures.mjs" w.gi.gz textures.gi
+    node "$ROOT/tests/js/check_wasm.mjs" w.gi.gz
 done
 # L2 terms (version 8, its second band in luminance; 7, every term in colour; and 6 as
 # older runtimes read them): the JavaScript reader rebuilds the term textures (six, or
@@ -46,5 +48,11 @@ for run in rgbm,0.2,7 rgb9e5,5,6 rgb9e5,5,7 rgbm,0.2,8 rgb9e5,5,8; do
     echo "version $(gzip -dc s.gi.gz | od -An -tu4 -j8 -N4 | tr -d ' ')"
     "$BIN/gi-inspect" s.gi.gz "$@" --normal 0.3,-0.8,0.5 > inspect.txt
     node "$ROOT/tests/js/check_loader.mjs" s.gi.gz inspect.txt 0.3,-0.8,0.5 | sed 's/([0-9]* lit)/(lit)/'
+    node "$ROOT/tests/js/check_wasm.mjs" s.gi.gz
 done
+# The worker's reader (the C one built to WebAssembly) at the defaults a user bakes and
+# converts with (0.5 m, the version the converter chooses), and the L2 file of them.
+"$BIN/gi-bake" -q "$DATA/world.glb" -o fine_sh.vdb --rays 16 --basis sh2 >/dev/null
+"$BIN/vdb-to-gi" -q fine_sh.vdb -o fs.gi.gz
+node "$ROOT/tests/js/check_wasm.mjs" f.gi.gz fs.gi.gz
 node "$ROOT/tests/js/check_loader.mjs" s.gi.gz inspect.txt | sed 's/[0-9]* channels of 400 points disagree.*/channels disagree without the normal/'

@@ -4,7 +4,8 @@
 # block of zeros or over another brick's points, an atlas too large for its bricks,
 # the older versions 3 and 4, a newer version 9, a scalar file labelled version 7 (L2
 # terms), an unknown layout. Each is gzip'd whole, so only the
-# readers' checks can catch it; the C reader (gi-inspect) and the JavaScript one each
+# readers' checks can catch it; the C reader (gi-inspect), the JavaScript one and the C
+# one built to WebAssembly (the worker's, behind the JavaScript header checks) each
 # refuse every one with one line, and read the good file. A header that counts more
 # bricks than its stored points can hold is refused before anything is allocated for
 # them; a file that unpacks to 50 MB past what its header declares, or whose header
@@ -18,12 +19,14 @@ node "$ROOT/tests/js/craft_packed.mjs" good.gi.gz bad > names.txt
 read_js() { node "$ROOT/tests/js/read_gi.mjs" "$1"; } # "read ..." or "refused: ..."
 printf 'good: C %s; JS %s\n' "$("$BIN/gi-inspect" good.gi.gz | grep -c '^bricks')" \
     "$(read_js good.gi.gz | cut -d' ' -f1)"
+node "$ROOT/tests/js/check_wasm.mjs" good.gi.gz | sed 's/^WebAssembly/good: WASM/'
 while read -r name; do
     "$BIN/gi-inspect" "bad/$name.gi.gz" > out.txt 2> err.txt
     code=$?
     echo "$name"
     echo "  C  (exit $code, $(wc -l < err.txt) line): $(sed 's/^gi-inspect: bad\///' err.txt)"
     echo "  JS $(read_js "bad/$name.gi.gz")"
+    node "$ROOT/tests/js/check_wasm.mjs" "bad/$name.gi.gz" | sed 's/^WebAssembly/  WASM/'
 done < names.txt
 # Version 2 with the old compact number 3 reads as the same textures as with 2.
 "$BIN/gi-inspect" good.gi.gz --textures new.gi > /dev/null

@@ -3,7 +3,8 @@
 //  - load: each file, fetched from 127.0.0.1, gunzipped (DecompressionStream),
 //    checked, made into textures and uploaded (WebGL2), median of 5 loads, with
 //    the longest task the page ran meanwhile (PerformanceObserver, 50 ms and up),
-//    decoded in loadGi's worker and on the page (worker: false), and the frames a
+//    decoded in loadGi's worker (with the C reader as WebAssembly, its default, and
+//    told ?reader=js) and on the page (worker: false), and the frames a
 //    second an animated page (8 ms of its own work a frame) drew meanwhile;
 //  - frames: SCENE at 800 x 600 lit with SCENE.gi.gz, frame time with GI off,
 //    per vertex and per fragment (WebGL2 and WebGPU). SwiftShader renders on
@@ -31,7 +32,7 @@ try {
   await withPage({ '/files': dir }, async ({ run, fresh }) => {
     console.log('| file | decoder | size | VRAM | fetch | gunzip | check | textures | upload | total | longest task | page\'s fps meanwhile |');
     console.log('|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|');
-    for (const [name, file] of files) for (const worker of ['auto', false]) {
+    for (const [name, file] of files) for (const worker of ['auto', '/web/gi-worker.js?reader=js', false]) {
       const runs = [];
       for (let i = 0; i < 5; i++) {
         const r = await run({ kind: 'load', gi: `/files/${file}`, worker });
@@ -45,7 +46,7 @@ try {
       // Two more loads with the page animating: its frames a second, the lower.
       let fps = Infinity;
       for (let i = 0; i < 2; i++) fps = Math.min(fps, (await run({ kind: 'load', gi: `/files/${file}`, worker, animate: true })).fps);
-      console.log(`| ${name} | ${runs[0].timings.decoder} | ${(runs[0].fileBytes / 1e6).toFixed(2)} MB | ${(runs[0].vramBytes / 1e6).toFixed(2)} MB | ` +
+      console.log(`| ${name} | ${runs[0].timings.decoder} (${runs[0].timings.reader}) | ${(runs[0].fileBytes / 1e6).toFixed(2)} MB | ${(runs[0].vramBytes / 1e6).toFixed(2)} MB | ` +
         `${f1(t('fetch'))} ms | ${f1(t('gunzip'))} ms | ${f1(t('parse'))} ms | ${f1(t('build'))} ms | ${f1(t('upload'))} ms | ${f1(total)} ms | ${longest ? `${f1(longest)} ms` : 'none ≥ 50 ms'} | ${fps.toFixed(0)} |`);
     }
     console.log();

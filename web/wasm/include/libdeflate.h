@@ -1,5 +1,6 @@
-/* Stub of libdeflate for the WASM measurement: the browser inflates with
-   DecompressionStream, so only plain (already inflated) .gi bytes reach the reader. */
+/* libdeflate's names that lib/format/gifile.c uses, for the WebAssembly reader (web/wasm):
+   the browser inflates with DecompressionStream, so only inflated .gi bytes reach it, and
+   no-gzip.c's stand-ins, which always fail, are never called. */
 #ifndef STUB_LIBDEFLATE_H
 #define STUB_LIBDEFLATE_H
 #include <stddef.h>

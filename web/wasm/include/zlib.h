@@ -1,4 +1,4 @@
-/* Stub of zlib for the WASM measurement (see libdeflate.h here). */
+/* zlib's names that lib/format/gifile.c uses, for the WebAssembly reader (see libdeflate.h). */
 #ifndef STUB_ZLIB_H
 #define STUB_ZLIB_H
 typedef unsigned char Bytef;
