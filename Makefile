@@ -171,7 +171,7 @@ $(WASM): $(WASM_SRC) $(wildcard lib/*.h lib/*/*.h web/wasm/include/*.h) Makefile
 $(WASM_JS): $(WASM)
 	@$(if $(Q),echo "  BASE64  $@")
 	$(Q){ echo "// gi-reader-wasm.js: made by make from web/wasm (gi-wasm.js loads it); not edited by hand."; \
-	  printf 'export default "'; base64 -w0 $<; echo '";'; } > $@.tmp && mv $@.tmp $@
+	  printf 'export default "'; base64 -w0 $<; echo '";'; } > $@.$$$$.tmp && mv $@.$$$$.tmp $@
 
 # vdb-to-gi's report of a conversion is a file of its own.
 $(BUILD)/bin/vdb-to-gi: $(BUILD)/apps/convert_report.o $(BUILD)/apps/budget.o
@@ -198,7 +198,7 @@ $(BUILD)/tests/%: $(BUILD)/tests/%.o $(LIB_A) | $(IMAGE_MODULE)
 ## deps: install the Debian packages vdbgi needs (only those missing)
 deps:
 	@if ! command -v dpkg-query >/dev/null 2>&1; then \
-	    echo "deps: not a Debian system; install OpenVDB, Embree 3, OpenImageIO, assimp, TBB, zlib yourself"; \
+	    echo "deps: not a Debian system; install OpenVDB, Embree 3, OpenImageIO, assimp, TBB, zlib, libdeflate, and clang with lld and wasi-libc (the web runtime's reader) yourself"; \
 	    exit 0; \
 	fi; \
 	missing=""; \
@@ -291,7 +291,7 @@ pictures:
 	$(Q)sh tests/pictures.sh
 
 ## install: vdbgi.h, libvdbgi.a, the image module, vdbgi.pc and the apps under $(DESTDIR)$(PREFIX)
-install: all
+install: lib apps
 	install -d $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/lib/pkgconfig \
 	    $(DESTDIR)$(PREFIX)/lib/vdbgi $(DESTDIR)$(PREFIX)/bin
 	install -m 644 lib/vdbgi.h $(DESTDIR)$(PREFIX)/include/

@@ -6,7 +6,7 @@
 // scripts are served or bundled it is too, with no .wasm MIME type to set).
 // Where that module is missing or WebAssembly cannot run, the caller keeps
 // gi-packed.js's rebuild. No three.js here.
-import { rebuildPacked, termBytes, termSlot } from './gi-packed.js';
+import { rebuildPacked, termBytes } from './gi-packed.js';
 
 const ENOSYS = 52; // WASI's "not implemented": what any system call the C library makes gets
 
@@ -47,34 +47,46 @@ const said = (x, p) => {
   return new TextDecoder().decode(bytes.subarray(0, bytes.indexOf(0)));
 };
 
+// The result has reader: 'wasm' where the C reader made it. (A read that fails has
+// freed what it made; after a trap the instance is not called again for this file.)
 function rebuild(x, gi, payload, file, strict) {
-  const p = x.gi_alloc(file.length);
-  if (!p) {
-    if (strict) throw new Error(`no memory for ${file.length} bytes`);
+  let out;
+  try {
+    out = read(x, gi, file);
+  } catch (e) {
+    if (strict) throw e;
     return rebuildPacked(gi, payload);
   }
+  x.gi_free();
+  return { ...out, reader: 'wasm' };
+}
+
+// The C reader's textures, or an Error with its words (a trap too: an abort in the C code).
+// Its pointers and sizes are unsigned: >>> 0.
+function read(x, gi, file) {
+  const p = x.gi_alloc(file.length) >>> 0;
+  if (!p) throw new Error(`no memory for ${file.length} bytes`);
   new Uint8Array(x.memory.buffer, p, file.length).set(file);
-  if (x.gi_read(p, file.length)) { // (which freed p)
-    if (strict) throw new Error(said(x, x.gi_error()));
-    return rebuildPacked(gi, payload);
-  }
+  if (x.gi_read(p, file.length)) throw new Error(said(x, x.gi_error() >>> 0)); // (it freed p)
   const out = {
-    indirection: copy(x, x.gi_indirection(), x.gi_indirection_size()),
-    atlas: copy(x, x.gi_atlas(), x.gi_atlas_size()),
-    storedPoints: x.gi_stored_points(),
+    indirection: copy(x, x.gi_indirection() >>> 0, x.gi_indirection_size() >>> 0),
+    atlas: copy(x, x.gi_atlas() >>> 0, x.gi_atlas_size() >>> 0),
+    storedPoints: x.gi_stored_points() >>> 0,
   };
   if (gi.version >= 6) out.sh = splitTerms(x, gi.version, out.atlas.length / 4);
-  x.gi_free();
   return out;
 }
 
-// The reader's 24 term bytes a texel as gi.sh's textures (termSlot's): a word at a time
-// where four bytes go together (versions 6 and 7, and version 8's first two), else bytes.
+// The reader's 24 term bytes a texel as gi.sh's textures: term byte j of the version's
+// (vdbgi_term_byte: version 8's bytes 9-13 are terms 4-8's red) in texture j >> 2,
+// component j & 3. A word at a time where four bytes go together (versions 6 and 7, and
+// version 8's first two textures), else a byte.
 function splitTerms(x, version, texels) {
-  const at = x.gi_terms(), bytes = termBytes(version);
+  const at = x.gi_terms() >>> 0, bytes = termBytes(version);
+  const width = (j) => Math.min(bytes - (j & ~3), 4);
   const sh = [];
-  for (let i = 0; i < bytes; i += 4) sh.push(new Int8Array(texels * Math.min(bytes - i, 4)));
-  const words = new Uint32Array(x.memory.buffer, at, 6 * texels); // malloc's blocks are aligned
+  for (let j = 0; j < bytes; j += 4) sh.push(new Int8Array(texels * width(j)));
+  const words = new Uint32Array(x.memory.buffer, at, 6 * texels); // vdbgi_alloc keeps malloc's alignment
   const whole = version >= 8 ? 2 : 6;
   for (let i = 0; i < whole; i++) {
     const out = new Uint32Array(sh[i].buffer);
@@ -82,9 +94,8 @@ function splitTerms(x, version, texels) {
   }
   const src = new Int8Array(x.memory.buffer, at, 24 * texels);
   for (let j = 4 * whole; j < bytes; j++) {
-    const from = j < 9 ? j : 9 + 3 * (j - 9), [texture, component, width] = termSlot(bytes, from);
-    const out = sh[texture];
-    for (let t = 0, o = from; t < texels; t++, o += 24) out[t * width + component] = src[o];
+    const out = sh[j >> 2], w = width(j), c = j & 3;
+    for (let t = 0, o = j < 9 ? j : 9 + 3 * (j - 9); t < texels; t++, o += 24) out[t * w + c] = src[o];
   }
   return sh;
 }

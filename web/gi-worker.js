@@ -23,9 +23,15 @@ self.onmessage = async ({ data }) => {
     } else if (op === 'push') {
       await reader.push(data.chunk);
     } else if (op === 'end') {
-      const rebuild = await wasm;
-      const read = await readTextures(reader, (bytes) => parseGi(bytes, rebuild ?? undefined));
-      read.reader = rebuild ? 'wasm' : 'js';
+      const viaWasm = await wasm;
+      let used = 'js'; // which rebuilt (an unpacked file: only the JavaScript checks ran)
+      const rebuild = viaWasm && ((...args) => {
+        const out = viaWasm(...args);
+        used = out.reader ?? 'js';
+        return out;
+      });
+      const read = await readTextures(reader, (bytes) => parseGi(bytes, rebuild || undefined));
+      read.reader = used;
       const { header } = read;
       const buffers = new Set([header.columns.data, header.atlas, ...(header.sh ?? [])].map((a) => a.buffer));
       return reply(id, read, [...buffers]);
