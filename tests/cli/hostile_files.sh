@@ -60,6 +60,11 @@ done
 for f in "$H"/js/*.gi.gz; do
     echo "node $(basename "$f"): $($limit; timeout 20 node "$ROOT/tests/js/read_gi.mjs" "$f" 2>&1)"
 done
+# And the worker's reader, the C one built to WebAssembly, behind the same header checks
+# (without the address-space limit: V8 reserves WebAssembly memory's guard regions in it).
+for f in "$H"/gi/*.gi.gz "$H"/js/*.gi.gz; do
+    echo "WebAssembly $(basename "$f"): $(timeout 20 node "$ROOT/tests/js/check_wasm.mjs" "$f" 2>&1 | sed 's/^WebAssembly //')"
+done
 # The same scenes through gi-lightmap; and their textures as emission (map_Ke), through both.
 for f in "$H"/scenes/*.obj; do
     ($limit; timeout 20 "$BIN/gi-lightmap" "$f" -o out.glb --size 64 --texel 0.5) >/dev/null 2>err

@@ -4,8 +4,7 @@
 // holds to the C reader natively), and where the JavaScript one refuses a file,
 // so does it.
 import { readFile } from 'node:fs/promises';
-import { gunzipSync } from 'node:zlib';
-import { parseGi } from '../../web/gi-format.js';
+import { giReader, parseGi } from '../../web/gi-format.js';
 import { wasmRebuild } from '../../web/gi-wasm.js';
 
 const rebuild = await wasmRebuild();
@@ -17,7 +16,16 @@ if (!rebuild) {
 const strict = (gi, payload, file) => rebuild(gi, payload, file, { strict: true });
 let failed = false;
 for (const file of process.argv.slice(2)) {
-  const bytes = new Uint8Array(gunzipSync(await readFile(file)));
+  // Inflated as the worker does (gi-stream.js): a file it refuses reaches neither reader.
+  const reader = giReader();
+  let bytes;
+  try {
+    await reader.push(new Uint8Array(await readFile(file)));
+    bytes = await reader.end();
+  } catch (e) {
+    console.log(`WebAssembly refused: ${e.message} (the stream reader's, before either)`);
+    continue;
+  }
   const attempt = (fn) => {
     try {
       return parseGi(bytes.slice(), fn);
@@ -32,6 +40,8 @@ for (const file of process.argv.slice(2)) {
     const ok = js instanceof Error && wasm instanceof Error;
     said = ok ? `refused: ${wasm.message}` : `JavaScript: ${js.message ?? 'read'}; WebAssembly: ${wasm.message ?? 'read'}`;
     failed ||= !ok;
+  } else if (js.version < 5) {
+    said = `version ${js.version}: textures as they are, checked in place (no rebuild)`;
   } else {
     const textures = [['indirection', js.indirection, wasm.indirection], ['atlas', js.atlas, wasm.atlas],
       ...(js.sh ?? []).map((t, i) => [`terms ${i}`, t, wasm.sh?.[i]])];
