@@ -107,7 +107,7 @@ DEB_PACKAGES := gcc g++ make pkg-config libopenvdb-dev libboost-dev libimath-dev
                 libembree-dev libopenimageio-dev libassimp-dev zlib1g-dev libdeflate-dev libopenvdb-tools \
                 python3 python3-openvdb python3-numpy openimageio-tools gnuplot-nox clang-format chromium libstb-dev \
                 libtinygltf-dev assimp-testmodels slurmctld slurmd slurm-client munge \
-                clang lld wasi-libc libclang-rt-14-dev-wasm32
+                clang lld wasi-libc libclang-rt-dev-wasm32
 
 # Keep object files of apps and tests (make would delete them as intermediates).
 .SECONDARY:
@@ -170,8 +170,10 @@ $(WASM): $(WASM_SRC) $(wildcard lib/*.h lib/*/*.h web/wasm/include/*.h) Makefile
 
 $(WASM_JS): $(WASM)
 	@$(if $(Q),echo "  BASE64  $@")
-	$(Q){ echo "// gi-reader-wasm.js: made by make from web/wasm (gi-wasm.js loads it); not edited by hand."; \
-	  printf 'export default "'; base64 -w0 $<; echo '";'; } > $@.$$$$.tmp && mv $@.$$$$.tmp $@
+	$(Q)tmp=$@.$$$$.tmp; \
+	  echo "// gi-reader-wasm.js: made by make from web/wasm (gi-wasm.js loads it); not edited by hand." > $$tmp && \
+	  printf 'export default "' >> $$tmp && base64 -w0 $< >> $$tmp && echo '";' >> $$tmp && \
+	  mv $$tmp $@ || { rm -f $$tmp; exit 1; }
 
 # vdb-to-gi's report of a conversion is a file of its own.
 $(BUILD)/bin/vdb-to-gi: $(BUILD)/apps/convert_report.o $(BUILD)/apps/budget.o

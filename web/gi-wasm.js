@@ -35,7 +35,8 @@ async function instantiate() {
   }
   const x = (await WebAssembly.instantiate(module, imports)).exports;
   x._initialize?.();
-  return (gi, payload, file, { strict = false } = {}) => rebuild(x, gi, payload, file, strict);
+  const state = { x, trapped: false };
+  return (gi, payload, file, { strict = false } = {}) => rebuild(state, gi, payload, file, strict);
 }
 
 // A copy of n bytes at p in the instance's memory (which the next read reuses).
@@ -47,17 +48,24 @@ const said = (x, p) => {
   return new TextDecoder().decode(bytes.subarray(0, bytes.indexOf(0)));
 };
 
-// The result has reader: 'wasm' where the C reader made it. (A read that fails has
-// freed what it made; after a trap the instance is not called again for this file.)
-function rebuild(x, gi, payload, file, strict) {
-  let out;
-  try {
-    out = read(x, gi, file);
-  } catch (e) {
-    if (strict) throw e;
+// The result has reader: 'wasm' where the C reader made it. After a trap (an abort in
+// the C code) its memory may be inconsistent: the instance is not called again.
+function rebuild(state, gi, payload, file, strict) {
+  const { x } = state;
+  let out = null, failure = state.trapped ? new Error('the reader trapped on an earlier file') : null;
+  if (!failure) {
+    try {
+      out = read(x, gi, file);
+    } catch (e) {
+      failure = e;
+      state.trapped = e instanceof WebAssembly.RuntimeError;
+    }
+    if (!state.trapped) x.gi_free();
+  }
+  if (failure) {
+    if (strict) throw failure;
     return rebuildPacked(gi, payload);
   }
-  x.gi_free();
   return { ...out, reader: 'wasm' };
 }
 
