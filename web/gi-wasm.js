@@ -52,21 +52,17 @@ const said = (x, p) => {
 // the C code) its memory may be inconsistent: the instance is not called again.
 function rebuild(state, gi, payload, file, strict) {
   const { x } = state;
-  let out = null, failure = state.trapped ? new Error('the reader trapped on an earlier file') : null;
-  if (!failure) {
-    try {
-      out = read(x, gi, file);
-    } catch (e) {
-      failure = e;
-      state.trapped = e instanceof WebAssembly.RuntimeError;
-    }
+  try {
+    if (state.trapped) throw new Error('the reader trapped on an earlier file');
+    const out = read(x, gi, file);
+    x.gi_free();
+    return { ...out, reader: 'wasm' };
+  } catch (e) {
+    state.trapped ||= e instanceof WebAssembly.RuntimeError;
     if (!state.trapped) x.gi_free();
+    if (strict) throw e;
   }
-  if (failure) {
-    if (strict) throw failure;
-    return rebuildPacked(gi, payload);
-  }
-  return { ...out, reader: 'wasm' };
+  return rebuildPacked(gi, payload);
 }
 
 // The C reader's textures, or an Error with its words (a trap too: an abort in the C code).
